@@ -1,0 +1,88 @@
+#pragma once
+// Safety limits of a physical test, checked before every command is sent and after every
+// measurement is received. Used on both sides of the wire: by the runner (through a
+// PhysicalSubstructure) and by the bench server. All values are SI: the checks run after the
+// setup transform has converted bench units.
+//
+// The rule: a command beyond a limit is never sent. On any violation the caller puts its
+// transfer system into Hold() (hold at the last safe command) and the SafetyStop propagates
+// to the runner, which writes everything committed and exits non-zero.
+#include <deque>
+#include <string>
+#include <vector>
+
+#include "hybridtest/common/error.h"
+
+namespace hybridtest::transfer {
+
+struct SafetyLimits {
+  double stroke_min = -0.150;      // lowest admissible actuator position. Unit: [m].
+  double stroke_max = 0.150;       // highest admissible actuator position. Unit: [m].
+  double max_increment = 0.005;    // largest |command − previous command| per stage. Unit: [m].
+  double force_soft = 8e3;         // |predicted force| above which a command is refused. Unit: [N].
+  double force_hard = 10e3;        // |measured force| above which the test stops. Unit: [N].
+  double timeout = 5.0;            // longest wait for one measurement. Unit: [s].
+};
+
+// One exchanged command and the measurement that came back, in SI, for the stop report.
+struct ExchangeRecord {
+  long step = 0;               // step index (0-based) the exchange belonged to
+  int stage = 0;               // Runge–Kutta stage (0-based)
+  double command = 0.0;        // actuator command. Unit: [m].
+  double position = 0.0;       // measured position. Unit: [m].
+  double force = 0.0;          // measured force. Unit: [N].
+  bool answered = false;       // false if the command was sent but no measurement came back
+};
+
+// Thrown when a safety limit is violated. Carries the limit, the offending and the limit
+// value, where it happened, and the last exchanges (oldest first), like libfranka's
+// ControlException.
+class SafetyStop : public Error {
+ public:
+  SafetyStop(std::string limit, double value, double limit_value, long step, int stage,
+             std::vector<ExchangeRecord> history, const std::string& detail);
+  const std::string& limit() const { return limit_; }
+  double value() const { return value_; }
+  double limit_value() const { return limit_value_; }
+  long step() const { return step_; }
+  int stage() const { return stage_; }
+  const std::vector<ExchangeRecord>& history() const { return history_; }
+
+ private:
+  std::string limit_;
+  double value_;
+  double limit_value_;
+  long step_;
+  int stage_;
+  std::vector<ExchangeRecord> history_;
+};
+
+// Checks commands and measurements against SafetyLimits and remembers the recent history.
+class SafetyMonitor {
+ public:
+  // Throws ConfigError if the limits are inconsistent (min ≥ max, non-positive increments,
+  // soft > hard, ...), naming the offending field.
+  explicit SafetyMonitor(SafetyLimits limits, std::size_t history_length = 16);
+
+  // Throws SafetyStop unless `command` [m] may be sent at (step, stage): finite, inside the
+  // stroke, within max_increment of the last accepted command, and with a predicted force
+  // (from the last measurement and a secant stiffness estimate) inside force_soft.
+  void CheckCommand(double command, long step, int stage);
+
+  // Throws SafetyStop unless the measurement is finite and |force| ≤ force_hard.
+  void CheckMeasurement(double command, double position, double force, long step, int stage);
+
+  // The last command that passed CheckCommand, i.e. where a hold keeps the actuator. [m]
+  double last_safe_command() const;
+  bool has_safe_command() const;
+  const SafetyLimits& limits() const { return limits_; }
+  std::vector<ExchangeRecord> history() const;
+
+ private:
+  SafetyLimits limits_;
+  std::size_t history_length_;
+  std::deque<ExchangeRecord> history_;
+  // further state (last command, secant stiffness) as the implementation needs
+};
+
+}  // namespace hybridtest::transfer

@@ -1,0 +1,55 @@
+#pragma once
+// TransferSystem: what moves a physical substructure. One actuator channel: a position command
+// goes out, a measurement (position, force) comes back. This is the hardware seam of
+// hybridtest: a transfer system speaks the bench's own units (bench_units()); the setup
+// transform of a PhysicalSubstructure converts to and from SI.
+//
+// Lifecycle (after ros2_control): construct (configure) → Activate() → Execute()* → Deactivate().
+// Hold() may be called at any time, from any state, and must never throw.
+#include <string>
+
+namespace hybridtest::transfer {
+
+// The units a bench speaks on the wire.
+struct BenchUnits {
+  double metres_per_length_unit = 1.0;   // 1e-3 for a bench that speaks [mm]
+  double newtons_per_force_unit = 1.0;   // 1e3 for a bench that speaks [kN]
+  std::string length_name = "m";
+  std::string force_name = "N";
+};
+
+// What a bench returns after executing one command.
+struct Measurement {
+  double position = 0.0;  // measured actuator position. Unit: bench length unit.
+  double force = 0.0;     // measured force at the load cell. Unit: bench force unit.
+  double lab_time = 0.0;  // lab time since Activate() when the sample was taken. Unit: [s].
+};
+
+class TransferSystem {
+ public:
+  virtual ~TransferSystem() = default;
+
+  // Makes the bench ready to move (connect, handshake, enable). Throws TransferError.
+  virtual void Activate() = 0;
+
+  // Moves the actuator to `command` (absolute actuator position, bench length unit), waits
+  // until it has settled, samples, and returns the measurement. Blocking, but never without a
+  // bound: a bench that does not answer in time raises TransferError. Throws SafetyStop when
+  // the bench itself refuses the command for safety reasons.
+  virtual Measurement Execute(double command) = 0;
+
+  // Puts the bench in its safe state: hold at the last safe command. Never moves to a new
+  // position, never returns to zero by itself, never throws.
+  virtual void Hold() noexcept = 0;
+
+  // Ends the session cleanly (holds first). Throws TransferError on a communication failure.
+  virtual void Deactivate() = 0;
+
+  // Units of Execute()'s argument and of the Measurement.
+  virtual BenchUnits bench_units() const = 0;
+
+  // One line for logs and reports, e.g. "emulated bench (cantilever 500x100x5 mm, E=210 GPa)".
+  virtual std::string Describe() const = 0;
+};
+
+}  // namespace hybridtest::transfer
