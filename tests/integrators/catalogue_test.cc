@@ -18,7 +18,7 @@ using ::testing::AllOf;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 
-TEST(Catalogue, HasTheSevenDocumentedMethods) {
+TEST(Catalogue, HasExactlyTheDocumentedMethods) {
   EXPECT_THAT(TableauNames(),
               ElementsAre("euler", "heun", "midpoint", "ralston", "rk3", "rk4", "rk38"));
   EXPECT_EQ(Catalogue().size(), 7u);
