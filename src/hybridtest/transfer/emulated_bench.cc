@@ -146,7 +146,8 @@ Measurement EmulatedBench::Execute(double command) {
     Hold();
     throw;
   }
-  Measurement measurement{position / config_.units.metres_per_length_unit,
+  // Position relative to the command, so that an exact arrival reports the command exactly.
+  Measurement measurement{command + (position - target) / config_.units.metres_per_length_unit,
                           force / config_.units.newtons_per_force_unit, clock_->lab_time()};
   if (fault != nullptr) ApplyFault(*fault, measurement);
   clock_->Pace();
