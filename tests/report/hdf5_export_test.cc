@@ -134,5 +134,24 @@ TEST(Hdf5Export, UnwritablePathIsAClearIoError) {
   }
 }
 
+TEST(Hdf5Export, CommandLineExportsBesideTheCsvOrWhereTold) {
+  if (!HaveH5py()) GTEST_SKIP() << "python3-h5py is not installed";
+  const std::string dir = TempDir("cli");
+  const std::string csv = WriteHybridRun(dir, 50);
+  const std::string binary = HYBRIDTEST_BINARY;
+  ASSERT_EQ(std::system(("'" + binary + "' export '" + csv + "' --hdf5 '" + dir +
+                         "/named.h5' >/dev/null")
+                            .c_str()),
+            0);
+  EXPECT_EQ(RunChecker(dir + "/named.h5", csv, io::SidecarPath(csv)), 0);
+  ASSERT_EQ(std::system(("'" + binary + "' export '" + csv + "' >/dev/null").c_str()), 0);
+  EXPECT_EQ(RunChecker(dir + "/run.h5", csv, io::SidecarPath(csv)), 0);
+  // A failure is a message and a non-zero status, not a crash.
+  const int status = std::system(("'" + binary + "' export '" + csv + "' --hdf5 '" + dir +
+                                  "/missing/x.h5' 2>/dev/null")
+                                     .c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << status;
+}
+
 }  // namespace
 }  // namespace hybridtest::report
