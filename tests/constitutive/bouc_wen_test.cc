@@ -1,6 +1,7 @@
 #include "hybridtest/constitutive/bouc_wen.h"
 
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -31,7 +32,7 @@ std::vector<double> Drive(RestoringForceLaw& law, const std::vector<double>& pat
 std::vector<double> Cycle(double amplitude, int points_per_cycle, int cycles) {
   std::vector<double> path;
   for (int i = 1; i <= points_per_cycle * cycles; ++i) {
-    path.push_back(amplitude * std::sin(2.0 * M_PI * i / points_per_cycle));
+    path.push_back(amplitude * std::sin(2.0 * std::numbers::pi * i / points_per_cycle));
   }
   return path;
 }

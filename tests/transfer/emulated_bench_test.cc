@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <numbers>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -53,7 +54,7 @@ TEST(EmulatedBench, DefaultsReproduceThePapersLabTime) {
   Measurement m;
   for (int i = 0; i < 20000; ++i) {
     const double t = 0.5e-3 * i;
-    m = bench.Execute(10.0 * std::sin(2.0 * M_PI * 0.5 * t));  // [mm]
+    m = bench.Execute(10.0 * std::sin(2.0 * std::numbers::pi * 0.5 * t));  // [mm]
   }
   EXPECT_NEAR(bench.lab_time(), 22560.0, 0.05 * 22560.0);
   EXPECT_DOUBLE_EQ(m.lab_time, bench.lab_time());

@@ -1,6 +1,7 @@
 #include "hybridtest/transfer/actuator.h"
 
 #include <cmath>
+#include <numbers>
 
 namespace hybridtest::transfer {
 
@@ -44,7 +45,7 @@ void Actuator::Step(double target) {
       break;
     }
     case ServoLag::Type::kSecondOrder: {
-      const double omega = 2.0 * M_PI * lag_.natural_frequency;
+      const double omega = 2.0 * std::numbers::pi * lag_.natural_frequency;
       const double acceleration = omega * omega * (delayed_reference_ - position_) -
                                   2.0 * lag_.damping_ratio * omega * velocity_;
       velocity_ += step_ * acceleration;

@@ -1,6 +1,7 @@
 #include "hybridtest/transfer/bench_config.h"
 
 #include <cmath>
+#include <numbers>
 #include <fstream>
 
 #include <fmt/format.h>
@@ -275,7 +276,7 @@ void ValidateEmulatedBenchConfig(const EmulatedBenchConfig& c) {
     fail("actuator.lag.time_constant_ms: expected > 0");
   }
   if (c.lag.type == ServoLag::Type::kSecondOrder) {
-    const double omega = 2.0 * M_PI * c.lag.natural_frequency;
+    const double omega = 2.0 * std::numbers::pi * c.lag.natural_frequency;
     if (!(c.lag.natural_frequency > 0.0) || !(c.lag.damping_ratio > 0.0)) {
       fail("actuator.lag: expected natural_frequency_hz > 0 and damping_ratio > 0");
     }
