@@ -115,7 +115,7 @@ void BenchClient::Activate() {
 
 Measurement BenchClient::Execute(double command) {
   const std::uint32_t sequence = next_sequence_++;
-  const std::string what = fmt::format("the measurement of command {} (position {} {})",
+  const std::string what = fmt::format("the measurement of COMMAND sequence {} (position {} {})",
                                        sequence, command, bench_units().length_name);
   const Frame reply = Exchange(EncodeCommand(sequence, CommandMessage{command}),
                                MessageType::kMeasurement, what, options_.reply_timeout);

@@ -36,6 +36,7 @@ const std::string& CheckBindPolicy(const BenchServerOptions& options) {
 }  // namespace
 
 struct BenchServer::Session {
+  explicit Session(Socket socket) : client(std::move(socket)) {}
   Socket client;
   bool refused = false;       // a safety refusal latched: every further COMMAND is refused
   std::string refused_limit;  // the limit of that refusal
@@ -47,7 +48,9 @@ BenchServer::BenchServer(TransferSystem& bench, BenchServerOptions options)
       options_(std::move(options)),
       units_(bench.bench_units()),
       monitor_(options_.limits),
-      listener_(CheckBindPolicy(options_), options_.port) {}
+      listener_(CheckBindPolicy(options_), options_.port) {
+  if (options_.start_position) monitor_.SetStartPosition(*options_.start_position);
+}
 
 std::string BenchServer::address() const {
   const bool v6 = listener_.host().find(':') != std::string::npos;
@@ -90,14 +93,14 @@ void BenchServer::SendError(Session& session, std::uint32_t sequence, int code,
 }
 
 void BenchServer::RefuseBusyClient() {
-  Session other{listener_.Accept(0.0)};
+  Session other(listener_.Accept(0.0));
   if (!other.client.is_open()) return;
   SendError(other, 0, static_cast<int>(ErrorCode::kBusy), "", 0, 0,
             "the bench is serving another client; try again when it has disconnected");
 }
 
 void BenchServer::ServeClient(Socket client) {
-  Session session{std::move(client)};
+  Session session(std::move(client));
   const auto hold = [&](const std::string& why) {
     bench_.Hold();
     Log(fmt::format("holding: {}", why));

@@ -21,6 +21,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,8 @@ struct BenchServerOptions {
   double heartbeat_timeout = 10.0; // a client silent this long is dropped. Unit: [s].
   double send_timeout = 2.0;       // longest wait to write one frame. Unit: [s].
   SafetyLimits limits;             // checked before every command. SI.
+  std::optional<double> start_position;  // actuator position before the first command, so
+                                         // that its increment is checked. Unit: [m].
   std::vector<Fault> faults;       // TEST FACILITY ONLY (bench_faults.h); empty in real use
   std::function<void(const std::string&)> log;  // one line per event; may be empty
 };

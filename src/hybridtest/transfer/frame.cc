@@ -24,6 +24,15 @@ void StoreU32(std::vector<std::uint8_t>& out, std::uint32_t value) {
   for (int i = 0; i < 4; ++i) out.push_back(static_cast<std::uint8_t>(value >> (8 * i)));
 }
 
+void PutU16(std::uint8_t* p, std::uint16_t value) {
+  p[0] = static_cast<std::uint8_t>(value);
+  p[1] = static_cast<std::uint8_t>(value >> 8);
+}
+
+void PutU32(std::uint8_t* p, std::uint32_t value) {
+  for (int i = 0; i < 4; ++i) p[i] = static_cast<std::uint8_t>(value >> (8 * i));
+}
+
 std::uint32_t Crc32(std::span<const std::uint8_t> bytes) {
   return static_cast<std::uint32_t>(
       crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uInt>(bytes.size())));
@@ -51,17 +60,19 @@ std::vector<std::uint8_t> EncodeFrame(const Frame& frame) {
         MessageTypeName(static_cast<std::uint16_t>(frame.type)), frame.payload.size(),
         kMaxPayloadLength));
   }
-  std::vector<std::uint8_t> out;
-  out.reserve(kFrameHeaderSize + frame.payload.size() + kFrameTrailerSize);
-  out.insert(out.end(), kFrameMagic.begin(), kFrameMagic.end());
-  const auto type = static_cast<std::uint16_t>(frame.type);
-  const std::uint32_t version_and_type =
-      static_cast<std::uint32_t>(kProtocolVersion) | (static_cast<std::uint32_t>(type) << 16);
-  StoreU32(out, version_and_type);
-  StoreU32(out, frame.sequence);
-  StoreU32(out, static_cast<std::uint32_t>(frame.payload.size()));
-  out.insert(out.end(), frame.payload.begin(), frame.payload.end());
-  StoreU32(out, Crc32(out));
+  // Written in place into a buffer of the final size (header, payload, CRC).
+  const std::size_t body = kFrameHeaderSize + frame.payload.size();
+  std::vector<std::uint8_t> out(body + kFrameTrailerSize);
+  std::uint8_t* p = out.data();
+  std::memcpy(p, kFrameMagic.data(), kFrameMagic.size());
+  PutU16(p + 4, kProtocolVersion);
+  PutU16(p + 6, static_cast<std::uint16_t>(frame.type));
+  PutU32(p + 8, frame.sequence);
+  PutU32(p + 12, static_cast<std::uint32_t>(frame.payload.size()));
+  if (!frame.payload.empty()) {
+    std::memcpy(p + kFrameHeaderSize, frame.payload.data(), frame.payload.size());
+  }
+  PutU32(p + body, Crc32(std::span<const std::uint8_t>(p, body)));
   return out;
 }
 
