@@ -72,6 +72,21 @@ class SafetyMonitor {
   // Throws SafetyStop unless the measurement is finite and |force| ≤ force_hard.
   void CheckMeasurement(double command, double position, double force, long step, int stage);
 
+  // Declares where the actuator is before the first command [m] (it becomes the last safe
+  // command, so the first command's increment is checked against it). Throws ConfigError if
+  // it is not finite or outside the stroke.
+  void SetStartPosition(double position);
+
+  // Stiffness used to predict the force of a command before two measurements with distinct
+  // positions exist (usually the specimen's initial stiffness). Unit: [N/m]. Default 0: the
+  // prediction is the last measured force. Throws ConfigError if not finite.
+  void SetInitialStiffness(double stiffness);
+
+  // Force a command [m] would produce: f_last + k (command − x_last), with k the secant
+  // stiffness of the last two measurements (|Δx| ≥ 1 µm), else the initial stiffness.
+  // Without any measurement there is nothing to predict from: returns NaN.
+  double PredictForce(double command) const;
+
   // The last command that passed CheckCommand, i.e. where a hold keeps the actuator. [m]
   double last_safe_command() const;
   bool has_safe_command() const;
@@ -82,7 +97,18 @@ class SafetyMonitor {
   SafetyLimits limits_;
   std::size_t history_length_;
   std::deque<ExchangeRecord> history_;
-  // further state (last command, secant stiffness) as the implementation needs
+  [[noreturn]] void Stop(const std::string& limit, double value, double limit_value, long step,
+                         int stage, const std::string& what) const;
+  void Remember(const ExchangeRecord& record);
+
+  bool has_safe_command_ = false;
+  double last_safe_command_ = 0.0;   // [m]
+  bool has_measurement_ = false;
+  double last_position_ = 0.0;       // [m]
+  double last_force_ = 0.0;          // [N]
+  double secant_stiffness_ = 0.0;    // [N/m]; valid when has_secant_
+  bool has_secant_ = false;
+  double initial_stiffness_ = 0.0;   // [N/m]
 };
 
 }  // namespace hybridtest::transfer

@@ -1,0 +1,98 @@
+// hybridtest eom CONFIG --time T --state x1,...,x2n [--restoring r1,...] [--json]
+// Evaluates the equations of motion of the configured model once: M u̇ = forcing, ẋ.
+#include <fmt/core.h>
+
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "cli_values.h"
+#include "command.h"
+#include "hybridtest/common/error.h"
+#include "hybridtest/io/config.h"
+#include "hybridtest/multibody/kane.h"
+#include "hybridtest/runner/restoring_forces.h"
+
+namespace hybridtest::app {
+namespace {
+
+struct EomOptions {
+  std::string config;
+  double time = 0.0;
+  std::string state;
+  std::string restoring;
+  bool json = false;
+};
+
+void RunEom(const EomOptions& opt) {
+  const io::SimulationConfig cfg = io::LoadSimulationConfig(opt.config);
+  const multibody::Model& model = cfg.model.model;
+  const int n = model.num_coordinates();
+  const std::vector<double> xs = ParseNumberList(opt.state, "--state");
+  if (static_cast<int>(xs.size()) != 2 * n) {
+    throw ConfigError(fmt::format("--state has {} values; the {} model needs 2n = {} (x = [q; u] "
+                                  "with n = {})", xs.size(), cfg.model.name, 2 * n, n));
+  }
+  const Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(xs.data(), 2 * n);
+  multibody::Data<double> data(model);
+  Eigen::VectorXd r(model.num_slots());
+  if (!opt.restoring.empty()) {
+    const std::vector<double> rs = ParseNumberList(opt.restoring, "--restoring");
+    if (static_cast<int>(rs.size()) != model.num_slots()) {
+      throw ConfigError(fmt::format("--restoring has {} values; the model has {} restoring-force "
+                                    "slots", rs.size(), model.num_slots()));
+    }
+    r = Eigen::Map<const Eigen::VectorXd>(rs.data(), model.num_slots());
+  } else {
+    r = runner::NumericalRestoringForces(cfg, data, opt.time, x.head(n));
+  }
+  Eigen::VectorXd xdot(2 * n);
+  multibody::CalcStateDerivative<double>(model, data, opt.time, x, r, xdot);
+
+  if (opt.json) {
+    nlohmann::json out;
+    out["mass_matrix"] = nlohmann::json::array();
+    for (int i = 0; i < n; ++i) {
+      std::vector<double> row;
+      for (int j = 0; j < n; ++j) row.push_back(data.M(i, j));
+      out["mass_matrix"].push_back(row);
+    }
+    out["forcing"] = std::vector<double>(data.g.data(), data.g.data() + n);
+    out["xdot"] = std::vector<double>(xdot.data(), xdot.data() + 2 * n);
+    out["restoring"] = std::vector<double>(r.data(), r.data() + r.size());
+    std::cout << out.dump() << "\n";
+    return;
+  }
+  fmt::print("model {} at t = {} s (convention M u̇ = forcing, x = [q; u])\n", cfg.model.name,
+             opt.time);
+  fmt::print("mass matrix M:\n");
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) fmt::print(" {:>24.17g}", data.M(i, j));
+    fmt::print("\n");
+  }
+  fmt::print("forcing g:\n");
+  for (int i = 0; i < n; ++i) fmt::print(" {:>24.17g}", data.g(i));
+  fmt::print("\nrestoring forces r^s [N]:\n");
+  for (int i = 0; i < r.size(); ++i) fmt::print(" {:>24.17g}", r(i));
+  fmt::print("\nxdot:\n");
+  for (int i = 0; i < 2 * n; ++i) fmt::print(" {:>24.17g}", xdot(i));
+  fmt::print("\n");
+}
+
+void AddEomCommand(CLI::App& root) {
+  auto opt = std::make_shared<EomOptions>();
+  CLI::App* cmd = root.add_subcommand(
+      "eom", "Evaluate the equations of motion M u̇ = forcing once, at a given time and state");
+  cmd->add_option("config", opt->config, "run configuration (YAML)")->required();
+  cmd->add_option("--time", opt->time, "time t [s]")->required();
+  cmd->add_option("--state", opt->state, "x = [q; u], 2n comma-separated SI values")->required();
+  cmd->add_option("--restoring", opt->restoring,
+                  "static restoring forces r^s [N], one per slot (default: computed by the "
+                  "configured numerical substructures)");
+  cmd->add_flag("--json", opt->json, "print one JSON object {mass_matrix, forcing, xdot}");
+  cmd->callback([opt] { RunEom(*opt); });
+}
+
+const CommandRegistration kRegistration{"eom", &AddEomCommand};
+
+}  // namespace
+}  // namespace hybridtest::app

@@ -1,0 +1,157 @@
+// See config.h.
+#include "hybridtest/io/config.h"
+
+#include <fmt/core.h>
+
+#include <cmath>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/integrators/catalogue.h"
+
+namespace hybridtest::io {
+
+models::BuiltModel ParseModel(const YamlInput& in, const YAML::Node& node, int* blades_out) {
+  in.CheckKeys(node, "model", {"name", "blades", "parameters"});
+  const std::string name =
+      in.String(node["name"], "model.name", "a model name: rotor, double_pendulum or spinning_top");
+  int blades = 0;
+  if (node["blades"]) {
+    if (name != "rotor") {
+      throw ConfigError(fmt::format("{}: only the rotor model has blades; remove this key",
+                                    in.Where(node["blades"], "model.blades")));
+    }
+    blades = in.Integer(node["blades"], "model.blades", "a whole number of blades ≥ 1");
+    if (blades < 1) {
+      throw ConfigError(fmt::format("{} = {}: expected a whole number of blades ≥ 1",
+                                    in.Where(node["blades"], "model.blades"), blades));
+    }
+  } else if (name == "rotor") {
+    blades = 3;
+  }
+  models::ParameterSet parameters;
+  try {
+    parameters = models::DefaultParameters(name, blades);
+  } catch (const ConfigError& e) {
+    throw ConfigError(fmt::format("{}: {}", in.Where(node["name"], "model.name"), e.what()));
+  }
+  const YAML::Node overrides = in.Mapping(node, "parameters", "model.parameters", false);
+  if (overrides.IsDefined()) {
+    for (const auto& kv : overrides) {
+      const std::string key = kv.first.as<std::string>();
+      const std::string path = "model.parameters." + key;
+      const double value = in.Number(kv.second, path, "a number in SI units");
+      parameters.Set(key, value, in.Where(kv.second, path));
+    }
+  }
+  if (blades_out != nullptr) *blades_out = blades;
+  try {
+    return models::BuildModel(name, blades, parameters);
+  } catch (const ConfigError& e) {
+    throw ConfigError(fmt::format("{}: {}", in.path(), e.what()));
+  }
+}
+
+integrators::ButcherTableau ParseTableau(const YamlInput& in, const YAML::Node& node,
+                                         std::string_view key_path) {
+  if (node.IsScalar()) {
+    try {
+      return integrators::FindTableau(node.as<std::string>());
+    } catch (const ConfigError& e) {
+      throw ConfigError(fmt::format("{}: {}", in.Where(node, key_path), e.what()));
+    }
+  }
+  if (!node.IsMap()) {
+    throw ConfigError(fmt::format("{}: expected a tableau name (e.g. heun, rk4) or a mapping "
+                                  "with a, b, c and order", in.Where(node, key_path)));
+  }
+  const std::string kp(key_path);
+  in.CheckKeys(node, kp, {"name", "title", "a", "b", "c", "order"});
+  integrators::ButcherTableau t;
+  t.name = node["name"] ? in.String(node["name"], kp + ".name", "a name") : "user";
+  t.title = node["title"] ? in.String(node["title"], kp + ".title", "a title") : "user tableau";
+  const std::vector<double> b = in.Numbers(node["b"], kp + ".b", "weights b_i");
+  const std::vector<double> c = in.Numbers(node["c"], kp + ".c", "nodes c_i");
+  const YAML::Node a = node["a"];
+  if (!a.IsSequence()) {
+    throw ConfigError(fmt::format("{}: expected the s×s matrix a as a list of rows [[..], [..]]",
+                                  in.Where(node, kp + ".a")));
+  }
+  const int s = static_cast<int>(b.size());
+  t.b = Eigen::Map<const Eigen::VectorXd>(b.data(), s);
+  t.c = Eigen::Map<const Eigen::VectorXd>(c.data(), static_cast<Eigen::Index>(c.size()));
+  t.a.setZero(static_cast<Eigen::Index>(a.size()), s);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const std::vector<double> row = in.Numbers(a[i], fmt::format("{}.a[{}]", kp, i), "a_ij");
+    if (static_cast<int>(row.size()) != s) {
+      throw ConfigError(fmt::format("{}: row {} of a has {} entries; expected s = {} (the length "
+                                    "of b)", in.Where(a[i], kp + ".a"), i, row.size(), s));
+    }
+    for (int j = 0; j < s; ++j) t.a(static_cast<Eigen::Index>(i), j) = row[j];
+  }
+  t.order = in.Integer(node["order"], kp + ".order", "the claimed order p (1 to 4)");
+  integrators::ValidateTableau(t, in.Where(node, kp));
+  return t;
+}
+
+SimulationConfig ParseSimulationConfig(const YamlInput& in) {
+  const YAML::Node& root = in.root();
+  in.CheckKeys(root, "", {"model", "initial_state", "integrator", "duration", "output",
+                          "substructures", "progress", "safety"});
+  SimulationConfig cfg{in, ParseModel(in, in.Mapping(root, "model", "model", true), nullptr)};
+  cfg.model = ParseModel(in, in.Mapping(root, "model", "model", true), &cfg.blades);
+  const int n = cfg.model.model.num_coordinates();
+
+  // Initial state: zero unless given (the paper states none; see PAPER-NOTES).
+  cfg.x0.setZero(2 * n);
+  const YAML::Node init = in.Mapping(root, "initial_state", "initial_state", false);
+  if (init.IsDefined()) {
+    in.CheckKeys(init, "initial_state", {"q", "u"});
+    for (const char* key : {"q", "u"}) {
+      if (!init[key]) continue;
+      const std::string path = std::string("initial_state.") + key;
+      const std::vector<double> v = in.Numbers(init[key], path, "numbers in SI units");
+      if (static_cast<int>(v.size()) != n) {
+        throw ConfigError(fmt::format("{}: has {} entries; the {} model has n = {} ({})",
+                                      in.Where(init[key], path), v.size(), cfg.model.name, n,
+                                      key[0] == 'q' ? "coordinates" : "speeds"));
+      }
+      cfg.x0.segment(key[0] == 'q' ? 0 : n, n) = Eigen::Map<const Eigen::VectorXd>(v.data(), n);
+    }
+  }
+
+  const YAML::Node integ = in.Mapping(root, "integrator", "integrator", true);
+  in.CheckKeys(integ, "integrator", {"tableau", "dt"});
+  if (!integ["tableau"]) {
+    throw ConfigError(fmt::format("{}: missing; expected a tableau name such as heun or rk4",
+                                  in.Where(integ, "integrator.tableau")));
+  }
+  cfg.tableau = ParseTableau(in, integ["tableau"], "integrator.tableau");
+  cfg.dt = in.PositiveNumber(integ["dt"], "integrator.dt", "a positive time step in seconds");
+  cfg.duration = in.PositiveNumber(root["duration"], "duration",
+                                   "a positive simulated duration in seconds");
+  const double steps = std::round(cfg.duration / cfg.dt);
+  if (std::abs(steps * cfg.dt - cfg.duration) > 1e-9 * cfg.duration) {
+    throw ConfigError(fmt::format("{}: duration {} s is not a whole number of steps of dt = {} s; "
+                                  "choose a duration that is a multiple of dt",
+                                  in.Where(root["duration"], "duration"), cfg.duration, cfg.dt));
+  }
+  cfg.steps = static_cast<long>(steps);
+
+  const YAML::Node output = in.Mapping(root, "output", "output", false);
+  if (output.IsDefined()) {
+    in.CheckKeys(output, "output", {"csv"});
+    if (output["csv"]) cfg.output_csv = in.String(output["csv"], "output.csv", "a file path");
+  }
+  const YAML::Node progress = in.Mapping(root, "progress", "progress", false);
+  if (progress.IsDefined()) {
+    in.CheckKeys(progress, "progress", {"quiet"});
+    cfg.quiet = progress["quiet"] && progress["quiet"].as<bool>(false);
+  }
+  return cfg;
+}
+
+SimulationConfig LoadSimulationConfig(const std::string& path) {
+  return ParseSimulationConfig(YamlInput::FromFile(path));
+}
+
+}  // namespace hybridtest::io

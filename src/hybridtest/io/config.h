@@ -1,0 +1,58 @@
+#pragma once
+// The run configuration (YAML). One file describes a simulation or a hybrid test:
+//
+//   model:
+//     name: rotor              # rotor | double_pendulum | spinning_top
+//     blades: 3                # rotor only
+//     parameters:              # optional overrides, SI units (see `hybridtest models`)
+//       k_b: 7200
+//       blade1.k_b: 5250       # one blade only
+//   initial_state:             # optional; default: the zero state
+//     q: [0, 0, 0, 0]          # (n) SI
+//     u: [0, 0, 0, 0]          # (n) SI
+//   integrator:
+//     tableau: heun            # a catalogue name, or {name, a: [[..]], b: [..], c: [..], order}
+//     dt: 0.001                # step [s]
+//   duration: 10.0             # simulated time [s]
+//   output:
+//     csv: results/run.csv     # journal path (overridden by --out)
+//   substructures: ...         # hybrid tests: see substructure_config.h
+//   progress: {quiet: false}
+//
+// Everything is validated here, where it enters; errors name file:line, key, value and fix.
+#include <Eigen/Core>
+
+#include <string>
+
+#include "hybridtest/integrators/butcher_tableau.h"
+#include "hybridtest/io/yaml_input.h"
+#include "hybridtest/models/catalogue.h"
+
+namespace hybridtest::io {
+
+struct SimulationConfig {
+  YamlInput input;                    // the parsed file (path, verbatim text, tree)
+  models::BuiltModel model;           // built from name, blades and resolved parameters
+  int blades = 0;                     // rotor only (0 otherwise)
+  Eigen::VectorXd x0;                 // (2n) initial state [q; u]
+  integrators::ButcherTableau tableau;
+  double dt = 0.0;                    // [s]
+  double duration = 0.0;              // [s]
+  long steps = 0;                     // round(duration / dt)
+  std::string output_csv;             // may be empty
+  bool quiet = false;
+};
+
+// Loads and validates a config file. Throws ConfigError.
+SimulationConfig LoadSimulationConfig(const std::string& path);
+// Same from text (tests).
+SimulationConfig ParseSimulationConfig(const YamlInput& input);
+
+// The built-in model described by a `model:` section.
+models::BuiltModel ParseModel(const YamlInput& input, const YAML::Node& model_node, int* blades);
+
+// A tableau given by name or as a mapping; validated.
+integrators::ButcherTableau ParseTableau(const YamlInput& input, const YAML::Node& node,
+                                         std::string_view key_path);
+
+}  // namespace hybridtest::io

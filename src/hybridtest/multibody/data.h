@@ -1,0 +1,59 @@
+#pragma once
+// Data<T>: the mutable workspace of the Kane engine for one Model (Pinocchio's Model/Data
+// split). Everything is sized once, in the constructor: evaluating the equations of motion
+// allocates nothing. Fields are the results of the last Calc* call (kane.h), in SI units,
+// vectors expressed in the Newtonian frame N unless stated.
+#include <Eigen/Cholesky>
+
+#include <vector>
+
+#include "hybridtest/multibody/model.h"
+
+namespace hybridtest::multibody {
+
+template <typename T>
+struct Data {
+  explicit Data(const Model& model);
+
+  int n = 0;  // number of coordinates = number of speeds
+
+  // State of the last CalcKinematics.
+  T t{0.0};          // [s]
+  VectorX<T> q;      // (n) generalized coordinates
+  VectorX<T> u;      // (n) generalized speeds
+  VectorX<T> qdot;   // (n) q̇ = W(q) u
+  VectorX<T> qddot_rem;  // (n) q̈ with u̇ = 0, i.e. Ẇ u
+  MatrixX<T> W;      // (n × n) kinematical matrix (identity unless the model says otherwise)
+
+  // Frames, indexed like Model::frames().
+  std::vector<Matrix3<T>> R_NF;        // rotation: F components → N components
+  std::vector<Vector3<T>> w_NF;        // angular velocity of F in N [rad/s]
+  std::vector<Matrix3X<T>> w_partial;  // (3 × n) partial angular velocities ∂ω/∂u_j
+  std::vector<Vector3<T>> alpha_rem;   // angular acceleration with u̇ = 0 [rad/s²]
+
+  // Points, indexed like Model::points().
+  std::vector<Vector3<T>> p_OP;        // position from O [m]
+  std::vector<Vector3<T>> v_NP;        // velocity in N [m/s]
+  std::vector<Matrix3X<T>> v_partial;  // (3 × n) partial velocities ∂v/∂u_j
+  std::vector<Vector3<T>> a_rem;       // acceleration with u̇ = 0 [m/s²]
+
+  // Results.
+  MatrixX<T> M;     // (n × n) mass matrix, symmetric positive definite
+  VectorX<T> g;     // (n) forcing: M u̇ = g
+  VectorX<T> udot;  // (n)
+  VectorX<T> r;     // (num_slots) restoring forces of the last CalcForcing [N]
+
+  // Scratch.
+  std::vector<Vector3<T>> force;   // per point: resultant of loads and inertia forces [N]
+  std::vector<Vector3<T>> torque;  // per frame: resultant torque [N·m]
+  std::vector<Jet<T>> q_jets;      // (n) seeds for general kinematic expressions
+  std::vector<Jet<T>> jet_buffer;  // (max(9, n·n))
+  VectorX<T> partial_rate;         // (n)
+  Matrix3X<T> partial_rate3;       // (3 × n)
+  Eigen::LLT<MatrixX<T>> llt;
+};
+
+extern template struct Data<double>;
+extern template struct Data<AutoDiff>;
+
+}  // namespace hybridtest::multibody

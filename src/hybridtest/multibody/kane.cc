@@ -1,0 +1,159 @@
+// Kane's equations: mass matrix, forcing, state derivative, and exact derivatives through
+// AutoDiff. See kane.h for the equations.
+#include "hybridtest/multibody/kane.h"
+
+#include <fmt/core.h>
+
+#include "hybridtest/common/error.h"
+
+namespace hybridtest::multibody {
+
+template <typename T>
+void CalcMassMatrix(const Model& model, Data<T>& data) {
+  MatrixX<T>& M = data.M;
+  M.setZero();
+  // Translational inertia: m v_j·v_k over the upper triangle of the point's active speeds.
+  auto add_translational = [&](int point, double mass) {
+    const std::vector<int>& active = model.points()[point].active;
+    const Matrix3X<T>& V = data.v_partial[point];
+    for (std::size_t a = 0; a < active.size(); ++a) {
+      for (std::size_t b = a; b < active.size(); ++b) {
+        M(active[a], active[b]) += mass * V.col(active[a]).dot(V.col(active[b]));
+      }
+    }
+  };
+  for (const ParticleSpec& p : model.particles()) add_translational(p.point, p.mass);
+  for (const RigidBodySpec& body : model.bodies()) {
+    if (body.mass > 0.0) add_translational(body.mass_center, body.mass);
+    // Rotational inertia: ω_j·I ω_k with I in N components.
+    const Matrix3<T>& R = data.R_NF[body.frame];
+    const Matrix3<T> I_N = R * body.inertia.template cast<T>() * R.transpose();
+    const std::vector<int>& active = model.frames()[body.frame].active;
+    const Matrix3X<T>& Wp = data.w_partial[body.frame];
+    for (std::size_t a = 0; a < active.size(); ++a) {
+      const Vector3<T> Iw = I_N * Wp.col(active[a]);
+      for (std::size_t b = a; b < active.size(); ++b) {
+        M(active[a], active[b]) += Wp.col(active[b]).dot(Iw);
+      }
+    }
+  }
+  // Mirror the upper triangle.
+  for (int j = 0; j < data.n; ++j)
+    for (int k = j + 1; k < data.n; ++k) M(k, j) = M(j, k);
+}
+
+template <typename T>
+void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const VectorX<T>>& r) {
+  const int n = data.n;
+  if (r.size() != model.num_slots()) {
+    throw ModelError(fmt::format("expected {} restoring forces (one per slot), got {}",
+                                 model.num_slots(), r.size()));
+  }
+  data.r = r;
+  for (int p : model.loaded_points()) data.force[p].setZero();
+  for (int f : model.loaded_frames()) data.torque[f].setZero();
+  // Applied loads, converted to N components.
+  const LoadArgs<T> args{data.t, std::span<const T>(data.q.data(), n),
+                         std::span<const T>(data.u.data(), n),
+                         std::span<const T>(data.r.data(), data.r.size())};
+  for (const LoadSpec& load : model.loads()) {
+    Vector3<T> value = load.function.template get<T>()(args);
+    if (load.expressed_in != 0) value = data.R_NF[load.expressed_in] * value;
+    (load.kind == LoadSpec::Kind::kForce ? data.force : data.torque)[load.target] += value;
+  }
+  // Inertia forces and torques (remainder parts: the u̇ parts are in M).
+  for (const ParticleSpec& p : model.particles()) data.force[p.point] -= p.mass * data.a_rem[p.point];
+  for (const RigidBodySpec& body : model.bodies()) {
+    if (body.mass > 0.0) data.force[body.mass_center] -= body.mass * data.a_rem[body.mass_center];
+    const Matrix3<T>& R = data.R_NF[body.frame];
+    const Matrix3<T> I_N = R * body.inertia.template cast<T>() * R.transpose();
+    const Vector3<T>& w = data.w_NF[body.frame];
+    data.torque[body.frame] -= I_N * data.alpha_rem[body.frame] + w.cross(I_N * w);
+  }
+  // Projection onto the partial velocities (Kane's generalized forces).
+  data.g.setZero();
+  for (int p : model.loaded_points()) {
+    for (int j : model.points()[p].active) data.g(j) += data.v_partial[p].col(j).dot(data.force[p]);
+  }
+  for (int f : model.loaded_frames()) {
+    for (int j : model.frames()[f].active) data.g(j) += data.w_partial[f].col(j).dot(data.torque[f]);
+  }
+}
+
+template <typename T>
+void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
+                         const Eigen::Ref<const VectorX<T>>& x,
+                         const Eigen::Ref<const VectorX<T>>& r, Eigen::Ref<VectorX<T>> xdot) {
+  const int n = data.n;
+  if (xdot.size() != 2 * n) {
+    throw ModelError(fmt::format("ẋ has {} entries; expected 2n = {}", xdot.size(), 2 * n));
+  }
+  CalcKinematics(model, data, t, x);
+  CalcMassMatrix(model, data);
+  CalcForcing(model, data, r);
+  data.llt.compute(data.M);
+  if (data.llt.info() != Eigen::Success) {
+    throw ModelError(fmt::format("the mass matrix is not positive definite at t = {} s: the "
+                                 "generalized coordinates are singular there, or a mass or "
+                                 "inertia is missing", ValueOf(t)));
+  }
+  data.udot = data.g;
+  data.llt.solveInPlace(data.udot);
+  xdot.head(n) = data.qdot;
+  xdot.tail(n) = data.udot;
+}
+
+Eigen::MatrixXd CalcCouplingMatrix(const Model& model, double t, const Eigen::VectorXd& x) {
+  const int n = model.num_coordinates();
+  const int m = model.num_slots();
+  if (m > kMaxDerivatives) {
+    throw ModelError(fmt::format("CalcCouplingMatrix supports at most {} slots; the model has {}",
+                                 kMaxDerivatives, m));
+  }
+  Data<AutoDiff> data(model);
+  VectorX<AutoDiff> xa = x.cast<AutoDiff>();
+  VectorX<AutoDiff> r(m);
+  for (int s = 0; s < m; ++s) r(s) = AutoDiff(0.0, Derivatives::Unit(m, s));
+  CalcKinematics<AutoDiff>(model, data, AutoDiff(t), xa);
+  CalcForcing<AutoDiff>(model, data, r);
+  Eigen::MatrixXd B(n, m);
+  for (int j = 0; j < n; ++j) {
+    const Derivatives& d = data.g(j).derivatives();
+    for (int s = 0; s < m; ++s) B(j, s) = d.size() > s ? d(s) : 0.0;
+  }
+  return B;
+}
+
+Eigen::MatrixXd CalcStateJacobian(const Model& model, double t, const Eigen::VectorXd& x,
+                                  const Eigen::VectorXd& r) {
+  const int nx = model.num_states();
+  if (nx > kMaxDerivatives) {
+    throw ModelError(fmt::format("CalcStateJacobian supports at most {} states; the model has {}",
+                                 kMaxDerivatives, nx));
+  }
+  Data<AutoDiff> data(model);
+  VectorX<AutoDiff> xa(nx);
+  for (int i = 0; i < nx; ++i) xa(i) = AutoDiff(x(i), Derivatives::Unit(nx, i));
+  VectorX<AutoDiff> ra = r.cast<AutoDiff>();
+  VectorX<AutoDiff> xdot(nx);
+  CalcStateDerivative<AutoDiff>(model, data, AutoDiff(t), xa, ra, xdot);
+  Eigen::MatrixXd J(nx, nx);
+  for (int i = 0; i < nx; ++i) {
+    const Derivatives& d = xdot(i).derivatives();
+    for (int k = 0; k < nx; ++k) J(i, k) = d.size() > k ? d(k) : 0.0;
+  }
+  return J;
+}
+
+#define HYBRIDTEST_INSTANTIATE(T)                                                             \
+  template void CalcMassMatrix<T>(const Model&, Data<T>&);                                    \
+  template void CalcForcing<T>(const Model&, Data<T>&, const Eigen::Ref<const VectorX<T>>&);  \
+  template void CalcStateDerivative<T>(const Model&, Data<T>&, const T&,                      \
+                                       const Eigen::Ref<const VectorX<T>>&,                   \
+                                       const Eigen::Ref<const VectorX<T>>&,                   \
+                                       Eigen::Ref<VectorX<T>>);
+HYBRIDTEST_INSTANTIATE(double)
+HYBRIDTEST_INSTANTIATE(AutoDiff)
+#undef HYBRIDTEST_INSTANTIATE
+
+}  // namespace hybridtest::multibody

@@ -1,0 +1,60 @@
+#pragma once
+// The Kane engine: numeric Kane's method over a Model, evaluated into a Data<T> workspace.
+//
+// With partial velocities v_j = ∂v/∂u_j and partial angular velocities ω_j = ∂ω/∂u_j, and the
+// remainder accelerations a_rem, α_rem (the accelerations with u̇ = 0), Kane's equations
+// Fr + Fr* = 0 (the paper's Eq. 16) become M u̇ = g with
+//
+//   M_jk = Σ_particles m v_j·v_k + Σ_bodies ( m v_G,j·v_G,k + ω_j·I ω_k )
+//   g_j  = Σ_points  v_j·( F − m a_rem ) + Σ_frames ω_j·( T − I α_rem − ω × I ω )
+//
+// This is SymPy's convention (KanesMethod: mass_matrix · u̇ = forcing), M symmetric positive
+// definite. The paper's Eq. (18) writes M ẋ + g = 0 with M negative; convert at the boundary
+// with PaperFormFromKane() (paper_form.h). The state is x = [q; u] (2n), and
+//
+//   ẋ = f_rhs(t, x, r) = [ W(q) u ; M(q)⁻¹ g(t, q, u, r) ]          (the paper's Eq. 21)
+//
+// r are the static restoring forces r^s [N], one per restoring-force slot. g is affine in r;
+// the coupling matrix B = ∂g/∂r (n × num_slots) is exact (forward-mode AutoDiff).
+//
+// Every Calc* is templated on the scalar T ∈ {double, AutoDiff} and allocates nothing.
+#include "hybridtest/multibody/data.h"
+
+namespace hybridtest::multibody {
+
+// Kinematics at (t, x): rotations, angular velocities and accelerations, positions,
+// velocities, partial velocities and remainder accelerations. x = [q; u] (2n).
+template <typename T>
+void CalcKinematics(const Model& model, Data<T>& data, const T& t,
+                    const Eigen::Ref<const VectorX<T>>& x);
+
+// data.M from the last CalcKinematics.
+template <typename T>
+void CalcMassMatrix(const Model& model, Data<T>& data);
+
+// data.g from the last CalcKinematics and the restoring forces r (num_slots) [N].
+template <typename T>
+void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const VectorX<T>>& r);
+
+// ẋ = f_rhs(t, x, r) (2n): kinematics, M, g, Cholesky solve. Throws ModelError if M is not
+// positive definite at x (e.g. a singular configuration of the user's coordinates).
+template <typename T>
+void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
+                         const Eigen::Ref<const VectorX<T>>& x,
+                         const Eigen::Ref<const VectorX<T>>& r, Eigen::Ref<VectorX<T>> xdot);
+
+// The displacement each restoring-force slot's substructure sees, d_i(q, t) (num_slots).
+// Unit: [m] (or [rad] for a rotational slot). Uses only data's scratch space.
+template <typename T>
+void CalcSlotDisplacements(const Model& model, Data<T>& data, const T& t,
+                           const Eigen::Ref<const VectorX<T>>& q, Eigen::Ref<VectorX<T>> d);
+
+// B = ∂g/∂r (n × num_slots) at (t, x): the generalized force of a unit restoring force in each
+// slot (the hybrid coupling matrix). Exact. Requires num_slots ≤ kMaxDerivatives.
+Eigen::MatrixXd CalcCouplingMatrix(const Model& model, double t, const Eigen::VectorXd& x);
+
+// J = ∂f_rhs/∂x (2n × 2n) at (t, x, r), exact. Requires 2n ≤ kMaxDerivatives.
+Eigen::MatrixXd CalcStateJacobian(const Model& model, double t, const Eigen::VectorXd& x,
+                                  const Eigen::VectorXd& r);
+
+}  // namespace hybridtest::multibody

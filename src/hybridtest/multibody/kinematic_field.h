@@ -1,0 +1,112 @@
+#pragma once
+// Expressions a model is written with, and how the engine stores them.
+//
+// ScalarField: a scalar function φ(q, t) — a rotation angle, a component of a position
+// vector, a restoring-force slot's displacement. Either affine, φ = c0 + Σ c_k q_k + c_t t
+// (the common case, evaluated with no function call), or a general smooth function given as a
+// generic lambda `[](const auto& a) { return l * cos(a.q[2]) + a.t; }`, evaluated on Jets so
+// the engine gets exact first and second time derivatives and ∂φ/∂q.
+//
+// Loads (forces and torques) are generic lambdas of (t, q, u, r) returning a 3-vector in a
+// chosen frame; the engine calls them with T = double or T = AutoDiff. Model parameters are
+// captured by the lambdas (a model is rebuilt when a parameter changes).
+#include <functional>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "hybridtest/multibody/jet.h"
+#include "hybridtest/multibody/scalar.h"
+
+namespace hybridtest::multibody {
+
+// Inputs of a kinematic expression: coordinates q (n jets) and time t [s] (a jet).
+template <typename T>
+struct KinematicArgs {
+  std::span<const Jet<T>> q;
+  Jet<T> t;
+};
+
+// Inputs of a load: time [s], coordinates q, speeds u, static restoring forces r^s [N] (one
+// per slot). Loads must be linear in r (the hybrid coupling relies on it).
+template <typename T>
+struct LoadArgs {
+  T t;
+  std::span<const T> q;
+  std::span<const T> u;
+  std::span<const T> r;
+};
+
+// One callable per supported scalar type, all made from the same generic lambda.
+template <template <typename> class Signature>
+class MultiScalarFunction {
+ public:
+  MultiScalarFunction() = default;
+  template <class F>
+  explicit MultiScalarFunction(const F& f) : for_double_(f), for_autodiff_(f) {}
+  explicit operator bool() const { return static_cast<bool>(for_double_); }
+  template <typename T>
+  const std::function<Signature<T>>& get() const {
+    if constexpr (std::is_same_v<T, double>) {
+      return for_double_;
+    } else {
+      return for_autodiff_;
+    }
+  }
+
+ private:
+  std::function<Signature<double>> for_double_;
+  std::function<Signature<AutoDiff>> for_autodiff_;
+};
+
+template <typename T> using ScalarSignature = Jet<T>(const KinematicArgs<T>&);
+// Fills `out` (9 jets, row-major) with the direction-cosine matrix R_PF: column j holds the
+// child frame's j-th unit vector expressed in the parent frame.
+template <typename T> using DcmSignature = void(const KinematicArgs<T>&, std::span<Jet<T>> out);
+// Fills `W` (n×n jets, row-major) of the kinematical differential equations q̇ = W(q) u.
+template <typename T> using KinematicMatrixSignature =
+    void(const KinematicArgs<T>&, std::span<Jet<T>> W);
+template <typename T> using LoadSignature = Vector3<T>(const LoadArgs<T>&);
+
+class ScalarField {
+ public:
+  struct Term {
+    int coordinate;  // index k of q_k (0-based)
+    double coefficient;
+  };
+
+  ScalarField() = default;  // zero
+  static ScalarField Constant(double value);
+  // scale · q_k + offset
+  static ScalarField Coordinate(int k, double scale = 1.0, double offset = 0.0);
+  // constant + Σ coefficient·q_k + time_rate·t
+  static ScalarField Affine(double constant, std::vector<Term> terms, double time_rate = 0.0);
+  // Any smooth expression: f(const KinematicArgs<T>&) -> Jet<T> for T = double and AutoDiff.
+  template <class F>
+  static ScalarField Function(const F& f) {
+    ScalarField field;
+    field.function_ = MultiScalarFunction<ScalarSignature>(f);
+    return field;
+  }
+
+  bool is_affine() const { return !function_; }
+  bool is_constant() const { return is_affine() && terms_.empty() && time_rate_ == 0.0; }
+  double constant() const { return constant_; }
+  const std::vector<Term>& terms() const { return terms_; }
+  double time_rate() const { return time_rate_; }
+  const MultiScalarFunction<ScalarSignature>& function() const { return function_; }
+  // Largest coordinate index used by an affine field (−1 if none).
+  int max_coordinate() const;
+
+ private:
+  double constant_ = 0.0;
+  std::vector<Term> terms_;
+  double time_rate_ = 0.0;
+  MultiScalarFunction<ScalarSignature> function_;
+};
+
+using DcmFunction = MultiScalarFunction<DcmSignature>;
+using KinematicMatrixFunction = MultiScalarFunction<KinematicMatrixSignature>;
+using LoadFunction = MultiScalarFunction<LoadSignature>;
+
+}  // namespace hybridtest::multibody

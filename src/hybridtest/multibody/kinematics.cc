@@ -1,0 +1,222 @@
+// Kinematics of the frame and point trees: CalcKinematics, CalcSlotDisplacements, and the
+// Data<T> constructor. See kane.h for the equations.
+#include <fmt/core.h>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/multibody/field_eval.h"
+#include "hybridtest/multibody/kane.h"
+
+namespace hybridtest::multibody {
+
+using internal::EvalField;
+using internal::FieldEval;
+
+template <typename T>
+Data<T>::Data(const Model& model) : n(model.num_coordinates()) {
+  const std::size_t nf = model.frames().size();
+  const std::size_t np = model.points().size();
+  q.setZero(n);
+  u.setZero(n);
+  qdot.setZero(n);
+  qddot_rem.setZero(n);
+  W = MatrixX<T>::Identity(n, n);
+  R_NF.assign(nf, Matrix3<T>::Identity());
+  w_NF.assign(nf, Vector3<T>::Zero());
+  w_partial.assign(nf, Matrix3X<T>::Zero(3, n));
+  alpha_rem.assign(nf, Vector3<T>::Zero());
+  p_OP.assign(np, Vector3<T>::Zero());
+  v_NP.assign(np, Vector3<T>::Zero());
+  v_partial.assign(np, Matrix3X<T>::Zero(3, n));
+  a_rem.assign(np, Vector3<T>::Zero());
+  M.setZero(n, n);
+  g.setZero(n);
+  udot.setZero(n);
+  r.setZero(model.num_slots());
+  force.assign(np, Vector3<T>::Zero());
+  torque.assign(nf, Vector3<T>::Zero());
+  q_jets.assign(n, Jet<T>());
+  jet_buffer.assign(std::max<std::size_t>(9, std::size_t(n) * n), Jet<T>());
+  partial_rate.setZero(n);
+  partial_rate3.setZero(3, n);
+  llt = Eigen::LLT<MatrixX<T>>(n);
+}
+
+template struct Data<double>;
+template struct Data<AutoDiff>;
+
+namespace {
+
+template <typename T>
+Vector3<T> Vee(const Matrix3<T>& S) {  // axial vector of the skew part of S
+  return Vector3<T>(0.5 * (S(2, 1) - S(1, 2)), 0.5 * (S(0, 2) - S(2, 0)),
+                    0.5 * (S(1, 0) - S(0, 1)));
+}
+
+// q̇ = W u and q̈_rem = Ẇ u for a model with a user kinematical matrix W(q).
+template <typename T>
+void CalcKinematicalEquations(const Model& model, Data<T>& data) {
+  const int n = data.n;
+  std::span<Jet<T>> w(data.jet_buffer.data(), std::size_t(n) * n);
+  Jet<T> time;
+  time.v = data.t;
+  time.d1 = T(1.0);
+  // First pass: W(q) (values only) gives q̇.
+  internal::SeedCoordinateJets(data, false);
+  const KinematicArgs<T> args{std::span<const Jet<T>>(data.q_jets.data(), n), time};
+  model.kinematic_matrix().template get<T>()(args, w);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) data.W(i, j) = w[std::size_t(i) * n + j].v;
+  data.qdot.noalias() = data.W * data.u;
+  // Second pass, along q̇: Ẇ gives q̈ with u̇ = 0.
+  data.qddot_rem.setZero();
+  internal::SeedCoordinateJets(data, true);
+  model.kinematic_matrix().template get<T>()(args, w);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) data.qddot_rem(i) += w[std::size_t(i) * n + j].d1 * data.u(j);
+}
+
+template <typename T>
+void CalcFrame(const Model& model, Data<T>& data, int i) {
+  const FrameSpec& f = model.frames()[i];
+  const int p = f.parent;
+  const Matrix3<T>& R_NP = data.R_NF[p];
+  if (f.kind == FrameSpec::Kind::kAxisAngle) {
+    if (f.constant_rotation) {
+      data.R_NF[i] = R_NP * f.constant_R_PF.template cast<T>();
+      data.w_NF[i] = data.w_NF[p];
+      for (int j : f.active) data.w_partial[i].col(j) = data.w_partial[p].col(j);
+      data.alpha_rem[i] = data.alpha_rem[p];
+      return;
+    }
+    T* rate = data.partial_rate.data();
+    const FieldEval<T> angle = EvalField(model, data, f.angle, rate);
+    const Vector3<T> axis_N = R_NP * f.axis.template cast<T>();
+    data.R_NF[i] = R_NP * internal::RotationAboutAxis(f.axis, angle.v);
+    const Vector3<T> w_rel = angle.d1 * axis_N;
+    data.w_NF[i] = data.w_NF[p] + w_rel;
+    for (int j : f.active) data.w_partial[i].col(j) = data.w_partial[p].col(j) + rate[j] * axis_N;
+    data.alpha_rem[i] = data.alpha_rem[p] + angle.d2 * axis_N + data.w_NF[p].cross(w_rel);
+    return;
+  }
+  // General direction-cosine matrix C = R_PF(q, t): ω_rel = vee(Ċ Cᵀ), α_rel = vee(C̈ Cᵀ).
+  const int n = data.n;
+  std::span<Jet<T>> c(data.jet_buffer.data(), 9);
+  Jet<T> time;
+  time.v = data.t;
+  time.d1 = T(1.0);
+  const KinematicArgs<T> args{std::span<const Jet<T>>(data.q_jets.data(), n), time};
+  f.dcm.template get<T>()(args, c);
+  Matrix3<T> C, Cd, Cdd;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      C(a, b) = c[a * 3 + b].v;
+      Cd(a, b) = c[a * 3 + b].d1;
+      Cdd(a, b) = c[a * 3 + b].d2;
+    }
+  data.R_NF[i] = R_NP * C;
+  const Vector3<T> w_rel = R_NP * Vee<T>(Cd * C.transpose());
+  data.w_NF[i] = data.w_NF[p] + w_rel;
+  for (int j : f.active) {
+    Matrix3<T> dC = Matrix3<T>::Zero();  // ∂Ċ/∂u_j = Σ_k ∂C/∂q_k W_kj
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) {
+        const Jet<T>& e = c[a * 3 + b];
+        for (int k = 0; k < e.n; ++k) {
+          dC(a, b) += model.has_identity_kinematics() ? (k == j ? e.dq[k] : T(0.0))
+                                                      : T(e.dq[k] * data.W(k, j));
+        }
+      }
+    data.w_partial[i].col(j) = data.w_partial[p].col(j) + R_NP * Vee<T>(dC * C.transpose());
+  }
+  data.alpha_rem[i] =
+      data.alpha_rem[p] + R_NP * Vee<T>(Cdd * C.transpose()) + data.w_NF[p].cross(w_rel);
+}
+
+template <typename T>
+void CalcPoint(const Model& model, Data<T>& data, int i) {
+  const PointSpec& pt = model.points()[i];
+  const int o = pt.from;
+  const int e = pt.frame;
+  Vector3<T> r, rd, rdd;
+  Matrix3X<T>& rate = data.partial_rate3;
+  for (int c = 0; c < 3; ++c) {
+    const ScalarField& field = pt.position[c];
+    if (field.is_constant()) {
+      r(c) = T(field.constant());
+      rd(c) = T(0.0);
+      rdd(c) = T(0.0);
+      for (int j : pt.active) rate(c, j) = T(0.0);
+      continue;
+    }
+    const FieldEval<T> ev = EvalField(model, data, field, data.partial_rate.data());
+    r(c) = ev.v;
+    rd(c) = ev.d1;
+    rdd(c) = ev.d2;
+    for (int j : pt.active) rate(c, j) = data.partial_rate(j);
+  }
+  const Matrix3<T>& R_NE = data.R_NF[e];
+  const Vector3<T>& w = data.w_NF[e];
+  const Vector3<T> rho = R_NE * r;
+  const Vector3<T> rho_rel_dot = R_NE * rd;  // rate of rho as seen in E, N components
+  data.p_OP[i] = data.p_OP[o] + rho;
+  data.v_NP[i] = data.v_NP[o] + w.cross(rho) + rho_rel_dot;
+  for (int j : pt.active) {
+    data.v_partial[i].col(j) = data.v_partial[o].col(j) +
+                               Vector3<T>(data.w_partial[e].col(j)).cross(rho) +
+                               R_NE * rate.col(j);
+  }
+  data.a_rem[i] = data.a_rem[o] + data.alpha_rem[e].cross(rho) + w.cross(w.cross(rho)) +
+                  2.0 * w.cross(rho_rel_dot) + R_NE * rdd;
+}
+
+}  // namespace
+
+template <typename T>
+void CalcKinematics(const Model& model, Data<T>& data, const T& t,
+                    const Eigen::Ref<const VectorX<T>>& x) {
+  const int n = data.n;
+  if (x.size() != 2 * n) {
+    throw ModelError(fmt::format("state vector has {} entries; the model needs x = [q; u] with "
+                                 "2n = {}", x.size(), 2 * n));
+  }
+  data.t = t;
+  data.q = x.head(n);
+  data.u = x.tail(n);
+  if (model.has_identity_kinematics()) {
+    data.qdot = data.u;
+  } else {
+    CalcKinematicalEquations(model, data);
+  }
+  if (model.has_general_fields()) internal::SeedCoordinateJets(data, true);
+  for (int i = 1; i < static_cast<int>(model.frames().size()); ++i) CalcFrame(model, data, i);
+  for (int i = 1; i < static_cast<int>(model.points().size()); ++i) CalcPoint(model, data, i);
+}
+
+template <typename T>
+void CalcSlotDisplacements(const Model& model, Data<T>& data, const T& t,
+                           const Eigen::Ref<const VectorX<T>>& q, Eigen::Ref<VectorX<T>> d) {
+  if (q.size() != data.n || d.size() != model.num_slots()) {
+    throw ModelError(fmt::format("CalcSlotDisplacements: expected q of size {} and d of size {}, "
+                                 "got {} and {}", data.n, model.num_slots(), q.size(), d.size()));
+  }
+  data.t = t;
+  data.q = q;
+  data.qdot.setZero();
+  data.qddot_rem.setZero();
+  if (model.has_general_fields()) internal::SeedCoordinateJets(data, false);
+  for (int s = 0; s < model.num_slots(); ++s) {
+    d(s) = EvalField(model, data, model.slots()[s].displacement, static_cast<T*>(nullptr)).v;
+  }
+}
+
+#define HYBRIDTEST_INSTANTIATE(T)                                                           \
+  template void CalcKinematics<T>(const Model&, Data<T>&, const T&,                         \
+                                  const Eigen::Ref<const VectorX<T>>&);                     \
+  template void CalcSlotDisplacements<T>(const Model&, Data<T>&, const T&,                  \
+                                         const Eigen::Ref<const VectorX<T>>&,               \
+                                         Eigen::Ref<VectorX<T>>);
+HYBRIDTEST_INSTANTIATE(double)
+HYBRIDTEST_INSTANTIATE(AutoDiff)
+#undef HYBRIDTEST_INSTANTIATE
+
+}  // namespace hybridtest::multibody

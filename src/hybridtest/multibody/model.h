@@ -1,0 +1,204 @@
+#pragma once
+// A multibody model for Kane's method: constant after Build() (Pinocchio's Model/Data split;
+// the mutable workspace is Data<T>, data.h; the algorithms are free functions, kane.h).
+//
+// A model is a tree of frames (each oriented relative to a parent) and a tree of points (each
+// located relative to another point), rooted at the Newtonian frame N and its origin O;
+// particles and rigid bodies carry mass; forces act at points and torques on frames; and
+// restoring-force slots name the hybrid unknowns r^s that loads may depend on.
+//
+// Coordinates q (n) and generalized speeds u (n) are related by the kinematical differential
+// equations q̇ = W(q) u, W = identity unless SetKinematicalEquations() says otherwise.
+//
+//   ModelBuilder b({{"q1", "m", "tip deflection"}, {"q2", "rad", "hub angle"}});
+//   FrameId H = b.AddFrameAboutAxis("H", b.newtonian(), {0, 0, 1}, ScalarField::Coordinate(1));
+//   PointId P = b.AddPoint("P", b.origin(), H, {ScalarField::Constant(0.5),
+//                                               ScalarField::Coordinate(0), {}});
+//   b.AddParticle("tip", P, 1.96);
+//   int r1 = b.AddRestoringForceSlot("r1", "blade root force", ScalarField::Coordinate(0));
+//   b.AddForce("spring", P, H, [](const auto& a) { using T = ...; return Vector3<T>(0, -a.r[0], 0); });
+//   Model model = std::move(b).Build();
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "hybridtest/multibody/kinematic_field.h"
+
+namespace hybridtest::multibody {
+
+struct FrameId {
+  int index = -1;
+};
+struct PointId {
+  int index = -1;
+};
+
+// Name, unit and meaning of a generalized coordinate or speed, or of a slot.
+struct QuantityInfo {
+  std::string name;         // "q1"
+  std::string unit;         // "m", "rad", "m/s", "rad/s", "N"
+  std::string description;  // "tip deflection of blade 1"
+};
+
+struct FrameSpec {
+  enum class Kind { kNewtonian, kAxisAngle, kDcm };
+  std::string name;
+  Kind kind = Kind::kNewtonian;
+  int parent = -1;
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // unit axis, in the parent frame
+  ScalarField angle;                                 // [rad]
+  DcmFunction dcm;                                   // R_PF(q, t)
+  bool constant_rotation = false;                    // R_PF fixed: precomputed below
+  Eigen::Matrix3d constant_R_PF = Eigen::Matrix3d::Identity();
+  std::vector<int> active;  // speeds u_j whose partial angular velocity may be non-zero
+};
+
+struct PointSpec {
+  std::string name;
+  int from = -1;                       // parent point
+  int frame = 0;                       // frame the position vector is expressed in
+  std::array<ScalarField, 3> position; // components [m]
+  std::vector<int> active;             // speeds whose partial velocity may be non-zero
+};
+
+struct ParticleSpec {
+  std::string name;
+  int point = -1;
+  double mass = 0.0;  // [kg]
+};
+
+struct RigidBodySpec {
+  std::string name;
+  int frame = -1;            // body-fixed frame
+  int mass_center = -1;      // point
+  double mass = 0.0;         // [kg]
+  Eigen::Matrix3d inertia;   // about the mass centre, in the body frame [kg·m²]
+};
+
+struct LoadSpec {
+  enum class Kind { kForce, kTorque };
+  std::string name;
+  Kind kind = Kind::kForce;
+  int target = -1;       // point (force) or frame (torque)
+  int expressed_in = 0;  // frame the returned vector is expressed in
+  LoadFunction function; // [N] or [N·m]
+};
+
+struct SlotSpec {
+  QuantityInfo info;         // name "r1", unit "N"
+  ScalarField displacement;  // what the slot's substructure sees: d(q) [m] (or [rad])
+};
+
+class Model;
+
+class ModelBuilder {
+ public:
+  // n generalized coordinates; speeds are named u1..un after them unless given.
+  explicit ModelBuilder(std::vector<QuantityInfo> coordinates,
+                        std::vector<QuantityInfo> speeds = {});
+
+  FrameId newtonian() const { return FrameId{0}; }
+  PointId origin() const { return PointId{0}; }
+
+  // Frame rotated from `parent` about the fixed unit `axis` (parent components) by `angle`.
+  FrameId AddFrameAboutAxis(std::string name, FrameId parent, const Eigen::Vector3d& axis,
+                            ScalarField angle);
+  // Frame with a general direction-cosine matrix R_PF(q, t) (must be a rotation).
+  FrameId AddFrameWithDcm(std::string name, FrameId parent, DcmFunction dcm);
+  // Point located from `from` by a vector with components `position` in `expressed_in`.
+  PointId AddPoint(std::string name, PointId from, FrameId expressed_in,
+                   std::array<ScalarField, 3> position);
+  void AddParticle(std::string name, PointId point, double mass);
+  // Rigid body fixed in `frame` with mass centre `mass_center`; inertia about the mass centre
+  // in `frame` components (symmetric, positive semi-definite) [kg·m²].
+  void AddRigidBody(std::string name, FrameId frame, PointId mass_center, double mass,
+                    const Eigen::Matrix3d& inertia);
+  // A force [N] acting at `point`, returned by f in `expressed_in` components.
+  template <class F>
+  void AddForce(std::string name, PointId point, FrameId expressed_in, const F& f) {
+    AddLoad(std::move(name), LoadSpec::Kind::kForce, point.index, expressed_in,
+            LoadFunction(f));
+  }
+  // A torque [N·m] acting on `frame`, returned by f in `expressed_in` components.
+  template <class F>
+  void AddTorque(std::string name, FrameId frame, FrameId expressed_in, const F& f) {
+    AddLoad(std::move(name), LoadSpec::Kind::kTorque, frame.index, expressed_in,
+            LoadFunction(f));
+  }
+  // Declares a restoring-force slot r^s [N]; returns its index in r.
+  int AddRestoringForceSlot(std::string name, std::string description,
+                            ScalarField displacement);
+  // q̇ = W(q) u with W filled by f (see KinematicMatrixSignature).
+  template <class F>
+  void SetKinematicalEquations(const F& f) {
+    kinematic_matrix_ = KinematicMatrixFunction(f);
+  }
+
+  // Validates (ids, masses, inertia, a positive-definite mass matrix is the user's job) and
+  // freezes the model. Throws ModelError naming the element at fault.
+  Model Build() &&;
+
+ private:
+  friend class Model;
+  void AddLoad(std::string name, LoadSpec::Kind kind, int target, FrameId expressed_in,
+               LoadFunction f);
+  void CheckFrame(FrameId f, const std::string& what) const;
+  void CheckPoint(PointId p, const std::string& what) const;
+  void CheckField(const ScalarField& field, const std::string& what) const;
+  std::vector<int> FieldActive(const ScalarField& field) const;
+
+  std::vector<QuantityInfo> coordinates_;
+  std::vector<QuantityInfo> speeds_;
+  std::vector<FrameSpec> frames_;
+  std::vector<PointSpec> points_;
+  std::vector<ParticleSpec> particles_;
+  std::vector<RigidBodySpec> bodies_;
+  std::vector<LoadSpec> loads_;
+  std::vector<SlotSpec> slots_;
+  KinematicMatrixFunction kinematic_matrix_;
+};
+
+class Model {
+ public:
+  int num_coordinates() const { return static_cast<int>(coordinates_.size()); }
+  int num_speeds() const { return num_coordinates(); }
+  int num_states() const { return 2 * num_coordinates(); }
+  int num_slots() const { return static_cast<int>(slots_.size()); }
+  const std::vector<QuantityInfo>& coordinates() const { return coordinates_; }
+  const std::vector<QuantityInfo>& speeds() const { return speeds_; }
+  const std::vector<FrameSpec>& frames() const { return frames_; }
+  const std::vector<PointSpec>& points() const { return points_; }
+  const std::vector<ParticleSpec>& particles() const { return particles_; }
+  const std::vector<RigidBodySpec>& bodies() const { return bodies_; }
+  const std::vector<LoadSpec>& loads() const { return loads_; }
+  const std::vector<SlotSpec>& slots() const { return slots_; }
+  bool has_identity_kinematics() const { return !kinematic_matrix_; }
+  const KinematicMatrixFunction& kinematic_matrix() const { return kinematic_matrix_; }
+  // Points and frames that receive a force/torque or carry mass (visited by CalcForcing).
+  const std::vector<int>& loaded_points() const { return loaded_points_; }
+  const std::vector<int>& loaded_frames() const { return loaded_frames_; }
+  // Indices of loads acting on each point/frame, for accumulation.
+  bool has_general_fields() const { return has_general_fields_; }
+
+ private:
+  friend class ModelBuilder;
+  Model() = default;
+  std::vector<QuantityInfo> coordinates_;
+  std::vector<QuantityInfo> speeds_;
+  std::vector<FrameSpec> frames_;
+  std::vector<PointSpec> points_;
+  std::vector<ParticleSpec> particles_;
+  std::vector<RigidBodySpec> bodies_;
+  std::vector<LoadSpec> loads_;
+  std::vector<SlotSpec> slots_;
+  KinematicMatrixFunction kinematic_matrix_;
+  std::vector<int> loaded_points_;
+  std::vector<int> loaded_frames_;
+  bool has_general_fields_ = false;
+};
+
+}  // namespace hybridtest::multibody

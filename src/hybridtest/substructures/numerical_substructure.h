@@ -1,0 +1,22 @@
+#pragma once
+// A numerical substructure: a restoring-force law evaluated in the model's loop (a linear
+// spring, k_b q_i for the paper's numerical blades; or Bouc–Wen for a hysteretic specimen).
+#include <memory>
+
+#include "hybridtest/constitutive/restoring_force_law.h"
+#include "hybridtest/substructures/substructure.h"
+
+namespace hybridtest::substructures {
+
+class NumericalSubstructure final : public Substructure {
+ public:
+  explicit NumericalSubstructure(std::unique_ptr<constitutive::RestoringForceLaw> law);
+  double Trial(double displacement, const TrialContext& context) override;
+  void Commit() override { law_->Commit(); }
+  std::string Describe() const override;
+
+ private:
+  std::unique_ptr<constitutive::RestoringForceLaw> law_;
+};
+
+}  // namespace hybridtest::substructures

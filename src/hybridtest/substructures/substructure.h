@@ -1,0 +1,46 @@
+#pragma once
+// Substructure: the owner of a restoring force r^s of the model (OpenFresco's two phases).
+//   Trial(d)  a displacement in, the static restoring force out. Numerical: computed.
+//             Physical: the actuator moves (this is the one impure seam of a hybrid test).
+//   Commit()  makes the last trial permanent (the state it was taken at is committed).
+// A substructure knows nothing of Kane: it sees a displacement d [m] and returns r^s [N].
+#include <string>
+
+namespace hybridtest::substructures {
+
+// Where a trial happens, for messages and records.
+struct TrialContext {
+  long step = 0;     // step index n (0-based); the trial belongs to step n → n+1
+  int stage = 0;     // Runge–Kutta stage (0-based)
+  double t = 0.0;    // model time of the stage [s]
+};
+
+// What a physical substructure exchanged in its last trial, in SI.
+struct Exchange {
+  double command = 0.0;   // actuator command (absolute position) [m]
+  double position = 0.0;  // measured actuator position [m]
+  double force = 0.0;     // measured force, after the setup transform's zero [N]
+  double lab_time = 0.0;  // bench lab time at the sample [s]
+};
+
+class Substructure {
+ public:
+  virtual ~Substructure() = default;
+  // Makes the substructure ready (a physical one activates its transfer system).
+  virtual void Activate() {}
+  // r^s [N] at displacement d [m]. Throws TransferError or SafetyStop for a physical one.
+  virtual double Trial(double displacement, const TrialContext& context) = 0;
+  virtual void Commit() = 0;
+  // Safe state after a failure: a physical one holds its actuator. Never throws.
+  virtual void Hold() noexcept {}
+  // Ends the test cleanly.
+  virtual void Deactivate() {}
+  virtual bool is_physical() const { return false; }
+  // The last exchange with the bench (physical substructures only).
+  virtual Exchange last_exchange() const { return {}; }
+  // Number of trials sent to a bench so far (physical substructures only).
+  virtual long evaluations() const { return 0; }
+  virtual std::string Describe() const = 0;
+};
+
+}  // namespace hybridtest::substructures

@@ -1,0 +1,165 @@
+#include "hybridtest/transfer/bench_client.h"
+
+#include <fmt/core.h>
+
+#include <chrono>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/transfer/safety.h"
+
+namespace hybridtest::transfer {
+
+BenchClient::BenchClient(BenchClientOptions options) : options_(std::move(options)) {
+  if (!(options_.connect_timeout > 0.0) || !(options_.reply_timeout > 0.0) ||
+      !(options_.hold_timeout > 0.0)) {
+    throw ConfigError(fmt::format(
+        "bench client: connect_timeout = {} s, reply_timeout = {} s, hold_timeout = {} s: "
+        "expected positive times",
+        options_.connect_timeout, options_.reply_timeout, options_.hold_timeout));
+  }
+}
+
+BenchClient::~BenchClient() = default;
+
+std::string BenchClient::Endpoint() const {
+  const bool v6 = options_.host.find(':') != std::string::npos;
+  return v6 ? fmt::format("[{}]:{}", options_.host, options_.port)
+            : fmt::format("{}:{}", options_.host, options_.port);
+}
+
+void BenchClient::Fail(const std::string& message) {
+  socket_.Close();
+  throw TransferError(message);
+}
+
+Frame BenchClient::Exchange(const Frame& frame, MessageType expected,
+                            const std::string& waiting_for, double timeout) {
+  if (!socket_.is_open()) {
+    throw TransferError(fmt::format(
+        "not connected to the bench at {} (needed for {}); call Activate() first, or again "
+        "after a lost connection",
+        Endpoint(), waiting_for));
+  }
+  if (!SendAll(socket_.fd(), EncodeFrame(frame), timeout)) {
+    Fail(fmt::format("connection to the bench at {} was lost while sending the request for {}",
+                     Endpoint(), waiting_for));
+  }
+  Frame reply;
+  ReadStatus status = ReadStatus::kClosed;
+  try {
+    status = ReadFrame(socket_.fd(), timeout, reply);
+  } catch (const TransferError& e) {
+    Fail(fmt::format("the bench at {} sent a corrupted frame while we waited for {}: {}",
+                     Endpoint(), waiting_for, e.what()));
+  }
+  if (status == ReadStatus::kClosed) {
+    Fail(fmt::format("connection to the bench at {} was lost while waiting for {}", Endpoint(),
+                     waiting_for));
+  }
+  if (status == ReadStatus::kTimeout) {
+    Fail(fmt::format("the bench at {} did not answer within {} s while we waited for {}; "
+                     "the connection was closed so the bench holds",
+                     Endpoint(), timeout, waiting_for));
+  }
+  if (reply.type == MessageType::kError) {
+    ErrorMessage error;
+    try {
+      error = DecodeError(reply);
+    } catch (const TransferError& e) {
+      Fail(fmt::format("the bench at {} sent a malformed ERROR while we waited for {}: {}",
+                       Endpoint(), waiting_for, e.what()));
+    }
+    if (error.code == ErrorCode::kSafety) {
+      throw SafetyStop(error.limit, error.value, error.limit_value, -1, -1, {},
+                       fmt::format("the bench at {} refused {}: {}", Endpoint(), waiting_for,
+                                   error.text));
+    }
+    Fail(fmt::format("the bench at {} answered ERROR {} while we waited for {}: {}", Endpoint(),
+                     ErrorCodeName(static_cast<std::uint16_t>(error.code)), waiting_for,
+                     error.text));
+  }
+  if (reply.sequence != frame.sequence) {
+    Fail(fmt::format(
+        "{} sequence number from the bench at {}: received {} with sequence {}, expected {} "
+        "while waiting for {}",
+        reply.sequence < frame.sequence ? "stale or duplicate" : "unexpected", Endpoint(),
+        MessageTypeName(static_cast<std::uint16_t>(reply.type)), reply.sequence, frame.sequence,
+        waiting_for));
+  }
+  if (reply.type != expected) {
+    Fail(fmt::format("the bench at {} answered {} while we waited for {} ({} expected)",
+                     Endpoint(), MessageTypeName(static_cast<std::uint16_t>(reply.type)),
+                     waiting_for, MessageTypeName(static_cast<std::uint16_t>(expected))));
+  }
+  return reply;
+}
+
+void BenchClient::Activate() {
+  socket_ = ConnectTcp(options_.host, options_.port, options_.connect_timeout);
+  HelloMessage hello;
+  hello.token = options_.token;
+  hello.client_name = options_.client_name;
+  const Frame reply = Exchange(EncodeHello(next_sequence_++, hello), MessageType::kWelcome,
+                               "WELCOME (the answer to HELLO)", options_.reply_timeout);
+  try {
+    WelcomeMessage welcome = DecodeWelcome(reply);
+    if (welcome.version != kProtocolVersion) {
+      Fail(fmt::format("the bench at {} speaks protocol version {}, this client {}", Endpoint(),
+                       welcome.version, kProtocolVersion));
+    }
+    welcome_ = std::move(welcome);
+  } catch (const TransferError& e) {
+    Fail(fmt::format("bad WELCOME from the bench at {}: {}", Endpoint(), e.what()));
+  }
+}
+
+Measurement BenchClient::Execute(double command) {
+  const std::uint32_t sequence = next_sequence_++;
+  const std::string what = fmt::format("the measurement of COMMAND sequence {} (position {} {})",
+                                       sequence, command, bench_units().length_name);
+  const Frame reply = Exchange(EncodeCommand(sequence, CommandMessage{command}),
+                               MessageType::kMeasurement, what, options_.reply_timeout);
+  try {
+    return DecodeMeasurement(reply).measurement;
+  } catch (const TransferError& e) {
+    Fail(fmt::format("bad MEASUREMENT from the bench at {} for command {}: {}", Endpoint(),
+                     sequence, e.what()));
+  }
+}
+
+void BenchClient::Hold() noexcept {
+  try {
+    if (!socket_.is_open()) return;
+    Exchange(EncodeEmpty(MessageType::kHold, next_sequence_++), MessageType::kHoldAck,
+             "HOLD_ACK", options_.hold_timeout);
+  } catch (...) {
+    // Best effort: if the HOLD did not get through, the connection is closed by now and the
+    // server holds the bench on the disconnect.
+    socket_.Close();
+  }
+}
+
+void BenchClient::Heartbeat() {
+  Exchange(EncodeEmpty(MessageType::kHeartbeat, next_sequence_++), MessageType::kHeartbeatAck,
+           "HEARTBEAT_ACK", options_.reply_timeout);
+}
+
+void BenchClient::Deactivate() {
+  if (!socket_.is_open()) return;
+  Exchange(EncodeEmpty(MessageType::kHold, next_sequence_++), MessageType::kHoldAck,
+           "HOLD_ACK", options_.reply_timeout);
+  Exchange(EncodeEmpty(MessageType::kBye, next_sequence_++), MessageType::kBye, "BYE",
+           options_.reply_timeout);
+  socket_.Close();
+}
+
+BenchUnits BenchClient::bench_units() const {
+  return welcome_ ? welcome_->units : BenchUnits{};
+}
+
+std::string BenchClient::Describe() const {
+  if (!welcome_) return fmt::format("remote bench at {} (not connected)", Endpoint());
+  return fmt::format("remote bench at {}: {}", Endpoint(), welcome_->description);
+}
+
+}  // namespace hybridtest::transfer

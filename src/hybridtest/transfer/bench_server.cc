@@ -1,0 +1,276 @@
+#include "hybridtest/transfer/bench_server.h"
+
+#include <fmt/core.h>
+#include <poll.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/transfer/protocol.h"
+
+namespace hybridtest::transfer {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr int kPollIntervalMs = 100;
+
+// The bind policy: loopback freely, anything else only with a shared token.
+const std::string& CheckBindPolicy(const BenchServerOptions& options) {
+  if (options.token.empty() && !IsLoopbackHost(options.host)) {
+    throw ConfigError(fmt::format(
+        "refusing to serve the bench on {}:{} without a token: a non-loopback address lets "
+        "anyone on the network move the actuator; set a shared token (--token or "
+        "HYBRIDTEST_BENCH_TOKEN) or listen on 127.0.0.1",
+        options.host, options.port));
+  }
+  if (!(options.heartbeat_timeout > 0.0) || !(options.send_timeout > 0.0)) {
+    throw ConfigError(fmt::format(
+        "bench server: heartbeat_timeout = {} s, send_timeout = {} s: expected positive times",
+        options.heartbeat_timeout, options.send_timeout));
+  }
+  return options.host;
+}
+
+}  // namespace
+
+struct BenchServer::Session {
+  explicit Session(Socket socket) : client(std::move(socket)) {}
+  Socket client;
+  bool refused = false;       // a safety refusal latched: every further COMMAND is refused
+  std::string refused_limit;  // the limit of that refusal
+  std::string refused_text;
+};
+
+BenchServer::BenchServer(TransferSystem& bench, BenchServerOptions options)
+    : bench_(bench),
+      options_(std::move(options)),
+      units_(bench.bench_units()),
+      monitor_(options_.limits),
+      listener_(CheckBindPolicy(options_), options_.port) {
+  if (options_.start_position) monitor_.SetStartPosition(*options_.start_position);
+}
+
+std::string BenchServer::address() const {
+  const bool v6 = listener_.host().find(':') != std::string::npos;
+  return v6 ? fmt::format("[{}]:{}", listener_.host(), port())
+            : fmt::format("{}:{}", listener_.host(), port());
+}
+
+void BenchServer::Log(const std::string& line) const {
+  if (options_.log) options_.log(line);
+}
+
+void BenchServer::Serve() {
+  bench_.Activate();
+  Log(fmt::format("serving {} on {}", bench_.Describe(), address()));
+  while (!stop_.load()) {
+    Socket client = listener_.Accept(kPollIntervalMs * 1e-3);
+    if (client.is_open()) ServeClient(std::move(client));
+  }
+  bench_.Hold();
+  bench_.Deactivate();
+  Log("stopped");
+}
+
+bool BenchServer::Send(Session& session, const Frame& frame) {
+  return SendAll(session.client.fd(), EncodeFrame(frame), options_.send_timeout);
+}
+
+void BenchServer::SendError(Session& session, std::uint32_t sequence, int code,
+                            const std::string& limit, double value, double limit_value,
+                            const std::string& text) {
+  ErrorMessage m;
+  m.code = static_cast<ErrorCode>(code);
+  m.limit = limit;
+  m.value = value;
+  m.limit_value = limit_value;
+  m.text = text.size() > 4000 ? text.substr(0, 4000) : text;
+  Log(fmt::format("ERROR {} (sequence {}): {}", ErrorCodeName(static_cast<std::uint16_t>(code)),
+                  sequence, m.text));
+  Send(session, EncodeError(sequence, m));
+}
+
+void BenchServer::RefuseBusyClient() {
+  Session other(listener_.Accept(0.0));
+  if (!other.client.is_open()) return;
+  SendError(other, 0, static_cast<int>(ErrorCode::kBusy), "", 0, 0,
+            "the bench is serving another client; try again when it has disconnected");
+}
+
+void BenchServer::ServeClient(Socket client) {
+  Session session(std::move(client));
+  const auto hold = [&](const std::string& why) {
+    bench_.Hold();
+    Log(fmt::format("holding: {}", why));
+  };
+  if (!Handshake(session)) {
+    hold("handshake failed");
+    return;
+  }
+  const auto timeout = std::chrono::duration<double>(options_.heartbeat_timeout);
+  auto last_frame = Clock::now();
+  while (!stop_.load()) {
+    pollfd fds[2] = {{session.client.fd(), POLLIN, 0}, {listener_.fd(), POLLIN, 0}};
+    poll(fds, 2, kPollIntervalMs);
+    if (fds[1].revents & POLLIN) RefuseBusyClient();
+    if (fds[0].revents & (POLLIN | POLLHUP | POLLERR)) {
+      Frame frame;
+      ReadStatus status;
+      try {
+        status = ReadFrame(session.client.fd(), options_.heartbeat_timeout, frame);
+      } catch (const TransferError& e) {
+        SendError(session, 0, static_cast<int>(ErrorCode::kProtocol), "", 0, 0, e.what());
+        return hold("protocol error");
+      }
+      if (status == ReadStatus::kClosed) return hold("client disconnected");
+      if (status == ReadStatus::kTimeout) {
+        SendError(session, 0, static_cast<int>(ErrorCode::kTimeout), "", 0, 0,
+                  "incomplete frame: the rest did not arrive within the heartbeat timeout");
+        return hold("client timed out mid-frame");
+      }
+      last_frame = Clock::now();
+      if (!HandleFrame(session, frame)) return hold("session ended");
+      continue;
+    }
+    if (Clock::now() - last_frame > timeout) {
+      SendError(session, 0, static_cast<int>(ErrorCode::kTimeout), "", 0, 0,
+                fmt::format("no frame for {} s (heartbeat_timeout); send HEARTBEAT when idle",
+                            options_.heartbeat_timeout));
+      return hold("client silent beyond the heartbeat timeout");
+    }
+  }
+  Send(session, EncodeEmpty(MessageType::kBye, 0));
+  hold("server stopping");
+}
+
+bool BenchServer::Handshake(Session& session) {
+  Frame frame;
+  try {
+    const ReadStatus status =
+        ReadFrame(session.client.fd(), options_.heartbeat_timeout, frame);
+    if (status != ReadStatus::kFrame) {
+      Log("client left or stayed silent before HELLO");
+      return false;
+    }
+    const HelloMessage hello = DecodeHello(frame);
+    if (hello.version != kProtocolVersion) {
+      SendError(session, frame.sequence, static_cast<int>(ErrorCode::kVersion), "", 0, 0,
+                fmt::format("protocol version {} is not supported; this bench speaks {}",
+                            hello.version, kProtocolVersion));
+      return false;
+    }
+    if (hello.token != options_.token) {
+      SendError(session, frame.sequence, static_cast<int>(ErrorCode::kAuth), "", 0, 0,
+                "wrong or missing token: the client's token does not match the bench's "
+                "(--token / HYBRIDTEST_BENCH_TOKEN)");
+      return false;
+    }
+    WelcomeMessage welcome;
+    welcome.description = bench_.Describe();
+    welcome.units = units_;
+    welcome.limits = options_.limits;
+    welcome.heartbeat_timeout = options_.heartbeat_timeout;
+    Log(fmt::format("client '{}' connected", hello.client_name));
+    return Send(session, EncodeWelcome(frame.sequence, welcome));
+  } catch (const TransferError& e) {
+    SendError(session, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
+              fmt::format("expected HELLO: {}", e.what()));
+    return false;
+  }
+}
+
+bool BenchServer::HandleFrame(Session& session, const Frame& frame) {
+  try {
+    switch (frame.type) {
+      case MessageType::kCommand:
+        return HandleCommand(session, frame);
+      case MessageType::kHeartbeat:
+        DecodeEmpty(frame, MessageType::kHeartbeat);
+        return Send(session, EncodeEmpty(MessageType::kHeartbeatAck, frame.sequence));
+      case MessageType::kHold:
+        DecodeEmpty(frame, MessageType::kHold);
+        bench_.Hold();
+        return Send(session, EncodeEmpty(MessageType::kHoldAck, frame.sequence));
+      case MessageType::kBye:
+        bench_.Hold();
+        Send(session, EncodeEmpty(MessageType::kBye, frame.sequence));
+        Log("client said BYE");
+        return false;
+      default:
+        SendError(session, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
+                  fmt::format("unexpected {} frame from a client in session",
+                              MessageTypeName(static_cast<std::uint16_t>(frame.type))));
+        return false;
+    }
+  } catch (const TransferError& e) {
+    SendError(session, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
+              e.what());
+    return false;
+  }
+}
+
+bool BenchServer::HandleCommand(Session& session, const Frame& frame) {
+  const CommandMessage command = DecodeCommand(frame);
+  const long n = ++commands_received_;
+  const auto fault = [&](FaultKind kind) { return HasFault(options_.faults, kind, n); };
+  const auto safety = static_cast<int>(ErrorCode::kSafety);
+
+  // Latched refusal: nothing moves until the client reconnects.
+  if (session.refused) {
+    SendError(session, frame.sequence, safety, session.refused_limit, command.position, 0,
+              "the bench is holding after a safety refusal (" + session.refused_text +
+                  "); reconnect to resume");
+    return true;
+  }
+  // Test faults that stop the answer before the bench moves.
+  if (fault(FaultKind::kClose)) {
+    Log(fmt::format("FAULT close at command {}", n));
+    return false;
+  }
+  if (fault(FaultKind::kSilence)) {
+    Log(fmt::format("FAULT silence at command {}", n));
+    bench_.Hold();
+    return true;
+  }
+  // Check, move, check: a SafetyStop from any of the three refuses and latches.
+  const double m_per_unit = units_.metres_per_length_unit;
+  const double n_per_unit = units_.newtons_per_force_unit;
+  MeasurementMessage reply;
+  try {
+    monitor_.CheckCommand(command.position * m_per_unit, n, 0);
+    reply.measurement = bench_.Execute(command.position);
+    monitor_.CheckMeasurement(command.position * m_per_unit,
+                              reply.measurement.position * m_per_unit,
+                              reply.measurement.force * n_per_unit, n, 0);
+  } catch (const SafetyStop& e) {
+    bench_.Hold();
+    session.refused = true;
+    session.refused_limit = e.limit();
+    session.refused_text = e.what();
+    SendError(session, frame.sequence, safety, e.limit(), e.value(), e.limit_value(), e.what());
+    return true;
+  } catch (const Error& e) {
+    bench_.Hold();
+    SendError(session, frame.sequence, static_cast<int>(ErrorCode::kBench), "", 0, 0,
+              fmt::format("the bench failed to execute command {}: {}", n, e.what()));
+    return false;
+  }
+  // Test faults on the answer.
+  if (fault(FaultKind::kNan)) reply.measurement.force = std::numeric_limits<double>::quiet_NaN();
+  if (fault(FaultKind::kSpike)) reply.measurement.force *= 100.0;
+  const std::uint32_t sequence =
+      fault(FaultKind::kStaleSeq) ? frame.sequence - 1 : frame.sequence;
+  std::vector<std::uint8_t> bytes = EncodeFrame(EncodeMeasurement(sequence, reply));
+  const std::vector<std::uint8_t> clean = bytes;
+  if (fault(FaultKind::kCorrupt)) bytes[kFrameHeaderSize] ^= 0xFF;
+  if (fault(FaultKind::kDuplicate)) {
+    const auto& again = previous_measurement_.empty() ? clean : previous_measurement_;
+    if (!SendAll(session.client.fd(), again, options_.send_timeout)) return false;
+  }
+  previous_measurement_ = clean;
+  return SendAll(session.client.fd(), bytes, options_.send_timeout);
+}
+
+}  // namespace hybridtest::transfer

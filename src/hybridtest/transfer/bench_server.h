@@ -1,0 +1,94 @@
+#pragma once
+// BenchServer: serves one TransferSystem over TCP with the hybridtest bench protocol v1
+// (docs/protocol.md), to one client at a time.
+//
+// Safety rules, in the order they are applied:
+//  - It binds 127.0.0.1 by default and refuses to bind any non-loopback address unless a
+//    shared token is configured; with a token, a HELLO carrying another token is refused.
+//  - Every COMMAND is checked by a SafetyMonitor (SI limits; bench units are converted with
+//    the bench's BenchUnits) before the bench moves. A refused command is answered with
+//    ERROR(SAFETY, limit, value, limit value), the bench holds, and every further COMMAND of
+//    that session is refused the same way (the refusal latches until the client reconnects).
+//  - Every measurement is checked too (finite, |force| ≤ force_hard); a violation is
+//    answered with ERROR(SAFETY) and latches in the same way.
+//  - On a silent client (no frame for heartbeat_timeout), a malformed frame, an unexpected
+//    message or a disconnect, the bench is put in Hold() — it never moves to a new position
+//    and never returns to zero — and the server waits for the next client.
+//  - A second client connecting while a session is open is answered ERROR(BUSY) and closed.
+//
+// Lifecycle: the constructor binds and listens (so port() is known at once); Serve() calls
+// the bench's Activate(), serves until Stop(), then holds and deactivates the bench.
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hybridtest/transfer/bench_faults.h"
+#include "hybridtest/transfer/frame.h"
+#include "hybridtest/transfer/safety.h"
+#include "hybridtest/transfer/socket.h"
+#include "hybridtest/transfer/transfer_system.h"
+
+namespace hybridtest::transfer {
+
+struct BenchServerOptions {
+  std::string host = "127.0.0.1";  // address to bind; non-loopback needs `token`
+  std::uint16_t port = 7471;       // 0 picks a free port (see BenchServer::port())
+  std::string token;               // shared secret the client's HELLO must carry; may be empty
+                                   // on loopback
+  double heartbeat_timeout = 10.0; // a client silent this long is dropped. Unit: [s].
+  double send_timeout = 2.0;       // longest wait to write one frame. Unit: [s].
+  SafetyLimits limits;             // checked before every command. SI.
+  std::optional<double> start_position;  // actuator position before the first command, so
+                                         // that its increment is checked. Unit: [m].
+  std::vector<Fault> faults;       // TEST FACILITY ONLY (bench_faults.h); empty in real use
+  std::function<void(const std::string&)> log;  // one line per event; may be empty
+};
+
+class BenchServer {
+ public:
+  // Binds and listens. Throws ConfigError for a non-loopback host without a token or
+  // inconsistent limits, TransferError if the address cannot be bound (e.g. port in use).
+  // `bench` must outlive the server.
+  BenchServer(TransferSystem& bench, BenchServerOptions options);
+  BenchServer(const BenchServer&) = delete;
+  BenchServer& operator=(const BenchServer&) = delete;
+
+  std::uint16_t port() const { return listener_.port(); }  // the bound port
+  std::string address() const;                             // "HOST:PORT"
+
+  // Activates the bench and serves clients until Stop(). Throws what the bench's Activate()
+  // or Deactivate() throw; session errors are handled (hold, log, next client), never thrown.
+  void Serve();
+
+  // Asks Serve() to return within about 0.1 s. Safe from another thread or a signal handler.
+  void Stop() noexcept { stop_.store(true); }
+
+  long commands_received() const { return commands_received_.load(); }  // lifetime count
+
+ private:
+  struct Session;
+  void ServeClient(Socket client);
+  bool Handshake(Session& session);
+  // Handles one frame of an open session; returns false when the session must end.
+  bool HandleFrame(Session& session, const Frame& frame);
+  bool HandleCommand(Session& session, const Frame& frame);
+  void RefuseBusyClient();
+  bool Send(Session& session, const Frame& frame);
+  void SendError(Session& session, std::uint32_t sequence, int code, const std::string& limit,
+                 double value, double limit_value, const std::string& text);
+  void Log(const std::string& line) const;
+
+  TransferSystem& bench_;
+  BenchServerOptions options_;
+  BenchUnits units_;
+  SafetyMonitor monitor_;
+  Listener listener_;
+  std::atomic<bool> stop_{false};
+  std::atomic<long> commands_received_{0};
+  std::vector<std::uint8_t> previous_measurement_;  // encoded, for the `duplicate` fault
+};
+
+}  // namespace hybridtest::transfer

@@ -1,0 +1,77 @@
+#pragma once
+// EmulatedBench: an in-process TransferSystem that behaves like the seed paper's test bench
+// (electromechanical actuator, 300 mm stroke, 10 kN, load cell, steel cantilever) in the
+// pseudo-dynamic regime.
+//
+// Execute(command) [bench length unit]:
+//   0. converts to SI and asks the bench's own SafetyMonitor (config `safety:`); a refused
+//      command never moves the actuator: the bench holds and throws SafetyStop;
+//   1. move: the position reference r(t) ramps to the target at the velocity limit; the servo
+//      position p(t) follows r(t − delay) through the lag (none, first or second order); the
+//      specimen is deformed along the path (the law is trialled and committed every internal
+//      step, so hysteresis sees the real path);
+//   2. settle: continues until |target − p| < tolerance has held for the dwell time;
+//   3. sample: averages position and load-cell force over the sampling window; each raw
+//      sample is force + offset + N(0, noise_std²), quantised to the resolution;
+//   4. checks the measurement (finite, |force| ≤ force_hard) and returns it in bench units.
+// Lab time advances by overhead + move + settle + window. The drive trips (SafetyStop,
+// limit "actuator_capacity") if the specimen force exceeds the actuator capacity on the way.
+// With pacing: realtime, Execute sleeps so that wall time since Activate follows lab time.
+//
+// The bench's safety monitor counts steps as commands (step = command index, stage = 0): the
+// bench does not know the runner's Runge–Kutta stages.
+#include <memory>
+#include <string>
+
+#include "hybridtest/transfer/bench_config.h"
+#include "hybridtest/transfer/safety.h"
+#include "hybridtest/transfer/transfer_system.h"
+
+namespace hybridtest::transfer {
+
+class Actuator;
+class LoadCell;
+class LabClock;
+
+class EmulatedBench final : public TransferSystem {
+ public:
+  // Throws ConfigError if the configuration is inconsistent.
+  explicit EmulatedBench(const EmulatedBenchConfig& config);
+  ~EmulatedBench() override;
+
+  void Activate() override;
+  Measurement Execute(double command) override;
+  void Hold() noexcept override;
+  void Deactivate() override;
+  BenchUnits bench_units() const override { return config_.units; }
+  std::string Describe() const override;
+
+  // Lab time since the first Activate(). Unit: [s].
+  double lab_time() const;
+  // Current actuator position. Unit: [m].
+  double actuator_position() const;
+  // Number of Execute calls so far (including refused ones).
+  long command_count() const { return command_count_; }
+  bool holding() const { return state_ == State::kHolding; }
+  const EmulatedBenchConfig& config() const { return config_; }
+  const SafetyMonitor& safety() const { return safety_; }
+
+ private:
+  enum class State { kConfigured, kActive, kHolding, kDeactivated };
+  const BenchFault* FindFault(long index) const;
+  void ApplyFault(const BenchFault& fault, Measurement& measurement);
+
+  EmulatedBenchConfig config_;
+  SafetyMonitor safety_;
+  std::unique_ptr<constitutive::RestoringForceLaw> specimen_;
+  std::unique_ptr<Actuator> actuator_;
+  std::unique_ptr<LoadCell> load_cell_;
+  std::unique_ptr<LabClock> clock_;
+  State state_ = State::kConfigured;
+  long command_count_ = 0;
+};
+
+// The factory the bench server calls. Throws ConfigError.
+std::unique_ptr<EmulatedBench> MakeEmulatedBench(const EmulatedBenchConfig& config);
+
+}  // namespace hybridtest::transfer

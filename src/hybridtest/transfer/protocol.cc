@@ -1,0 +1,173 @@
+#include "hybridtest/transfer/protocol.h"
+
+#include <fmt/core.h>
+
+#include "hybridtest/common/error.h"
+
+namespace hybridtest::transfer {
+namespace {
+
+void ExpectType(const Frame& frame, MessageType expected) {
+  if (frame.type != expected) {
+    throw TransferError(fmt::format(
+        "expected a {} frame, received {} (sequence {})",
+        MessageTypeName(static_cast<std::uint16_t>(expected)),
+        MessageTypeName(static_cast<std::uint16_t>(frame.type)), frame.sequence));
+  }
+}
+
+ByteReader ReaderFor(const Frame& frame, MessageType expected) {
+  ExpectType(frame, expected);
+  return ByteReader(frame.payload,
+                    MessageTypeName(static_cast<std::uint16_t>(expected)) + " payload");
+}
+
+Frame MakeFrame(MessageType type, std::uint32_t sequence, ByteWriter& writer) {
+  Frame frame;
+  frame.type = type;
+  frame.sequence = sequence;
+  frame.payload = writer.Take();
+  return frame;
+}
+
+}  // namespace
+
+std::string ErrorCodeName(std::uint16_t code) {
+  switch (static_cast<ErrorCode>(code)) {
+    case ErrorCode::kProtocol: return "PROTOCOL";
+    case ErrorCode::kVersion: return "VERSION";
+    case ErrorCode::kAuth: return "AUTH";
+    case ErrorCode::kSafety: return "SAFETY";
+    case ErrorCode::kBench: return "BENCH";
+    case ErrorCode::kBusy: return "BUSY";
+    case ErrorCode::kTimeout: return "TIMEOUT";
+  }
+  return fmt::format("UNKNOWN({})", code);
+}
+
+Frame EncodeHello(std::uint32_t sequence, const HelloMessage& message) {
+  ByteWriter w;
+  w.U16(message.version);
+  w.Str(message.token);
+  w.Str(message.client_name);
+  return MakeFrame(MessageType::kHello, sequence, w);
+}
+
+HelloMessage DecodeHello(const Frame& frame) {
+  ByteReader r = ReaderFor(frame, MessageType::kHello);
+  HelloMessage m;
+  m.version = r.U16("version");
+  m.token = r.Str("token");
+  m.client_name = r.Str("client_name");
+  r.Finish();
+  return m;
+}
+
+Frame EncodeWelcome(std::uint32_t sequence, const WelcomeMessage& message) {
+  ByteWriter w;
+  w.U16(message.version);
+  w.Str(message.description);
+  w.F64(message.units.metres_per_length_unit);
+  w.F64(message.units.newtons_per_force_unit);
+  w.Str(message.units.length_name);
+  w.Str(message.units.force_name);
+  w.F64(message.limits.stroke_min);
+  w.F64(message.limits.stroke_max);
+  w.F64(message.limits.max_increment);
+  w.F64(message.limits.force_soft);
+  w.F64(message.limits.force_hard);
+  w.F64(message.heartbeat_timeout);
+  return MakeFrame(MessageType::kWelcome, sequence, w);
+}
+
+WelcomeMessage DecodeWelcome(const Frame& frame) {
+  ByteReader r = ReaderFor(frame, MessageType::kWelcome);
+  WelcomeMessage m;
+  m.version = r.U16("version");
+  m.description = r.Str("description");
+  m.units.metres_per_length_unit = r.F64("metres_per_length_unit");
+  m.units.newtons_per_force_unit = r.F64("newtons_per_force_unit");
+  m.units.length_name = r.Str("length_name");
+  m.units.force_name = r.Str("force_name");
+  m.limits.stroke_min = r.F64("stroke_min");
+  m.limits.stroke_max = r.F64("stroke_max");
+  m.limits.max_increment = r.F64("max_increment");
+  m.limits.force_soft = r.F64("force_soft");
+  m.limits.force_hard = r.F64("force_hard");
+  m.heartbeat_timeout = r.F64("heartbeat_timeout");
+  r.Finish();
+  return m;
+}
+
+Frame EncodeCommand(std::uint32_t sequence, const CommandMessage& message) {
+  ByteWriter w;
+  w.F64(message.position);
+  return MakeFrame(MessageType::kCommand, sequence, w);
+}
+
+CommandMessage DecodeCommand(const Frame& frame) {
+  ByteReader r = ReaderFor(frame, MessageType::kCommand);
+  CommandMessage m;
+  m.position = r.F64("position");
+  r.Finish();
+  return m;
+}
+
+Frame EncodeMeasurement(std::uint32_t sequence, const MeasurementMessage& message) {
+  ByteWriter w;
+  w.F64(message.measurement.position);
+  w.F64(message.measurement.force);
+  w.F64(message.measurement.lab_time);
+  w.U32(static_cast<std::uint32_t>(message.status));
+  return MakeFrame(MessageType::kMeasurement, sequence, w);
+}
+
+MeasurementMessage DecodeMeasurement(const Frame& frame) {
+  ByteReader r = ReaderFor(frame, MessageType::kMeasurement);
+  MeasurementMessage m;
+  m.measurement.position = r.F64("position");
+  m.measurement.force = r.F64("force");
+  m.measurement.lab_time = r.F64("lab_time");
+  const std::uint32_t status = r.U32("status");
+  r.Finish();
+  if (status != static_cast<std::uint32_t>(MeasurementStatus::kOk)) {
+    throw TransferError(fmt::format(
+        "MEASUREMENT (sequence {}): unknown status {}, expected 0 (OK)", frame.sequence, status));
+  }
+  m.status = static_cast<MeasurementStatus>(status);
+  return m;
+}
+
+Frame EncodeError(std::uint32_t sequence, const ErrorMessage& message) {
+  ByteWriter w;
+  w.U16(static_cast<std::uint16_t>(message.code));
+  w.Str(message.limit);
+  w.F64(message.value);
+  w.F64(message.limit_value);
+  w.Str(message.text);
+  return MakeFrame(MessageType::kError, sequence, w);
+}
+
+ErrorMessage DecodeError(const Frame& frame) {
+  ByteReader r = ReaderFor(frame, MessageType::kError);
+  ErrorMessage m;
+  m.code = static_cast<ErrorCode>(r.U16("code"));
+  m.limit = r.Str("limit");
+  m.value = r.F64("value");
+  m.limit_value = r.F64("limit_value");
+  m.text = r.Str("text");
+  r.Finish();
+  return m;
+}
+
+Frame EncodeEmpty(MessageType type, std::uint32_t sequence) {
+  ByteWriter w;
+  return MakeFrame(type, sequence, w);
+}
+
+void DecodeEmpty(const Frame& frame, MessageType expected) {
+  ByteReader r = ReaderFor(frame, expected);
+  r.Finish();
+}
+
+}  // namespace hybridtest::transfer
