@@ -166,6 +166,21 @@ TEST(BenchServer, GarbageFromAClientHoldsAndServesTheNext) {
   EXPECT_EQ(client.Execute(1.0).force, 5.0);
 }
 
+TEST(BenchServer, OversizeLengthIsRejectedBeforeThePayloadIsRead) {
+  FakeBench bench;
+  ServerThread server(bench, {});
+  Socket raw = ConnectTcp("127.0.0.1", server.port(), 2.0);
+  auto bytes = EncodeFrame(EncodeHello(1, HelloMessage{}));
+  bytes[14] = 0x10;  // payload_length += 1 MiB; the payload itself is never sent
+  bytes.resize(kFrameHeaderSize);
+  ASSERT_TRUE(SendAll(raw.fd(), bytes, 2.0));
+  Frame reply;
+  ASSERT_EQ(ReadFrame(raw.fd(), 5.0, reply), ReadStatus::kFrame);
+  const ErrorMessage error = DecodeError(reply);
+  EXPECT_EQ(error.code, ErrorCode::kProtocol);
+  EXPECT_NE(error.text.find("oversize payload length"), std::string::npos) << error.text;
+}
+
 TEST(BenchServer, CommandBeforeHelloIsAProtocolError) {
   FakeBench bench;
   ServerThread server(bench, {});

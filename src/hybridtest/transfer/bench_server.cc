@@ -50,6 +50,7 @@ BenchServer::BenchServer(TransferSystem& bench, BenchServerOptions options)
       monitor_(options_.limits),
       listener_(CheckBindPolicy(options_), options_.port) {
   if (options_.start_position) monitor_.SetStartPosition(*options_.start_position);
+  if (options_.initial_stiffness) monitor_.SetInitialStiffness(*options_.initial_stiffness);
 }
 
 std::string BenchServer::address() const {
@@ -62,6 +63,12 @@ void BenchServer::Log(const std::string& line) const {
   if (options_.log) options_.log(line);
 }
 
+void BenchServer::HoldBench(const std::string& why) {
+  bench_.Hold();
+  bench_held_ = true;
+  Log(fmt::format("holding: {}", why));
+}
+
 void BenchServer::Serve() {
   bench_.Activate();
   Log(fmt::format("serving {} on {}", bench_.Describe(), address()));
@@ -69,7 +76,7 @@ void BenchServer::Serve() {
     Socket client = listener_.Accept(kPollIntervalMs * 1e-3);
     if (client.is_open()) ServeClient(std::move(client));
   }
-  bench_.Hold();
+  HoldBench("server stopping");
   bench_.Deactivate();
   Log("stopped");
 }
@@ -101,10 +108,7 @@ void BenchServer::RefuseBusyClient() {
 
 void BenchServer::ServeClient(Socket client) {
   Session session(std::move(client));
-  const auto hold = [&](const std::string& why) {
-    bench_.Hold();
-    Log(fmt::format("holding: {}", why));
-  };
+  const auto hold = [&](const std::string& why) { HoldBench(why); };
   if (!Handshake(session)) {
     hold("handshake failed");
     return;
@@ -191,12 +195,11 @@ bool BenchServer::HandleFrame(Session& session, const Frame& frame) {
         return Send(session, EncodeEmpty(MessageType::kHeartbeatAck, frame.sequence));
       case MessageType::kHold:
         DecodeEmpty(frame, MessageType::kHold);
-        bench_.Hold();
+        HoldBench("client asked for HOLD");
         return Send(session, EncodeEmpty(MessageType::kHoldAck, frame.sequence));
       case MessageType::kBye:
-        bench_.Hold();
+        HoldBench("client said BYE");
         Send(session, EncodeEmpty(MessageType::kBye, frame.sequence));
-        Log("client said BYE");
         return false;
       default:
         SendError(session, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
@@ -230,8 +233,7 @@ bool BenchServer::HandleCommand(Session& session, const Frame& frame) {
     return false;
   }
   if (fault(FaultKind::kSilence)) {
-    Log(fmt::format("FAULT silence at command {}", n));
-    bench_.Hold();
+    HoldBench(fmt::format("FAULT silence at command {}", n));
     return true;
   }
   // Check, move, check: a SafetyStop from any of the three refuses and latches.
@@ -240,19 +242,23 @@ bool BenchServer::HandleCommand(Session& session, const Frame& frame) {
   MeasurementMessage reply;
   try {
     monitor_.CheckCommand(command.position * m_per_unit, n, 0);
+    if (bench_held_) {
+      bench_.Activate();
+      bench_held_ = false;
+    }
     reply.measurement = bench_.Execute(command.position);
     monitor_.CheckMeasurement(command.position * m_per_unit,
                               reply.measurement.position * m_per_unit,
                               reply.measurement.force * n_per_unit, n, 0);
   } catch (const SafetyStop& e) {
-    bench_.Hold();
+    HoldBench(fmt::format("safety refusal at command {} ({})", n, e.limit()));
     session.refused = true;
     session.refused_limit = e.limit();
     session.refused_text = e.what();
     SendError(session, frame.sequence, safety, e.limit(), e.value(), e.limit_value(), e.what());
     return true;
   } catch (const Error& e) {
-    bench_.Hold();
+    HoldBench(fmt::format("bench failure at command {}", n));
     SendError(session, frame.sequence, static_cast<int>(ErrorCode::kBench), "", 0, 0,
               fmt::format("the bench failed to execute command {}: {}", n, e.what()));
     return false;

@@ -17,7 +17,9 @@
 //  - A second client connecting while a session is open is answered ERROR(BUSY) and closed.
 //
 // Lifecycle: the constructor binds and listens (so port() is known at once); Serve() calls
-// the bench's Activate(), serves until Stop(), then holds and deactivates the bench.
+// the bench's Activate(), serves until Stop(), then holds and deactivates the bench. After a
+// hold (explicit HOLD, disconnect, ...), the next accepted COMMAND resumes the bench with
+// Activate() before Execute(): a TransferSystem must accept Activate() again after Hold().
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -43,6 +45,8 @@ struct BenchServerOptions {
   SafetyLimits limits;             // checked before every command. SI.
   std::optional<double> start_position;  // actuator position before the first command, so
                                          // that its increment is checked. Unit: [m].
+  std::optional<double> initial_stiffness;  // for the force prediction before two
+                                            // measurements exist. Unit: [N/m].
   std::vector<Fault> faults;       // TEST FACILITY ONLY (bench_faults.h); empty in real use
   std::function<void(const std::string&)> log;  // one line per event; may be empty
 };
@@ -80,6 +84,7 @@ class BenchServer {
   void SendError(Session& session, std::uint32_t sequence, int code, const std::string& limit,
                  double value, double limit_value, const std::string& text);
   void Log(const std::string& line) const;
+  void HoldBench(const std::string& why);  // bench_.Hold(), remembered in bench_held_
 
   TransferSystem& bench_;
   BenchServerOptions options_;
@@ -88,6 +93,7 @@ class BenchServer {
   Listener listener_;
   std::atomic<bool> stop_{false};
   std::atomic<long> commands_received_{0};
+  bool bench_held_ = false;  // a COMMAND after a hold resumes the bench with Activate()
   std::vector<std::uint8_t> previous_measurement_;  // encoded, for the `duplicate` fault
 };
 

@@ -1,0 +1,110 @@
+// `hybridtest bench`: serves the emulated test bench over TCP (bench protocol v1,
+// docs/protocol.md) until SIGINT or SIGTERM.
+//
+//   hybridtest bench [--config FILE] [--listen HOST:PORT] [--token TOKEN]
+//                    [--heartbeat-timeout S] [--inject KIND@N]...
+//
+// Prints one line "hybridtest bench: listening on HOST:PORT (...)" to stdout once it accepts
+// connections (port 0 picks a free port; the line shows the one chosen), then logs events to
+// stderr.
+#include <fmt/core.h>
+
+#include <csignal>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "command.h"
+#include "hybridtest/common/error.h"
+#include "hybridtest/transfer/bench_config.h"
+#include "hybridtest/transfer/bench_server.h"
+#include "hybridtest/transfer/emulated_bench.h"
+
+namespace hybridtest::app {
+namespace {
+
+struct BenchArgs {
+  std::string config;
+  std::string listen = "127.0.0.1:7471";
+  std::string token;
+  double heartbeat_timeout = 10.0;
+  std::vector<std::string> inject;
+};
+
+// The server the signal handlers stop. Stop() only stores an atomic flag.
+transfer::BenchServer* g_server = nullptr;
+
+extern "C" void StopOnSignal(int /*signal*/) {
+  if (g_server != nullptr) g_server->Stop();
+}
+
+void RunBench(const BenchArgs& args) {
+  using namespace transfer;
+  const EmulatedBenchConfig config =
+      args.config.empty() ? DefaultEmulatedBenchConfig() : LoadEmulatedBenchConfig(args.config);
+  const HostPort listen = ParseHostPort(args.listen, "--listen");
+
+  BenchServerOptions options;
+  options.host = listen.host;
+  options.port = listen.port;
+  options.token = args.token;
+  options.heartbeat_timeout = args.heartbeat_timeout;
+  options.limits = config.safety;
+  options.start_position = config.initial_position;
+  options.initial_stiffness = config.specimen->initial_stiffness();
+  for (const auto& spec : args.inject) options.faults.push_back(ParseFault(spec, "--inject"));
+  options.log = [](const std::string& line) {
+    std::fprintf(stderr, "hybridtest bench: %s\n", line.c_str());
+  };
+
+  std::unique_ptr<EmulatedBench> bench = MakeEmulatedBench(config);
+  BenchServer server(*bench, options);
+
+  std::string faults;
+  for (const auto& spec : args.inject) faults += (faults.empty() ? "" : ",") + spec;
+  std::printf("hybridtest bench: listening on %s (%s; token %s%s)\n", server.address().c_str(),
+              bench->Describe().c_str(), args.token.empty() ? "none" : "required",
+              faults.empty() ? "" : ("; TEST FAULTS INJECTED: " + faults).c_str());
+  std::fflush(stdout);
+
+  g_server = &server;
+  struct sigaction action {};
+  action.sa_handler = StopOnSignal;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+  try {
+    server.Serve();
+  } catch (...) {
+    g_server = nullptr;
+    throw;
+  }
+  g_server = nullptr;
+}
+
+void AddBenchCommand(CLI::App& root) {
+  auto args = std::make_shared<BenchArgs>();
+  CLI::App* cmd = root.add_subcommand(
+      "bench", "Serve the emulated test bench over TCP (bench protocol v1) until SIGINT/SIGTERM");
+  cmd->add_option("--config", args->config,
+                  "YAML file with a `bench:` mapping (default: the seed paper's cantilever)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--listen", args->listen,
+                  "HOST:PORT to listen on; port 0 picks a free port (default 127.0.0.1:7471). "
+                  "A non-loopback host requires --token");
+  cmd->add_option("--token", args->token, "shared token clients must present")
+      ->envname("HYBRIDTEST_BENCH_TOKEN");
+  cmd->add_option("--heartbeat-timeout", args->heartbeat_timeout,
+                  "seconds without a frame after which a client is dropped and the bench holds")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--inject", args->inject,
+                  "TEST FACILITY ONLY: inject a fault KIND@N at the N-th command "
+                  "(nan, spike, corrupt, stale_seq, duplicate, silence, close)");
+  cmd->callback([args] { RunBench(*args); });
+}
+
+const CommandRegistration kReg{"bench", &AddBenchCommand};
+
+}  // namespace
+}  // namespace hybridtest::app

@@ -1,0 +1,90 @@
+// Round-trip latency of one stage over the bench protocol: BenchClient::Execute (COMMAND →
+// MEASUREMENT) over 127.0.0.1 to a BenchServer in another thread serving a trivial
+// TransferSystem (force = k · command, no settling). This is the network and protocol cost a
+// physical substructure adds to every stage, on top of the bench's own lab time.
+//
+// Counters: p50_us, p99_us, max_us: percentiles of the per-iteration wall time [µs].
+// Reference: InProcessExecute calls the same trivial TransferSystem directly, so the ratio
+// between the two is the cost of the wire.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <thread>
+#include <vector>
+
+#include "hybridtest/transfer/bench_client.h"
+#include "hybridtest/transfer/bench_server.h"
+
+namespace hybridtest::transfer {
+namespace {
+
+class TrivialBench final : public TransferSystem {
+ public:
+  void Activate() override {}
+  Measurement Execute(double command) override {
+    lab_time_ += 1e-3;
+    return Measurement{command, 5.0 * command, lab_time_};
+  }
+  void Hold() noexcept override {}
+  void Deactivate() override {}
+  BenchUnits bench_units() const override { return BenchUnits{1e-3, 1.0, "mm", "N"}; }
+  std::string Describe() const override { return "trivial bench"; }
+
+ private:
+  double lab_time_ = 0.0;
+};
+
+void ReportPercentiles(benchmark::State& state, std::vector<double>& samples_us) {
+  if (samples_us.empty()) return;
+  std::sort(samples_us.begin(), samples_us.end());
+  const auto at = [&](double q) {
+    return samples_us[std::min(samples_us.size() - 1,
+                               static_cast<std::size_t>(q * static_cast<double>(samples_us.size())))];
+  };
+  state.counters["p50_us"] = at(0.50);
+  state.counters["p99_us"] = at(0.99);
+  state.counters["max_us"] = samples_us.back();
+}
+
+// A small back-and-forth inside the stroke and the increment limit. Unit: [mm].
+double CommandAt(long i) { return 0.5 * static_cast<double>(i % 8); }
+
+void BM_LoopbackRoundTrip(benchmark::State& state) {
+  TrivialBench bench;
+  BenchServerOptions server_options;
+  server_options.port = 0;
+  server_options.limits.max_increment = 1.0;  // [m]: the ramp wraps around
+  BenchServer server(bench, server_options);
+  std::thread serving([&] { server.Serve(); });
+  {
+    BenchClientOptions client_options;
+    client_options.port = server.port();
+    BenchClient client(client_options);
+    client.Activate();
+    std::vector<double> samples_us;
+    samples_us.reserve(1 << 16);
+    long i = 0;
+    for (auto _ : state) {
+      const auto start = std::chrono::steady_clock::now();
+      benchmark::DoNotOptimize(client.Execute(CommandAt(i++)));
+      const auto stop = std::chrono::steady_clock::now();
+      samples_us.push_back(std::chrono::duration<double, std::micro>(stop - start).count());
+    }
+    client.Deactivate();
+    ReportPercentiles(state, samples_us);
+  }
+  server.Stop();
+  serving.join();
+}
+BENCHMARK(BM_LoopbackRoundTrip)->Unit(benchmark::kMicrosecond);
+
+void BM_InProcessExecute(benchmark::State& state) {
+  TrivialBench bench;
+  long i = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(bench.Execute(CommandAt(i++)));
+}
+BENCHMARK(BM_InProcessExecute)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace hybridtest::transfer
