@@ -167,8 +167,8 @@ void ExportHdf5(const io::RunData& run, const std::string& h5_path) {
                    "create the HDF5 file"),
       H5Fclose);
 
-  // Channels: a column-major copy makes each column contiguous.
-  const Eigen::MatrixXd values = run.values;
+  // Channels: Eigen's default column-major storage keeps each column contiguous.
+  const Eigen::MatrixXd& values = run.values;
   const auto rows = static_cast<hsize_t>(values.rows());
   std::set<std::string> used;
   for (int j = 0; j < run.num_channels(); ++j) {
