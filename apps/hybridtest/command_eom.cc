@@ -10,7 +10,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/config.h"
 #include "hybridtest/multibody/kane.h"
-#include "hybridtest/runner/restoring_forces.h"
+#include "hybridtest/io/substructure_config.h"
 
 namespace hybridtest::app {
 namespace {
@@ -43,7 +43,11 @@ void RunEom(const EomOptions& opt) {
     }
     r = Eigen::Map<const Eigen::VectorXd>(rs.data(), model.num_slots());
   } else {
-    r = runner::NumericalRestoringForces(cfg, data, opt.time, x.head(n));
+    // The configured (numerical) substructures compute r^s from the slot displacements.
+    const auto subs = io::MakeSubstructures(cfg, {std::nullopt, /*allow_physical=*/false});
+    Eigen::VectorXd d(model.num_slots());
+    multibody::CalcSlotDisplacements<double>(model, data, opt.time, x.head(n), d);
+    for (int s = 0; s < model.num_slots(); ++s) r(s) = subs[s]->Trial(d(s), {0, 0, opt.time});
   }
   Eigen::VectorXd xdot(2 * n);
   multibody::CalcStateDerivative<double>(model, data, opt.time, x, r, xdot);

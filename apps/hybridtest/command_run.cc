@@ -1,0 +1,26 @@
+// hybridtest run CONFIG [--out FILE.csv] [--bench HOST:PORT] [--quiet]
+// A hybrid test: physical substructures through their transfer systems, numerical ones in the
+// loop. Exits non-zero on a safety stop or a lost bench, after writing every committed step.
+#include "command.h"
+#include "run_commands.h"
+
+namespace hybridtest::app {
+namespace {
+
+void AddRunCommand(CLI::App& root) {
+  auto opt = std::make_shared<RunCommandOptions>();
+  CLI::App* cmd = root.add_subcommand(
+      "run", "Run a hybrid test: the model with its physical and numerical substructures");
+  cmd->add_option("config", opt->config, "run configuration (YAML)")->required();
+  cmd->add_option("--out", opt->out, "journal CSV (default: output.csv of the config, else "
+                                     "results/<config name>.csv)");
+  cmd->add_option("--bench", opt->bench,
+                  "HOST:PORT of a bench server, for remote transfer systems");
+  cmd->add_flag("--quiet", opt->quiet, "no progress output and no summary");
+  cmd->callback([opt] { ExecuteRun(*opt); });
+}
+
+const CommandRegistration kRegistration{"run", &AddRunCommand};
+
+}  // namespace
+}  // namespace hybridtest::app

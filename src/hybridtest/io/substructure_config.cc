@@ -1,0 +1,194 @@
+// See substructure_config.h.
+#include "hybridtest/io/substructure_config.h"
+
+#include <fmt/core.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/constitutive/linear_spring.h"
+#include "hybridtest/constitutive/parse_law.h"
+#include "hybridtest/substructures/numerical_substructure.h"
+#include "hybridtest/substructures/physical_substructure.h"
+#include "hybridtest/transfer/bench_client.h"
+#include "hybridtest/transfer/emulated_bench.h"
+#include "hybridtest/transfer/numerical_loopback.h"
+#include "hybridtest/transfer/socket.h"
+
+namespace hybridtest::io {
+namespace {
+
+using substructures::Substructure;
+
+std::unique_ptr<transfer::TransferSystem> MakeTransfer(const YamlInput& in, const YAML::Node& node,
+                                                       const std::string& kp,
+                                                       const SubstructureOptions& options) {
+  in.CheckKeys(node, kp, {"type", "config", "bench", "law", "p0", "address", "token", "timeout"});
+  const std::string type =
+      in.String(node["type"], kp + ".type", "a transfer type: emulated, loopback or remote");
+  if (type == "emulated") {
+    transfer::EmulatedBenchConfig bench;
+    if (node["config"]) {
+      std::filesystem::path file = in.String(node["config"], kp + ".config", "a bench file");
+      if (file.is_relative()) file = std::filesystem::path(in.path()).parent_path() / file;
+      bench = transfer::LoadEmulatedBenchConfig(file.string());
+    } else if (node["bench"]) {
+      bench = transfer::ParseEmulatedBenchConfig(node["bench"], in.Where(node["bench"], kp + ".bench"));
+    } else {
+      throw ConfigError(fmt::format("{}: an emulated transfer needs `config: FILE` (a bench file) "
+                                    "or an inline `bench:` mapping", in.Where(node, kp)));
+    }
+    return transfer::MakeEmulatedBench(bench);
+  }
+  if (type == "loopback") {
+    if (!node["law"]) {
+      throw ConfigError(fmt::format("{}: a loopback transfer needs `law:` (e.g. {{type: linear, "
+                                    "stiffness: 7200}})", in.Where(node, kp)));
+    }
+    const double p0 = node["p0"] ? in.Number(node["p0"], kp + ".p0", "a position in m") : 0.0;
+    return std::make_unique<transfer::NumericalLoopback>(
+        constitutive::ParseRestoringForceLaw(node["law"], in.Where(node["law"], kp + ".law")), p0);
+  }
+  if (type == "remote") {
+    transfer::BenchClientOptions client;
+    std::string address = options.bench_address.value_or("");
+    if (address.empty() && node["address"]) {
+      address = in.String(node["address"], kp + ".address", "HOST:PORT");
+    }
+    if (address.empty()) {
+      throw ConfigError(fmt::format("{}: a remote transfer needs the bench server's address: give "
+                                    "--bench HOST:PORT or `address: HOST:PORT`", in.Where(node, kp)));
+    }
+    const transfer::HostPort hp = transfer::ParseHostPort(address, "--bench / " + kp + ".address");
+    client.host = hp.host;
+    client.port = hp.port;
+    if (node["token"]) {
+      client.token = in.String(node["token"], kp + ".token", "the bench's shared token");
+    } else if (const char* env = std::getenv("HYBRIDTEST_BENCH_TOKEN")) {
+      client.token = env;
+    }
+    if (node["timeout"]) {
+      client.reply_timeout = in.PositiveNumber(node["timeout"], kp + ".timeout", "seconds");
+    }
+    return std::make_unique<transfer::BenchClient>(client);
+  }
+  throw ConfigError(fmt::format("{} = '{}': expected emulated, loopback or remote",
+                                in.Where(node["type"], kp + ".type"), type));
+}
+
+substructures::SetupTransform ParseSetup(const YamlInput& in, const YAML::Node& node,
+                                         const std::string& kp) {
+  substructures::SetupTransform s;
+  if (!node.IsDefined()) return s;
+  in.CheckKeys(node, kp, {"p0", "sign", "scale", "force_sign", "force_scale", "load_cell_zero"});
+  auto read = [&](const char* key, double& field, const char* what) {
+    if (node[key]) field = in.Number(node[key], kp + "." + key, what);
+  };
+  read("p0", s.p0, "the actuator position at zero specimen force, in m");
+  read("sign", s.sign, "+1 or -1");
+  read("scale", s.scale, "a positive factor");
+  read("force_sign", s.force_sign, "+1 or -1");
+  read("force_scale", s.force_scale, "a positive factor");
+  read("load_cell_zero", s.load_cell_zero, "the load-cell reading at zero load, in N");
+  try {
+    s.Validate();
+  } catch (const ConfigError& e) {
+    throw ConfigError(fmt::format("{}: {}", in.Where(node, kp), e.what()));
+  }
+  return s;
+}
+
+transfer::SafetyLimits ParseSafety(const YamlInput& in, const YAML::Node& node,
+                                   const std::string& kp) {
+  transfer::SafetyLimits l;
+  if (!node.IsDefined()) return l;
+  in.CheckKeys(node, kp, {"stroke_min", "stroke_max", "max_increment", "force_soft",
+                          "force_hard", "timeout"});
+  auto read = [&](const char* key, double& field, const char* what) {
+    if (node[key]) field = in.Number(node[key], kp + "." + key, what);
+  };
+  read("stroke_min", l.stroke_min, "the lowest actuator position in m");
+  read("stroke_max", l.stroke_max, "the highest actuator position in m");
+  read("max_increment", l.max_increment, "the largest command step per stage in m");
+  read("force_soft", l.force_soft, "the predicted-force limit in N");
+  read("force_hard", l.force_hard, "the measured-force limit in N");
+  read("timeout", l.timeout, "the longest wait for a measurement in s");
+  return l;
+}
+
+std::unique_ptr<Substructure> DefaultNumerical(const SimulationConfig& cfg, int slot) {
+  const double k = cfg.model.slot_stiffness.at(slot);
+  return std::make_unique<substructures::NumericalSubstructure>(
+      std::make_unique<constitutive::LinearSpring>(k, "model default"));
+}
+
+}  // namespace
+
+std::vector<std::unique_ptr<Substructure>> MakeSubstructures(const SimulationConfig& cfg,
+                                                             const SubstructureOptions& options) {
+  const YamlInput& in = cfg.input;
+  const auto& slots = cfg.model.model.slots();
+  std::vector<std::unique_ptr<Substructure>> result(slots.size());
+  const YAML::Node section = in.Mapping(in.root(), "substructures", "substructures", false);
+  if (section.IsDefined()) {
+    for (const auto& kv : section) {
+      const std::string slot_name = kv.first.as<std::string>();
+      const std::string kp = "substructures." + slot_name;
+      int slot = -1;
+      for (std::size_t s = 0; s < slots.size(); ++s) {
+        if (slots[s].info.name == slot_name) slot = static_cast<int>(s);
+      }
+      if (slot < 0) {
+        std::string known;
+        for (const auto& s : slots) known += (known.empty() ? "" : ", ") + s.info.name;
+        throw ConfigError(fmt::format("{}: the {} model has no restoring-force slot '{}'; its "
+                                      "slots are: {}", in.Where(kv.first, kp), cfg.model.name,
+                                      slot_name, known.empty() ? "(none)" : known));
+      }
+      const YAML::Node node = kv.second;
+      if (!node.IsMap()) {
+        throw ConfigError(fmt::format("{}: expected a mapping with `type: numerical` or "
+                                      "`type: physical`", in.Where(node, kp)));
+      }
+      in.CheckKeys(node, kp, {"type", "law", "transfer", "setup", "safety"});
+      const std::string type = in.String(node["type"], kp + ".type", "numerical or physical");
+      if (type == "numerical") {
+        result[slot] = node["law"] ? std::make_unique<substructures::NumericalSubstructure>(
+                                         constitutive::ParseRestoringForceLaw(
+                                             node["law"], in.Where(node["law"], kp + ".law")))
+                                   : DefaultNumerical(cfg, slot);
+      } else if (type == "physical") {
+        if (!options.allow_physical) {
+          throw ConfigError(fmt::format("{}: slot {} is physical; give its restoring force "
+                                        "explicitly with --restoring", in.Where(node, kp),
+                                        slot_name));
+        }
+        const YAML::Node tr = in.Mapping(node, "transfer", kp + ".transfer", true);
+        result[slot] = std::make_unique<substructures::PhysicalSubstructure>(
+            slot_name, MakeTransfer(in, tr, kp + ".transfer", options),
+            ParseSetup(in, node["setup"], kp + ".setup"),
+            ParseSafety(in, node["safety"], kp + ".safety"));
+      } else {
+        throw ConfigError(fmt::format("{} = '{}': expected numerical or physical",
+                                      in.Where(node["type"], kp + ".type"), type));
+      }
+    }
+  }
+  for (std::size_t s = 0; s < slots.size(); ++s) {
+    if (!result[s]) result[s] = DefaultNumerical(cfg, static_cast<int>(s));
+  }
+  return result;
+}
+
+bool HasPhysicalSubstructure(const SimulationConfig& cfg) {
+  const YAML::Node section = cfg.input.root()["substructures"];
+  if (!section.IsDefined() || !section.IsMap()) return false;
+  for (const auto& kv : section) {
+    if (kv.second.IsMap() && kv.second["type"] && kv.second["type"].as<std::string>() == "physical")
+      return true;
+  }
+  return false;
+}
+
+}  // namespace hybridtest::io

@@ -1,0 +1,45 @@
+#pragma once
+// The `substructures:` section of a run config: which substructure owns each restoring-force
+// slot of the model. Slots not listed get the model's default numerical substructure (a linear
+// spring with the model's slot stiffness, k_b q_i for the rotor).
+//
+//   substructures:
+//     r1:
+//       type: physical
+//       transfer:
+//         type: emulated              # emulated | loopback | remote
+//         config: bench-cantilever.yaml   # emulated: bench file, relative to this config
+//         # bench: {...}              # emulated: or the bench inline
+//         # law: {type: linear, stiffness: 7200}   # loopback: the specimen law
+//         # address: 127.0.0.1:7471   # remote (--bench HOST:PORT overrides it)
+//         # token: secret             # remote (or env HYBRIDTEST_BENCH_TOKEN)
+//         # timeout: 5                # remote: longest wait for one reply [s]
+//       setup: {p0: 0.02, sign: 1, scale: 1, force_sign: 1, force_scale: 1, load_cell_zero: 0}
+//       safety: {stroke_min: -0.15, stroke_max: 0.15, max_increment: 0.005,
+//                force_soft: 8000, force_hard: 10000, timeout: 5}   # SI: m, N, s
+//     r2:
+//       type: numerical
+//       law: {type: linear, stiffness: 7200}   # or bouc_wen / cantilever (constitutive/)
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hybridtest/io/config.h"
+#include "hybridtest/substructures/substructure.h"
+
+namespace hybridtest::io {
+
+struct SubstructureOptions {
+  std::optional<std::string> bench_address;  // --bench HOST:PORT for remote transfer systems
+  bool allow_physical = true;                // false: a physical slot is a ConfigError (eom)
+};
+
+// One substructure per slot of cfg.model, in slot order. Nothing is activated or connected.
+std::vector<std::unique_ptr<substructures::Substructure>> MakeSubstructures(
+    const SimulationConfig& cfg, const SubstructureOptions& options);
+
+// True if the config maps any slot to a physical substructure.
+bool HasPhysicalSubstructure(const SimulationConfig& cfg);
+
+}  // namespace hybridtest::io

@@ -1,0 +1,100 @@
+// See run_record.h.
+#include "hybridtest/runner/run_record.h"
+
+#include <fmt/core.h>
+
+namespace hybridtest::runner {
+namespace {
+
+void AddPhysicalChannels(const std::string& slot, std::vector<io::Channel>& channels) {
+  channels.push_back({slot + "_command", "m", "actuator command (absolute position) for " + slot});
+  channels.push_back({slot + "_position", "m", "measured actuator position for " + slot});
+  channels.push_back({slot + "_force", "N", "measured force (load-cell zero removed) for " + slot});
+  channels.push_back({slot + "_lab_time", "s", "bench lab time at the sample for " + slot});
+}
+
+// "q3" if the slot's displacement is exactly one coordinate, else "".
+std::string SlotCoordinate(const multibody::Model& model, int slot) {
+  const auto& field = model.slots()[slot].displacement;
+  if (field.is_affine() && field.terms().size() == 1 && field.terms()[0].coefficient == 1.0 &&
+      field.constant() == 0.0 && field.time_rate() == 0.0) {
+    return model.coordinates()[field.terms()[0].coordinate].name;
+  }
+  return "";
+}
+
+}  // namespace
+
+std::vector<io::Channel> JournalChannels(const io::SimulationConfig& cfg,
+                                         const SubstructureList& subs) {
+  const multibody::Model& model = cfg.model.model;
+  std::vector<io::Channel> channels{{"t", "s", "time"}};
+  for (const auto& q : model.coordinates()) channels.push_back({q.name, q.unit, q.description});
+  for (const auto& u : model.speeds()) channels.push_back({u.name, u.unit, u.description});
+  for (const auto& s : model.slots()) channels.push_back({s.info.name, s.info.unit, s.info.description});
+  for (std::size_t s = 0; s < subs.size(); ++s) {
+    if (subs[s]->is_physical()) AddPhysicalChannels(model.slots()[s].info.name, channels);
+  }
+  return channels;
+}
+
+std::vector<io::Channel> StageChannels(const io::SimulationConfig& cfg,
+                                       const SubstructureList& subs) {
+  std::vector<io::Channel> channels{{"step", "-", "step index n (0-based)"},
+                                    {"stage", "-", "Runge-Kutta stage (0-based)"},
+                                    {"t", "s", "model time of the stage"}};
+  for (std::size_t s = 0; s < subs.size(); ++s) {
+    if (subs[s]->is_physical()) AddPhysicalChannels(cfg.model.model.slots()[s].info.name, channels);
+  }
+  return channels;
+}
+
+io::JournalMetadata JournalMetadataFor(const io::SimulationConfig& cfg,
+                                       const SubstructureList& subs, const std::string& command) {
+  const multibody::Model& model = cfg.model.model;
+  io::JournalMetadata meta;
+  meta.command = command;
+  meta.config_path = cfg.input.path();
+  meta.config_text = cfg.input.text();
+  nlohmann::json parameters = nlohmann::json::array();
+  for (const auto& p : cfg.model.parameters.all()) {
+    parameters.push_back({{"name", p.name}, {"value", p.value}, {"unit", p.unit},
+                          {"description", p.description}});
+  }
+  auto infos = [](const std::vector<multibody::QuantityInfo>& list) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& q : list) {
+      out.push_back({{"name", q.name}, {"unit", q.unit}, {"description", q.description}});
+    }
+    return out;
+  };
+  nlohmann::json slots = nlohmann::json::array();
+  for (int s = 0; s < model.num_slots(); ++s) {
+    slots.push_back({{"name", model.slots()[s].info.name},
+                     {"coordinate", SlotCoordinate(model, s)},
+                     {"description", model.slots()[s].info.description}});
+  }
+  meta.model = {{"name", cfg.model.name},       {"description", cfg.model.description},
+                {"blades", cfg.blades},         {"parameters", parameters},
+                {"coordinates", infos(model.coordinates())},
+                {"speeds", infos(model.speeds())}, {"slots", slots}};
+  for (std::size_t s = 0; s < subs.size(); ++s) {
+    const std::string slot = model.slots()[s].info.name;
+    nlohmann::json entry = {{"slot", slot},
+                            {"kind", subs[s]->is_physical() ? "physical" : "numerical"},
+                            {"description", subs[s]->Describe()}};
+    if (subs[s]->is_physical()) {
+      entry["channels"] = {{"command", slot + "_command"}, {"position", slot + "_position"},
+                           {"force", slot + "_force"}, {"lab_time", slot + "_lab_time"}};
+    }
+    meta.substructures.push_back(entry);
+  }
+  meta.extra = {{"integrator", {{"tableau", cfg.tableau.name}, {"title", cfg.tableau.title},
+                                {"order", cfg.tableau.order}, {"stages", cfg.tableau.stages()}}},
+                {"dt", cfg.dt},
+                {"duration", cfg.duration},
+                {"steps", cfg.steps}};
+  return meta;
+}
+
+}  // namespace hybridtest::runner

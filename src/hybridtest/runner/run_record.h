@@ -1,0 +1,32 @@
+#pragma once
+// What a run writes about itself: the journal's channels and the sidecar's metadata, derived
+// from the config, the model and the substructures. Pure functions, so the channel layout is
+// defined once and tested on its own.
+//
+// Channels (SI): t [s]; q1..qn; u1..un (units from the model); r1..rm [N] (the static
+// restoring forces at the committed state); then for each physical substructure of slot S:
+// S_command [m], S_position [m], S_force [N], S_lab_time [s] (its exchange at the committed
+// state, i.e. stage 0 of the step).
+#include <memory>
+#include <vector>
+
+#include "hybridtest/io/config.h"
+#include "hybridtest/io/journal.h"
+#include "hybridtest/substructures/substructure.h"
+
+namespace hybridtest::runner {
+
+using SubstructureList = std::vector<std::unique_ptr<substructures::Substructure>>;
+
+std::vector<io::Channel> JournalChannels(const io::SimulationConfig& cfg,
+                                         const SubstructureList& subs);
+
+// Channels of the per-stage record of physical exchanges: step, stage, t, and for each
+// physical substructure its command, position, force and lab time.
+std::vector<io::Channel> StageChannels(const io::SimulationConfig& cfg,
+                                       const SubstructureList& subs);
+
+io::JournalMetadata JournalMetadataFor(const io::SimulationConfig& cfg,
+                                       const SubstructureList& subs, const std::string& command);
+
+}  // namespace hybridtest::runner
