@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """Kane oracle: compares `hybridtest eom` with SymPy's KanesMethod at random states.
 
-For each model the equations of motion are derived independently with
-sympy.physics.mechanics.KanesMethod (oracle_models.py). States are drawn with a fixed seed:
+For each model (the rotor with N = 3 and N = 2 blades) the equations of motion are derived independently with
+sympy.physics.mechanics.KanesMethod (oracle_models.py). 100 states per case (--states) are drawn with a fixed seed:
 random coordinates, speeds up to |u| = 50 (rad/s or m/s), random times, random restoring
 forces (rotor) and random parameter overrides written into a temporary YAML config
 (model-wide and, for the rotor, per-blade keys; a few states keep the defaults). For each state
@@ -18,7 +18,8 @@ b if |a - b| <= 1e-10 * max(1, ||B||_inf), where ||B||_inf is the largest absolu
 oracle's whole array (mass_matrix, forcing and xdot each taken separately).
 
 The script also checks that the CLI rejects a state vector of the wrong length (2n - 1 and
-2n + 1 entries) with a non-zero exit status and a message that names the expected length 2n.
+2n + 1 entries) with a non-zero exit status and a message that names the expected length 2n,
+and (rotor) a --restoring list with N - 1 entries with a message that names N.
 
 On failure it prints the model, the state index, t, x, r, the config overrides, the array, the
 entry, both values and the tolerance; the temporary directory with the configs is kept.
@@ -99,14 +100,19 @@ def random_state(model, rng, index):
     return t, q, u, r
 
 
-def compare(name, engine, oracle):
-    """List of (entry index, engine value, oracle value, tolerance) that fail."""
-    tol = REL_TOL * max(1.0, float(np.max(np.abs(oracle))) if oracle.size else 1.0)
+def compare(name, engine, oracle, worst):
+    """List of (array name, entry index, engine value, oracle value, tolerance) that fail.
+
+    worst[name] is raised to the largest |a - b| / max(1, ||B||_inf) seen."""
+    scale = max(1.0, float(np.max(np.abs(oracle))) if oracle.size else 1.0)
+    tol = REL_TOL * scale
     bad = []
     for idx in np.ndindex(oracle.shape):
         a, b = float(engine[idx]), float(oracle[idx])
         if not (abs(a - b) <= tol):
             bad.append((name, idx, a, b, tol))
+        elif abs(a - b) / scale > worst.get(name, 0.0):
+            worst[name] = abs(a - b) / scale
     return bad
 
 
@@ -117,6 +123,7 @@ def fmt_vec(v):
 def run_case(binary, model, rng, num_states, workdir, label):
     """Compares num_states random states; returns the number of failing states."""
     failures = 0
+    worst = {}
     for k in range(num_states):
         overrides = {} if k < NUM_DEFAULT_STATES else random_overrides(model, rng)
         t, q, u, r = random_state(model, rng, k)
@@ -131,8 +138,8 @@ def run_case(binary, model, rng, num_states, workdir, label):
                   f'  r = {fmt_vec(r)}\n  config = {config}')
             failures += 1
             continue
-        bad = (compare('mass_matrix', m_e, m_o) + compare('forcing', f_e, f_o)
-               + compare('xdot', xd_e, xd_o))
+        bad = (compare('mass_matrix', m_e, m_o, worst) + compare('forcing', f_e, f_o, worst)
+               + compare('xdot', xd_e, xd_o, worst))
         if bad:
             failures += 1
             print(f'FAIL {label} state {k}: t = {t!r}\n  x = {fmt_vec(x)}\n  r = {fmt_vec(r)}\n'
@@ -141,7 +148,8 @@ def run_case(binary, model, rng, num_states, workdir, label):
                 print(f'  {name}{list(idx)}: engine = {a!r}, oracle = {b!r}, '
                       f'|diff| = {abs(a - b):.3e} > tol = {tol:.3e}')
     print(f'{label}: {num_states - failures}/{num_states} states agree '
-          f'(rel. tol {REL_TOL:g}, |u| up to {MAX_SPEED:g})')
+          f'(rel. tol {REL_TOL:g}, |u| up to {MAX_SPEED:g}); worst agreeing |diff|/scale: '
+          + (', '.join(f'{key} {value:.1e}' for key, value in sorted(worst.items())) or 'none'))
     return failures
 
 
@@ -155,8 +163,16 @@ def check_wrong_length(binary, model, workdir, label):
         if message:
             print(f'FAIL {label} wrong-length state ({length} entries): {message}')
             problems += 1
+    if model.num_slots:
+        message = oracle_cli.expect_length_rejection(
+            binary, config, 2 * model.n, model.num_slots, model.num_slots - 1)
+        if message:
+            print(f'FAIL {label} wrong-length --restoring ({model.num_slots - 1} entries): '
+                  f'{message}')
+            problems += 1
     if not problems:
-        print(f'{label}: wrong-length states rejected, message names {2 * model.n}')
+        print(f'{label}: wrong-length states' + (' and restoring forces' if model.num_slots
+                                                 else '') + ' rejected with the expected length')
     return problems
 
 
@@ -175,7 +191,7 @@ def main(argv):
     parser.add_argument('--binary', help='path of the hybridtest executable')
     parser.add_argument('--model', choices=['rotor', 'double_pendulum', 'spinning_top', 'all'],
                         default='all')
-    parser.add_argument('--states', type=int, default=50, help='random states per case')
+    parser.add_argument('--states', type=int, default=100, help='random states per case')
     parser.add_argument('--seed', type=int, default=20260522)
     parser.add_argument('--self-test', action='store_true',
                         help='check the SymPy derivations against hand results only')

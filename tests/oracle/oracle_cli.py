@@ -28,7 +28,7 @@ def write_config(workdir, filename, model, overrides):
         lines.append('  parameters:')
         lines += [f'    {key}: {float(value)!r}' for key, value in sorted(overrides.items())]
     lines += ['integrator: {tableau: heun, dt: 0.001}', 'duration: 1.0', '']
-    path = os.path.join(workdir, filename)
+    path = os.path.join(workdir, re.sub(r'[^\w.-]', '_', filename))
     with open(path, 'w', encoding='utf-8') as out:
         out.write('\n'.join(lines))
     return path
@@ -90,11 +90,13 @@ def run_eom(binary, config, t, x, r, n):
             _array(answer, 'xdot', (2 * n,), cmd))
 
 
-def expect_length_rejection(binary, config, length, expected, num_slots):
-    """Runs `eom` with a state of `length` entries. Returns '' if the binary exits non-zero
-    with a message naming `expected`, else a description of what went wrong."""
+def expect_length_rejection(binary, config, length, expected, num_restoring):
+    """Runs `eom` with a state of `length` entries and `num_restoring` restoring forces (none
+    given if 0). Returns '' if the binary exits non-zero with a message naming `expected`, else
+    a description of what went wrong."""
     x = [0.1] * length
-    cmd = eom_command(binary, config, 0.0, x, [0.0] * num_slots, with_restoring=num_slots > 0)
+    cmd = eom_command(binary, config, 0.0, x, [0.0] * num_restoring,
+                      with_restoring=num_restoring > 0)
     try:
         proc = _run(cmd)
     except CliFailure as err:
@@ -102,7 +104,7 @@ def expect_length_rejection(binary, config, length, expected, num_slots):
     text = proc.stdout + proc.stderr
     if proc.returncode == 0:
         return f'exit status 0 (expected non-zero); output: {text.strip()[:300]!r}'
-    if not re.search(rf'(?<![\d.]){expected}(?![\d.])', text):
+    if not re.search(rf'(?<![\w.]){expected}(?![\w.])', text):
         return (f'exit status {proc.returncode}, but the message does not name the expected '
                 f'length {expected}: {text.strip()[:300]!r}')
     return ''
