@@ -92,7 +92,7 @@ void AddPhysicalFigures(const io::RunData& run, const RunLayout& layout, const E
     if (!p.position.empty() && !p.command.empty()) {
       PlotPanel panel;
       panel.x_label = kTimeLabel;
-      panel.y_label = "actuator position" + UnitSuffix(run, p.position);  // legend: the two lines
+      panel.y_label = "actuator position" + UnitSuffix(run, p.position);
       panel.series.push_back({"measured", t,
                               ChannelValues(run, p.position), kPhysicalColor, 2.5, false});
       panel.series.push_back({"command", t, ChannelValues(run, p.command),
