@@ -73,6 +73,8 @@ class Journal {
   int batch_rows_;
   std::FILE* file_ = nullptr;
   long rows_ = 0;
+  bool finished_ = false;
+  std::string line_;  // reused row buffer: no allocation per Append once warmed up
 };
 
 // results/run.csv -> results/run.meta.json (any extension is replaced; none is appended to).

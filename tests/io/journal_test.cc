@@ -1,0 +1,162 @@
+// Journal: the sidecar's content before and after Finish, atomic rewrites, the row format and
+// the errors. Crash safety under SIGKILL is tested in tests/integration/journal_crash_test.cc.
+#include "hybridtest/io/journal.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/common/version.h"
+#include "hybridtest/io/csv.h"
+
+namespace hybridtest::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string TempDir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() /
+                       ("hybridtest_journal_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir.string();
+}
+
+std::string ReadText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+nlohmann::json ReadJson(const std::string& path) { return nlohmann::json::parse(ReadText(path)); }
+
+JournalMetadata SampleMetadata() {
+  JournalMetadata metadata;
+  metadata.command = "simulate";
+  metadata.config_path = "examples/rotor.yaml";
+  metadata.config_text = "model: rotor\nintegrator:\n  dt: 0.001  # s\n";
+  metadata.model = {{"name", "rotor"}};
+  metadata.substructures = nlohmann::json::array({{{"slot", "r1"}, {"kind", "numerical"}}});
+  metadata.extra = {{"note", "unit test"}};
+  return metadata;
+}
+
+TEST(SidecarPath, ReplacesTheExtension) {
+  EXPECT_EQ(SidecarPath("results/run.csv"), "results/run.meta.json");
+  EXPECT_EQ(SidecarPath("results/run"), "results/run.meta.json");
+  EXPECT_EQ(SidecarPath("a.b/run.csv"), "a.b/run.meta.json");
+  EXPECT_EQ(SidecarPath("run.data.csv"), "run.data.meta.json");
+}
+
+TEST(Journal, WritesHeaderAndSeventeenDigitRows) {
+  const std::string path = TempDir("rows") + "/run.csv";
+  {
+    Journal journal(path, {{"t", "s", ""}, {"q1", "m", ""}}, {}, SyncPolicy::kBatched, 2);
+    const double row0[] = {0.0, 0.1};
+    const double row1[] = {1e-3, -2.5e-12};
+    journal.Append(row0);
+    journal.Append(row1);
+    EXPECT_EQ(journal.rows(), 2);
+  }
+  EXPECT_EQ(ReadText(path), "t,q1\n0,0.10000000000000001\n0.001,-2.4999999999999998e-12\n");
+}
+
+TEST(Journal, SidecarSaysRunningThenFinished) {
+  const std::string path = TempDir("sidecar") + "/run.csv";
+  const std::vector<Channel> channels = {{"t", "s", "simulated time"},
+                                         {"q1", "m", "tip deflection of blade 1"}};
+  Journal journal(path, channels, SampleMetadata(), SyncPolicy::kEveryRow);
+  const nlohmann::json running = ReadJson(SidecarPath(path));
+  EXPECT_EQ(running["format"], "hybridtest-journal/1");
+  EXPECT_EQ(running["software_version"], kVersion);
+  EXPECT_EQ(running["status"], "running");
+  EXPECT_EQ(running["command"], "simulate");
+  EXPECT_EQ(running["config_path"], "examples/rotor.yaml");
+  EXPECT_EQ(running["config"], SampleMetadata().config_text);
+  EXPECT_EQ(running["model"]["name"], "rotor");
+  EXPECT_EQ(running["substructures"][0]["slot"], "r1");
+  EXPECT_EQ(running["extra"]["note"], "unit test");
+  ASSERT_EQ(running["channels"].size(), 2u);
+  EXPECT_EQ(running["channels"][1]["name"], "q1");
+  EXPECT_EQ(running["channels"][1]["unit"], "m");
+  EXPECT_EQ(running["channels"][1]["description"], "tip deflection of blade 1");
+  EXPECT_FALSE(running.contains("statistics"));
+  // ISO-8601 UTC: 2024-05-01T12:34:56Z
+  const std::string start = running["start_time"];
+  ASSERT_EQ(start.size(), 20u) << start;
+  EXPECT_EQ(start[10], 'T');
+  EXPECT_EQ(start.back(), 'Z');
+
+  const double row[] = {0.0, 1.0};
+  journal.Append(row);
+  journal.Finish({{"steps", 1}, {"physical_evaluations", 0}}, "stopped: force limit");
+  const nlohmann::json finished = ReadJson(SidecarPath(path));
+  EXPECT_EQ(finished["status"], "stopped: force limit");
+  EXPECT_EQ(finished["statistics"]["steps"], 1);
+  EXPECT_EQ(finished["rows"], 1);
+  EXPECT_EQ(finished["start_time"], start);
+  // The atomic rewrite leaves no temporary file behind.
+  EXPECT_FALSE(fs::exists(SidecarPath(path) + ".tmp"));
+  EXPECT_THROW(journal.Append(row), IoError);
+}
+
+TEST(Journal, DestructorWithoutFinishMarksTheRunAborted) {
+  const std::string path = TempDir("aborted") + "/run.csv";
+  {
+    Journal journal(path, {{"t", "s", ""}}, {}, SyncPolicy::kBatched);
+    const double row[] = {0.5};
+    journal.Append(row);
+  }
+  const nlohmann::json sidecar = ReadJson(SidecarPath(path));
+  EXPECT_EQ(sidecar["status"].get<std::string>().rfind("aborted", 0), 0u);
+  EXPECT_EQ(ReadText(path), "t\n0.5\n");
+}
+
+TEST(Journal, MissingDirectoryNamesThePath) {
+  const std::string path = TempDir("missing") + "/no/such/dir/run.csv";
+  try {
+    Journal journal(path, {{"t", "s", ""}}, {}, SyncPolicy::kBatched);
+    FAIL() << "expected IoError";
+  } catch (const IoError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("no/such/dir"), std::string::npos) << message;
+    EXPECT_NE(message.find("No such file or directory"), std::string::npos) << message;
+  }
+}
+
+TEST(Journal, RejectsBadChannelsAndRows) {
+  const std::string dir = TempDir("bad");
+  EXPECT_THROW(Journal(dir + "/a.csv", {}, {}, SyncPolicy::kBatched), IoError);
+  EXPECT_THROW(Journal(dir + "/b.csv", {{"t", "s", ""}, {"t", "s", ""}}, {},
+                       SyncPolicy::kBatched),
+               IoError);
+  EXPECT_THROW(Journal(dir + "/c.csv", {{"a,b", "", ""}}, {}, SyncPolicy::kBatched), IoError);
+  EXPECT_THROW(Journal(dir + "/d.csv", {{"t", "s", ""}}, {}, SyncPolicy::kBatched, 0), IoError);
+  Journal journal(dir + "/e.csv", {{"t", "s", ""}, {"q1", "m", ""}}, {}, SyncPolicy::kBatched);
+  const double short_row[] = {1.0};
+  EXPECT_THROW(journal.Append(short_row), IoError);
+  EXPECT_EQ(journal.rows(), 0);
+}
+
+TEST(Csv, NumberFormatMatchesPrintf17g) {
+  for (const double value : {0.0, 1.0, -0.1, 1.0 / 3.0, 6.02214076e23, 1e-310, 123456789.0}) {
+    std::string ours;
+    AppendCsvNumber(value, ours);
+    char theirs[40];
+    std::snprintf(theirs, sizeof theirs, "%.17g", value);
+    EXPECT_EQ(ours, theirs);
+    EXPECT_EQ(ParseCsvNumber(ours), value);
+  }
+  EXPECT_FALSE(ParseCsvNumber("").has_value());
+  EXPECT_FALSE(ParseCsvNumber("1.0.0").has_value());
+  EXPECT_FALSE(ParseCsvNumber("abc").has_value());
+  EXPECT_EQ(ParseCsvNumber(" +2.5 "), 2.5);
+}
+
+}  // namespace
+}  // namespace hybridtest::io
