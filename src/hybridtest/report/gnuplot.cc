@@ -6,12 +6,12 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <sstream>
+
+#include <fmt/core.h>
 
 #include "hybridtest/common/error.h"
 
@@ -48,7 +48,9 @@ class TempFile {
 
 std::string ReadAll(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 // The last max_chars characters of text, marked as cut when longer.
@@ -102,10 +104,10 @@ void RunGnuplot(const std::string& script, const std::string& program) {
   }
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
     const std::string how = WIFEXITED(status)
-                                ? "exited with status " + std::to_string(WEXITSTATUS(status))
-                                : "was killed by signal " + std::to_string(WTERMSIG(status));
-    throw IoError("gnuplot ('" + program + "') " + how + " on a generated script; its stderr:\n" +
-                  errors);
+                                ? fmt::format("exited with status {}", WEXITSTATUS(status))
+                                : fmt::format("was killed by signal {}", WTERMSIG(status));
+    throw IoError(fmt::format("gnuplot ('{}') {} on a generated script; its stderr:\n{}", program,
+                              how, errors));
   }
 }
 

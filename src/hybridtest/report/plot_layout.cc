@@ -4,6 +4,8 @@
 #include <cctype>
 #include <filesystem>
 
+#include <fmt/core.h>
+
 #include "hybridtest/common/error.h"
 
 namespace hybridtest::report {
@@ -52,7 +54,7 @@ std::string SlotCoordinate(const nlohmann::json& substructure, const std::string
     }
   }
   if (coordinate.empty() && IsIndexed(slot, 'r')) {
-    const std::string guess = "q" + slot.substr(1);
+    const std::string guess = fmt::format("q{}", slot.substr(1));
     if (std::find(layout.coordinates.begin(), layout.coordinates.end(), guess) !=
         layout.coordinates.end()) {
       coordinate = guess;
@@ -116,7 +118,7 @@ RunLayout DescribeRun(const io::RunData& run) {
     }
     layout.blades.assign(layout.coordinates.begin(),
                          layout.coordinates.begin() + static_cast<long>(blades));
-    const std::string hub = "u" + std::to_string(blades + 1);
+    const std::string hub = fmt::format("u{}", blades + 1);
     if (FindChannel(run, hub) >= 0) layout.hub_speed = hub;
   }
 
