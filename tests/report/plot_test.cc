@@ -6,18 +6,16 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
+#include <sstream>
 
+#include "hybridtest/report/gnuplot_script.h"
 #include "hybridtest/report/plot_layout.h"
 #include "report/plot_test_runs.h"
 
 namespace hybridtest::report {
 namespace {
 
-std::string Slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
+using testing::Slurp;
 
 // Width and height from a PNG's IHDR chunk; {0, 0} when the signature or IHDR is wrong.
 std::pair<std::uint32_t, std::uint32_t> PngSize(const std::string& bytes) {
@@ -42,9 +40,9 @@ std::string Find(const std::vector<std::string>& files, const std::string& name)
 }
 
 TEST(WritePlots, RotorWithPhysicalBladeWritesFigure6LikeImages) {
-  const std::string dir = testing::FreshDir("plot-rotor");
-  const io::RunData run = io::LoadRun(testing::WriteRotorRun(dir, {}));
-  const auto files = WritePlots(run, dir + "/fig");
+  const testing::ScratchDir dir("plot-rotor");
+  const io::RunData run = io::LoadRun(testing::WriteRotorRun(dir.path(), {}));
+  const auto files = WritePlots(run, dir / "fig");
   for (const char* name : {"displacements.png", "displacements.svg", "hub-speed.png",
                            "hub-speed.svg", "r1-command-position.png", "r1-command-position.svg",
                            "r1-force-displacement.png", "r1-force-displacement.svg"}) {
@@ -81,6 +79,64 @@ TEST(WritePlots, RotorWithPhysicalBladeWritesFigure6LikeImages) {
   const std::string loop = Slurp(Find(files, "r1-force-displacement.svg"));
   EXPECT_NE(loop.find("measured restoring force r1_force [N]"), std::string::npos);
   EXPECT_NE(loop.find("measured position r1_position [m]"), std::string::npos);
+}
+
+// Red only where the sidecar says a substructure is physical.
+TEST(WritePlots, NoRedWhenEveryBladeIsNumerical) {
+  const testing::ScratchDir dir("plot-numerical");
+  testing::RotorRunSpec spec;
+  spec.name = "numerical";
+  spec.physical_r1 = false;
+  const io::RunData run = io::LoadRun(testing::WriteRotorRun(dir.path(), spec));
+  const auto files = WritePlots(run, dir / "fig");
+  const std::string svg = Slurp(Find(files, "displacements.svg"));
+  EXPECT_NE(svg.find(">q1<"), std::string::npos);
+  EXPECT_EQ(svg.find("physical"), std::string::npos);
+  EXPECT_EQ(svg.find("rgb(214,  39,  40)"), std::string::npos);
+  EXPECT_TRUE(Find(files, "r1-force-displacement.png").empty());
+  EXPECT_EQ(files.size(), 4u);  // displacements and hub speed, PNG and SVG
+}
+
+TEST(WritePlots, WithoutSidecarDrawsPlainCoordinatesAndSpeeds) {
+  const testing::ScratchDir dir("plot-plain");
+  testing::RotorRunSpec spec;
+  spec.sidecar = false;
+  const io::RunData run = io::LoadRun(testing::WriteRotorRun(dir.path(), spec));
+  const auto files = WritePlots(run, dir / "fig");
+  const std::string svg = Slurp(Find(files, "coordinates.svg"));
+  ASSERT_FALSE(svg.empty());
+  EXPECT_NE(svg.find("Generalized coordinates q1..q4 (run hybrid)"), std::string::npos);
+  EXPECT_EQ(svg.find("physical"), std::string::npos);
+  EXPECT_EQ(svg.find("rgb(214,  39,  40)"), std::string::npos);
+  EXPECT_FALSE(Find(files, "speeds.png").empty());
+  EXPECT_TRUE(Find(files, "hub-speed.png").empty());
+}
+
+TEST(WritePlots, LargeRunIsDecimatedButKeepsItsPeak) {
+  const testing::ScratchDir dir("plot-large");
+  testing::RotorRunSpec spec;
+  spec.rows = 60001;
+  spec.dt = 1e-4;
+  const io::RunData run = io::LoadRun(testing::WriteRotorRun(dir.path(), spec));
+  const std::vector<PlotFigure> figures = MakeRunFigures(run);
+  const GnuplotScript script = MakeGnuplotScript(figures, dir.path());
+  // Every datablock holds at most kMaxPlotPoints lines.
+  std::size_t longest = 0, current = 0;
+  std::istringstream lines(script.text);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.ends_with("<< EOD")) current = 0;
+    else if (line == "EOD") longest = std::max(longest, current);
+    else ++current;
+  }
+  EXPECT_LE(longest, static_cast<std::size_t>(kMaxPlotPoints));
+  EXPECT_GT(longest, static_cast<std::size_t>(kMaxPlotPoints / 2));
+  const auto files = RenderFigures(figures, dir / "fig");
+  EXPECT_EQ(files.size(), 2 * figures.size());
+  EXPECT_EQ(PngSize(Slurp(Find(files, "displacements.png"))).first, 1000u);
+}
+
+TEST(DefaultPlotDir, IsBesideTheRun) {
+  EXPECT_EQ(DefaultPlotDir("results/hybrid.csv"), "results/hybrid-figures");
 }
 
 }  // namespace
