@@ -60,6 +60,9 @@ void AppendFigure(const PlotFigure& figure, int first_block, std::string& out) {
   if (stacked) {
     out += fmt::format("set multiplot layout {},1 title {} font ',13'\n", figure.panels.size(),
                        QuoteGnuplot(figure.title));
+    // Same plot-area width in every panel, whatever the legend widths.
+    out += "set lmargin at screen 0.09\nset rmargin at screen 0.77\n";
+    out += "set key at screen 0.79, graph 1 left top\n";
   }
   int block = first_block;
   for (const PlotPanel& panel : figure.panels) {
