@@ -84,6 +84,7 @@ TEST(WriteHtmlReport, IsSelfContainedEscapedAndHoldsTablesAndFigures) {
   EXPECT_NE(html.find("Comparison: hybrid against numerical"), std::string::npos);
   EXPECT_NE(html.find("<td>q1</td><td>m</td>"), std::string::npos);
   EXPECT_NE(html.find("class=\"physical\">physical</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td>r2</td><td>numerical</td><td>q2</td>"), std::string::npos);
 }
 
 TEST(WriteHtmlReport, RunWithoutSidecarStillReports) {

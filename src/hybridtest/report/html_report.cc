@@ -57,6 +57,7 @@ std::string EmbedFigures(const std::vector<PlotFigure>& figures, const GnuplotOp
   GnuplotOptions options = base;
   options.script.png = true;
   options.script.svg = false;
+  options.script.width_px = 1080;  // the page's content width, so images are not rescaled
   TempDir dir;
   const std::vector<std::string> files = RenderFigures(figures, dir.path(), options);
   std::string html;
@@ -145,10 +146,8 @@ std::string ConfigurationSection(const io::RunData& run, const RunLayout& layout
             "<th>description</th></tr>\n";
     for (const json& s : subs) {
       const std::string kind = FormatJson(Member(s, "kind"));
-      std::string coordinate;
-      for (const PhysicalChannels& p : layout.physical) {
-        if (p.slot == FormatJson(Member(s, "slot"))) coordinate = p.coordinate;
-      }
+      const auto found = layout.slot_coordinates.find(FormatJson(Member(s, "slot")));
+      const std::string coordinate = found == layout.slot_coordinates.end() ? "" : found->second;
       html += fmt::format("<tr><td>{}</td><td{}>{}</td><td>{}</td><td>{}</td></tr>\n",
                           E(FormatJson(Member(s, "slot"))),
                           kind == "physical" ? " class=\"physical\"" : "", E(kind), E(coordinate),

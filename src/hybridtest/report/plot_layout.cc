@@ -125,6 +125,8 @@ RunLayout DescribeRun(const io::RunData& run) {
   // Physical substructures, their coordinates and their actuator channels.
   if (!meta.contains("substructures") || !meta["substructures"].is_array()) return layout;
   for (const nlohmann::json& s : meta["substructures"]) {
+    const std::string slot = StringOr(s, "slot", "");
+    layout.slot_coordinates[slot] = SlotCoordinate(s, slot, model, layout);
     if (StringOr(s, "kind", "") != "physical") continue;
     PhysicalChannels p;
     p.slot = StringOr(s, "slot", "");

@@ -18,6 +18,7 @@
 // A run without a sidecar is a plain model: nothing physical, no rotor.
 #include <Eigen/Core>
 
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -47,6 +48,7 @@ struct RunLayout {
   std::string hub_speed;                    // rotor only: u<N+1>; empty when absent
   std::set<std::string> physical_coordinates;
   std::vector<PhysicalChannels> physical;   // one per physical substructure
+  std::map<std::string, std::string> slot_coordinates;  // every substructure's slot → q channel
 };
 
 RunLayout DescribeRun(const io::RunData& run);
