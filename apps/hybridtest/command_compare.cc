@@ -1,0 +1,72 @@
+// hybridtest compare RUN_A RUN_B [--out DIR] [--transient SECONDS]: A against B, channel by
+// channel (report/compare.h): the table on stdout, as DIR/comparison.csv, and overlay figures
+// in DIR. Default DIR: <A's directory>/<A>-vs-<B>.
+#include <fmt/core.h>
+
+#include <filesystem>
+#include <memory>
+
+#include "command.h"
+#include "hybridtest/common/error.h"
+#include "hybridtest/io/run_reader.h"
+#include "hybridtest/report/compare.h"
+#include "hybridtest/report/compare_plot.h"
+
+namespace hybridtest::app {
+namespace {
+
+struct CompareOptions {
+  std::string run_a, run_b;
+  std::string out_dir;
+  double transient = -1;  // [s]; < 0: 30 % of A's duration
+};
+
+void AddCompareCommand(CLI::App& root) {
+  auto options = std::make_shared<CompareOptions>();
+  CLI::App* command = root.add_subcommand(
+      "compare", "Compare two runs: table of differences, steady means and amplitudes, and "
+                 "overlay figures (e.g. hybrid test against numerical simulation)");
+  command->add_option("run_a", options->run_a, "Run A's CSV (e.g. the hybrid test)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  command->add_option("run_b", options->run_b, "Run B's CSV (e.g. the numerical simulation)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  command->add_option("--out", options->out_dir,
+                      "Directory for comparison.csv and the figures (default: <A's "
+                      "directory>/<A>-vs-<B>)");
+  command->add_option("--transient", options->transient,
+                      "Initial transient excluded from means and amplitudes, in seconds "
+                      "(default: 30 % of A's duration)")
+      ->check(CLI::NonNegativeNumber);
+  command->callback([options] {
+    const io::RunData a = io::LoadRun(options->run_a);
+    const io::RunData b = io::LoadRun(options->run_b);
+    for (const auto& w : a.warnings) fmt::print(stderr, "warning: {}\n", w);
+    for (const auto& w : b.warnings) fmt::print(stderr, "warning: {}\n", w);
+    const double transient =
+        options->transient >= 0 ? options->transient : report::DefaultTransient(a);
+    const report::ComparisonTable table = report::CompareRuns(a, b, transient);
+
+    std::string out_dir = options->out_dir;
+    if (out_dir.empty()) {
+      const std::filesystem::path pa(options->run_a), pb(options->run_b);
+      out_dir = (pa.parent_path() / (pa.stem().string() + "-vs-" + pb.stem().string())).string();
+    }
+    std::error_code error;
+    std::filesystem::create_directories(out_dir, error);
+    if (error) throw IoError("cannot create the directory " + out_dir + ": " + error.message());
+    const std::string csv = (std::filesystem::path(out_dir) / "comparison.csv").string();
+    report::WriteComparisonCsv(table, csv);
+    fmt::print("{}\n", report::FormatComparisonText(table));
+    fmt::print("table:   {}\n", csv);
+    for (const std::string& file : report::WriteComparisonPlots(a, b, out_dir)) {
+      fmt::print("figure:  {}\n", file);
+    }
+  });
+}
+
+const CommandRegistration kRegistration{"compare", &AddCompareCommand};
+
+}  // namespace
+}  // namespace hybridtest::app

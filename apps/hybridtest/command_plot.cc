@@ -1,0 +1,46 @@
+// hybridtest plot RUN.csv [--out DIR]: the run's figures (blade displacements with the physical
+// blade in red, hub speed, actuator command/position and force-displacement of each physical
+// substructure) as PNG and SVG. Default DIR: <CSV directory>/<run name>-figures.
+#include <fmt/core.h>
+
+#include <memory>
+
+#include "command.h"
+#include "hybridtest/io/run_reader.h"
+#include "hybridtest/report/plot.h"
+
+namespace hybridtest::app {
+namespace {
+
+struct PlotOptions {
+  std::string run_csv;
+  std::string out_dir;
+};
+
+void AddPlotCommand(CLI::App& root) {
+  auto options = std::make_shared<PlotOptions>();
+  CLI::App* command = root.add_subcommand(
+      "plot", "Draw a run's figures (PNG and SVG) with gnuplot, like the paper's Fig. 6");
+  command->add_option("run", options->run_csv, "The run's CSV file, e.g. results/run.csv")
+      ->required()
+      ->check(CLI::ExistingFile);
+  command->add_option("--out", options->out_dir,
+                      "Directory for the figures (default: <CSV directory>/<run name>-figures)");
+  command->callback([options] {
+    const std::string out_dir =
+        options->out_dir.empty() ? report::DefaultPlotDir(options->run_csv) : options->out_dir;
+    const io::RunData run = io::LoadRun(options->run_csv);
+    for (const auto& warning : run.warnings) fmt::print(stderr, "warning: {}\n", warning);
+    if (run.metadata.is_null()) {
+      fmt::print(stderr,
+                 "warning: {}: no sidecar; plain figures (no physical substructure known)\n",
+                 io::SidecarPath(options->run_csv));
+    }
+    for (const std::string& file : report::WritePlots(run, out_dir)) fmt::print("{}\n", file);
+  });
+}
+
+const CommandRegistration kRegistration{"plot", &AddPlotCommand};
+
+}  // namespace
+}  // namespace hybridtest::app

@@ -1,0 +1,59 @@
+// hybridtest report RUN.csv [--against RUN_B.csv] [--out FILE.html] [--transient SECONDS]:
+// one self-contained HTML report (report/html_report.h). Default FILE: <CSV directory>/<run
+// name>-report.html.
+#include <fmt/core.h>
+
+#include <memory>
+
+#include "command.h"
+#include "hybridtest/io/run_reader.h"
+#include "hybridtest/report/html_report.h"
+
+namespace hybridtest::app {
+namespace {
+
+struct ReportOptions {
+  std::string run_csv;
+  std::string against_csv;
+  std::string out_path;
+  double transient = -1;  // [s]; < 0: 30 % of the run's duration
+};
+
+void AddReportCommand(CLI::App& root) {
+  auto options = std::make_shared<ReportOptions>();
+  CLI::App* command = root.add_subcommand(
+      "report", "Write a self-contained HTML report of a run (statistics, configuration, model "
+                "parameters, figures; with --against, a comparison with another run)");
+  command->add_option("run", options->run_csv, "The run's CSV file, e.g. results/run.csv")
+      ->required()
+      ->check(CLI::ExistingFile);
+  command->add_option("--against", options->against_csv,
+                      "Another run to compare with (e.g. the numerical simulation)")
+      ->check(CLI::ExistingFile);
+  command->add_option("--out", options->out_path,
+                      "HTML file to write (default: <CSV directory>/<run name>-report.html)");
+  command->add_option("--transient", options->transient,
+                      "With --against: initial transient excluded from means and amplitudes, in "
+                      "seconds (default: 30 % of the run's duration)")
+      ->check(CLI::NonNegativeNumber);
+  command->callback([options] {
+    const io::RunData run = io::LoadRun(options->run_csv);
+    for (const auto& w : run.warnings) fmt::print(stderr, "warning: {}\n", w);
+    std::unique_ptr<io::RunData> against;
+    if (!options->against_csv.empty()) {
+      against = std::make_unique<io::RunData>(io::LoadRun(options->against_csv));
+      for (const auto& w : against->warnings) fmt::print(stderr, "warning: {}\n", w);
+    }
+    const std::string out =
+        options->out_path.empty() ? report::DefaultReportPath(options->run_csv) : options->out_path;
+    report::HtmlReportOptions report_options;
+    report_options.transient = options->transient;
+    report::WriteHtmlReport(run, against.get(), out, report_options);
+    fmt::print("{}\n", out);
+  });
+}
+
+const CommandRegistration kRegistration{"report", &AddReportCommand};
+
+}  // namespace
+}  // namespace hybridtest::app

@@ -1,0 +1,267 @@
+#include "hybridtest/report/html_report.h"
+
+#include <fmt/core.h>
+#include <stdlib.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/common/version.h"
+#include "hybridtest/report/compare.h"
+#include "hybridtest/report/compare_plot.h"
+#include "hybridtest/report/html_report_style.h"
+#include "hybridtest/report/html_report_text.h"
+#include "hybridtest/report/plot.h"
+#include "hybridtest/report/plot_layout.h"
+
+namespace hybridtest::report {
+namespace {
+
+using nlohmann::json;
+
+std::string E(std::string_view text) { return EscapeHtml(text); }
+
+// A member of a JSON object, or null.
+json Member(const json& object, const char* key) {
+  return object.is_object() && object.contains(key) ? object[key] : json();
+}
+
+// A temporary directory, removed with its contents when this goes out of scope.
+class TempDir {
+ public:
+  TempDir() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "hybridtest-report-XXXXXX");
+    if (::mkdtemp(pattern.data()) == nullptr) {
+      throw IoError("cannot create a temporary directory for the report's figures in " +
+                    std::filesystem::temp_directory_path().string() + "; check TMPDIR");
+    }
+    path_ = pattern;
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+// Renders the figures as PNG and returns them as <figure> elements with data URIs.
+std::string EmbedFigures(const std::vector<PlotFigure>& figures, const GnuplotOptions& base) {
+  if (figures.empty()) return "<p class=\"note\">No figures: the run has no plottable channels.</p>\n";
+  GnuplotOptions options = base;
+  options.script.png = true;
+  options.script.svg = false;
+  options.script.width_px = 1080;  // the page's content width, so images are not rescaled
+  TempDir dir;
+  const std::vector<std::string> files = RenderFigures(figures, dir.path(), options);
+  std::string html;
+  for (std::size_t i = 0; i < files.size() && i < figures.size(); ++i) {
+    std::ifstream in(files[i], std::ios::binary);
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    html += fmt::format(
+        "<figure><img alt=\"{0}\" src=\"data:image/png;base64,{1}\"><figcaption>{0}</figcaption>"
+        "</figure>\n",
+        E(figures[i].title), EncodeBase64(bytes.str()));
+  }
+  return html;
+}
+
+// A two-column table of label → value rows; values are already HTML.
+std::string KeyValueTable(const std::vector<std::pair<std::string, std::string>>& rows) {
+  std::string html = "<table class=\"kv\">\n";
+  for (const auto& [key, value] : rows) {
+    html += "<tr><th>" + E(key) + "</th><td>" + value + "</td></tr>\n";
+  }
+  return html + "</table>\n";
+}
+
+std::string StatusBadge(const std::string& status) {
+  const char* kind = status == "completed" ? "ok" : status == "running" ? "busy" : "bad";
+  return fmt::format("<span class=\"badge {}\">{}</span>", kind,
+                     E(status.empty() ? "unknown (no sidecar)" : status));
+}
+
+std::string StatisticsSection(const io::RunData& run) {
+  const json& meta = run.metadata;
+  const json stats = Member(meta, "statistics");
+  const Eigen::VectorXd t = RunTime(run);
+  std::vector<std::pair<std::string, std::string>> rows;
+  auto stat = [&](const char* key) { return Member(stats, key); };
+  auto number = [&](const char* key, const char* suffix) {
+    const json v = stat(key);
+    return v.is_number() ? E(FormatNumber(v.get<double>()) + suffix) : std::string("&ndash;");
+  };
+  auto duration = [&](const char* key) {
+    const json v = stat(key);
+    return v.is_number() ? E(FormatDuration(v.get<double>())) : std::string("&ndash;");
+  };
+  rows.push_back({"Status", StatusBadge(FormatJson(Member(meta, "status")))});
+  rows.push_back({"Simulated time", E(fmt::format("{} s to {} s ({} rows)", FormatNumber(t[0]),
+                                                  FormatNumber(t[t.size() - 1]), t.size()))});
+  rows.push_back({"Steps", number("steps", "")});
+  rows.push_back({"Physical evaluations", number("physical_evaluations", "")});
+  rows.push_back({"Wall time", duration("wall_time_s")});
+  rows.push_back({"Lab time", duration("lab_time_s")});
+  rows.push_back({"Slowdown against real time", number("slowdown", " \u00d7")});
+  // Anything else the runner recorded.
+  if (stats.is_object()) {
+    for (const auto& [key, value] : stats.items()) {
+      if (key == "steps" || key == "physical_evaluations" || key == "wall_time_s" ||
+          key == "lab_time_s" || key == "slowdown") {
+        continue;
+      }
+      rows.push_back({key, E(FormatJson(value))});
+    }
+  }
+  std::string html = "<section id=\"statistics\"><h2>Run statistics</h2>\n" + KeyValueTable(rows);
+  if (!stats.is_object()) {
+    html += "<p class=\"note\">The sidecar holds no statistics (the run did not finish, or has no "
+            "sidecar).</p>\n";
+  }
+  return html + "</section>\n";
+}
+
+std::string ConfigurationSection(const io::RunData& run, const RunLayout& layout) {
+  const json& meta = run.metadata;
+  std::vector<std::pair<std::string, std::string>> rows;
+  rows.push_back({"Model", E(layout.model_name.empty() ? "unknown" : layout.model_name)});
+  for (const char* key : {"command", "config_path", "software_version", "start_time",
+                          "finish_time"}) {
+    const json v = Member(meta, key);
+    if (!v.is_null() && !FormatJson(v).empty()) rows.push_back({key, E(FormatJson(v))});
+  }
+  std::string html = "<section id=\"configuration\"><h2>Configuration</h2>\n" + KeyValueTable(rows);
+
+  // Substructures: which restoring forces are measured and which computed.
+  const json subs = Member(meta, "substructures");
+  if (subs.is_array() && !subs.empty()) {
+    html += "<h3>Substructures</h3>\n<table><tr><th>slot</th><th>kind</th><th>coordinate</th>"
+            "<th>description</th></tr>\n";
+    for (const json& s : subs) {
+      const std::string kind = FormatJson(Member(s, "kind"));
+      const auto found = layout.slot_coordinates.find(FormatJson(Member(s, "slot")));
+      const std::string coordinate = found == layout.slot_coordinates.end() ? "" : found->second;
+      html += fmt::format("<tr><td>{}</td><td{}>{}</td><td>{}</td><td>{}</td></tr>\n",
+                          E(FormatJson(Member(s, "slot"))),
+                          kind == "physical" ? " class=\"physical\"" : "", E(kind), E(coordinate),
+                          E(FormatJson(Member(s, "description"))));
+    }
+    html += "</table>\n";
+  }
+  const json config = Member(meta, "config");
+  if (config.is_string() && !config.get<std::string>().empty()) {
+    html += "<details open><summary>Configuration file (verbatim)</summary><pre>" +
+            E(config.get<std::string>()) + "</pre></details>\n";
+  } else if (!meta.is_object()) {
+    html += "<p class=\"note\">No sidecar (" + E(io::SidecarPath(run.csv_path)) +
+            "): configuration, model and statistics are unknown.</p>\n";
+  }
+  return html + "</section>\n";
+}
+
+std::string ParametersSection(const io::RunData& run) {
+  const json params = Member(Member(run.metadata, "model"), "parameters");
+  std::string html = "<section id=\"parameters\"><h2>Model parameters</h2>\n";
+  if (!params.is_array() || params.empty()) {
+    return html + "<p class=\"note\">The sidecar lists no model parameters.</p></section>\n";
+  }
+  html += "<table><tr><th>name</th><th>value</th><th>unit</th><th>description</th></tr>\n";
+  for (const json& p : params) {
+    html += fmt::format("<tr><td>{}</td><td class=\"num\">{}</td><td>{}</td><td>{}</td></tr>\n",
+                        E(FormatJson(Member(p, "name"))), E(FormatJson(Member(p, "value"))),
+                        E(FormatJson(Member(p, "unit"))), E(FormatJson(Member(p, "description"))));
+  }
+  return html + "</table></section>\n";
+}
+
+std::string ComparisonSection(const io::RunData& run, const io::RunData& against,
+                              const HtmlReportOptions& options) {
+  const double transient = options.transient >= 0 ? options.transient : DefaultTransient(run);
+  const ComparisonTable table = CompareRuns(run, against, transient);
+  std::string html = "<section id=\"comparison\"><h2>Comparison: " + E(table.name_a) +
+                     " against " + E(table.name_b) + "</h2>\n";
+  html += fmt::format(
+      "<p class=\"note\">A = {} ({}), B = {} ({}). Differences A&minus;B at {} of A&rsquo;s time "
+      "points ({} with B interpolated linearly, the rest exact). Mean and amplitude "
+      "(half of max&minus;min) after the first {} s.</p>\n",
+      E(table.name_a), E(table.path_a), E(table.name_b), E(table.path_b), table.compared_points,
+      table.interpolated_points, E(FormatNumber(table.transient)));
+  html += "<table><tr><th>channel</th><th>unit</th><th>max |A&minus;B|</th><th>RMS(A&minus;B)</th>"
+          "<th>mean A</th><th>amplitude A</th><th>mean B</th><th>amplitude B</th></tr>\n";
+  for (const ChannelComparison& row : table.rows) {
+    html += "<tr><td>" + E(row.channel) + "</td><td>" + E(row.unit) + "</td>";
+    for (double v : {row.max_abs_diff, row.rms_diff, row.mean_a, row.amplitude_a, row.mean_b,
+                     row.amplitude_b}) {
+      html += "<td class=\"num\">" + E(FormatNumber(v)) + "</td>";
+    }
+    html += "</tr>\n";
+  }
+  html += "</table>\n<h3>Overlay figures</h3>\n";
+  html += EmbedFigures(MakeComparisonFigures(run, against), options.gnuplot);
+  return html + "</section>\n";
+}
+
+std::string ChannelsSection(const io::RunData& run) {
+  std::string html = "<section id=\"channels\"><details><summary>Channels (" +
+                     std::to_string(run.channels.size()) + ")</summary>\n"
+                     "<table><tr><th>name</th><th>unit</th><th>description</th></tr>\n";
+  for (const io::Channel& c : run.channels) {
+    html += "<tr><td>" + E(c.name) + "</td><td>" + E(c.unit) + "</td><td>" + E(c.description) +
+            "</td></tr>\n";
+  }
+  return html + "</table></details></section>\n";
+}
+
+}  // namespace
+
+std::string MakeHtmlReport(const io::RunData& run, const io::RunData* against,
+                           const HtmlReportOptions& options) {
+  const RunLayout layout = DescribeRun(run);
+  std::string html = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+                     "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
+  html += "<title>hybridtest report: " + E(layout.name) + "</title>\n<style>" + kHtmlReportCss +
+          "</style>\n</head>\n<body>\n";
+  html += "<header class=\"top\"><div><h1>Run report: " + E(layout.name) + "</h1><p>" +
+          E(run.csv_path) + (layout.model_name.empty() ? "" : " &middot; model " +
+          E(layout.model_name)) + "</p></div></header>\n<main>\n";
+  html += StatisticsSection(run);
+  html += ConfigurationSection(run, layout);
+  html += ParametersSection(run);
+  html += "<section id=\"figures\"><h2>Figures</h2>\n";
+  if (!layout.physical_coordinates.empty()) {
+    html += "<p class=\"note\">Coordinates of physical substructures are drawn in "
+            "<span class=\"physical\">red</span>.</p>\n";
+  }
+  html += EmbedFigures(MakeRunFigures(run), options.gnuplot) + "</section>\n";
+  if (against != nullptr) html += ComparisonSection(run, *against, options);
+  html += ChannelsSection(run);
+  html += std::string("<footer>Generated by hybridtest ") + E(kVersion) +
+          ". Self-contained: figures are embedded; nothing is loaded from the network.</footer>\n";
+  return html + "</main>\n</body>\n</html>\n";
+}
+
+void WriteHtmlReport(const io::RunData& run, const io::RunData* against,
+                     const std::string& out_path, const HtmlReportOptions& options) {
+  const std::string html = MakeHtmlReport(run, against, options);
+  std::ofstream out(out_path, std::ios::binary);
+  out << html;
+  out.flush();
+  if (!out) {
+    throw IoError("cannot write the report to " + out_path +
+                  "; check that the directory exists and is writable");
+  }
+}
+
+std::string DefaultReportPath(const std::string& csv_path) {
+  const std::filesystem::path path(csv_path);
+  return (path.parent_path() / (path.stem().string() + "-report.html")).string();
+}
+
+}  // namespace hybridtest::report
