@@ -11,6 +11,7 @@
 #include "command.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/version.h"
+#include "hybridtest/transfer/safety.h"
 
 namespace hybridtest::app {
 namespace {
@@ -43,6 +44,8 @@ int main(int argc, char** argv) {
                 "Runge-Kutta integration, physical and numerical substructures)"};
   root.set_version_flag("--version", std::string("hybridtest ") + kVersion);
   root.require_subcommand(1);
+  root.footer("Exit status: 0 success, 1 error, 2 bad configuration or arguments, 3 safety stop, "
+              "4 transfer (communication) failure, 70 internal error.");
   for (const auto& [name, add] : app::RegisteredCommands()) add(root);
 
   try {
@@ -52,6 +55,9 @@ int main(int argc, char** argv) {
   } catch (const ConfigError& e) {
     std::fprintf(stderr, "hybridtest: configuration error: %s\n", e.what());
     return 2;
+  } catch (const transfer::SafetyStop& e) {
+    std::fprintf(stderr, "hybridtest: SAFETY STOP: %s\n", e.what());
+    return 3;
   } catch (const TransferError& e) {
     std::fprintf(stderr, "hybridtest: transfer system error: %s\n", e.what());
     return 4;
