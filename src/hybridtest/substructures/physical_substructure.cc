@@ -53,6 +53,17 @@ double PhysicalSubstructure::Trial(double displacement, const TrialContext& ctx)
     last_ = {command, position, force, m.lab_time};
     safety_.CheckMeasurement(command, position, force, ctx.step, ctx.stage);
     return setup_.RestoringForce(force);
+  } catch (const transfer::SafetyStop&) {
+    Hold();
+    throw;
+  } catch (const TransferError& e) {
+    // Name where in the test the bench was lost; the actuator holds at its last command.
+    Hold();
+    throw TransferError(fmt::format("{}: {} (step {}, stage {}, t = {} s; the actuator holds at "
+                                    "its last safe command {} m)", name_, e.what(), ctx.step,
+                                    ctx.stage, ctx.t, safety_.has_safe_command()
+                                                          ? safety_.last_safe_command()
+                                                          : setup_.p0));
   } catch (...) {
     Hold();
     throw;
