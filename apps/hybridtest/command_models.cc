@@ -3,6 +3,8 @@
 // (name, default value, unit, meaning): what a config's model section can say.
 #include <fmt/core.h>
 
+#include <cmath>
+
 #include "command.h"
 #include "hybridtest/models/catalogue.h"
 
@@ -26,7 +28,8 @@ void PrintModel(const std::string& name, int blades) {
   if (model.slots().empty()) fmt::print(" none");
   for (const auto& s : model.slots()) fmt::print(" {} ({})", s.info.name, s.info.description);
   fmt::print("\n  parameters (model.parameters in a config):\n");
-  for (const auto& p : models::DefaultParameters(name, blades).all()) {
+  const models::ParameterSet defaults = models::DefaultParameters(name, blades);
+  for (const auto& p : defaults.all()) {
     fmt::print("    {:<14} {:>12} {:<8} {}\n", p.name,
                std::isnan(p.value) ? std::string("inherit") : fmt::format("{:g}", p.value), p.unit,
                p.description);
