@@ -14,8 +14,8 @@ std::vector<std::string> ModelNames() { return {"rotor", "double_pendulum", "spi
 
 namespace {
 [[noreturn]] void UnknownModel(const std::string& name) {
-  throw ConfigError(fmt::format("model.name = '{}': unknown model; expected one of: rotor, "
-                                "double_pendulum, spinning_top", name));
+  throw ConfigError(fmt::format("unknown model '{}'; expected one of: rotor, double_pendulum, "
+                                "spinning_top (see `hybridtest models`)", name));
 }
 }  // namespace
 
