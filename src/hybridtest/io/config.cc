@@ -151,7 +151,8 @@ SimulationConfig ParseSimulationConfig(const YamlInput& in) {
 }
 
 SimulationConfig LoadSimulationConfig(const std::string& path) {
-  return ParseSimulationConfig(YamlInput::FromFile(path));
+  return ParseSimulationConfig(
+      YamlInput::FromFile(path, "keys such as model:, integrator:, duration:"));
 }
 
 }  // namespace hybridtest::io

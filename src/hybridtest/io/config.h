@@ -25,7 +25,7 @@
 #include <string>
 
 #include "hybridtest/integrators/butcher_tableau.h"
-#include "hybridtest/io/yaml_input.h"
+#include "hybridtest/common/yaml_input.h"
 #include "hybridtest/models/catalogue.h"
 
 namespace hybridtest::io {

@@ -1,102 +1,95 @@
 #include "hybridtest/transfer/bench_config.h"
 
-#include <cmath>
-#include <numbers>
-#include <fstream>
-
 #include <fmt/format.h>
+
+#include <cmath>
+#include <fstream>
+#include <numbers>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/units.h"
+#include "hybridtest/common/yaml_input.h"
 #include "hybridtest/constitutive/cantilever.h"
 #include "hybridtest/constitutive/parse_law.h"
-#include "hybridtest/constitutive/yaml_fields.h"
 
 namespace hybridtest::transfer {
 namespace {
 
-using constitutive::JoinKeyPath;
-using constitutive::ReadNumber;
-using constitutive::ReadString;
-using constitutive::RequireKnownKeys;
-using constitutive::RequireMapping;
-using constitutive::ThrowField;
 using units::kKilonewton;
 using units::kMillimetre;
 using units::kMillisecond;
 
-// A sub-mapping that may be absent; returns a null node when absent.
-YAML::Node SubMapping(const YAML::Node& node, std::string_view where, const std::string& key,
-                      std::initializer_list<std::string_view> allowed) {
-  YAML::Node sub = node[key];
-  if (!sub) return sub;
+// A sub-mapping with only `allowed` keys; an undefined node when absent.
+YAML::Node SubMapping(const YamlInput& in, const YAML::Node& node, std::string_view where,
+                      const std::string& key, std::initializer_list<std::string_view> allowed) {
   const std::string path = JoinKeyPath(where, key);
-  RequireMapping(sub, path);
-  RequireKnownKeys(sub, path, allowed);
+  YAML::Node sub = in.Mapping(node, key, path, false);
+  if (sub) in.CheckKeys(sub, path, allowed);
   return sub;
 }
 
-void ParseUnits(const YAML::Node& node, std::string_view where, BenchUnits& units) {
-  const std::string length = ReadString(node, where, "length", "mm");
-  const std::string force = ReadString(node, where, "force", "N");
+void ParseUnits(const YamlInput& in, const YAML::Node& node, std::string_view where,
+                BenchUnits& units) {
+  const std::string length = in.ReadString(node, where, "length", "mm");
+  const std::string force = in.ReadString(node, where, "force", "N");
   if (length == "mm") {
     units.metres_per_length_unit = kMillimetre;
   } else if (length == "m") {
     units.metres_per_length_unit = 1.0;
   } else {
-    ThrowField(node["length"], where, "length", length, "mm or m");
+    in.ThrowValue(node["length"], JoinKeyPath(where, "length"), "mm or m");
   }
   if (force == "N") {
     units.newtons_per_force_unit = 1.0;
   } else if (force == "kN") {
     units.newtons_per_force_unit = kKilonewton;
   } else {
-    ThrowField(node["force"], where, "force", force, "N or kN");
+    in.ThrowValue(node["force"], JoinKeyPath(where, "force"), "N or kN");
   }
   units.length_name = length;
   units.force_name = force;
 }
 
-void ParseLag(const YAML::Node& node, std::string_view where, ServoLag& lag) {
-  RequireMapping(node, where);
-  RequireKnownKeys(node, where,
-                   {"type", "time_constant_ms", "natural_frequency_hz", "damping_ratio"});
-  const std::string type = ReadString(node, where, "type", "second_order");
+void ParseLag(const YamlInput& in, const YAML::Node& node, std::string_view where, ServoLag& lag) {
+  in.RequireMapping(node, where);
+  in.CheckKeys(node, where, {"type", "time_constant_ms", "natural_frequency_hz", "damping_ratio"});
+  const std::string type = in.ReadString(node, where, "type", "second_order");
   if (type == "none") {
     lag.type = ServoLag::Type::kNone;
   } else if (type == "first_order") {
     lag.type = ServoLag::Type::kFirstOrder;
     lag.time_constant =
-        ReadNumber(node, where, "time_constant_ms", "a positive time constant in ms") *
+        in.ReadNumber(node, where, "time_constant_ms", "a positive time constant in ms") *
         kMillisecond;
   } else if (type == "second_order") {
     lag.type = ServoLag::Type::kSecondOrder;
-    lag.natural_frequency = ReadNumber(node, where, "natural_frequency_hz",
-                                       "a positive natural frequency in Hz", lag.natural_frequency);
+    lag.natural_frequency =
+        in.ReadNumber(node, where, "natural_frequency_hz", "a positive natural frequency in Hz",
+                      lag.natural_frequency);
     lag.damping_ratio =
-        ReadNumber(node, where, "damping_ratio", "a positive damping ratio", lag.damping_ratio);
+        in.ReadNumber(node, where, "damping_ratio", "a positive damping ratio", lag.damping_ratio);
   } else {
-    ThrowField(node["type"], where, "type", type, "none, first_order or second_order");
+    in.ThrowValue(node["type"], JoinKeyPath(where, "type"), "none, first_order or second_order");
   }
 }
 
-void ParseFaults(const YAML::Node& node, std::string_view where, std::vector<BenchFault>& faults) {
+void ParseFaults(const YamlInput& in, const YAML::Node& node, std::string_view where,
+                 std::vector<BenchFault>& faults) {
   if (!node.IsSequence()) {
-    throw ConfigError(fmt::format("{}: expected a list of {{at: N, kind: nan|inf|spike|silence}}",
-                                  where));
+    in.ThrowValue(node, where, "a list of {at: N, kind: nan|inf|spike|silence}");
   }
   for (std::size_t i = 0; i < node.size(); ++i) {
     const std::string path = fmt::format("{}[{}]", where, i);
     const YAML::Node entry = node[i];
-    RequireMapping(entry, path);
-    RequireKnownKeys(entry, path, {"at", "kind", "force_N"});
+    in.RequireMapping(entry, path);
+    in.CheckKeys(entry, path, {"at", "kind", "force_N"});
     BenchFault fault;
-    const double at = ReadNumber(entry, path, "at", "a command index (integer >= 0)");
+    const double at = in.ReadNumber(entry, path, "at", "a command index (integer >= 0)");
     if (at < 0 || at != std::floor(at)) {
-      ThrowField(entry["at"], path, "at", entry["at"].Scalar(), "a command index (integer >= 0)");
+      in.ThrowValue(entry["at"], JoinKeyPath(path, "at"), "a command index (integer >= 0)");
     }
     fault.at = static_cast<long>(at);
-    const std::string kind = ReadString(entry, path, "kind", "");
+    const std::string kind = in.ReadString(entry, path, "kind", "");
     if (kind == "nan") {
       fault.kind = BenchFault::Kind::kNan;
     } else if (kind == "inf") {
@@ -106,9 +99,9 @@ void ParseFaults(const YAML::Node& node, std::string_view where, std::vector<Ben
     } else if (kind == "silence") {
       fault.kind = BenchFault::Kind::kSilence;
     } else {
-      ThrowField(entry["kind"], path, "kind", kind, "one of nan, inf, spike, silence");
+      in.ThrowValue(entry["kind"], JoinKeyPath(path, "kind"), "one of nan, inf, spike, silence");
     }
-    fault.spike_force = ReadNumber(entry, path, "force_N", "a force in N", fault.spike_force);
+    fault.spike_force = in.ReadNumber(entry, path, "force_N", "a force in N", fault.spike_force);
     faults.push_back(fault);
   }
 }
@@ -123,97 +116,113 @@ EmulatedBenchConfig DefaultEmulatedBenchConfig() {
 
 EmulatedBenchConfig ParseEmulatedBenchConfig(const YAML::Node& bench, std::string_view where) {
   EmulatedBenchConfig c = DefaultEmulatedBenchConfig();
-  RequireMapping(bench, where);
-  RequireKnownKeys(bench, where,
-                   {"units", "seed", "pacing", "p0_mm", "initial_position_mm", "specimen",
-                    "actuator", "load_cell", "settling", "sampling", "timing", "safety",
-                    "faults"});
+  const YamlInput in = YamlInput::ForNode(bench);
+  in.RequireMapping(bench, where);
+  in.CheckKeys(bench, where,
+               {"units", "seed", "pacing", "p0_mm", "initial_position_mm", "specimen", "actuator",
+                "load_cell", "settling", "sampling", "timing", "safety", "faults"});
   // Top level.
-  if (auto n = SubMapping(bench, where, "units", {"length", "force"})) {
-    ParseUnits(n, JoinKeyPath(where, "units"), c.units);
+  if (auto n = SubMapping(in, bench, where, "units", {"length", "force"})) {
+    ParseUnits(in, n, JoinKeyPath(where, "units"), c.units);
   }
-  const double seed = ReadNumber(bench, where, "seed", "a non-negative integer", 1.0);
+  const double seed = in.ReadNumber(bench, where, "seed", "a non-negative integer", 1.0);
   if (seed < 0 || seed != std::floor(seed)) {
-    ThrowField(bench["seed"], where, "seed", bench["seed"].Scalar(), "a non-negative integer");
+    in.ThrowValue(bench["seed"], JoinKeyPath(where, "seed"), "a non-negative integer");
   }
   c.seed = static_cast<unsigned long>(seed);
-  const std::string pacing = ReadString(bench, where, "pacing", "accelerated");
+  const std::string pacing = in.ReadString(bench, where, "pacing", "accelerated");
   if (pacing != "accelerated" && pacing != "realtime") {
-    ThrowField(bench["pacing"], where, "pacing", pacing, "accelerated or realtime");
+    in.ThrowValue(bench["pacing"], JoinKeyPath(where, "pacing"), "accelerated or realtime");
   }
   c.realtime = pacing == "realtime";
-  c.p0 = ReadNumber(bench, where, "p0_mm", "a position in mm", 0.0) * kMillimetre;
+  c.p0 = in.ReadNumber(bench, where, "p0_mm", "a position in mm", 0.0) * kMillimetre;
   c.initial_position =
-      ReadNumber(bench, where, "initial_position_mm", "a position in mm", c.p0 / kMillimetre) *
+      in.ReadNumber(bench, where, "initial_position_mm", "a position in mm", c.p0 / kMillimetre) *
       kMillimetre;
   if (bench["specimen"]) {
     c.specimen = constitutive::ParseRestoringForceLaw(bench["specimen"],
                                                       JoinKeyPath(where, "specimen"));
   }
   // Actuator.
-  if (auto n = SubMapping(bench, where, "actuator",
+  if (auto n = SubMapping(in, bench, where, "actuator",
                           {"position_min_mm", "position_max_mm", "capacity_kN",
                            "velocity_limit_mm_per_s", "lag", "delay_ms"})) {
     const std::string path = JoinKeyPath(where, "actuator");
-    c.position_min = ReadNumber(n, path, "position_min_mm", "a position in mm", -150) * kMillimetre;
-    c.position_max = ReadNumber(n, path, "position_max_mm", "a position in mm", 150) * kMillimetre;
-    c.capacity = ReadNumber(n, path, "capacity_kN", "a positive force in kN", 10) * kKilonewton;
-    c.velocity_limit = ReadNumber(n, path, "velocity_limit_mm_per_s", "a positive speed in mm/s",
-                                  c.velocity_limit / kMillimetre) * kMillimetre;
-    if (n["lag"]) ParseLag(n["lag"], JoinKeyPath(path, "lag"), c.lag);
-    c.delay = ReadNumber(n, path, "delay_ms", "a non-negative delay in ms", c.delay / kMillisecond) *
-              kMillisecond;
+    c.position_min =
+        in.ReadNumber(n, path, "position_min_mm", "a position in mm", -150) * kMillimetre;
+    c.position_max =
+        in.ReadNumber(n, path, "position_max_mm", "a position in mm", 150) * kMillimetre;
+    c.capacity = in.ReadNumber(n, path, "capacity_kN", "a positive force in kN", 10) * kKilonewton;
+    c.velocity_limit = in.ReadNumber(n, path, "velocity_limit_mm_per_s", "a positive speed in mm/s",
+                                     c.velocity_limit / kMillimetre) *
+                       kMillimetre;
+    if (n["lag"]) ParseLag(in, n["lag"], JoinKeyPath(path, "lag"), c.lag);
+    c.delay =
+        in.ReadNumber(n, path, "delay_ms", "a non-negative delay in ms", c.delay / kMillisecond) *
+        kMillisecond;
   }
   // Load cell.
-  if (auto n = SubMapping(bench, where, "load_cell", {"noise_std_N", "resolution_N", "offset_N"})) {
+  if (auto n =
+          SubMapping(in, bench, where, "load_cell", {"noise_std_N", "resolution_N", "offset_N"})) {
     const std::string path = JoinKeyPath(where, "load_cell");
-    c.noise_std = ReadNumber(n, path, "noise_std_N", "a non-negative force in N", c.noise_std);
-    c.resolution = ReadNumber(n, path, "resolution_N", "a non-negative force in N", c.resolution);
-    c.offset = ReadNumber(n, path, "offset_N", "a force in N", c.offset);
+    c.noise_std = in.ReadNumber(n, path, "noise_std_N", "a non-negative force in N", c.noise_std);
+    c.resolution =
+        in.ReadNumber(n, path, "resolution_N", "a non-negative force in N", c.resolution);
+    c.offset = in.ReadNumber(n, path, "offset_N", "a force in N", c.offset);
   }
   // Settling, sampling, timing.
-  if (auto n = SubMapping(bench, where, "settling", {"tolerance_mm", "dwell_ms"})) {
+  if (auto n = SubMapping(in, bench, where, "settling", {"tolerance_mm", "dwell_ms"})) {
     const std::string path = JoinKeyPath(where, "settling");
-    c.settle_tolerance = ReadNumber(n, path, "tolerance_mm", "a positive length in mm",
-                                    c.settle_tolerance / kMillimetre) * kMillimetre;
-    c.settle_dwell = ReadNumber(n, path, "dwell_ms", "a non-negative time in ms",
-                                c.settle_dwell / kMillisecond) * kMillisecond;
+    c.settle_tolerance = in.ReadNumber(n, path, "tolerance_mm", "a positive length in mm",
+                                       c.settle_tolerance / kMillimetre) *
+                         kMillimetre;
+    c.settle_dwell = in.ReadNumber(n, path, "dwell_ms", "a non-negative time in ms",
+                                   c.settle_dwell / kMillisecond) *
+                     kMillisecond;
   }
-  if (auto n = SubMapping(bench, where, "sampling", {"window_ms"})) {
-    c.sampling_window = ReadNumber(n, JoinKeyPath(where, "sampling"), "window_ms",
-                                   "a non-negative time in ms",
-                                   c.sampling_window / kMillisecond) * kMillisecond;
+  if (auto n = SubMapping(in, bench, where, "sampling", {"window_ms"})) {
+    c.sampling_window =
+        in.ReadNumber(n, JoinKeyPath(where, "sampling"), "window_ms", "a non-negative time in ms",
+                      c.sampling_window / kMillisecond) *
+        kMillisecond;
   }
-  if (auto n = SubMapping(bench, where, "timing", {"overhead_ms", "internal_step_ms"})) {
+  if (auto n = SubMapping(in, bench, where, "timing", {"overhead_ms", "internal_step_ms"})) {
     const std::string path = JoinKeyPath(where, "timing");
-    c.overhead = ReadNumber(n, path, "overhead_ms", "a non-negative time in ms",
-                            c.overhead / kMillisecond) * kMillisecond;
-    c.internal_step = ReadNumber(n, path, "internal_step_ms", "a positive time in ms",
-                                 c.internal_step / kMillisecond) * kMillisecond;
+    c.overhead = in.ReadNumber(n, path, "overhead_ms", "a non-negative time in ms",
+                               c.overhead / kMillisecond) *
+                 kMillisecond;
+    c.internal_step = in.ReadNumber(n, path, "internal_step_ms", "a positive time in ms",
+                                    c.internal_step / kMillisecond) *
+                      kMillisecond;
   }
   // Safety: defaults follow the actuator.
   c.safety.stroke_min = c.position_min;
   c.safety.stroke_max = c.position_max;
   c.safety.force_hard = c.capacity;
   c.safety.force_soft = std::min(c.safety.force_soft, c.capacity);
-  if (auto n = SubMapping(bench, where, "safety",
+  if (auto n = SubMapping(in, bench, where, "safety",
                           {"stroke_min_mm", "stroke_max_mm", "max_increment_mm", "force_soft_kN",
                            "force_hard_kN", "timeout_s"})) {
     const std::string path = JoinKeyPath(where, "safety");
     SafetyLimits& s = c.safety;
-    s.stroke_min = ReadNumber(n, path, "stroke_min_mm", "a position in mm",
-                              s.stroke_min / kMillimetre) * kMillimetre;
-    s.stroke_max = ReadNumber(n, path, "stroke_max_mm", "a position in mm",
-                              s.stroke_max / kMillimetre) * kMillimetre;
-    s.max_increment = ReadNumber(n, path, "max_increment_mm", "a positive length in mm",
-                                 s.max_increment / kMillimetre) * kMillimetre;
-    s.force_soft = ReadNumber(n, path, "force_soft_kN", "a positive force in kN",
-                              s.force_soft / kKilonewton) * kKilonewton;
-    s.force_hard = ReadNumber(n, path, "force_hard_kN", "a positive force in kN",
-                              s.force_hard / kKilonewton) * kKilonewton;
-    s.timeout = ReadNumber(n, path, "timeout_s", "a positive time in s", s.timeout);
+    s.stroke_min =
+        in.ReadNumber(n, path, "stroke_min_mm", "a position in mm", s.stroke_min / kMillimetre) *
+        kMillimetre;
+    s.stroke_max =
+        in.ReadNumber(n, path, "stroke_max_mm", "a position in mm", s.stroke_max / kMillimetre) *
+        kMillimetre;
+    s.max_increment = in.ReadNumber(n, path, "max_increment_mm", "a positive length in mm",
+                                    s.max_increment / kMillimetre) *
+                      kMillimetre;
+    s.force_soft = in.ReadNumber(n, path, "force_soft_kN", "a positive force in kN",
+                                 s.force_soft / kKilonewton) *
+                   kKilonewton;
+    s.force_hard = in.ReadNumber(n, path, "force_hard_kN", "a positive force in kN",
+                                 s.force_hard / kKilonewton) *
+                   kKilonewton;
+    s.timeout = in.ReadNumber(n, path, "timeout_s", "a positive time in s", s.timeout);
   }
-  if (bench["faults"]) ParseFaults(bench["faults"], JoinKeyPath(where, "faults"), c.faults);
+  if (bench["faults"]) ParseFaults(in, bench["faults"], JoinKeyPath(where, "faults"), c.faults);
   try {
     ValidateEmulatedBenchConfig(c);
   } catch (const ConfigError& e) {
@@ -223,21 +232,12 @@ EmulatedBenchConfig ParseEmulatedBenchConfig(const YAML::Node& bench, std::strin
 }
 
 EmulatedBenchConfig LoadEmulatedBenchConfig(const std::string& path) {
-  YAML::Node document;
-  try {
-    document = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw ConfigError(fmt::format("{}: cannot open the bench configuration; check the path",
-                                  path));
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(fmt::format("{}:{}: YAML syntax error: {}; fix the file", path,
-                                  e.mark.line + 1, e.msg));
-  }
-  if (!document.IsMap() || !document["bench"]) {
+  const YamlInput file = YamlInput::FromFile(path, "a 'bench:' mapping");
+  if (!file.root()["bench"]) {
     throw ConfigError(fmt::format(
         "{}: expected a top-level 'bench:' mapping (see examples/rotor/bench-ideal.yaml)", path));
   }
-  return ParseEmulatedBenchConfig(document["bench"], fmt::format("{}: bench", path));
+  return ParseEmulatedBenchConfig(file.root()["bench"], fmt::format("{}: bench", path));
 }
 
 void ValidateEmulatedBenchConfig(const EmulatedBenchConfig& c) {

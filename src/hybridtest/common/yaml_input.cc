@@ -1,0 +1,214 @@
+// See yaml_input.h.
+#include "hybridtest/common/yaml_input.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "hybridtest/common/error.h"
+
+namespace hybridtest {
+namespace {
+
+bool IsAbsent(const YAML::Node& node) { return !node.IsDefined() || node.IsNull(); }
+
+// The node as the user wrote it, on one line: "abc", "[1, 2]", "{a: 1}".
+std::string Given(const YAML::Node& node) {
+  if (node.IsScalar()) return node.Scalar();
+  YAML::Emitter out;
+  out << YAML::Flow << node;
+  return out.c_str();
+}
+
+std::string AllowedList(std::initializer_list<std::string_view> allowed) {
+  std::string list;
+  for (std::string_view a : allowed) list += fmt::format("{}{}", list.empty() ? "" : ", ", a);
+  return list;
+}
+
+}  // namespace
+
+std::string JoinKeyPath(std::string_view parent, std::string_view key) {
+  if (parent.empty()) return std::string(key);
+  return fmt::format("{}.{}", parent, key);
+}
+
+YamlInput YamlInput::FromFile(const std::string& path, std::string_view top_level_hint) {
+  std::ifstream in(path);
+  if (!in) {
+    throw ConfigError(fmt::format("{}: cannot open this YAML file; check that it exists "
+                                  "(relative paths start at the current directory)", path));
+  }
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return FromText(buffer.str(), path, top_level_hint);
+}
+
+YamlInput YamlInput::FromText(const std::string& text, const std::string& path,
+                              std::string_view top_level_hint) {
+  YamlInput input;
+  input.path_ = path;
+  input.text_ = text;
+  try {
+    input.root_ = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(fmt::format("{}:{}:{}: not valid YAML: {}; fix the syntax there (check the "
+                                  "indentation, a missing ':' or an unclosed bracket or quote)",
+                                  path, e.mark.line + 1, e.mark.column + 1, e.msg));
+  }
+  if (!input.root_.IsMap()) {
+    throw ConfigError(fmt::format("{}: expected a YAML mapping at the top level ({}), got '{}'",
+                                  path, top_level_hint, Given(input.root_)));
+  }
+  return input;
+}
+
+YamlInput YamlInput::ForNode(const YAML::Node& node) {
+  YamlInput input;
+  input.root_ = node;
+  return input;
+}
+
+std::string YamlInput::Where(const YAML::Node& node, std::string_view key_path) const {
+  const bool has_line = node.IsDefined() && node.Mark().line >= 0;
+  const int line = has_line ? node.Mark().line + 1 : 0;
+  if (path_.empty()) {
+    const std::string_view kp = key_path.empty() ? std::string_view("(top level)") : key_path;
+    return has_line ? fmt::format("{} (line {})", kp, line) : std::string(kp);
+  }
+  const std::string file = has_line ? fmt::format("{}:{}", path_, line) : path_;
+  return key_path.empty() ? file : fmt::format("{}: {}", file, key_path);
+}
+
+void YamlInput::ThrowMissing(const YAML::Node& node, std::string_view key_path,
+                             std::string_view expected) const {
+  // How to fix it: name the key to add and the mapping to add it to.
+  std::string fix;
+  const std::size_t dot = key_path.rfind('.');
+  const std::string_view key = dot == std::string_view::npos ? key_path : key_path.substr(dot + 1);
+  if (!key.empty() && key.find_first_of(" :[") == std::string_view::npos) {
+    const std::string_view parent = dot == std::string_view::npos ? "" : key_path.substr(0, dot);
+    if (node.IsDefined()) {
+      fix = fmt::format("; give `{}:` a value", key);
+    } else {
+      fix = fmt::format("; add `{}: ...` {}", key,
+                        parent.empty() ? std::string("at the top level")
+                                       : fmt::format("under {}", parent));
+    }
+  }
+  throw ConfigError(fmt::format("{}: {}; expected {}{}", Where(node, key_path),
+                                node.IsDefined() ? "empty" : "missing", expected, fix));
+}
+
+void YamlInput::ThrowValue(const YAML::Node& node, std::string_view key_path,
+                           std::string_view expected) const {
+  if (IsAbsent(node)) ThrowMissing(node, key_path, expected);
+  throw ConfigError(fmt::format("{} = '{}': expected {}", Where(node, key_path), Given(node),
+                                expected));
+}
+
+void YamlInput::RequireMapping(const YAML::Node& node, std::string_view key_path) const {
+  if (node.IsDefined() && node.IsMap()) return;
+  ThrowValue(node, key_path, "a mapping (key: value lines); check the indentation");
+}
+
+void YamlInput::CheckKeys(const YAML::Node& node, std::string_view key_path,
+                          std::initializer_list<std::string_view> allowed) const {
+  for (const auto& kv : node) {
+    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : Given(kv.first);
+    bool known = false;
+    for (std::string_view a : allowed) known = known || a == key;
+    if (known) continue;
+    throw ConfigError(fmt::format("{}: unknown key '{}'; expected one of: {} (check the spelling "
+                                  "and the indentation)",
+                                  Where(kv.first, JoinKeyPath(key_path, key)), key,
+                                  AllowedList(allowed)));
+  }
+}
+
+YAML::Node YamlInput::Mapping(const YAML::Node& parent, std::string_view key,
+                              std::string_view key_path, bool required) const {
+  const YAML::Node node = parent[std::string(key)];
+  if (IsAbsent(node)) {
+    if (required) {
+      throw ConfigError(fmt::format("{}: missing required section '{}:'; add it with its "
+                                    "entries (key: value lines)",
+                                    Where(node.IsDefined() ? node : parent, key_path), key));
+    }
+    return YAML::Node(YAML::NodeType::Undefined);
+  }
+  RequireMapping(node, key_path);
+  return node;
+}
+
+double YamlInput::Number(const YAML::Node& node, std::string_view key_path,
+                         std::string_view expected) const {
+  if (IsAbsent(node)) ThrowMissing(node, key_path, expected);
+  double value = 0.0;
+  bool ok = node.IsScalar();
+  if (ok) {
+    try {
+      value = node.as<double>();
+    } catch (const YAML::Exception&) {
+      ok = false;
+    }
+  }
+  if (!ok || !std::isfinite(value)) ThrowValue(node, key_path, expected);
+  return value;
+}
+
+double YamlInput::PositiveNumber(const YAML::Node& node, std::string_view key_path,
+                                 std::string_view expected) const {
+  const double value = Number(node, key_path, expected);
+  if (!(value > 0.0)) ThrowValue(node, key_path, expected);
+  return value;
+}
+
+int YamlInput::Integer(const YAML::Node& node, std::string_view key_path,
+                       std::string_view expected) const {
+  const double value = Number(node, key_path, expected);
+  if (value != std::floor(value) || std::abs(value) > 1e9) ThrowValue(node, key_path, expected);
+  return static_cast<int>(value);
+}
+
+std::string YamlInput::String(const YAML::Node& node, std::string_view key_path,
+                              std::string_view expected) const {
+  if (IsAbsent(node)) ThrowMissing(node, key_path, expected);
+  if (!node.IsScalar()) ThrowValue(node, key_path, expected);
+  return node.Scalar();
+}
+
+std::vector<double> YamlInput::Numbers(const YAML::Node& node, std::string_view key_path,
+                                       std::string_view expected) const {
+  if (IsAbsent(node) || !node.IsSequence()) {
+    ThrowValue(node, key_path, fmt::format("a list [a, b, ...] of {}", expected));
+  }
+  std::vector<double> values;
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    values.push_back(Number(node[i], fmt::format("{}[{}]", key_path, i), expected));
+  }
+  return values;
+}
+
+double YamlInput::ReadNumber(const YAML::Node& parent, std::string_view parent_path,
+                             const std::string& key, std::string_view expected) const {
+  return Number(parent[key], JoinKeyPath(parent_path, key), expected);
+}
+
+double YamlInput::ReadNumber(const YAML::Node& parent, std::string_view parent_path,
+                             const std::string& key, std::string_view expected,
+                             double fallback) const {
+  if (!parent[key].IsDefined()) return fallback;
+  return ReadNumber(parent, parent_path, key, expected);
+}
+
+std::string YamlInput::ReadString(const YAML::Node& parent, std::string_view parent_path,
+                                  const std::string& key, std::string_view fallback) const {
+  const YAML::Node field = parent[key];
+  if (!field.IsDefined()) return std::string(fallback);
+  return String(field, JoinKeyPath(parent_path, key), "a word (a YAML scalar)");
+}
+
+}  // namespace hybridtest
