@@ -44,7 +44,8 @@ void RunEom(const EomOptions& opt) {
     r = Eigen::Map<const Eigen::VectorXd>(rs.data(), model.num_slots());
   } else {
     // The configured (numerical) substructures compute r^s from the slot displacements.
-    const auto subs = io::MakeSubstructures(cfg, {std::nullopt, /*allow_physical=*/false});
+    const auto subs = io::MakeSubstructures(
+        cfg, {std::nullopt, false, "give its restoring force with --restoring r1,...,rm"});
     Eigen::VectorXd d(model.num_slots());
     multibody::CalcSlotDisplacements<double>(model, data, opt.time, x.head(n), d);
     for (int s = 0; s < model.num_slots(); ++s) r(s) = subs[s]->Trial(d(s), {0, 0, opt.time});

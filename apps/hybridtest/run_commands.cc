@@ -13,7 +13,9 @@ namespace hybridtest::app {
 
 void ExecuteRun(const RunCommandOptions& options) {
   const io::SimulationConfig cfg = io::LoadSimulationConfig(options.config);
-  auto subs = io::MakeSubstructures(cfg, {options.bench, options.allow_physical});
+  auto subs = io::MakeSubstructures(
+      cfg, {options.bench, options.allow_physical,
+            "`simulate` is numerical only: use `hybridtest run` for a hybrid test"});
   runner::RunOptions run;
   run.csv_path = runner::ResolveOutputPath(cfg, options.out);
   run.command = options.command;

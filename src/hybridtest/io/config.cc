@@ -97,8 +97,9 @@ SimulationConfig ParseSimulationConfig(const YamlInput& in) {
   const YAML::Node& root = in.root();
   in.CheckKeys(root, "", {"model", "initial_state", "integrator", "duration", "output",
                           "substructures", "progress", "safety"});
-  SimulationConfig cfg{in, ParseModel(in, in.Mapping(root, "model", "model", true), nullptr)};
-  cfg.model = ParseModel(in, in.Mapping(root, "model", "model", true), &cfg.blades);
+  int blades = 0;
+  models::BuiltModel model = ParseModel(in, in.Mapping(root, "model", "model", true), &blades);
+  SimulationConfig cfg{.input = in, .model = std::move(model), .blades = blades};
   const int n = cfg.model.model.num_coordinates();
 
   // Initial state: zero unless given (the paper states none; see PAPER-NOTES).

@@ -104,7 +104,7 @@ transfer::SafetyLimits ParseSafety(const YamlInput& in, const YAML::Node& node,
   transfer::SafetyLimits l;
   if (!node.IsDefined()) return l;
   in.CheckKeys(node, kp, {"stroke_min", "stroke_max", "max_increment", "force_soft",
-                          "force_hard", "timeout"});
+                          "force_hard", "timeout", "initial_stiffness"});
   auto read = [&](const char* key, double& field, const char* what) {
     if (node[key]) field = in.Number(node[key], kp + "." + key, what);
   };
@@ -160,15 +160,19 @@ std::vector<std::unique_ptr<Substructure>> MakeSubstructures(const SimulationCon
                                    : DefaultNumerical(cfg, slot);
       } else if (type == "physical") {
         if (!options.allow_physical) {
-          throw ConfigError(fmt::format("{}: slot {} is physical; give its restoring force "
-                                        "explicitly with --restoring", in.Where(node, kp),
-                                        slot_name));
+          throw ConfigError(fmt::format("{}: slot {} is physical; {}", in.Where(node, kp),
+                                        slot_name, options.physical_hint));
         }
         const YAML::Node tr = in.Mapping(node, "transfer", kp + ".transfer", true);
         result[slot] = std::make_unique<substructures::PhysicalSubstructure>(
             slot_name, MakeTransfer(in, tr, kp + ".transfer", options),
             ParseSetup(in, node["setup"], kp + ".setup"),
-            ParseSafety(in, node["safety"], kp + ".safety"));
+            ParseSafety(in, node["safety"], kp + ".safety"),
+            node["safety"] && node["safety"]["initial_stiffness"]
+                ? std::optional<double>(in.PositiveNumber(node["safety"]["initial_stiffness"],
+                                                          kp + ".safety.initial_stiffness",
+                                                          "the specimen's expected stiffness in N/m"))
+                : std::nullopt);
       } else {
         throw ConfigError(fmt::format("{} = '{}': expected numerical or physical",
                                       in.Where(node["type"], kp + ".type"), type));

@@ -16,7 +16,8 @@
 //         # timeout: 5                # remote: longest wait for one reply [s]
 //       setup: {p0: 0.02, sign: 1, scale: 1, force_sign: 1, force_scale: 1, load_cell_zero: 0}
 //       safety: {stroke_min: -0.15, stroke_max: 0.15, max_increment: 0.005,
-//                force_soft: 8000, force_hard: 10000, timeout: 5}   # SI: m, N, s
+//                force_soft: 8000, force_hard: 10000, timeout: 5,   # SI: m, N, s
+//                initial_stiffness: 5250}   # [N/m] optional: predict forces from the start
 //     r2:
 //       type: numerical
 //       law: {type: linear, stiffness: 7200}   # or bouc_wen / cantilever (constitutive/)
@@ -32,7 +33,8 @@ namespace hybridtest::io {
 
 struct SubstructureOptions {
   std::optional<std::string> bench_address;  // --bench HOST:PORT for remote transfer systems
-  bool allow_physical = true;                // false: a physical slot is a ConfigError (eom)
+  bool allow_physical = true;                // false: a physical slot is a ConfigError
+  std::string physical_hint = "give its restoring force explicitly";  // how to fix that error
 };
 
 // One substructure per slot of cfg.model, in slot order. Nothing is activated or connected.

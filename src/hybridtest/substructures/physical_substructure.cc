@@ -26,10 +26,13 @@ void SetupTransform::Validate() const {
 
 PhysicalSubstructure::PhysicalSubstructure(std::string name,
                                            std::unique_ptr<transfer::TransferSystem> transfer,
-                                           SetupTransform setup, transfer::SafetyLimits limits)
+                                           SetupTransform setup, transfer::SafetyLimits limits,
+                                           std::optional<double> initial_stiffness)
     : name_(std::move(name)), transfer_(std::move(transfer)), setup_(setup), safety_(limits) {
   if (!transfer_) throw Error("PhysicalSubstructure '" + name_ + "': no transfer system");
   setup_.Validate();
+  safety_.SetStartPosition(setup_.p0);
+  if (initial_stiffness) safety_.SetInitialStiffness(*initial_stiffness);
 }
 
 PhysicalSubstructure::~PhysicalSubstructure() {

@@ -9,6 +9,7 @@
 // On any violation or communication failure the transfer system is put on Hold() (it stays at
 // the last safe command) and the error propagates to the runner.
 #include <memory>
+#include <optional>
 
 #include "hybridtest/substructures/setup_transform.h"
 #include "hybridtest/substructures/substructure.h"
@@ -18,8 +19,12 @@ namespace hybridtest::substructures {
 
 class PhysicalSubstructure final : public Substructure {
  public:
+  // The test starts with the actuator at setup.p0 (the specimen unloaded): the monitor checks
+  // the first command's increment from there. `initial_stiffness` [N/m], if given, lets the
+  // monitor predict forces before two measurements exist.
   PhysicalSubstructure(std::string name, std::unique_ptr<transfer::TransferSystem> transfer,
-                       SetupTransform setup, transfer::SafetyLimits limits);
+                       SetupTransform setup, transfer::SafetyLimits limits,
+                       std::optional<double> initial_stiffness = std::nullopt);
   ~PhysicalSubstructure() override;
 
   void Activate() override;
