@@ -25,15 +25,18 @@ void CalcMassMatrix(const Model& model, Data<T>& data) {
   for (const ParticleSpec& p : model.particles()) add_translational(p.point, p.mass);
   for (const RigidBodySpec& body : model.bodies()) {
     if (body.mass > 0.0) add_translational(body.mass_center, body.mass);
-    // Rotational inertia: ω_j·I ω_k with I in N components.
+    // Rotational inertia: ω_j·I ω_k, evaluated in body components (ω_B = Rᵀ ω_N), which
+    // avoids forming I_N = R I Rᵀ. The partial angular velocities of the active speeds are
+    // rotated once, into the 3 × n scratch.
     const Matrix3<T>& R = data.R_NF[body.frame];
-    const Matrix3<T> I_N = R * body.inertia.template cast<T>() * R.transpose();
     const std::vector<int>& active = model.frames()[body.frame].active;
     const Matrix3X<T>& Wp = data.w_partial[body.frame];
+    Matrix3X<T>& Wb = data.partial_rate3;
+    for (int j : active) Wb.col(j).noalias() = R.transpose() * Wp.col(j);
     for (std::size_t a = 0; a < active.size(); ++a) {
-      const Vector3<T> Iw = I_N * Wp.col(active[a]);
+      const Vector3<T> Iw = body.inertia.template cast<T>() * Wb.col(active[a]);
       for (std::size_t b = a; b < active.size(); ++b) {
-        M(active[a], active[b]) += Wp.col(active[b]).dot(Iw);
+        M(active[a], active[b]) += Wb.col(active[b]).dot(Iw);
       }
     }
   }
@@ -65,10 +68,13 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
   for (const ParticleSpec& p : model.particles()) data.force[p.point] -= p.mass * data.a_rem[p.point];
   for (const RigidBodySpec& body : model.bodies()) {
     if (body.mass > 0.0) data.force[body.mass_center] -= body.mass * data.a_rem[body.mass_center];
+    // I α + ω × I ω in body components, back to N.
     const Matrix3<T>& R = data.R_NF[body.frame];
-    const Matrix3<T> I_N = R * body.inertia.template cast<T>() * R.transpose();
-    const Vector3<T>& w = data.w_NF[body.frame];
-    data.torque[body.frame] -= I_N * data.alpha_rem[body.frame] + w.cross(I_N * w);
+    const Matrix3<double>& I = body.inertia;
+    const Vector3<T> w_B = R.transpose() * data.w_NF[body.frame];
+    const Vector3<T> alpha_B = R.transpose() * data.alpha_rem[body.frame];
+    const Vector3<T> I_w = I.template cast<T>() * w_B;
+    data.torque[body.frame] -= R * (I.template cast<T>() * alpha_B + w_B.cross(I_w));
   }
   // Projection onto the partial velocities (Kane's generalized forces).
   data.g.setZero();
@@ -79,6 +85,51 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
     for (int j : model.frames()[f].active) data.g(j) += data.w_partial[f].col(j).dot(data.torque[f]);
   }
 }
+
+namespace {
+// Solves M y = b in place (b ← y) by an unblocked Cholesky factorisation M = L Lᵀ, without
+// allocating: L's strictly lower part overwrites M's strictly lower triangle, its diagonal goes
+// to `diag` (n), and M's lower triangle is restored from the (untouched) upper one afterwards,
+// so M is unchanged on return. For the small n of a multibody model this is several times
+// cheaper than Eigen's dynamic-size LLT and triangular solves. Returns false if M is not
+// positive definite (b is then unspecified).
+template <typename T>
+bool CholeskySolveInPlace(MatrixX<T>& M, VectorX<T>& diag, VectorX<T>& b) {
+  using std::sqrt;
+  const Eigen::Index n = M.rows();
+  bool ok = true;
+  for (Eigen::Index j = 0; j < n && ok; ++j) {
+    T d = M(j, j);
+    for (Eigen::Index k = 0; k < j; ++k) d -= M(j, k) * M(j, k);
+    if (!(ValueOf(d) > 0.0)) {
+      ok = false;
+      break;
+    }
+    diag(j) = sqrt(d);
+    for (Eigen::Index i = j + 1; i < n; ++i) {
+      T s = M(j, i);  // upper triangle: the original M(i, j)
+      for (Eigen::Index k = 0; k < j; ++k) s -= M(i, k) * M(j, k);
+      M(i, j) = s / diag(j);
+    }
+  }
+  if (ok) {
+    // L z = b, then Lᵀ y = z.
+    for (Eigen::Index i = 0; i < n; ++i) {
+      T s = b(i);
+      for (Eigen::Index k = 0; k < i; ++k) s -= M(i, k) * b(k);
+      b(i) = s / diag(i);
+    }
+    for (Eigen::Index i = n - 1; i >= 0; --i) {
+      T s = b(i);
+      for (Eigen::Index k = i + 1; k < n; ++k) s -= M(k, i) * b(k);
+      b(i) = s / diag(i);
+    }
+  }
+  for (Eigen::Index j = 0; j < n; ++j)
+    for (Eigen::Index i = j + 1; i < n; ++i) M(i, j) = M(j, i);
+  return ok;
+}
+}  // namespace
 
 template <typename T>
 void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
@@ -91,14 +142,12 @@ void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
   CalcKinematics(model, data, t, x);
   CalcMassMatrix(model, data);
   CalcForcing(model, data, r);
-  data.llt.compute(data.M);
-  if (data.llt.info() != Eigen::Success) {
+  data.udot = data.g;
+  if (!CholeskySolveInPlace(data.M, data.partial_rate, data.udot)) {
     throw ModelError(fmt::format("the mass matrix is not positive definite at t = {} s: the "
                                  "generalized coordinates are singular there, or a mass or "
                                  "inertia is missing", ValueOf(t)));
   }
-  data.udot = data.g;
-  data.llt.solveInPlace(data.udot);
   xdot.head(n) = data.qdot;
   xdot.tail(n) = data.udot;
 }

@@ -139,6 +139,7 @@ void CalcPoint(const Model& model, Data<T>& data, int i) {
   const int e = pt.frame;
   Vector3<T> r, rd, rdd;
   Matrix3X<T>& rate = data.partial_rate3;
+  bool has_rdd = false;  // r̈_rem ≠ 0 is possible (a general field or a kinematical matrix)
   for (int c = 0; c < 3; ++c) {
     const ScalarField& field = pt.position[c];
     if (field.is_constant()) {
@@ -148,6 +149,23 @@ void CalcPoint(const Model& model, Data<T>& data, int i) {
       for (int j : pt.active) rate(c, j) = T(0.0);
       continue;
     }
+    if (field.is_affine() && model.has_identity_kinematics()) {
+      // The common case, inline (same operations as EvalField): φ = c0 + c_t t + Σ c_k q_k,
+      // φ̇ = c_t + Σ c_k u_k, φ̈_rem = 0, ∂φ̇/∂u_k = c_k, written straight into the rates.
+      T v = T(field.constant()) + field.time_rate() * data.t;
+      T d1 = T(field.time_rate());
+      for (int j : pt.active) rate(c, j) = T(0.0);
+      for (const auto& term : field.terms()) {
+        v += term.coefficient * data.q(term.coordinate);
+        d1 += term.coefficient * data.qdot(term.coordinate);
+        rate(c, term.coordinate) += T(term.coefficient);
+      }
+      r(c) = v;
+      rd(c) = d1;
+      rdd(c) = T(0.0);
+      continue;
+    }
+    has_rdd = true;
     const FieldEval<T> ev = EvalField(model, data, field, data.partial_rate.data());
     r(c) = ev.v;
     rd(c) = ev.d1;
@@ -166,7 +184,8 @@ void CalcPoint(const Model& model, Data<T>& data, int i) {
                                R_NE * rate.col(j);
   }
   data.a_rem[i] = data.a_rem[o] + data.alpha_rem[e].cross(rho) + w.cross(w.cross(rho)) +
-                  2.0 * w.cross(rho_rel_dot) + R_NE * rdd;
+                  2.0 * w.cross(rho_rel_dot);
+  if (has_rdd) data.a_rem[i] += R_NE * rdd;
 }
 
 }  // namespace

@@ -1,0 +1,209 @@
+// The runner's own cost per Runge–Kutta stage, without a bench: everything HybridTest::Run
+// does besides the right-hand side (slot displacements, substructure trials and commits, the
+// stepper's linear combinations, the journal row, statistics and progress).
+//
+// Method. A whole run of the paper's numerical rotor (3 numerical blades, Heun, h = 1 ms,
+// kSteps steps; journal to a temporary file, progress quiet) goes through the real
+// HybridTest::Run. In the same benchmark iteration the RHS cost is measured right after the
+// run: kSteps·2 CalcStateDerivative<double> calls on rotor states (its cost does not depend on
+// the state: no state-dependent branches), giving rhs_ns per call.
+//
+//   Runner/WholeRun             uninstrumented: per_stage_ns = wall time of the run / stages,
+//                               overhead_ns = per_stage_ns − rhs_ns (the mean overhead).
+//   Runner/StageSeam            the same run with every substructure wrapped (the stage
+//                               seam): slot 1's Trial records steady_clock::now(), so the
+//                               interval between two consecutive trials of slot 1 is one whole
+//                               stage. Per-stage overhead = interval − rhs_ns; counters
+//                               overhead_p50_ns, overhead_p99_ns over all stages, and p50/p99
+//                               for stage 0 (which also commits and writes the journal row) and
+//                               stage 1 apart (Heun: the distribution is bimodal, so the p50
+//                               over all stages sits between the two). The wrapper adds one
+//                               virtual call and one clock read (≈ 20 ns) per stage. The mean
+//                               of WholeRun is higher than these: it also holds the journal's
+//                               fsync every 1000 rows and at the end, and opening/finishing
+//                               the journal and sidecar.
+//   Runner/JournalAppend/batched    Journal::Append of one rotor row (12 channels), the policy
+//   Runner/JournalAppend/every_row  of numerical runs (fsync every 1000 rows) and of runs with
+//                               a physical substructure (fflush + fsync every row).
+#include <benchmark/benchmark.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "hybridtest/io/config.h"
+#include "hybridtest/io/substructure_config.h"
+#include "hybridtest/multibody/kane.h"
+#include "hybridtest/runner/hybrid_test.h"
+
+namespace hybridtest::bench {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr long kSteps = 2000;  // 2 s of simulated time
+
+// examples/rotor/numerical.yaml, shortened to kSteps steps.
+io::SimulationConfig RotorConfig() {
+  const std::string text =
+      "model: {name: rotor, blades: 3}\n"
+      "integrator: {tableau: heun, dt: 0.001}\n"
+      "duration: " + std::to_string(static_cast<double>(kSteps) * 1e-3) + "\n";
+  return io::ParseSimulationConfig(io::YamlInput::FromText(text, "bench_runner.yaml"));
+}
+
+std::string TempJournalPath(const char* name) {
+  return (std::filesystem::temp_directory_path() /
+          ("hybridtest_bench_" + std::to_string(::getpid()) + "_" + name + ".csv"))
+      .string();
+}
+
+void RemoveJournal(const std::string& path) {
+  std::error_code ec;
+  std::filesystem::remove(path, ec);
+  std::filesystem::remove(io::SidecarPath(path), ec);
+}
+
+// Mean cost of one RHS evaluation [ns] over `calls` calls on running-rotor states.
+double MeasureRhsNs(const multibody::Model& model, long calls) {
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<Eigen::VectorXd> xs, rs;
+  for (int k = 0; k < 64; ++k) {
+    Eigen::VectorXd x(8);
+    x << 0.01 * unit(rng), 0.01 * unit(rng), 0.01 * unit(rng), 10.0 * unit(rng),
+        0.5 * unit(rng), 0.5 * unit(rng), 0.5 * unit(rng), 20.0 * unit(rng);
+    xs.push_back(x);
+    rs.push_back(7.2e3 * x.head(3));
+  }
+  multibody::Data<double> data(model);
+  Eigen::VectorXd xdot(8);
+  const auto start = Clock::now();
+  for (long k = 0; k < calls; ++k) {
+    multibody::CalcStateDerivative<double>(model, data, 1e-3 * static_cast<double>(k % 2000),
+                                           xs[k & 63], rs[k & 63], xdot);
+    benchmark::DoNotOptimize(xdot.data());
+    benchmark::ClobberMemory();
+  }
+  return std::chrono::duration<double, std::nano>(Clock::now() - start).count() /
+         static_cast<double>(calls);
+}
+
+runner::RunOptions QuietOptions(const std::string& path) {
+  runner::RunOptions options;
+  options.csv_path = path;
+  options.command = "bench";
+  options.progress.mode = runner::ProgressMode::kQuiet;
+  return options;
+}
+
+void BM_WholeRun(benchmark::State& state) {
+  const io::SimulationConfig cfg = RotorConfig();
+  const std::string path = TempJournalPath("whole_run");
+  const long stages = 2 * kSteps + 1;  // + the last trial at x_N
+  double run_s = 0.0, rhs_ns = 0.0;
+  long runs = 0;
+  for (auto _ : state) {
+    runner::HybridTest test(cfg, io::MakeSubstructures(cfg, {}), QuietOptions(path));
+    const auto start = Clock::now();
+    test.Run();
+    run_s += std::chrono::duration<double>(Clock::now() - start).count();
+    rhs_ns += MeasureRhsNs(cfg.model.model, 2 * kSteps);
+    ++runs;
+  }
+  RemoveJournal(path);
+  const double per_stage_ns = 1e9 * run_s / static_cast<double>(runs * stages);
+  state.counters["per_stage_ns"] = per_stage_ns;
+  state.counters["rhs_ns"] = rhs_ns / static_cast<double>(runs);
+  state.counters["overhead_ns"] = per_stage_ns - rhs_ns / static_cast<double>(runs);
+}
+BENCHMARK(BM_WholeRun)->Name("Runner/WholeRun")->Unit(benchmark::kMillisecond);
+
+// Forwards to a substructure; slot 1's trials are time-stamped.
+class StampingSubstructure final : public substructures::Substructure {
+ public:
+  StampingSubstructure(std::unique_ptr<substructures::Substructure> inner,
+                       std::vector<Clock::time_point>* stamps)
+      : inner_(std::move(inner)), stamps_(stamps) {}
+  double Trial(double displacement, const substructures::TrialContext& context) override {
+    if (stamps_ != nullptr) stamps_->push_back(Clock::now());
+    return inner_->Trial(displacement, context);
+  }
+  void Commit() override { inner_->Commit(); }
+  std::string Describe() const override { return inner_->Describe(); }
+
+ private:
+  std::unique_ptr<substructures::Substructure> inner_;
+  std::vector<Clock::time_point>* stamps_;
+};
+
+double Percentile(std::vector<double>& v, double q) {
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
+}
+
+void BM_StageSeam(benchmark::State& state) {
+  const io::SimulationConfig cfg = RotorConfig();
+  const std::string path = TempJournalPath("stage_seam");
+  std::vector<Clock::time_point> stamps;
+  stamps.reserve(2 * kSteps + 1);
+  std::vector<double> all, stage0, stage1;  // intervals [ns]
+  double rhs_ns = 0.0;
+  long runs = 0;
+  for (auto _ : state) {
+    runner::SubstructureList subs = io::MakeSubstructures(cfg, {});
+    for (std::size_t s = 0; s < subs.size(); ++s) {
+      subs[s] = std::make_unique<StampingSubstructure>(std::move(subs[s]),
+                                                       s == 0 ? &stamps : nullptr);
+    }
+    runner::HybridTest test(cfg, std::move(subs), QuietOptions(path));
+    stamps.clear();
+    test.Run();
+    // Trial k of slot 1 is stage k % 2 of step k / 2 (Heun: two stages).
+    for (std::size_t k = 0; k + 1 < stamps.size(); ++k) {
+      const double ns = std::chrono::duration<double, std::nano>(stamps[k + 1] - stamps[k]).count();
+      all.push_back(ns);
+      (k % 2 == 0 ? stage0 : stage1).push_back(ns);
+    }
+    rhs_ns += MeasureRhsNs(cfg.model.model, 2 * kSteps);
+    ++runs;
+  }
+  RemoveJournal(path);
+  const double rhs = rhs_ns / static_cast<double>(runs);
+  state.counters["rhs_ns"] = rhs;
+  state.counters["overhead_p50_ns"] = Percentile(all, 0.50) - rhs;
+  state.counters["overhead_p99_ns"] = Percentile(all, 0.99) - rhs;
+  state.counters["stage0_overhead_p50_ns"] = Percentile(stage0, 0.50) - rhs;
+  state.counters["stage0_overhead_p99_ns"] = Percentile(stage0, 0.99) - rhs;
+  state.counters["stage1_overhead_p50_ns"] = Percentile(stage1, 0.50) - rhs;
+  state.counters["stage1_overhead_p99_ns"] = Percentile(stage1, 0.99) - rhs;
+}
+BENCHMARK(BM_StageSeam)->Name("Runner/StageSeam")->Unit(benchmark::kMillisecond);
+
+void BM_JournalAppend(benchmark::State& state, io::SyncPolicy policy, const char* name) {
+  const io::SimulationConfig cfg = RotorConfig();
+  const runner::SubstructureList subs = io::MakeSubstructures(cfg, {});
+  const std::string path = TempJournalPath(name);
+  {
+    io::Journal journal(path, runner::JournalChannels(cfg, subs),
+                        runner::JournalMetadataFor(cfg, subs, "bench"), policy);
+    // A typical row: t, x (8), r (3), with full-length digits.
+    std::vector<double> row(journal.channels().size());
+    for (std::size_t c = 0; c < row.size(); ++c) row[c] = 0.1234567890123 * static_cast<double>(c + 1);
+    for (auto _ : state) {
+      row[0] += 1e-3;
+      journal.Append(row);
+    }
+  }
+  RemoveJournal(path);
+}
+BENCHMARK_CAPTURE(BM_JournalAppend, batched, io::SyncPolicy::kBatched, "batched")
+    ->Name("Runner/JournalAppend/batched");
+BENCHMARK_CAPTURE(BM_JournalAppend, every_row, io::SyncPolicy::kEveryRow, "every_row")
+    ->Name("Runner/JournalAppend/every_row");
+
+}  // namespace
+}  // namespace hybridtest::bench
