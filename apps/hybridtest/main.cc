@@ -11,6 +11,7 @@
 #include "command.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/version.h"
+#include "hybridtest/transfer/safety.h"
 
 namespace hybridtest::app {
 namespace {
@@ -43,6 +44,10 @@ int main(int argc, char** argv) {
                 "Runge-Kutta integration, physical and numerical substructures)"};
   root.set_version_flag("--version", std::string("hybridtest ") + kVersion);
   root.require_subcommand(1);
+  root.footer(
+      "Exit status: 0 success; 1 error; 2 configuration error; 3 safety stop (a limit was "
+      "reached, the bench holds); 4 transfer system error (bench lost, timeout, corrupted "
+      "frame); 70 internal error; other non-zero: command-line usage error.");
   for (const auto& [name, add] : app::RegisteredCommands()) add(root);
 
   try {
@@ -52,6 +57,9 @@ int main(int argc, char** argv) {
   } catch (const ConfigError& e) {
     std::fprintf(stderr, "hybridtest: configuration error: %s\n", e.what());
     return 2;
+  } catch (const transfer::SafetyStop& e) {
+    std::fprintf(stderr, "hybridtest: %s\n", e.what());  // what() starts with "safety stop:"
+    return 3;
   } catch (const TransferError& e) {
     std::fprintf(stderr, "hybridtest: transfer system error: %s\n", e.what());
     return 4;
