@@ -45,7 +45,7 @@ fs::path OutDir() {
 }
 
 // Runs `hybridtest ARGS`, bounded by `timeout` seconds; returns (exit status, stdout+stderr).
-std::pair<int, std::string> Hybridtest(const std::string& args, int timeout = 120) {
+std::pair<int, std::string> Hybridtest(const std::string& args, int timeout = 300) {
   const std::string line = fmt::format("timeout {} {} {} 2>&1", timeout, kBinary, args);
   FILE* pipe = popen(line.c_str(), "r");
   if (pipe == nullptr) throw std::runtime_error("popen failed");

@@ -146,8 +146,12 @@ FaultRun RunAgainstBench(const std::string& name, const std::vector<std::string>
     r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     r.output = run.output();
   }
-  // Give the bench a moment to log the hold, then stop it (SIGTERM, reaped by its destructor).
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  // Wait (bounded) for the bench to log that it holds, then stop it (SIGTERM, reaped by its
+  // destructor): a stop by the runner sends HOLD; a transfer error closes the connection.
+  const auto deadline = Clock::now() + std::chrono::seconds(5);
+  while (Clock::now() < deadline && ReadText(log).find("holding: client") == std::string::npos) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
   bench.reset();
   r.bench_log = ReadText(log);
   return r;
@@ -267,8 +271,12 @@ TEST(RunFaults, StrokeLimitCommandIsNeverSent) {
   const long steps = run.metadata.at("statistics").at("steps");
   const long exchanges = stages.num_rows();
   EXPECT_EQ(exchanges, run.metadata.at("statistics").at("physical_evaluations").get<long>());
-  // The history's last accepted command is the stage record's last one.
   EXPECT_EQ(stop.at("step").get<long>(), steps);
+  // The stop report's history ends with the last command sent, answered, as recorded.
+  ASSERT_FALSE(stop.at("history").empty());
+  const auto& last = stop.at("history").back();
+  EXPECT_TRUE(last.at("answered").get<bool>());
+  EXPECT_EQ(last.at("command").get<double>(), stages.Get("r1_command")(exchanges - 1));
   ExpectContains(r.bench_log, "holding: client asked for HOLD");
 }
 
@@ -278,6 +286,7 @@ TEST(RunFaults, CorruptedFrameNamesTheCrc) {
   ExpectContains(r.output, "corrupted frame");
   ExpectContains(r.output, "CRC mismatch");
   ExpectCommittedRows(r, RowsForCommand(60));
+  ExpectContains(r.bench_log, "holding: client disconnected");
 }
 
 TEST(RunFaults, StaleSequenceNumberIsRefused) {
@@ -285,6 +294,7 @@ TEST(RunFaults, StaleSequenceNumberIsRefused) {
   EXPECT_EQ(r.status, kTransferStatus) << r.output;
   ExpectContains(r.output, "stale or duplicate sequence number");
   ExpectCommittedRows(r, RowsForCommand(60));
+  ExpectContains(r.bench_log, "holding: client disconnected");
 }
 
 TEST(RunFaults, DuplicateMeasurementIsRefused) {
@@ -292,6 +302,7 @@ TEST(RunFaults, DuplicateMeasurementIsRefused) {
   EXPECT_EQ(r.status, kTransferStatus) << r.output;
   ExpectContains(r.output, "stale or duplicate sequence number");
   ExpectCommittedRows(r, RowsForCommand(61));
+  ExpectContains(r.bench_log, "holding: client disconnected");
 }
 
 TEST(RunFaults, SilentBenchTimesOut) {
@@ -302,6 +313,8 @@ TEST(RunFaults, SilentBenchTimesOut) {
   EXPECT_LT(r.seconds, 1.0 + 5.0);
   RecordProperty("run_seconds", fmt::format("{:.3f}", r.seconds));
   ExpectCommittedRows(r, RowsForCommand(80));
+  ExpectContains(r.bench_log, "holding: FAULT silence at command 80");
+  ExpectContains(r.bench_log, "holding: client disconnected");
 }
 
 }  // namespace

@@ -215,7 +215,7 @@ TEST(PhysicalSubstructure, OverNumericalLoopbackIsTheSpring) {
           std::make_unique<constitutive::LinearSpring>(kStiffness), kP0),
       SetupP0(), {});
   sub.Activate();
-  for (double d : {0.0, 0.001, -0.002, 0.0031}) {
+  for (double d : {0.0, 0.001, -0.002, 0.0025}) {
     EXPECT_NEAR(sub.Trial(d, {0, 0, 0.0}), kStiffness * d, 1e-9) << d;
   }
   EXPECT_EQ(sub.evaluations(), 4);
