@@ -44,8 +44,10 @@ int main(int argc, char** argv) {
                 "Runge-Kutta integration, physical and numerical substructures)"};
   root.set_version_flag("--version", std::string("hybridtest ") + kVersion);
   root.require_subcommand(1);
-  root.footer("Exit status: 0 success, 1 error, 2 bad configuration or arguments, 3 safety stop, "
-              "4 transfer (communication) failure, 70 internal error.");
+  root.footer(
+      "Exit status: 0 success; 1 error; 2 configuration error; 3 safety stop (a limit was "
+      "reached, the bench holds); 4 transfer system error (bench lost, timeout, corrupted "
+      "frame); 70 internal error; other non-zero: command-line usage error.");
   for (const auto& [name, add] : app::RegisteredCommands()) add(root);
 
   try {
@@ -56,7 +58,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "hybridtest: configuration error: %s\n", e.what());
     return 2;
   } catch (const transfer::SafetyStop& e) {
-    std::fprintf(stderr, "hybridtest: SAFETY STOP: %s\n", e.what());
+    std::fprintf(stderr, "hybridtest: %s\n", e.what());  // what() starts with "safety stop:"
     return 3;
   } catch (const TransferError& e) {
     std::fprintf(stderr, "hybridtest: transfer system error: %s\n", e.what());
