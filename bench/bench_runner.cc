@@ -52,7 +52,7 @@ io::SimulationConfig RotorConfig() {
       "model: {name: rotor, blades: 3}\n"
       "integrator: {tableau: heun, dt: 0.001}\n"
       "duration: " + std::to_string(static_cast<double>(kSteps) * 1e-3) + "\n";
-  return io::ParseSimulationConfig(io::YamlInput::FromText(text, "bench_runner.yaml"));
+  return io::ParseSimulationConfig(YamlInput::FromText(text, "bench_runner.yaml"));
 }
 
 std::string TempJournalPath(const char* name) {

@@ -27,7 +27,7 @@ constexpr double kH = 0.001;
 constexpr double kStiffness = 7200.0;  // k_b [N/m]
 
 io::SimulationConfig MakeConfig() {
-  return io::ParseSimulationConfig(io::YamlInput::FromText(R"(
+  return io::ParseSimulationConfig(YamlInput::FromText(R"(
 model: {name: rotor, blades: 3}
 initial_state: {q: [0.01, -0.005, 0.002, 0.0], u: [0.1, 0.0, -0.2, 0.5]}
 integrator: {tableau: heun, dt: 0.001}
@@ -113,9 +113,9 @@ TEST(HybridTest, EveryStageOfEveryStepIsTriedInOrderAndCommitFollowsStageZero) {
     for (int s = 0; s < 3; ++s) expected.push_back({CallKind::kCommit, s});
   };
   for (long n = 0; n < kSteps; ++n) {
-    trials(n, 0, n * kH);
+    trials(n, 0, static_cast<double>(n) * kH);
     commits();
-    trials(n, 1, (n + 1) * kH);  // Heun: c = [0, 1]
+    trials(n, 1, static_cast<double>(n + 1) * kH);  // Heun: c = [0, 1]
   }
   trials(kSteps, 0, kSteps * kH);  // the last committed state gets its row
   commits();
@@ -147,7 +147,7 @@ TEST(HybridTest, JournalRowNHoldsXnAndTheForcesMeasuredAtStageZero) {
   const Eigen::VectorXd t = run.Get("t");
   for (long n = 0; n <= kSteps; ++n) {
     SCOPED_TRACE("row " + std::to_string(n));
-    EXPECT_NEAR(t(n), n * kH, 1e-15);
+    EXPECT_NEAR(t(n), static_cast<double>(n) * kH, 1e-15);
     for (int s = 0; s < 3; ++s) {
       const std::string q = "q" + std::to_string(s + 1), r = "r" + std::to_string(s + 1);
       const Call& stage0 = FindTrial(out.calls, s, n, 0);
@@ -156,7 +156,9 @@ TEST(HybridTest, JournalRowNHoldsXnAndTheForcesMeasuredAtStageZero) {
       // The row holds the force of that very trial (17 digits round-trip exactly) ...
       EXPECT_EQ(run.Get(r)(n), stage0.r);
       // ... and not the one of stage 1 (tagged with +0.25 N).
-      if (n < kSteps) EXPECT_NE(run.Get(r)(n), FindTrial(out.calls, s, n, 1).r);
+      if (n < kSteps) {
+        EXPECT_NE(run.Get(r)(n), FindTrial(out.calls, s, n, 1).r);
+      }
     }
     EXPECT_EQ(run.Get("r1_command")(n), FakeSubstructure::kP0 + FindTrial(out.calls, 0, n, 0).d);
     EXPECT_EQ(run.Get("r1_force")(n), FindTrial(out.calls, 0, n, 0).r);

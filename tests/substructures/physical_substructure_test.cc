@@ -131,6 +131,7 @@ TEST(PhysicalSubstructure, MeasuredForceBeyondHardLimitStopsAndHolds) {
   transfer::SafetyLimits limits;
   limits.force_soft = 40.0;
   limits.force_hard = 50.0;
+  limits.max_increment = 0.02;  // the first command starts from p0 = 0: allow the 10 mm move
   Rig rig(limits);
   // No measurement yet: nothing to predict from, so the command goes out; the measurement
   // (72 N) is then caught.

@@ -96,10 +96,12 @@ integrators::ButcherTableau ParseTableau(const YamlInput& in, const YAML::Node& 
 SimulationConfig ParseSimulationConfig(const YamlInput& in) {
   const YAML::Node& root = in.root();
   in.CheckKeys(root, "", {"model", "initial_state", "integrator", "duration", "output",
-                          "substructures", "progress", "safety"});
+                          "substructures", "progress"});
   int blades = 0;
   models::BuiltModel model = ParseModel(in, in.Mapping(root, "model", "model", true), &blades);
-  SimulationConfig cfg{.input = in, .model = std::move(model), .blades = blades};
+  SimulationConfig cfg{.input = in, .model = std::move(model), .blades = blades, .x0 = {},
+                       .tableau = {}, .dt = 0.0, .duration = 0.0, .steps = 0, .output_csv = {},
+                       .quiet = false};
   const int n = cfg.model.model.num_coordinates();
 
   // Initial state: zero unless given (the paper states none; see PAPER-NOTES).

@@ -21,9 +21,12 @@ namespace {
 
 using substructures::Substructure;
 
+// `reply_timeout` [s]: the safety section's communication timeout, used by a remote transfer
+// unless its own `timeout` is given.
 std::unique_ptr<transfer::TransferSystem> MakeTransfer(const YamlInput& in, const YAML::Node& node,
                                                        const std::string& kp,
-                                                       const SubstructureOptions& options) {
+                                                       const SubstructureOptions& options,
+                                                       double reply_timeout) {
   in.CheckKeys(node, kp, {"type", "config", "bench", "law", "p0", "address", "token", "timeout"});
   const std::string type =
       in.String(node["type"], kp + ".type", "a transfer type: emulated, loopback or remote");
@@ -68,9 +71,9 @@ std::unique_ptr<transfer::TransferSystem> MakeTransfer(const YamlInput& in, cons
     } else if (const char* env = std::getenv("HYBRIDTEST_BENCH_TOKEN")) {
       client.token = env;
     }
-    if (node["timeout"]) {
-      client.reply_timeout = in.PositiveNumber(node["timeout"], kp + ".timeout", "seconds");
-    }
+    client.reply_timeout =
+        node["timeout"] ? in.PositiveNumber(node["timeout"], kp + ".timeout", "seconds")
+                        : reply_timeout;
     return std::make_unique<transfer::BenchClient>(client);
   }
   throw ConfigError(fmt::format("{} = '{}': expected emulated, loopback or remote",
@@ -164,10 +167,10 @@ std::vector<std::unique_ptr<Substructure>> MakeSubstructures(const SimulationCon
                                         slot_name, options.physical_hint));
         }
         const YAML::Node tr = in.Mapping(node, "transfer", kp + ".transfer", true);
+        const transfer::SafetyLimits limits = ParseSafety(in, node["safety"], kp + ".safety");
         result[slot] = std::make_unique<substructures::PhysicalSubstructure>(
-            slot_name, MakeTransfer(in, tr, kp + ".transfer", options),
-            ParseSetup(in, node["setup"], kp + ".setup"),
-            ParseSafety(in, node["safety"], kp + ".safety"),
+            slot_name, MakeTransfer(in, tr, kp + ".transfer", options, limits.timeout),
+            ParseSetup(in, node["setup"], kp + ".setup"), limits,
             node["safety"] && node["safety"]["initial_stiffness"]
                 ? std::optional<double>(in.PositiveNumber(node["safety"]["initial_stiffness"],
                                                           kp + ".safety.initial_stiffness",

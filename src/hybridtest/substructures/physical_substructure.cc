@@ -41,12 +41,14 @@ PhysicalSubstructure::~PhysicalSubstructure() {
 
 void PhysicalSubstructure::Activate() {
   transfer_->Activate();
+  held_ = false;
   active_ = true;
 }
 
 double PhysicalSubstructure::Trial(double displacement, const TrialContext& ctx) {
   const transfer::BenchUnits units = transfer_->bench_units();
   const double command = setup_.CommandMetres(displacement);
+  held_ = false;
   try {
     safety_.CheckCommand(command, ctx.step, ctx.stage);
     const transfer::Measurement m = transfer_->Execute(setup_.ToBench(command, units));
@@ -73,7 +75,12 @@ double PhysicalSubstructure::Trial(double displacement, const TrialContext& ctx)
   }
 }
 
-void PhysicalSubstructure::Hold() noexcept { transfer_->Hold(); }
+void PhysicalSubstructure::Hold() noexcept {
+  // One HOLD per failure: the trial, the runner's cleanup and the destructor may all ask.
+  if (held_) return;
+  held_ = true;
+  transfer_->Hold();
+}
 
 void PhysicalSubstructure::Deactivate() {
   if (!active_) return;

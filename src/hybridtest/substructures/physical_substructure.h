@@ -46,6 +46,7 @@ class PhysicalSubstructure final : public Substructure {
   Exchange last_;
   long evaluations_ = 0;
   bool active_ = false;
+  bool held_ = false;  // Hold() already sent since the last trial
 };
 
 }  // namespace hybridtest::substructures
