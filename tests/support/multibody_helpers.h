@@ -59,6 +59,7 @@ inline Eigen::VectorXd StateDerivative(const multibody::Model& model, double t,
 
 // Largest absolute entry of a − b, relative to max(1, largest absolute entry of b).
 inline double RelativeError(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  if (b.size() == 0) return a.size() == 0 ? 0.0 : 1.0;
   const double scale = std::max(1.0, b.cwiseAbs().maxCoeff());
   return (a - b).cwiseAbs().maxCoeff() / scale;
 }
