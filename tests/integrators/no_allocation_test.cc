@@ -1,65 +1,23 @@
 // ExplicitRungeKutta::Step does no heap allocation (a real-time requirement: the step runs
-// between actuator commands). This file counts calls to malloc/calloc/realloc by replacing them
-// in this test program with forwarders to glibc's own implementation (glibc supports replacing
-// malloc). Eigen allocates with std::malloc, operator new calls malloc, so both are seen.
-// Under AddressSanitizer, which owns malloc itself, the test is skipped.
-#include <atomic>
-#include <cstddef>
-
+// between actuator commands). Allocations are counted with tests/support/alloc_counter.h
+// (malloc replaced by a counting forwarder); under AddressSanitizer the test is skipped.
 #include <gtest/gtest.h>
 
 #include "hybridtest/integrators/catalogue.h"
 #include "hybridtest/integrators/explicit_runge_kutta.h"
-
-#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
-#define HYBRIDTEST_COUNT_MALLOC 1
-#endif
-
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-#ifdef HYBRIDTEST_COUNT_MALLOC
-extern "C" {
-void* __libc_malloc(std::size_t size);
-void* __libc_calloc(std::size_t count, std::size_t size);
-void* __libc_realloc(void* pointer, std::size_t size);
-
-void* malloc(std::size_t size) noexcept {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
-  return __libc_malloc(size);
-}
-void* calloc(std::size_t count, std::size_t size) noexcept {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
-  return __libc_calloc(count, size);
-}
-void* realloc(void* pointer, std::size_t size) noexcept {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
-  return __libc_realloc(pointer, size);
-}
-}  // extern "C"
-#endif
+#include "support/alloc_counter.h"
 
 namespace hybridtest::integrators {
 namespace {
 
-// Counts heap allocations made while `body` runs.
-template <class Body>
-long CountAllocations(Body&& body) {
-  g_allocations = 0;
-  g_counting = true;
-  body();
-  g_counting = false;
-  return g_allocations.load();
-}
+using hybridtest::test_support::CountAllocations;
 
 class NoAllocationTest : public ::testing::Test {
  protected:
   void SetUp() override {
-#ifndef HYBRIDTEST_COUNT_MALLOC
-    GTEST_SKIP() << "malloc cannot be counted in this build (sanitizer or non-glibc)";
-#endif
+    if (!hybridtest::test_support::kCanCountAllocations) {
+      GTEST_SKIP() << "malloc cannot be counted in this build (sanitizer or non-glibc)";
+    }
   }
 };
 
