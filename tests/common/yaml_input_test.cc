@@ -49,7 +49,7 @@ TEST(YamlInput, FileErrorsNameFileLineKeyValueAndExpectation) {
 TEST(YamlInput, MissingKeysSayWhereToAddThem) {
   const YamlInput in = YamlInput::FromText(kRun, "run.yaml");
   EXPECT_EQ(ErrorOf([&] { in.ReadNumber(in.root()["model"], "model", "mass", "a mass in kg"); }),
-            "run.yaml: model.mass: missing; expected a mass in kg; add `mass: ...` under model");
+            "run.yaml:2: model.mass: missing; expected a mass in kg; add `mass: ...` under model");
   EXPECT_THAT(ErrorOf([&] { in.Mapping(in.root(), "output", "output", true); }),
               HasSubstr("missing required section 'output:'"));
   EXPECT_FALSE(in.Mapping(in.root(), "output", "output", false).IsDefined());

@@ -71,9 +71,36 @@ YamlInput YamlInput::ForNode(const YAML::Node& node) {
   return input;
 }
 
+namespace {
+// Line (1-based) of the deepest node of root that exists along `key_path` ("a.b[2].c"), 0 if
+// none: a missing key is reported at the mapping that should hold it.
+int DeepestLine(const YAML::Node& root, std::string_view key_path) {
+  if (!root.IsDefined() || key_path.empty()) return 0;
+  YAML::Node node(root);  // shares root's data; rebound with reset(), never assigned
+  int line = node.Mark().line >= 0 ? node.Mark().line + 1 : 0;
+  std::size_t start = 0;
+  while (start <= key_path.size()) {
+    const std::size_t dot = key_path.find('.', start);
+    std::string key(key_path.substr(start, dot == std::string_view::npos ? std::string_view::npos
+                                                                          : dot - start));
+    if (const auto bracket = key.find('['); bracket != std::string::npos) key.resize(bracket);
+    if (!node.IsMap()) break;
+    const YAML::Node child = static_cast<const YAML::Node&>(node)[key];  // const: no insertion
+    if (!child.IsDefined()) break;
+    if (child.Mark().line >= 0) line = child.Mark().line + 1;
+    node.reset(child);
+    if (dot == std::string_view::npos) break;
+    start = dot + 1;
+  }
+  return line;
+}
+}  // namespace
+
 std::string YamlInput::Where(const YAML::Node& node, std::string_view key_path) const {
-  const bool has_line = node.IsDefined() && node.Mark().line >= 0;
-  const int line = has_line ? node.Mark().line + 1 : 0;
+  const bool defined = node.IsDefined() && node.Mark().line >= 0;
+  // A fragment (no file of its own) carries the caller's key path: only a file is walked.
+  const int line = defined ? node.Mark().line + 1 : path_.empty() ? 0 : DeepestLine(root_, key_path);
+  const bool has_line = line > 0;
   if (path_.empty()) {
     const std::string_view kp = key_path.empty() ? std::string_view("(top level)") : key_path;
     return has_line ? fmt::format("{} (line {})", kp, line) : std::string(kp);

@@ -47,7 +47,11 @@ models::BuiltModel ParseModel(const YamlInput& in, const YAML::Node& node, int* 
   try {
     return models::BuildModel(name, blades, parameters);
   } catch (const ConfigError& e) {
-    throw ConfigError(fmt::format("{}: {}", in.path(), e.what()));
+    // A value the model rejects: point at the overrides (or the model section).
+    const YAML::Node& at = overrides.IsDefined() ? overrides : node;
+    throw ConfigError(at.Mark().line >= 0
+                          ? fmt::format("{}:{}: {}", in.path(), at.Mark().line + 1, e.what())
+                          : fmt::format("{}: {}", in.path(), e.what()));
   }
 }
 

@@ -63,9 +63,13 @@ BuiltModel BuildRotor(int blades, const ParameterSet& in) {
   ParameterSet p;
   for (const auto& param : in.all()) {
     double value = param.value;
+    std::string description = param.description;
     const auto dot = param.name.find('.');
-    if (std::isnan(value) && dot != std::string::npos) value = in.Get(param.name.substr(dot + 1));
-    p.Add(param.name, value, param.unit, param.description);
+    if (std::isnan(value) && dot != std::string::npos) {
+      value = in.Get(param.name.substr(dot + 1));
+      description += fmt::format("; inherited from {}", param.name.substr(dot + 1));
+    }
+    p.Add(param.name, value, param.unit, description);
   }
   for (const char* name : {"I_g", "t0"}) RequirePositive(p, name);
   for (const char* name : {"d_g", "g"}) RequireNonNegative(p, name);
