@@ -1,6 +1,6 @@
 #pragma once
 // The one exception hierarchy of hybridtest. Library code reports every failure by throwing one
-// of these; it never calls exit(). Messages follow the house rule: what was expected, what was
+// of these; it never terminates the process. Messages follow the house rule: what was expected, what was
 // given, where, and how to fix it.
 #include <stdexcept>
 #include <string>
