@@ -1,7 +1,7 @@
 #pragma once
 // The one exception hierarchy of hybridtest. Library code reports every failure by throwing one
-// of these; it never terminates the process. Messages follow the house rule: what was expected, what was
-// given, where, and how to fix it.
+// of these; it never terminates the process. Messages follow the house rule: what was
+// expected, what was given, where, and how to fix it.
 #include <stdexcept>
 #include <string>
 
