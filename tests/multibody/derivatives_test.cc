@@ -33,19 +33,13 @@ models::BuiltModel UnequalTwoBladeRotor() {
   return models::BuildModel("rotor", 2, p);
 }
 
-// ENGINE BUG (disabled so the suite stays green): CalcCouplingMatrix and CalcStateJacobian
-// lose derivatives on the rotor. They seed AutoDiff directions only on r (resp. x) and pass t
-// with an EMPTY derivative vector; the rotor's blade load computes
-// `-(a.r[i] + c * a.u[i]) + ramp * f_w` with ramp = 1 − exp(−t/t0). Eigen's AutoDiffScalar
-// cannot make two derivative *expressions* of different sizes coherent (make_coherent only
-// resizes plain vectors), so the sum gets a derivative of size 0 in release builds (and
-// asserts `aLhs.rows() == aRhs.rows()`, i.e. abort(), in a build without NDEBUG). Result: the
-// blade force's r- and u-derivatives vanish. Observed: B = [0 0 0; 0 0 0; 0 0 0; 0.5 0.5 0.5]
-// instead of [−I; 0]; J misses −ζ_b on the ∂u̇_i/∂u_i diagonal (−3.87 vs −4.87). The double path
-// (CalcStateDerivative<double>) is unaffected. Fix (engine): seed t, x and r with derivative
-// vectors of the full size (zeros where not differentiated) so that every leaf is coherent.
+// Regression: CalcCouplingMatrix and CalcStateJacobian once lost derivatives on the rotor. The
+// time t had an empty derivative vector, and Eigen's AutoDiffScalar cannot make derivative
+// expressions of different sizes coherent, so `-(r + c u) + ramp(t) f_w` silently dropped the
+// r- and u-derivatives (B = [0; 0.5 …] instead of [−I; 0]). The engine now seeds every input
+// with a full-size derivative vector.
 // g is affine in r, so B e_i = g(r = e_i) − g(r = 0) exactly (up to rounding).
-TEST(DerivativesTest, DISABLED_CouplingMatrixIsTheForcingDifference) {
+TEST(DerivativesTest, CouplingMatrixIsTheForcingDifference) {
   std::mt19937 rng(31);
   for (const models::BuiltModel& built : {DefaultModel("rotor"), UnequalTwoBladeRotor()}) {
     const Model& model = built.model;
@@ -71,7 +65,7 @@ TEST(DerivativesTest, DISABLED_CouplingMatrixIsTheForcingDifference) {
 // reaction exactly. An internal force pair does no work on the rigid hub rotation, so the hub
 // row of B is 0, not +l_b (and Eq. 20's hub row indeed has no r terms). B does not depend on
 // the state.
-TEST(DerivativesTest, DISABLED_RotorCouplingMatrixIsMinusIdentityOnTheBlades) {
+TEST(DerivativesTest, RotorCouplingMatrixIsMinusIdentityOnTheBlades) {
   std::mt19937 rng(32);
   for (const models::BuiltModel& built : {DefaultModel("rotor"), UnequalTwoBladeRotor()}) {
     const int n = built.model.num_coordinates(), m = built.model.num_slots();
@@ -120,7 +114,7 @@ TEST(DerivativesTest, StateJacobianMatchesCentralDifferences) {
 }
 
 // See the ENGINE BUG note above.
-TEST(DerivativesTest, DISABLED_RotorStateJacobianMatchesCentralDifferences) {
+TEST(DerivativesTest, RotorStateJacobianMatchesCentralDifferences) {
   ExpectJacobianMatchesCentralDifferences({"rotor"});
 }
 

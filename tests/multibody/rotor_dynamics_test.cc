@@ -55,9 +55,8 @@ TEST(RotorDynamicsTest, SteadySpeedScalesWithBladesAndWind) {
 }
 
 // Linearization with numerical blades (r = k_b q) at the zero state, late (ramps = 1), by
-// central differences of the double engine. (CalcStateJacobian/CalcCouplingMatrix would give
-// it exactly, but they drop derivatives on the rotor: see the DISABLED_ tests in
-// derivatives_test.cc.)
+// central differences of the double engine (independent of the AutoDiff path, which
+// derivatives_test.cc checks against the same differences).
 Eigen::MatrixXd ClosedLoopJacobian(const models::BuiltModel& built, double t) {
   const Model& model = built.model;
   const int n = model.num_coordinates(), m = model.num_slots(), nx = 2 * n;

@@ -160,10 +160,14 @@ Eigen::MatrixXd CalcCouplingMatrix(const Model& model, double t, const Eigen::Ve
                                  kMaxDerivatives, m));
   }
   Data<AutoDiff> data(model);
-  VectorX<AutoDiff> xa = x.cast<AutoDiff>();
+  // Every input carries a derivative vector of the full size (zeros where not seeded): Eigen's
+  // AutoDiffScalar cannot combine derivative expressions of different sizes.
+  const Derivatives zero = Derivatives::Zero(m);
+  VectorX<AutoDiff> xa(x.size());
+  for (Eigen::Index i = 0; i < x.size(); ++i) xa(i) = AutoDiff(x(i), zero);
   VectorX<AutoDiff> r(m);
   for (int s = 0; s < m; ++s) r(s) = AutoDiff(0.0, Derivatives::Unit(m, s));
-  CalcKinematics<AutoDiff>(model, data, AutoDiff(t), xa);
+  CalcKinematics<AutoDiff>(model, data, AutoDiff(t, zero), xa);
   CalcForcing<AutoDiff>(model, data, r);
   Eigen::MatrixXd B(n, m);
   for (int j = 0; j < n; ++j) {
@@ -183,9 +187,11 @@ Eigen::MatrixXd CalcStateJacobian(const Model& model, double t, const Eigen::Vec
   Data<AutoDiff> data(model);
   VectorX<AutoDiff> xa(nx);
   for (int i = 0; i < nx; ++i) xa(i) = AutoDiff(x(i), Derivatives::Unit(nx, i));
-  VectorX<AutoDiff> ra = r.cast<AutoDiff>();
+  const Derivatives zero = Derivatives::Zero(nx);  // full-size derivatives on every input
+  VectorX<AutoDiff> ra(r.size());
+  for (Eigen::Index i = 0; i < r.size(); ++i) ra(i) = AutoDiff(r(i), zero);
   VectorX<AutoDiff> xdot(nx);
-  CalcStateDerivative<AutoDiff>(model, data, AutoDiff(t), xa, ra, xdot);
+  CalcStateDerivative<AutoDiff>(model, data, AutoDiff(t, zero), xa, ra, xdot);
   Eigen::MatrixXd J(nx, nx);
   for (int i = 0; i < nx; ++i) {
     const Derivatives& d = xdot(i).derivatives();
