@@ -57,7 +57,7 @@ double RelativeEnergyDrift(const models::BuiltModel& built, const EnergyFn& ener
   const long steps = std::lround(duration / h);
   double drift = 0.0;
   for (long n = 0; n < steps; ++n) {
-    rk4.Step(n * h, h, x, stage, x_next);
+    rk4.Step(static_cast<double>(n) * h, h, x, stage, x_next);
     x.swap(x_next);
     drift = std::max(drift, std::abs(energy_at(x) - e0));
   }

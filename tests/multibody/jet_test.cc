@@ -26,11 +26,11 @@ struct Expression {
 
 #define HYBRIDTEST_EXPRESSION(name, body)                                        \
   Expression {                                                                   \
-    name, [](double q0, double q1, double t) { using std::cos; using std::exp;   \
+    name, [](double q0, double q1, [[maybe_unused]] double t) { using std::cos; using std::exp;   \
                                                using std::log; using std::pow;   \
                                                using std::sin; using std::sqrt;  \
                                                using std::tan; return body; },   \
-        [](const J& q0, const J& q1, const J& t) { return J(body); }             \
+        [](const J& q0, const J& q1, [[maybe_unused]] const J& t) { return J(body); }             \
   }
 
 std::vector<Expression> Expressions() {

@@ -32,7 +32,7 @@ Eigen::VectorXd SimulateHeun(const models::BuiltModel& built, double h, double d
   Eigen::VectorXd x = Eigen::VectorXd::Zero(model.num_states()), x_next(x.size());
   const long steps = std::lround(duration / h);
   for (long s = 0; s < steps; ++s) {
-    heun.Step(s * h, h, x, stage, x_next);
+    heun.Step(static_cast<double>(s) * h, h, x, stage, x_next);
     x.swap(x_next);
     if (!x.allFinite() || x.cwiseAbs().maxCoeff() > blow_up) break;
   }
