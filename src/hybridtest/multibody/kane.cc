@@ -55,10 +55,14 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
   data.r = r;
   for (int p : model.loaded_points()) data.force[p].setZero();
   for (int f : model.loaded_frames()) data.torque[f].setZero();
-  // Applied loads, converted to N components.
+  // Time functions, once; then the applied loads, converted to N components.
+  for (std::size_t k = 0; k < data.time_values.size(); ++k) {
+    data.time_values[k] = model.time_functions()[k].function.template get<T>()(data.t);
+  }
   const LoadArgs<T> args{data.t, std::span<const T>(data.q.data(), n),
                          std::span<const T>(data.u.data(), n),
-                         std::span<const T>(data.r.data(), data.r.size())};
+                         std::span<const T>(data.r.data(), data.r.size()),
+                         std::span<const T>(data.time_values.data(), data.time_values.size())};
   for (const LoadSpec& load : model.loads()) {
     Vector3<T> value = load.function.template get<T>()(args);
     if (load.expressed_in != 0) value = data.R_NF[load.expressed_in] * value;

@@ -32,6 +32,7 @@ Data<T>::Data(const Model& model) : n(model.num_coordinates()) {
   g.setZero(n);
   udot.setZero(n);
   r.setZero(model.num_slots());
+  time_values.assign(model.time_functions().size(), T(0.0));
   force.assign(np, Vector3<T>::Zero());
   torque.assign(nf, Vector3<T>::Zero());
   q_jets.assign(n, Jet<T>());

@@ -205,6 +205,15 @@ void ModelBuilder::AddLoad(std::string name, LoadSpec::Kind kind, int target, Fr
   loads_.push_back({std::move(name), kind, target, expressed_in.index, std::move(f)});
 }
 
+int ModelBuilder::AddTimeFunctionSpec(std::string name, TimeFunction f) {
+  if (!f) throw ModelError("time function '" + name + "': the function is empty");
+  for (const auto& tf : time_functions_) {
+    if (tf.name == name) throw ModelError("time function '" + name + "' declared twice");
+  }
+  time_functions_.push_back({std::move(name), std::move(f)});
+  return static_cast<int>(time_functions_.size()) - 1;
+}
+
 int ModelBuilder::AddRestoringForceSlot(std::string name, std::string description,
                                         ScalarField displacement) {
   CheckField(displacement, "restoring-force slot '" + name + "'");
@@ -268,6 +277,7 @@ Model ModelBuilder::Build() && {
   m.bodies_ = std::move(bodies_);
   m.loads_ = std::move(loads_);
   m.slots_ = std::move(slots_);
+  m.time_functions_ = std::move(time_functions_);
   m.kinematic_matrix_ = std::move(kinematic_matrix_);
   return m;
 }

@@ -88,6 +88,11 @@ struct LoadSpec {
   LoadFunction function; // [N] or [N·m]
 };
 
+struct TimeFunctionSpec {
+  std::string name;
+  TimeFunction function;  // f(t), any unit
+};
+
 struct SlotSpec {
   QuantityInfo info;         // name "r1", unit "N"
   ScalarField displacement;  // what the slot's substructure sees: d(q) [m] (or [rad])
@@ -129,6 +134,14 @@ class ModelBuilder {
     AddLoad(std::move(name), LoadSpec::Kind::kTorque, frame.index, expressed_in,
             LoadFunction(f));
   }
+  // Declares a function of time alone, f(t) (a generic lambda `[](const auto& t) { ... }`
+  // returning the same scalar type), e.g. a load ramp ρ(t) = 1 − e^{−t/t0}. It is evaluated
+  // once per CalcForcing and every load reads it as `a.time_function(k)`, with k the index
+  // returned here, so an expensive ramp shared by many loads costs one evaluation.
+  template <class F>
+  int AddTimeFunction(std::string name, const F& f) {
+    return AddTimeFunctionSpec(std::move(name), TimeFunction(f));
+  }
   // Declares a restoring-force slot r^s [N]; returns its index in r.
   int AddRestoringForceSlot(std::string name, std::string description,
                             ScalarField displacement);
@@ -146,6 +159,7 @@ class ModelBuilder {
   friend class Model;
   void AddLoad(std::string name, LoadSpec::Kind kind, int target, FrameId expressed_in,
                LoadFunction f);
+  int AddTimeFunctionSpec(std::string name, TimeFunction f);
   void CheckFrame(FrameId f, const std::string& what) const;
   void CheckPoint(PointId p, const std::string& what) const;
   void CheckField(const ScalarField& field, const std::string& what) const;
@@ -159,6 +173,7 @@ class ModelBuilder {
   std::vector<RigidBodySpec> bodies_;
   std::vector<LoadSpec> loads_;
   std::vector<SlotSpec> slots_;
+  std::vector<TimeFunctionSpec> time_functions_;
   KinematicMatrixFunction kinematic_matrix_;
 };
 
@@ -176,6 +191,7 @@ class Model {
   const std::vector<RigidBodySpec>& bodies() const { return bodies_; }
   const std::vector<LoadSpec>& loads() const { return loads_; }
   const std::vector<SlotSpec>& slots() const { return slots_; }
+  const std::vector<TimeFunctionSpec>& time_functions() const { return time_functions_; }
   bool has_identity_kinematics() const { return !kinematic_matrix_; }
   const KinematicMatrixFunction& kinematic_matrix() const { return kinematic_matrix_; }
   // Points and frames that receive a force/torque or carry mass (visited by CalcForcing).
@@ -195,6 +211,7 @@ class Model {
   std::vector<RigidBodySpec> bodies_;
   std::vector<LoadSpec> loads_;
   std::vector<SlotSpec> slots_;
+  std::vector<TimeFunctionSpec> time_functions_;
   KinematicMatrixFunction kinematic_matrix_;
   std::vector<int> loaded_points_;
   std::vector<int> loaded_frames_;
