@@ -52,6 +52,7 @@ struct Data {
   VectorX<T> partial_rate;         // (n)
   Matrix3X<T> partial_rate3;       // (3 × n)
   Eigen::LLT<MatrixX<T>> llt;
+  MatrixX<T> cholesky_factor;      // (n × n) Lᵀ of M = L Lᵀ (upper triangle used)
 };
 
 extern template struct Data<double>;

@@ -255,6 +255,13 @@ Model ModelBuilder::Build() && {
       general = general || is_general(c);
     }
     p.active = std::move(active);
+    p.affine = !kinematic_matrix_ && std::all_of(p.position.begin(), p.position.end(),
+                                                 [](const ScalarField& c) { return c.is_affine(); });
+    if (p.affine) {
+      for (int c = 0; c < 3; ++c)
+        for (const auto& term : p.position[c].terms())
+          p.rate_terms.push_back({c, term.coordinate, term.coefficient});
+    }
   }
   Model m;
   std::set<int> loaded_points, loaded_frames;

@@ -58,11 +58,21 @@ struct FrameSpec {
 };
 
 struct PointSpec {
+  // One term c·q_k of an affine position component: its partial rate ∂ṙ_c/∂u_k = c.
+  struct RateTerm {
+    int component;       // 0, 1, 2
+    int speed;           // k
+    double coefficient;  // c [m per unit of q_k]
+  };
   std::string name;
   int from = -1;                       // parent point
   int frame = 0;                       // frame the position vector is expressed in
   std::array<ScalarField, 3> position; // components [m]
   std::vector<int> active;             // speeds whose partial velocity may be non-zero
+  // Set by Build(): every component affine and q̇ = u, so the relative position's partial
+  // rates are the constant `rate_terms` (the engine's fast path, no scratch to clear).
+  bool affine = false;
+  std::vector<RateTerm> rate_terms;
 };
 
 struct ParticleSpec {
