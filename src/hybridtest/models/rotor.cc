@@ -86,6 +86,12 @@ BuiltModel BuildRotor(int blades, const ParameterSet& in) {
   multibody::ModelBuilder b(coordinates, speeds);
 
   const int hub = N;  // index of the hub coordinate
+  // The ramp of Eq. (12), ρ(t) = 1 − e^{−t/t0}: evaluated once per right-hand side.
+  const int ramp = b.AddTimeFunction("ramp", [t0](const auto& t) {
+    using T = std::decay_t<decltype(t)>;
+    using std::exp;
+    return T(1.0 - exp(-t / t0));
+  });
   const FrameId H = b.AddFrameAboutAxis("H", b.newtonian(), Eigen::Vector3d::UnitZ(),
                                         ScalarField::Coordinate(hub));
   b.AddRigidBody("hub", H, b.origin(), 0.0, Eigen::Vector3d(0.0, 0.0, I_g).asDiagonal());
@@ -114,15 +120,13 @@ BuiltModel BuildRotor(int blades, const ParameterSet& in) {
     b.AddForce(fmt::format("blade{} restoring force and wind", i + 1), P, B,
                [=](const auto& a) {
                  using T = std::decay_t<decltype(a.t)>;
-                 using std::exp;
-                 const T ramp = 1.0 - exp(-a.t / t0);
-                 return Vector3<T>(T(0.0), -(a.r[i] + c * a.u[i]) + ramp * f_w, T(0.0));
+                 return Vector3<T>(T(0.0), -(a.r[i] + c * a.u[i]) + a.time_function(ramp) * f_w,
+                                   T(0.0));
                });
     // Eq. (9): gravity m_b G(t) n̂_x.
     b.AddForce(fmt::format("blade{} gravity", i + 1), P, b.newtonian(), [=](const auto& a) {
       using T = std::decay_t<decltype(a.t)>;
-      using std::exp;
-      return Vector3<T>(m_b * g * (1.0 - exp(-a.t / t0)), T(0.0), T(0.0));
+      return Vector3<T>(m_b * g * a.time_function(ramp), T(0.0), T(0.0));
     });
   }
   // Eq. (10): generator damping and the blades' root reactions on the hub.

@@ -42,6 +42,7 @@ struct Data {
   VectorX<T> g;     // (n) forcing: M u̇ = g
   VectorX<T> udot;  // (n)
   VectorX<T> r;     // (num_slots) restoring forces of the last CalcForcing [N]
+  std::vector<T> time_values;  // (num_time_functions) f_k(t) of the last CalcForcing
 
   // Scratch.
   std::vector<Vector3<T>> force;   // per point: resultant of loads and inertia forces [N]
@@ -51,6 +52,7 @@ struct Data {
   VectorX<T> partial_rate;         // (n)
   Matrix3X<T> partial_rate3;       // (3 × n)
   Eigen::LLT<MatrixX<T>> llt;
+  MatrixX<T> cholesky_factor;      // (n × n) Lᵀ of M = L Lᵀ (upper triangle used)
 };
 
 extern template struct Data<double>;

@@ -40,9 +40,11 @@ void CalcMassMatrix(const Model& model, Data<T>& data) {
       }
     }
   }
-  // Mirror the upper triangle.
-  for (int j = 0; j < data.n; ++j)
-    for (int k = j + 1; k < data.n; ++k) M(k, j) = M(j, k);
+  // Mirror the upper triangle (column-major: M(k, j) = m[k + j n]).
+  const int n = data.n;
+  T* m = M.data();
+  for (int j = 0; j < n; ++j)
+    for (int k = j + 1; k < n; ++k) m[k + j * n] = m[j + k * n];
 }
 
 template <typename T>
@@ -55,10 +57,14 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
   data.r = r;
   for (int p : model.loaded_points()) data.force[p].setZero();
   for (int f : model.loaded_frames()) data.torque[f].setZero();
-  // Applied loads, converted to N components.
+  // Time functions, once; then the applied loads, converted to N components.
+  for (std::size_t k = 0; k < data.time_values.size(); ++k) {
+    data.time_values[k] = model.time_functions()[k].function.template get<T>()(data.t);
+  }
   const LoadArgs<T> args{data.t, std::span<const T>(data.q.data(), n),
                          std::span<const T>(data.u.data(), n),
-                         std::span<const T>(data.r.data(), data.r.size())};
+                         std::span<const T>(data.r.data(), data.r.size()),
+                         std::span<const T>(data.time_values.data(), data.time_values.size())};
   for (const LoadSpec& load : model.loads()) {
     Vector3<T> value = load.function.template get<T>()(args);
     if (load.expressed_in != 0) value = data.R_NF[load.expressed_in] * value;
@@ -87,47 +93,48 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
 }
 
 namespace {
-// Solves M y = b in place (b ← y) by an unblocked Cholesky factorisation M = L Lᵀ, without
-// allocating: L's strictly lower part overwrites M's strictly lower triangle, its diagonal goes
-// to `diag` (n), and M's lower triangle is restored from the (untouched) upper one afterwards,
-// so M is unchanged on return. For the small n of a multibody model this is several times
-// cheaper than Eigen's dynamic-size LLT and triangular solves. Returns false if M is not
-// positive definite (b is then unspecified).
+// Solves M y = b by an unblocked Cholesky factorisation M = L Lᵀ, reading M's lower triangle
+// only and never writing M: Lᵀ goes to `U` (n × n, column-major, so row i of L is the
+// contiguous column i of U) and 1/L_jj to `inv_diag` (n). Raw column-major indexing: for the
+// small n of a multibody model this is several times cheaper than Eigen's dynamic-size LLT
+// and triangular solves, and allocates nothing. Returns false if M is not positive definite
+// (y is then unspecified).
 template <typename T>
-bool CholeskySolveInPlace(MatrixX<T>& M, VectorX<T>& diag, VectorX<T>& b) {
+bool CholeskySolve(const MatrixX<T>& M, MatrixX<T>& U, VectorX<T>& inv_diag, const VectorX<T>& b,
+                   VectorX<T>& y) {
   using std::sqrt;
   const Eigen::Index n = M.rows();
-  bool ok = true;
-  for (Eigen::Index j = 0; j < n && ok; ++j) {
-    T d = M(j, j);
-    for (Eigen::Index k = 0; k < j; ++k) d -= M(j, k) * M(j, k);
-    if (!(ValueOf(d) > 0.0)) {
-      ok = false;
-      break;
-    }
-    diag(j) = sqrt(d);
+  const T* m = M.data();
+  T* u = U.data();
+  T* id = inv_diag.data();
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const T* uj = u + j * n;  // L(j, 0..j−1)
+    T d = m[j + j * n];
+    for (Eigen::Index k = 0; k < j; ++k) d -= uj[k] * uj[k];
+    if (!(ValueOf(d) > 0.0)) return false;
+    const T inv = T(1.0) / sqrt(d);
+    id[j] = inv;
     for (Eigen::Index i = j + 1; i < n; ++i) {
-      T s = M(j, i);  // upper triangle: the original M(i, j)
-      for (Eigen::Index k = 0; k < j; ++k) s -= M(i, k) * M(j, k);
-      M(i, j) = s / diag(j);
+      T* ui = u + i * n;  // L(i, 0..j)
+      T s = m[i + j * n];
+      for (Eigen::Index k = 0; k < j; ++k) s -= ui[k] * uj[k];
+      ui[j] = s * inv;
     }
   }
-  if (ok) {
-    // L z = b, then Lᵀ y = z.
-    for (Eigen::Index i = 0; i < n; ++i) {
-      T s = b(i);
-      for (Eigen::Index k = 0; k < i; ++k) s -= M(i, k) * b(k);
-      b(i) = s / diag(i);
-    }
-    for (Eigen::Index i = n - 1; i >= 0; --i) {
-      T s = b(i);
-      for (Eigen::Index k = i + 1; k < n; ++k) s -= M(k, i) * b(k);
-      b(i) = s / diag(i);
-    }
+  // L z = b, then Lᵀ y = z (z stored in y).
+  T* yv = y.data();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const T* ui = u + i * n;
+    T s = b(i);
+    for (Eigen::Index k = 0; k < i; ++k) s -= ui[k] * yv[k];
+    yv[i] = s * id[i];
   }
-  for (Eigen::Index j = 0; j < n; ++j)
-    for (Eigen::Index i = j + 1; i < n; ++i) M(i, j) = M(j, i);
-  return ok;
+  for (Eigen::Index i = n - 1; i >= 0; --i) {
+    T s = yv[i];
+    for (Eigen::Index k = i + 1; k < n; ++k) s -= u[i + k * n] * yv[k];
+    yv[i] = s * id[i];
+  }
+  return true;
 }
 }  // namespace
 
@@ -142,8 +149,7 @@ void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
   CalcKinematics(model, data, t, x);
   CalcMassMatrix(model, data);
   CalcForcing(model, data, r);
-  data.udot = data.g;
-  if (!CholeskySolveInPlace(data.M, data.partial_rate, data.udot)) {
+  if (!CholeskySolve(data.M, data.cholesky_factor, data.partial_rate, data.g, data.udot)) {
     throw ModelError(fmt::format("the mass matrix is not positive definite at t = {} s: the "
                                  "generalized coordinates are singular there, or a mass or "
                                  "inertia is missing", ValueOf(t)));

@@ -28,13 +28,18 @@ struct KinematicArgs {
 };
 
 // Inputs of a load: time [s], coordinates q, speeds u, static restoring forces r^s [N] (one
-// per slot). Loads must be linear in r (the hybrid coupling relies on it).
+// per slot), and the values of the model's time functions at t (ModelBuilder::
+// AddTimeFunction, evaluated once per CalcForcing and shared by all loads; unit: whatever the
+// function returns). Loads must be linear in r (the hybrid coupling relies on it).
 template <typename T>
 struct LoadArgs {
   T t;
   std::span<const T> q;
   std::span<const T> u;
   std::span<const T> r;
+  std::span<const T> time_values;  // (num_time_functions)
+  // Value of time function k (the index AddTimeFunction returned) at t.
+  const T& time_function(int k) const { return time_values[static_cast<std::size_t>(k)]; }
 };
 
 // One callable per supported scalar type, all made from the same generic lambda.
@@ -67,6 +72,8 @@ template <typename T> using DcmSignature = void(const KinematicArgs<T>&, std::sp
 template <typename T> using KinematicMatrixSignature =
     void(const KinematicArgs<T>&, std::span<Jet<T>> W);
 template <typename T> using LoadSignature = Vector3<T>(const LoadArgs<T>&);
+// A function of time alone, f(t) (ModelBuilder::AddTimeFunction).
+template <typename T> using TimeSignature = T(const T&);
 
 class ScalarField {
  public:
@@ -108,5 +115,6 @@ class ScalarField {
 using DcmFunction = MultiScalarFunction<DcmSignature>;
 using KinematicMatrixFunction = MultiScalarFunction<KinematicMatrixSignature>;
 using LoadFunction = MultiScalarFunction<LoadSignature>;
+using TimeFunction = MultiScalarFunction<TimeSignature>;
 
 }  // namespace hybridtest::multibody

@@ -32,6 +32,7 @@ Data<T>::Data(const Model& model) : n(model.num_coordinates()) {
   g.setZero(n);
   udot.setZero(n);
   r.setZero(model.num_slots());
+  time_values.assign(model.time_functions().size(), T(0.0));
   force.assign(np, Vector3<T>::Zero());
   torque.assign(nf, Vector3<T>::Zero());
   q_jets.assign(n, Jet<T>());
@@ -39,6 +40,7 @@ Data<T>::Data(const Model& model) : n(model.num_coordinates()) {
   partial_rate.setZero(n);
   partial_rate3.setZero(3, n);
   llt = Eigen::LLT<MatrixX<T>>(n);
+  cholesky_factor.setZero(n, n);
 }
 
 template struct Data<double>;
@@ -132,9 +134,47 @@ void CalcFrame(const Model& model, Data<T>& data, int i) {
       data.alpha_rem[p] + R_NP * Vee<T>(Cdd * C.transpose()) + data.w_NF[p].cross(w_rel);
 }
 
+// A point whose position components are all affine, with q̇ = u (PointSpec::affine): the
+// partial rates are constants, added column by column (R_NE e_c c_k) with no scratch.
+template <typename T>
+void CalcAffinePoint(const PointSpec& pt, Data<T>& data, int i) {
+  const int o = pt.from;
+  const int e = pt.frame;
+  Vector3<T> r, rd;
+  for (int c = 0; c < 3; ++c) {
+    const ScalarField& field = pt.position[c];
+    T v = T(field.constant());
+    T d1 = T(field.time_rate());
+    if (field.time_rate() != 0.0) v += field.time_rate() * data.t;
+    for (const auto& term : field.terms()) {
+      v += term.coefficient * data.q(term.coordinate);
+      d1 += term.coefficient * data.qdot(term.coordinate);
+    }
+    r(c) = v;
+    rd(c) = d1;
+  }
+  const Matrix3<T>& R_NE = data.R_NF[e];
+  const Vector3<T>& w = data.w_NF[e];
+  const Vector3<T> rho = R_NE * r;
+  const Vector3<T> rho_rel_dot = R_NE * rd;  // rate of rho as seen in E, N components
+  data.p_OP[i] = data.p_OP[o] + rho;
+  data.v_NP[i] = data.v_NP[o] + w.cross(rho) + rho_rel_dot;
+  Matrix3X<T>& V = data.v_partial[i];
+  const Matrix3X<T>& V_o = data.v_partial[o];
+  const Matrix3X<T>& W_e = data.w_partial[e];
+  for (int j : pt.active) V.col(j) = V_o.col(j) + Vector3<T>(W_e.col(j)).cross(rho);
+  for (const auto& term : pt.rate_terms) V.col(term.speed) += term.coefficient * R_NE.col(term.component);
+  data.a_rem[i] = data.a_rem[o] + data.alpha_rem[e].cross(rho) + w.cross(w.cross(rho)) +
+                  2.0 * w.cross(rho_rel_dot);
+}
+
 template <typename T>
 void CalcPoint(const Model& model, Data<T>& data, int i) {
   const PointSpec& pt = model.points()[i];
+  if (pt.affine) {
+    CalcAffinePoint(pt, data, i);
+    return;
+  }
   const int o = pt.from;
   const int e = pt.frame;
   Vector3<T> r, rd, rdd;

@@ -205,6 +205,15 @@ void ModelBuilder::AddLoad(std::string name, LoadSpec::Kind kind, int target, Fr
   loads_.push_back({std::move(name), kind, target, expressed_in.index, std::move(f)});
 }
 
+int ModelBuilder::AddTimeFunctionSpec(std::string name, TimeFunction f) {
+  if (!f) throw ModelError("time function '" + name + "': the function is empty");
+  for (const auto& tf : time_functions_) {
+    if (tf.name == name) throw ModelError("time function '" + name + "' declared twice");
+  }
+  time_functions_.push_back({std::move(name), std::move(f)});
+  return static_cast<int>(time_functions_.size()) - 1;
+}
+
 int ModelBuilder::AddRestoringForceSlot(std::string name, std::string description,
                                         ScalarField displacement) {
   CheckField(displacement, "restoring-force slot '" + name + "'");
@@ -246,6 +255,13 @@ Model ModelBuilder::Build() && {
       general = general || is_general(c);
     }
     p.active = std::move(active);
+    p.affine = !kinematic_matrix_ && std::all_of(p.position.begin(), p.position.end(),
+                                                 [](const ScalarField& c) { return c.is_affine(); });
+    if (p.affine) {
+      for (int c = 0; c < 3; ++c)
+        for (const auto& term : p.position[c].terms())
+          p.rate_terms.push_back({c, term.coordinate, term.coefficient});
+    }
   }
   Model m;
   std::set<int> loaded_points, loaded_frames;
@@ -268,6 +284,7 @@ Model ModelBuilder::Build() && {
   m.bodies_ = std::move(bodies_);
   m.loads_ = std::move(loads_);
   m.slots_ = std::move(slots_);
+  m.time_functions_ = std::move(time_functions_);
   m.kinematic_matrix_ = std::move(kinematic_matrix_);
   return m;
 }

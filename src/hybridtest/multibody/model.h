@@ -58,11 +58,21 @@ struct FrameSpec {
 };
 
 struct PointSpec {
+  // One term c·q_k of an affine position component: its partial rate ∂ṙ_c/∂u_k = c.
+  struct RateTerm {
+    int component;       // 0, 1, 2
+    int speed;           // k
+    double coefficient;  // c [m per unit of q_k]
+  };
   std::string name;
   int from = -1;                       // parent point
   int frame = 0;                       // frame the position vector is expressed in
   std::array<ScalarField, 3> position; // components [m]
   std::vector<int> active;             // speeds whose partial velocity may be non-zero
+  // Set by Build(): every component affine and q̇ = u, so the relative position's partial
+  // rates are the constant `rate_terms` (the engine's fast path, no scratch to clear).
+  bool affine = false;
+  std::vector<RateTerm> rate_terms;
 };
 
 struct ParticleSpec {
@@ -86,6 +96,11 @@ struct LoadSpec {
   int target = -1;       // point (force) or frame (torque)
   int expressed_in = 0;  // frame the returned vector is expressed in
   LoadFunction function; // [N] or [N·m]
+};
+
+struct TimeFunctionSpec {
+  std::string name;
+  TimeFunction function;  // f(t), any unit
 };
 
 struct SlotSpec {
@@ -129,6 +144,14 @@ class ModelBuilder {
     AddLoad(std::move(name), LoadSpec::Kind::kTorque, frame.index, expressed_in,
             LoadFunction(f));
   }
+  // Declares a function of time alone, f(t) (a generic lambda `[](const auto& t) { ... }`
+  // returning the same scalar type), e.g. a load ramp ρ(t) = 1 − e^{−t/t0}. It is evaluated
+  // once per CalcForcing and every load reads it as `a.time_function(k)`, with k the index
+  // returned here, so an expensive ramp shared by many loads costs one evaluation.
+  template <class F>
+  int AddTimeFunction(std::string name, const F& f) {
+    return AddTimeFunctionSpec(std::move(name), TimeFunction(f));
+  }
   // Declares a restoring-force slot r^s [N]; returns its index in r.
   int AddRestoringForceSlot(std::string name, std::string description,
                             ScalarField displacement);
@@ -146,6 +169,7 @@ class ModelBuilder {
   friend class Model;
   void AddLoad(std::string name, LoadSpec::Kind kind, int target, FrameId expressed_in,
                LoadFunction f);
+  int AddTimeFunctionSpec(std::string name, TimeFunction f);
   void CheckFrame(FrameId f, const std::string& what) const;
   void CheckPoint(PointId p, const std::string& what) const;
   void CheckField(const ScalarField& field, const std::string& what) const;
@@ -159,6 +183,7 @@ class ModelBuilder {
   std::vector<RigidBodySpec> bodies_;
   std::vector<LoadSpec> loads_;
   std::vector<SlotSpec> slots_;
+  std::vector<TimeFunctionSpec> time_functions_;
   KinematicMatrixFunction kinematic_matrix_;
 };
 
@@ -176,6 +201,7 @@ class Model {
   const std::vector<RigidBodySpec>& bodies() const { return bodies_; }
   const std::vector<LoadSpec>& loads() const { return loads_; }
   const std::vector<SlotSpec>& slots() const { return slots_; }
+  const std::vector<TimeFunctionSpec>& time_functions() const { return time_functions_; }
   bool has_identity_kinematics() const { return !kinematic_matrix_; }
   const KinematicMatrixFunction& kinematic_matrix() const { return kinematic_matrix_; }
   // Points and frames that receive a force/torque or carry mass (visited by CalcForcing).
@@ -195,6 +221,7 @@ class Model {
   std::vector<RigidBodySpec> bodies_;
   std::vector<LoadSpec> loads_;
   std::vector<SlotSpec> slots_;
+  std::vector<TimeFunctionSpec> time_functions_;
   KinematicMatrixFunction kinematic_matrix_;
   std::vector<int> loaded_points_;
   std::vector<int> loaded_frames_;
