@@ -11,6 +11,7 @@
 #include "command.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/version.h"
+#include "hybridtest/runner/stop_request.h"
 #include "hybridtest/transfer/safety.h"
 
 namespace hybridtest::app {
@@ -47,7 +48,9 @@ int main(int argc, char** argv) {
   root.footer(
       "Exit status: 0 success; 1 error; 2 configuration error; 3 safety stop (a limit was "
       "reached, the bench holds); 4 transfer system error (bench lost, timeout, corrupted "
-      "frame); 70 internal error; other non-zero: command-line usage error.");
+      "frame); 70 internal error; 130 interrupted (Ctrl-C or SIGTERM: the run stops after the "
+      "current step, everything committed is written); other non-zero: command-line usage "
+      "error.");
   for (const auto& [name, add] : app::RegisteredCommands()) add(root);
 
   try {
@@ -57,6 +60,9 @@ int main(int argc, char** argv) {
   } catch (const ConfigError& e) {
     std::fprintf(stderr, "hybridtest: configuration error: %s\n", e.what());
     return 2;
+  } catch (const runner::Interrupted& e) {
+    std::fprintf(stderr, "hybridtest: %s\n", e.what());
+    return 130;
   } catch (const transfer::SafetyStop& e) {
     std::fprintf(stderr, "hybridtest: %s\n", e.what());  // what() starts with "safety stop:"
     return 3;

@@ -3,13 +3,43 @@
 
 #include <fmt/core.h>
 
+#include <csignal>
 #include <filesystem>
 
 #include "hybridtest/io/config.h"
 #include "hybridtest/io/substructure_config.h"
 #include "hybridtest/runner/hybrid_test.h"
+#include "hybridtest/runner/stop_request.h"
 
 namespace hybridtest::app {
+namespace {
+
+// SIGINT/SIGTERM ask the runner to stop after the current step (the bench holds, everything
+// committed is written). The handler resets itself: a second Ctrl-C ends the process at once.
+class StopOnSignal {
+ public:
+  StopOnSignal() {
+    struct sigaction action {};
+    action.sa_handler = [](int) { runner::RequestStop(); };
+    action.sa_flags = SA_RESETHAND;
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, &old_int_);
+    sigaction(SIGTERM, &action, &old_term_);
+  }
+  ~StopOnSignal() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+    runner::ClearStopRequest();
+  }
+  StopOnSignal(const StopOnSignal&) = delete;
+  StopOnSignal& operator=(const StopOnSignal&) = delete;
+
+ private:
+  struct sigaction old_int_ {};
+  struct sigaction old_term_ {};
+};
+
+}  // namespace
 
 void ExecuteRun(const RunCommandOptions& options) {
   const io::SimulationConfig cfg = io::LoadSimulationConfig(options.config);
@@ -23,6 +53,7 @@ void ExecuteRun(const RunCommandOptions& options) {
   const auto parent = std::filesystem::path(run.csv_path).parent_path();
   if (!parent.empty()) std::filesystem::create_directories(parent);
   runner::HybridTest test(cfg, std::move(subs), run);
+  const StopOnSignal stop_on_signal;
   const runner::RunStatistics s = test.Run();
   if (options.quiet) return;
   fmt::print("hybridtest {}: {} steps of {} s with {} ({} stages), t = {} s, {} rows -> {}\n",

@@ -1,6 +1,8 @@
 // See hybrid_test.h.
 #include "hybridtest/runner/hybrid_test.h"
 
+#include "hybridtest/runner/stop_request.h"
+
 #include <fmt/core.h>
 
 #include <chrono>
@@ -42,6 +44,8 @@ nlohmann::json StopDetails(const std::exception& e) {
     stop["history"] = history;
   } else if (dynamic_cast<const TransferError*>(&e) != nullptr) {
     stop["kind"] = "transfer";
+  } else if (dynamic_cast<const Interrupted*>(&e) != nullptr) {
+    stop["kind"] = "interrupted";
   } else {
     stop["kind"] = "error";
   }
@@ -162,6 +166,12 @@ RunStatistics HybridTest::Run() {
       update_stats(static_cast<double>(step + 1) * h);
       progress.Update({step + 1, cfg_.steps, stats_.sim_time, cfg_.duration,
                        stats_.physical_evaluations, stats_.lab_time, stats_.wall_time});
+      if (StopRequested()) {
+        ++step;  // x is the committed state of the next step, not yet journalled
+        throw Interrupted(fmt::format("interrupted by the operator at t = {} s after {} steps; "
+                                      "every committed step is in {}", stats_.sim_time, step,
+                                      options_.csv_path));
+      }
     }
     // The last committed state gets its row too.
     const double t_end = static_cast<double>(cfg_.steps) * h;
