@@ -109,12 +109,17 @@ std::string StatisticsSection(const io::RunData& run) {
   rows.push_back({"Physical evaluations", number("physical_evaluations", "")});
   rows.push_back({"Wall time", duration("wall_time_s")});
   rows.push_back({"Lab time", duration("lab_time_s")});
-  rows.push_back({"Slowdown against real time", number("slowdown", " \u00d7")});
-  // Anything else the runner recorded.
+  rows.push_back({"Slowdown against real time (lab)", number("slowdown", " \u00d7")});
+  rows.push_back({"Wall time against real time", number("wall_slowdown", " \u00d7")});
+  if (stats.is_object() && stats.contains("stop")) {
+    rows.push_back({"Stop", E(FormatJson(Member(stats["stop"], "message")))});
+  }
+  // Anything else the runner recorded (rows and sim_time_s are shown above).
   if (stats.is_object()) {
     for (const auto& [key, value] : stats.items()) {
       if (key == "steps" || key == "physical_evaluations" || key == "wall_time_s" ||
-          key == "lab_time_s" || key == "slowdown") {
+          key == "lab_time_s" || key == "slowdown" || key == "wall_slowdown" || key == "rows" ||
+          key == "sim_time_s" || key == "stop") {
         continue;
       }
       rows.push_back({key, E(FormatJson(value))});
