@@ -85,15 +85,13 @@ substructures::SetupTransform ParseSetup(const YamlInput& in, const YAML::Node& 
   substructures::SetupTransform s;
   if (!node.IsDefined()) return s;
   in.CheckKeys(node, kp, {"p0", "sign", "scale", "force_sign", "force_scale", "load_cell_zero"});
-  auto read = [&](const char* key, double& field, const char* what) {
-    if (node[key]) field = in.Number(node[key], kp + "." + key, what);
-  };
-  read("p0", s.p0, "the actuator position at zero specimen force, in m");
-  read("sign", s.sign, "+1 or -1");
-  read("scale", s.scale, "a positive factor");
-  read("force_sign", s.force_sign, "+1 or -1");
-  read("force_scale", s.force_scale, "a positive factor");
-  read("load_cell_zero", s.load_cell_zero, "the load-cell reading at zero load, in N");
+  s.p0 = in.ReadNumber(node, kp, "p0", "the actuator position at zero specimen force, in m", s.p0);
+  s.sign = in.ReadNumber(node, kp, "sign", "+1 or -1", s.sign);
+  s.scale = in.ReadNumber(node, kp, "scale", "a positive factor", s.scale);
+  s.force_sign = in.ReadNumber(node, kp, "force_sign", "+1 or -1", s.force_sign);
+  s.force_scale = in.ReadNumber(node, kp, "force_scale", "a positive factor", s.force_scale);
+  s.load_cell_zero = in.ReadNumber(node, kp, "load_cell_zero",
+                                   "the load-cell reading at zero load, in N", s.load_cell_zero);
   try {
     s.Validate();
   } catch (const ConfigError& e) {
@@ -108,15 +106,23 @@ transfer::SafetyLimits ParseSafety(const YamlInput& in, const YAML::Node& node,
   if (!node.IsDefined()) return l;
   in.CheckKeys(node, kp, {"stroke_min", "stroke_max", "max_increment", "force_soft",
                           "force_hard", "timeout", "initial_stiffness"});
-  auto read = [&](const char* key, double& field, const char* what) {
-    if (node[key]) field = in.Number(node[key], kp + "." + key, what);
-  };
-  read("stroke_min", l.stroke_min, "the lowest actuator position in m");
-  read("stroke_max", l.stroke_max, "the highest actuator position in m");
-  read("max_increment", l.max_increment, "the largest command step per stage in m");
-  read("force_soft", l.force_soft, "the predicted-force limit in N");
-  read("force_hard", l.force_hard, "the measured-force limit in N");
-  read("timeout", l.timeout, "the longest wait for a measurement in s");
+  l.stroke_min = in.ReadNumber(node, kp, "stroke_min", "the lowest actuator position in m",
+                               l.stroke_min);
+  l.stroke_max = in.ReadNumber(node, kp, "stroke_max", "the highest actuator position in m",
+                               l.stroke_max);
+  l.max_increment = in.ReadNumber(node, kp, "max_increment",
+                                  "the largest command step per stage in m", l.max_increment);
+  l.force_soft = in.ReadNumber(node, kp, "force_soft", "the predicted-force limit in N",
+                               l.force_soft);
+  l.force_hard = in.ReadNumber(node, kp, "force_hard", "the measured-force limit in N",
+                               l.force_hard);
+  l.timeout = in.ReadNumber(node, kp, "timeout", "the longest wait for a measurement in s",
+                            l.timeout);
+  try {
+    transfer::SafetyMonitor check(l);  // rejects inconsistent limits, naming the field
+  } catch (const ConfigError& e) {
+    throw ConfigError(fmt::format("{}: {}", in.Where(node, kp), e.what()));
+  }
   return l;
 }
 
