@@ -3,8 +3,6 @@
 // split). Everything is sized once, in the constructor: evaluating the equations of motion
 // allocates nothing. Fields are the results of the last Calc* call (kane.h), in SI units,
 // vectors expressed in the Newtonian frame N unless stated.
-#include <Eigen/Cholesky>
-
 #include <vector>
 
 #include "hybridtest/multibody/model.h"
@@ -51,7 +49,6 @@ struct Data {
   std::vector<Jet<T>> jet_buffer;  // (max(9, n·n))
   VectorX<T> partial_rate;         // (n)
   Matrix3X<T> partial_rate3;       // (3 × n)
-  Eigen::LLT<MatrixX<T>> llt;
   MatrixX<T> cholesky_factor;      // (n × n) Lᵀ of M = L Lᵀ (upper triangle used)
 };
 

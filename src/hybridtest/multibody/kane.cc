@@ -11,20 +11,18 @@ namespace hybridtest::multibody {
 template <typename T>
 void CalcMassMatrix(const Model& model, Data<T>& data) {
   MatrixX<T>& M = data.M;
+  const int n = data.n;
+  T* m = M.data();  // column-major: M(j, k) = m[j + k n]
   M.setZero();
-  // Translational inertia: m v_j·v_k over the upper triangle of the point's active speeds.
-  auto add_translational = [&](int point, double mass) {
-    const std::vector<int>& active = model.points()[point].active;
-    const Matrix3X<T>& V = data.v_partial[point];
-    for (std::size_t a = 0; a < active.size(); ++a) {
-      for (std::size_t b = a; b < active.size(); ++b) {
-        M(active[a], active[b]) += mass * V.col(active[a]).dot(V.col(active[b]));
-      }
-    }
-  };
-  for (const ParticleSpec& p : model.particles()) add_translational(p.point, p.mass);
+  // Translational inertia: m v_j·v_k, one precomputed term per pair j ≤ k (both triangles).
+  for (const MassTerm& term : model.mass_terms()) {
+    const T* vj = data.v_partial[term.point].data() + 3 * term.j;
+    const T* vk = data.v_partial[term.point].data() + 3 * term.k;
+    const T value = term.mass * (vj[0] * vk[0] + vj[1] * vk[1] + vj[2] * vk[2]);
+    m[term.j + term.k * n] += value;
+    if (term.j != term.k) m[term.k + term.j * n] += value;
+  }
   for (const RigidBodySpec& body : model.bodies()) {
-    if (body.mass > 0.0) add_translational(body.mass_center, body.mass);
     // Rotational inertia: ω_j·I ω_k, evaluated in body components (ω_B = Rᵀ ω_N), which
     // avoids forming I_N = R I Rᵀ. The partial angular velocities of the active speeds are
     // rotated once, into the 3 × n scratch.
@@ -36,15 +34,12 @@ void CalcMassMatrix(const Model& model, Data<T>& data) {
     for (std::size_t a = 0; a < active.size(); ++a) {
       const Vector3<T> Iw = body.inertia.template cast<T>() * Wb.col(active[a]);
       for (std::size_t b = a; b < active.size(); ++b) {
-        M(active[a], active[b]) += Wb.col(active[b]).dot(Iw);
+        const T value = Wb.col(active[b]).dot(Iw);
+        M(active[a], active[b]) += value;
+        if (b != a) M(active[b], active[a]) += value;
       }
     }
   }
-  // Mirror the upper triangle (column-major: M(k, j) = m[k + j n]).
-  const int n = data.n;
-  T* m = M.data();
-  for (int j = 0; j < n; ++j)
-    for (int k = j + 1; k < n; ++k) m[k + j * n] = m[j + k * n];
 }
 
 template <typename T>
@@ -136,6 +131,53 @@ bool CholeskySolve(const MatrixX<T>& M, MatrixX<T>& U, VectorX<T>& inv_diag, con
   }
   return true;
 }
+
+// The same factorisation for a compile-time size N (the loops unroll; L lives on the stack).
+template <int N, typename T>
+bool CholeskySolveFixed(const MatrixX<T>& M, const VectorX<T>& b, VectorX<T>& y) {
+  using std::sqrt;
+  const T* m = M.data();
+  T L[N][N];  // row i holds L(i, 0..i)
+  T inv_diag[N];
+  for (int j = 0; j < N; ++j) {
+    T d = m[j + j * N];
+    for (int k = 0; k < j; ++k) d -= L[j][k] * L[j][k];
+    if (!(ValueOf(d) > 0.0)) return false;
+    inv_diag[j] = T(1.0) / sqrt(d);
+    for (int i = j + 1; i < N; ++i) {
+      T s = m[i + j * N];
+      for (int k = 0; k < j; ++k) s -= L[i][k] * L[j][k];
+      L[i][j] = s * inv_diag[j];
+    }
+  }
+  T* yv = y.data();
+  for (int i = 0; i < N; ++i) {
+    T s = b(i);
+    for (int k = 0; k < i; ++k) s -= L[i][k] * yv[k];
+    yv[i] = s * inv_diag[i];
+  }
+  for (int i = N - 1; i >= 0; --i) {
+    T s = yv[i];
+    for (int k = i + 1; k < N; ++k) s -= L[k][i] * yv[k];
+    yv[i] = s * inv_diag[i];
+  }
+  return true;
+}
+
+// M y = g: unrolled for the small sizes of typical models, the dynamic loop otherwise.
+template <typename T>
+bool SolveMassMatrix(Data<T>& data) {
+  switch (data.n) {
+    case 1: return CholeskySolveFixed<1>(data.M, data.g, data.udot);
+    case 2: return CholeskySolveFixed<2>(data.M, data.g, data.udot);
+    case 3: return CholeskySolveFixed<3>(data.M, data.g, data.udot);
+    case 4: return CholeskySolveFixed<4>(data.M, data.g, data.udot);
+    case 5: return CholeskySolveFixed<5>(data.M, data.g, data.udot);
+    case 6: return CholeskySolveFixed<6>(data.M, data.g, data.udot);
+    default:
+      return CholeskySolve(data.M, data.cholesky_factor, data.partial_rate, data.g, data.udot);
+  }
+}
 }  // namespace
 
 template <typename T>
@@ -149,7 +191,7 @@ void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
   CalcKinematics(model, data, t, x);
   CalcMassMatrix(model, data);
   CalcForcing(model, data, r);
-  if (!CholeskySolve(data.M, data.cholesky_factor, data.partial_rate, data.g, data.udot)) {
+  if (!SolveMassMatrix(data)) {
     throw ModelError(fmt::format("the mass matrix is not positive definite at t = {} s: the "
                                  "generalized coordinates are singular there, or a mass or "
                                  "inertia is missing", ValueOf(t)));

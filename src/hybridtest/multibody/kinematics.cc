@@ -39,7 +39,6 @@ Data<T>::Data(const Model& model) : n(model.num_coordinates()) {
   jet_buffer.assign(std::max<std::size_t>(9, std::size_t(n) * n), Jet<T>());
   partial_rate.setZero(n);
   partial_rate3.setZero(3, n);
-  llt = Eigen::LLT<MatrixX<T>>(n);
   cholesky_factor.setZero(n, n);
 }
 
@@ -77,6 +76,27 @@ void CalcKinematicalEquations(const Model& model, Data<T>& data) {
     for (int j = 0; j < n; ++j) data.qddot_rem(i) += w[std::size_t(i) * n + j].d1 * data.u(j);
 }
 
+// R_NF = R_NP · R_PF for a rotation about the parent's unit vector e_A by the angle with
+// cosine c and sine s: column A is kept, the other two rotate in their plane (no 3 × 3 product).
+template <int A, typename T>
+void RotateAboutParentAxis(const Matrix3<T>& R_NP, const T& c, const T& s, Matrix3<T>& R_NF) {
+  constexpr int kB = (A + 1) % 3;
+  constexpr int kD = (A + 2) % 3;
+  R_NF.col(A) = R_NP.col(A);
+  R_NF.col(kB) = c * R_NP.col(kB) + s * R_NP.col(kD);
+  R_NF.col(kD) = c * R_NP.col(kD) - s * R_NP.col(kB);
+}
+
+template <typename T>
+void RotateAboutParentAxis(const Matrix3<T>& R_NP, int a, const T& c, const T& s,
+                           Matrix3<T>& R_NF) {
+  switch (a) {
+    case 0: RotateAboutParentAxis<0>(R_NP, c, s, R_NF); break;
+    case 1: RotateAboutParentAxis<1>(R_NP, c, s, R_NF); break;
+    default: RotateAboutParentAxis<2>(R_NP, c, s, R_NF); break;
+  }
+}
+
 template <typename T>
 void CalcFrame(const Model& model, Data<T>& data, int i) {
   const FrameSpec& f = model.frames()[i];
@@ -84,7 +104,12 @@ void CalcFrame(const Model& model, Data<T>& data, int i) {
   const Matrix3<T>& R_NP = data.R_NF[p];
   if (f.kind == FrameSpec::Kind::kAxisAngle) {
     if (f.constant_rotation) {
-      data.R_NF[i] = R_NP * f.constant_R_PF.template cast<T>();
+      if (f.axis_index >= 0) {
+        RotateAboutParentAxis(R_NP, f.axis_index, T(f.constant_cos), T(f.constant_sin),
+                              data.R_NF[i]);
+      } else {
+        data.R_NF[i] = R_NP * f.constant_R_PF.template cast<T>();
+      }
       data.w_NF[i] = data.w_NF[p];
       for (int j : f.active) data.w_partial[i].col(j) = data.w_partial[p].col(j);
       data.alpha_rem[i] = data.alpha_rem[p];
@@ -92,8 +117,16 @@ void CalcFrame(const Model& model, Data<T>& data, int i) {
     }
     T* rate = data.partial_rate.data();
     const FieldEval<T> angle = EvalField(model, data, f.angle, rate);
-    const Vector3<T> axis_N = R_NP * f.axis.template cast<T>();
-    data.R_NF[i] = R_NP * internal::RotationAboutAxis(f.axis, angle.v);
+    Vector3<T> axis_N;
+    if (f.axis_index >= 0) {
+      using std::cos;
+      using std::sin;
+      axis_N = R_NP.col(f.axis_index);
+      RotateAboutParentAxis(R_NP, f.axis_index, T(cos(angle.v)), T(sin(angle.v)), data.R_NF[i]);
+    } else {
+      axis_N = R_NP * f.axis.template cast<T>();
+      data.R_NF[i] = R_NP * internal::RotationAboutAxis(f.axis, angle.v);
+    }
     const Vector3<T> w_rel = angle.d1 * axis_N;
     data.w_NF[i] = data.w_NF[p] + w_rel;
     for (int j : f.active) data.w_partial[i].col(j) = data.w_partial[p].col(j) + rate[j] * axis_N;

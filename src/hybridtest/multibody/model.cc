@@ -45,49 +45,53 @@ std::vector<int> Union(const std::vector<int>& a, const std::vector<int>& b) {
 }
 }  // namespace
 
-ModelBuilder::ModelBuilder(std::vector<QuantityInfo> coordinates, std::vector<QuantityInfo> speeds)
-    : coordinates_(std::move(coordinates)), speeds_(std::move(speeds)) {
-  const int n = static_cast<int>(coordinates_.size());
+ModelBuilder::ModelBuilder(std::vector<QuantityInfo> coordinates,
+                           std::vector<QuantityInfo> speeds) {
+  elements_.coordinates = std::move(coordinates);
+  elements_.speeds = std::move(speeds);
+  const int n = static_cast<int>(elements_.coordinates.size());
   if (n < 1) throw ModelError("a model needs at least one generalized coordinate; got none");
   if (n > kMaxJetCoordinates) {
     throw ModelError(fmt::format("a model may have at most {} generalized coordinates; got {}",
                                  kMaxJetCoordinates, n));
   }
-  if (speeds_.empty()) {
+  if (elements_.speeds.empty()) {
     for (int k = 0; k < n; ++k) {
-      const std::string unit = coordinates_[k].unit + "/s";
-      speeds_.push_back({fmt::format("u{}", k + 1), unit,
-                         "time derivative of " + coordinates_[k].name});
+      const std::string unit = elements_.coordinates[k].unit + "/s";
+      elements_.speeds.push_back({fmt::format("u{}", k + 1), unit,
+                         "time derivative of " + elements_.coordinates[k].name});
     }
   }
-  if (static_cast<int>(speeds_.size()) != n) {
+  if (static_cast<int>(elements_.speeds.size()) != n) {
     throw ModelError(fmt::format("a model needs as many generalized speeds as coordinates: {} "
-                                 "coordinates but {} speeds", n, speeds_.size()));
+                                 "coordinates but {} speeds", n, elements_.speeds.size()));
   }
   FrameSpec newtonian;
   newtonian.name = "N";
-  frames_.push_back(newtonian);
+  elements_.frames.push_back(newtonian);
   PointSpec origin;
   origin.name = "O";
-  points_.push_back(origin);
+  elements_.points.push_back(origin);
 }
 
 void ModelBuilder::CheckFrame(FrameId f, const std::string& what) const {
-  if (f.index < 0 || f.index >= static_cast<int>(frames_.size())) {
+  if (f.index < 0 || f.index >= static_cast<int>(elements_.frames.size())) {
     throw ModelError(fmt::format("{}: frame id {} does not exist (the model has {} frames); "
-                                 "use an id returned by AddFrame*", what, f.index, frames_.size()));
+                                 "use an id returned by AddFrame*", what, f.index,
+                                 elements_.frames.size()));
   }
 }
 
 void ModelBuilder::CheckPoint(PointId p, const std::string& what) const {
-  if (p.index < 0 || p.index >= static_cast<int>(points_.size())) {
+  if (p.index < 0 || p.index >= static_cast<int>(elements_.points.size())) {
     throw ModelError(fmt::format("{}: point id {} does not exist (the model has {} points); "
-                                 "use an id returned by AddPoint", what, p.index, points_.size()));
+                                 "use an id returned by AddPoint", what, p.index,
+                                 elements_.points.size()));
   }
 }
 
 void ModelBuilder::CheckField(const ScalarField& field, const std::string& what) const {
-  const int n = static_cast<int>(coordinates_.size());
+  const int n = static_cast<int>(elements_.coordinates.size());
   if (field.is_affine()) {
     if (field.max_coordinate() >= n) {
       throw ModelError(fmt::format("{}: refers to coordinate index {} but the model has {} "
@@ -106,10 +110,12 @@ void ModelBuilder::CheckField(const ScalarField& field, const std::string& what)
 
 // Speeds whose partial rate of `field` may be non-zero.
 std::vector<int> ModelBuilder::FieldActive(const ScalarField& field) const {
-  const int n = static_cast<int>(coordinates_.size());
+  const int n = static_cast<int>(elements_.coordinates.size());
   std::vector<int> all(n);
   for (int j = 0; j < n; ++j) all[j] = j;
-  if (!field.is_affine() || kinematic_matrix_) return field.is_constant() ? std::vector<int>{} : all;
+  if (!field.is_affine() || elements_.kinematic_matrix) {
+    return field.is_constant() ? std::vector<int>{} : all;
+  }
   std::vector<int> active;
   for (const auto& t : field.terms()) active.push_back(t.coordinate);
   return Union(active, {});
@@ -130,8 +136,8 @@ FrameId ModelBuilder::AddFrameAboutAxis(std::string name, FrameId parent,
   f.parent = parent.index;
   f.axis = axis / norm;
   f.angle = std::move(angle);
-  frames_.push_back(std::move(f));
-  return FrameId{static_cast<int>(frames_.size()) - 1};
+  elements_.frames.push_back(std::move(f));
+  return FrameId{static_cast<int>(elements_.frames.size()) - 1};
 }
 
 FrameId ModelBuilder::AddFrameWithDcm(std::string name, FrameId parent, DcmFunction dcm) {
@@ -143,8 +149,8 @@ FrameId ModelBuilder::AddFrameWithDcm(std::string name, FrameId parent, DcmFunct
   f.kind = FrameSpec::Kind::kDcm;
   f.parent = parent.index;
   f.dcm = std::move(dcm);
-  frames_.push_back(std::move(f));
-  return FrameId{static_cast<int>(frames_.size()) - 1};
+  elements_.frames.push_back(std::move(f));
+  return FrameId{static_cast<int>(elements_.frames.size()) - 1};
 }
 
 PointId ModelBuilder::AddPoint(std::string name, PointId from, FrameId expressed_in,
@@ -158,8 +164,8 @@ PointId ModelBuilder::AddPoint(std::string name, PointId from, FrameId expressed
   p.from = from.index;
   p.frame = expressed_in.index;
   p.position = std::move(position);
-  points_.push_back(std::move(p));
-  return PointId{static_cast<int>(points_.size()) - 1};
+  elements_.points.push_back(std::move(p));
+  return PointId{static_cast<int>(elements_.points.size()) - 1};
 }
 
 void ModelBuilder::AddParticle(std::string name, PointId point, double mass) {
@@ -168,7 +174,7 @@ void ModelBuilder::AddParticle(std::string name, PointId point, double mass) {
   if (!(mass > 0.0) || !std::isfinite(mass)) {
     throw ModelError(fmt::format("{}: mass = {}: expected a positive mass in kg", what, mass));
   }
-  particles_.push_back({std::move(name), point.index, mass});
+  elements_.particles.push_back({std::move(name), point.index, mass});
 }
 
 void ModelBuilder::AddRigidBody(std::string name, FrameId frame, PointId mass_center, double mass,
@@ -189,7 +195,7 @@ void ModelBuilder::AddRigidBody(std::string name, FrameId frame, PointId mass_ce
                                  "expected positive semi-definite", what,
                                  eig.eigenvalues().minCoeff()));
   }
-  bodies_.push_back({std::move(name), frame.index, mass_center.index, mass, inertia});
+  elements_.bodies.push_back({std::move(name), frame.index, mass_center.index, mass, inertia});
 }
 
 void ModelBuilder::AddLoad(std::string name, LoadSpec::Kind kind, int target, FrameId expressed_in,
@@ -202,61 +208,69 @@ void ModelBuilder::AddLoad(std::string name, LoadSpec::Kind kind, int target, Fr
   }
   CheckFrame(expressed_in, what);
   if (!f) throw ModelError(what + ": the load function is empty");
-  loads_.push_back({std::move(name), kind, target, expressed_in.index, std::move(f)});
+  elements_.loads.push_back({std::move(name), kind, target, expressed_in.index, std::move(f)});
 }
 
 int ModelBuilder::AddTimeFunctionSpec(std::string name, TimeFunction f) {
   if (!f) throw ModelError("time function '" + name + "': the function is empty");
-  for (const auto& tf : time_functions_) {
+  for (const auto& tf : elements_.time_functions) {
     if (tf.name == name) throw ModelError("time function '" + name + "' declared twice");
   }
-  time_functions_.push_back({std::move(name), std::move(f)});
-  return static_cast<int>(time_functions_.size()) - 1;
+  elements_.time_functions.push_back({std::move(name), std::move(f)});
+  return static_cast<int>(elements_.time_functions.size()) - 1;
 }
 
 int ModelBuilder::AddRestoringForceSlot(std::string name, std::string description,
                                         ScalarField displacement) {
   CheckField(displacement, "restoring-force slot '" + name + "'");
-  for (const auto& s : slots_) {
+  for (const auto& s : elements_.slots) {
     if (s.info.name == name) throw ModelError("restoring-force slot '" + name + "' declared twice");
   }
-  slots_.push_back({{std::move(name), "N", std::move(description)}, std::move(displacement)});
-  return static_cast<int>(slots_.size()) - 1;
+  elements_.slots.push_back(
+      {{std::move(name), "N", std::move(description)}, std::move(displacement)});
+  return static_cast<int>(elements_.slots.size()) - 1;
 }
 
 Model ModelBuilder::Build() && {
-  if (particles_.empty() && bodies_.empty()) {
+  if (elements_.particles.empty() && elements_.bodies.empty()) {
     throw ModelError("the model has no mass: add at least one particle or rigid body");
   }
   auto is_general = [](const ScalarField& f) { return !f.is_affine(); };
-  bool general = static_cast<bool>(kinematic_matrix_);
+  bool general = static_cast<bool>(elements_.kinematic_matrix);
   // Active speeds, frames first (parents precede children by construction).
-  for (std::size_t i = 1; i < frames_.size(); ++i) {
-    FrameSpec& f = frames_[i];
+  for (std::size_t i = 1; i < elements_.frames.size(); ++i) {
+    FrameSpec& f = elements_.frames[i];
     std::vector<int> own;
     if (f.kind == FrameSpec::Kind::kAxisAngle) {
       own = FieldActive(f.angle);
       general = general || is_general(f.angle);
+      for (int a = 0; a < 3; ++a) {
+        if (f.axis == Eigen::Vector3d::Unit(a)) f.axis_index = a;
+      }
       if (f.angle.is_constant()) {
         f.constant_rotation = true;
         f.constant_R_PF = Eigen::AngleAxisd(f.angle.constant(), f.axis).toRotationMatrix();
+        f.constant_cos = std::cos(f.angle.constant());
+        f.constant_sin = std::sin(f.angle.constant());
       }
     } else {
       general = true;
-      for (int j = 0; j < static_cast<int>(coordinates_.size()); ++j) own.push_back(j);
+      for (int j = 0; j < static_cast<int>(elements_.coordinates.size()); ++j) own.push_back(j);
     }
-    f.active = Union(frames_[f.parent].active, own);
+    f.active = Union(elements_.frames[f.parent].active, own);
   }
-  for (std::size_t i = 1; i < points_.size(); ++i) {
-    PointSpec& p = points_[i];
-    std::vector<int> active = Union(points_[p.from].active, frames_[p.frame].active);
+  for (std::size_t i = 1; i < elements_.points.size(); ++i) {
+    PointSpec& p = elements_.points[i];
+    std::vector<int> active =
+        Union(elements_.points[p.from].active, elements_.frames[p.frame].active);
     for (const auto& c : p.position) {
       active = Union(active, FieldActive(c));
       general = general || is_general(c);
     }
     p.active = std::move(active);
-    p.affine = !kinematic_matrix_ && std::all_of(p.position.begin(), p.position.end(),
-                                                 [](const ScalarField& c) { return c.is_affine(); });
+    p.affine = !elements_.kinematic_matrix &&
+               std::all_of(p.position.begin(), p.position.end(),
+                           [](const ScalarField& c) { return c.is_affine(); });
     if (p.affine) {
       for (int c = 0; c < 3; ++c)
         for (const auto& term : p.position[c].terms())
@@ -265,27 +279,29 @@ Model ModelBuilder::Build() && {
   }
   Model m;
   std::set<int> loaded_points, loaded_frames;
-  for (const auto& pa : particles_) loaded_points.insert(pa.point);
-  for (const auto& b : bodies_) {
+  for (const auto& pa : elements_.particles) loaded_points.insert(pa.point);
+  for (const auto& b : elements_.bodies) {
     loaded_points.insert(b.mass_center);
     loaded_frames.insert(b.frame);
   }
-  for (const auto& l : loads_) {
+  for (const auto& l : elements_.loads) {
     (l.kind == LoadSpec::Kind::kForce ? loaded_points : loaded_frames).insert(l.target);
+  }
+  // Translational mass terms: every pair j ≤ k of a point mass's active speeds.
+  auto add_mass_terms = [&](int point, double mass) {
+    const std::vector<int>& active = elements_.points[point].active;
+    for (std::size_t a = 0; a < active.size(); ++a)
+      for (std::size_t b = a; b < active.size(); ++b)
+        m.mass_terms_.push_back({point, active[a], active[b], mass});
+  };
+  for (const auto& pa : elements_.particles) add_mass_terms(pa.point, pa.mass);
+  for (const auto& b : elements_.bodies) {
+    if (b.mass > 0.0) add_mass_terms(b.mass_center, b.mass);
   }
   m.loaded_points_.assign(loaded_points.begin(), loaded_points.end());
   m.loaded_frames_.assign(loaded_frames.begin(), loaded_frames.end());
   m.has_general_fields_ = general;
-  m.coordinates_ = std::move(coordinates_);
-  m.speeds_ = std::move(speeds_);
-  m.frames_ = std::move(frames_);
-  m.points_ = std::move(points_);
-  m.particles_ = std::move(particles_);
-  m.bodies_ = std::move(bodies_);
-  m.loads_ = std::move(loads_);
-  m.slots_ = std::move(slots_);
-  m.time_functions_ = std::move(time_functions_);
-  m.kinematic_matrix_ = std::move(kinematic_matrix_);
+  m.elements_ = std::move(elements_);
   return m;
 }
 

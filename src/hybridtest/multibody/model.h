@@ -54,6 +54,12 @@ struct FrameSpec {
   DcmFunction dcm;                                   // R_PF(q, t)
   bool constant_rotation = false;                    // R_PF fixed: precomputed below
   Eigen::Matrix3d constant_R_PF = Eigen::Matrix3d::Identity();
+  // Set by Build() for kAxisAngle: 0, 1 or 2 if `axis` is the parent's unit vector x, y or z
+  // (then R_NF is two column rotations of R_NP, no 3 × 3 product), −1 otherwise; and the
+  // cosine and sine of a constant angle.
+  int axis_index = -1;
+  double constant_cos = 1.0;
+  double constant_sin = 0.0;
   std::vector<int> active;  // speeds u_j whose partial angular velocity may be non-zero
 };
 
@@ -108,6 +114,31 @@ struct SlotSpec {
   ScalarField displacement;  // what the slot's substructure sees: d(q) [m] (or [rad])
 };
 
+// One term of the mass matrix from a point mass (a particle, or a rigid body's mass centre):
+// M_jk += mass v_j·v_k (and M_kj for j ≠ k). Listed by Build() for every pair j ≤ k of the
+// point's active speeds, so CalcMassMatrix runs one flat loop.
+struct MassTerm {
+  int point = -1;
+  int j = -1;
+  int k = -1;
+  double mass = 0.0;  // [kg]
+};
+
+// Everything a model is made of, as the builder collects it and the built model holds it
+// (Build() moves it across).
+struct ModelElements {
+  std::vector<QuantityInfo> coordinates;
+  std::vector<QuantityInfo> speeds;
+  std::vector<FrameSpec> frames;
+  std::vector<PointSpec> points;
+  std::vector<ParticleSpec> particles;
+  std::vector<RigidBodySpec> bodies;
+  std::vector<LoadSpec> loads;
+  std::vector<SlotSpec> slots;
+  std::vector<TimeFunctionSpec> time_functions;
+  KinematicMatrixFunction kinematic_matrix;  // empty: q̇ = u
+};
+
 class Model;
 
 class ModelBuilder {
@@ -158,7 +189,7 @@ class ModelBuilder {
   // q̇ = W(q) u with W filled by f (see KinematicMatrixSignature).
   template <class F>
   void SetKinematicalEquations(const F& f) {
-    kinematic_matrix_ = KinematicMatrixFunction(f);
+    elements_.kinematic_matrix = KinematicMatrixFunction(f);
   }
 
   // Validates (ids, masses, inertia, a positive-definite mass matrix is the user's job) and
@@ -175,35 +206,28 @@ class ModelBuilder {
   void CheckField(const ScalarField& field, const std::string& what) const;
   std::vector<int> FieldActive(const ScalarField& field) const;
 
-  std::vector<QuantityInfo> coordinates_;
-  std::vector<QuantityInfo> speeds_;
-  std::vector<FrameSpec> frames_;
-  std::vector<PointSpec> points_;
-  std::vector<ParticleSpec> particles_;
-  std::vector<RigidBodySpec> bodies_;
-  std::vector<LoadSpec> loads_;
-  std::vector<SlotSpec> slots_;
-  std::vector<TimeFunctionSpec> time_functions_;
-  KinematicMatrixFunction kinematic_matrix_;
+  ModelElements elements_;
 };
 
 class Model {
  public:
-  int num_coordinates() const { return static_cast<int>(coordinates_.size()); }
+  int num_coordinates() const { return static_cast<int>(elements_.coordinates.size()); }
   int num_speeds() const { return num_coordinates(); }
   int num_states() const { return 2 * num_coordinates(); }
-  int num_slots() const { return static_cast<int>(slots_.size()); }
-  const std::vector<QuantityInfo>& coordinates() const { return coordinates_; }
-  const std::vector<QuantityInfo>& speeds() const { return speeds_; }
-  const std::vector<FrameSpec>& frames() const { return frames_; }
-  const std::vector<PointSpec>& points() const { return points_; }
-  const std::vector<ParticleSpec>& particles() const { return particles_; }
-  const std::vector<RigidBodySpec>& bodies() const { return bodies_; }
-  const std::vector<LoadSpec>& loads() const { return loads_; }
-  const std::vector<SlotSpec>& slots() const { return slots_; }
-  const std::vector<TimeFunctionSpec>& time_functions() const { return time_functions_; }
-  bool has_identity_kinematics() const { return !kinematic_matrix_; }
-  const KinematicMatrixFunction& kinematic_matrix() const { return kinematic_matrix_; }
+  int num_slots() const { return static_cast<int>(elements_.slots.size()); }
+  const std::vector<QuantityInfo>& coordinates() const { return elements_.coordinates; }
+  const std::vector<QuantityInfo>& speeds() const { return elements_.speeds; }
+  const std::vector<FrameSpec>& frames() const { return elements_.frames; }
+  const std::vector<PointSpec>& points() const { return elements_.points; }
+  const std::vector<ParticleSpec>& particles() const { return elements_.particles; }
+  const std::vector<RigidBodySpec>& bodies() const { return elements_.bodies; }
+  const std::vector<LoadSpec>& loads() const { return elements_.loads; }
+  const std::vector<SlotSpec>& slots() const { return elements_.slots; }
+  const std::vector<TimeFunctionSpec>& time_functions() const { return elements_.time_functions; }
+  bool has_identity_kinematics() const { return !elements_.kinematic_matrix; }
+  const KinematicMatrixFunction& kinematic_matrix() const { return elements_.kinematic_matrix; }
+  // Translational mass-matrix terms of all particles and rigid-body mass centres.
+  const std::vector<MassTerm>& mass_terms() const { return mass_terms_; }
   // Points and frames that receive a force/torque or carry mass (visited by CalcForcing).
   const std::vector<int>& loaded_points() const { return loaded_points_; }
   const std::vector<int>& loaded_frames() const { return loaded_frames_; }
@@ -213,16 +237,8 @@ class Model {
  private:
   friend class ModelBuilder;
   Model() = default;
-  std::vector<QuantityInfo> coordinates_;
-  std::vector<QuantityInfo> speeds_;
-  std::vector<FrameSpec> frames_;
-  std::vector<PointSpec> points_;
-  std::vector<ParticleSpec> particles_;
-  std::vector<RigidBodySpec> bodies_;
-  std::vector<LoadSpec> loads_;
-  std::vector<SlotSpec> slots_;
-  std::vector<TimeFunctionSpec> time_functions_;
-  KinematicMatrixFunction kinematic_matrix_;
+  ModelElements elements_;
+  std::vector<MassTerm> mass_terms_;
   std::vector<int> loaded_points_;
   std::vector<int> loaded_frames_;
   bool has_general_fields_ = false;
