@@ -11,16 +11,16 @@ namespace hybridtest::multibody {
 template <typename T>
 void CalcMassMatrix(const Model& model, Data<T>& data) {
   MatrixX<T>& M = data.M;
-  const int n = data.n;
-  T* m = M.data();  // column-major: M(j, k) = m[j + k n]
+  T* m = M.data();  // column-major: M(j, k) = m[j + k n] (offsets in MassTerm)
   M.setZero();
   // Translational inertia: m v_j·v_k, one precomputed term per pair j ≤ k (both triangles).
   for (const MassTerm& term : model.mass_terms()) {
-    const T* vj = data.v_partial[term.point].data() + 3 * term.j;
-    const T* vk = data.v_partial[term.point].data() + 3 * term.k;
+    const T* v = data.v_partial[term.point].data();
+    const T* vj = v + term.vj;
+    const T* vk = v + term.vk;
     const T value = term.mass * (vj[0] * vk[0] + vj[1] * vk[1] + vj[2] * vk[2]);
-    m[term.j + term.k * n] += value;
-    if (term.j != term.k) m[term.k + term.j * n] += value;
+    m[term.m_jk] += value;
+    if (term.j != term.k) m[term.m_kj] += value;
   }
   for (const RigidBodySpec& body : model.bodies()) {
     // Rotational inertia: ω_j·I ω_k, evaluated in body components (ω_B = Rᵀ ω_N), which

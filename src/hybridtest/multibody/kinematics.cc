@@ -98,6 +98,38 @@ void RotateAboutParentAxis(const Matrix3<T>& R_NP, int a, const T& c, const T& s
 }
 
 template <typename T>
+void CalcAffineAngleFrame(const Model& model, const FrameSpec& f, Data<T>& data, int i) {
+  using std::cos;
+  using std::sin;
+  const int p = f.parent;
+  const ScalarField& field = f.angle;
+  T angle = T(field.constant());
+  T rate = T(field.time_rate());
+  if (field.time_rate() != 0.0) angle += field.time_rate() * data.t;
+  for (const auto& term : field.terms()) {
+    angle += term.coefficient * data.q(term.coordinate);
+    rate += term.coefficient * data.qdot(term.coordinate);
+  }
+  const Matrix3<T>& R_NP = data.R_NF[p];
+  Vector3<T> axis_N;
+  if (f.axis_index >= 0) {
+    axis_N = R_NP.col(f.axis_index);
+    RotateAboutParentAxis(R_NP, f.axis_index, T(cos(angle)), T(sin(angle)), data.R_NF[i]);
+  } else {
+    axis_N = R_NP * f.axis.template cast<T>();
+    data.R_NF[i] = R_NP * internal::RotationAboutAxis(f.axis, angle);
+  }
+  const Vector3<T> w_rel = rate * axis_N;
+  data.w_NF[i] = data.w_NF[p] + w_rel;
+  Matrix3X<T>& Wi = data.w_partial[i];
+  const Matrix3X<T>& Wp = data.w_partial[p];
+  for (int j : model.frames()[p].active) Wi.col(j) = Wp.col(j);
+  for (int j : f.fresh) Wi.col(j).setZero();
+  for (const auto& term : field.terms()) Wi.col(term.coordinate) += term.coefficient * axis_N;
+  data.alpha_rem[i] = data.alpha_rem[p] + data.w_NF[p].cross(w_rel);
+}
+
+template <typename T>
 void CalcFrame(const Model& model, Data<T>& data, int i) {
   const FrameSpec& f = model.frames()[i];
   const int p = f.parent;
@@ -113,6 +145,10 @@ void CalcFrame(const Model& model, Data<T>& data, int i) {
       data.w_NF[i] = data.w_NF[p];
       for (int j : f.active) data.w_partial[i].col(j) = data.w_partial[p].col(j);
       data.alpha_rem[i] = data.alpha_rem[p];
+      return;
+    }
+    if (f.affine_angle) {
+      CalcAffineAngleFrame(model, f, data, i);
       return;
     }
     T* rate = data.partial_rate.data();
@@ -170,21 +206,15 @@ void CalcFrame(const Model& model, Data<T>& data, int i) {
 // A point whose position components are all affine, with q̇ = u (PointSpec::affine): the
 // partial rates are constants, added column by column (R_NE e_c c_k) with no scratch.
 template <typename T>
-void CalcAffinePoint(const PointSpec& pt, Data<T>& data, int i) {
+void CalcAffinePoint(const Model& model, const PointSpec& pt, Data<T>& data, int i) {
   const int o = pt.from;
   const int e = pt.frame;
-  Vector3<T> r, rd;
-  for (int c = 0; c < 3; ++c) {
-    const ScalarField& field = pt.position[c];
-    T v = T(field.constant());
-    T d1 = T(field.time_rate());
-    if (field.time_rate() != 0.0) v += field.time_rate() * data.t;
-    for (const auto& term : field.terms()) {
-      v += term.coefficient * data.q(term.coordinate);
-      d1 += term.coefficient * data.qdot(term.coordinate);
-    }
-    r(c) = v;
-    rd(c) = d1;
+  Vector3<T> r = pt.offset.template cast<T>();
+  Vector3<T> rd = pt.time_rate.template cast<T>();
+  if (pt.has_time_rate) r += data.t * pt.time_rate.template cast<T>();
+  for (const auto& term : pt.rate_terms) {
+    r(term.component) += term.coefficient * data.q(term.speed);
+    rd(term.component) += term.coefficient * data.qdot(term.speed);
   }
   const Matrix3<T>& R_NE = data.R_NF[e];
   const Vector3<T>& w = data.w_NF[e];
@@ -192,10 +222,13 @@ void CalcAffinePoint(const PointSpec& pt, Data<T>& data, int i) {
   const Vector3<T> rho_rel_dot = R_NE * rd;  // rate of rho as seen in E, N components
   data.p_OP[i] = data.p_OP[o] + rho;
   data.v_NP[i] = data.v_NP[o] + w.cross(rho) + rho_rel_dot;
+  // Columns: from's (or zero), plus ω_j × ρ for the frame's active speeds, plus the rates.
   Matrix3X<T>& V = data.v_partial[i];
   const Matrix3X<T>& V_o = data.v_partial[o];
   const Matrix3X<T>& W_e = data.w_partial[e];
-  for (int j : pt.active) V.col(j) = V_o.col(j) + Vector3<T>(W_e.col(j)).cross(rho);
+  for (int j : model.points()[o].active) V.col(j) = V_o.col(j);
+  for (int j : pt.fresh) V.col(j).setZero();
+  for (int j : model.frames()[e].active) V.col(j) += Vector3<T>(W_e.col(j)).cross(rho);
   for (const auto& term : pt.rate_terms) V.col(term.speed) += term.coefficient * R_NE.col(term.component);
   data.a_rem[i] = data.a_rem[o] + data.alpha_rem[e].cross(rho) + w.cross(w.cross(rho)) +
                   2.0 * w.cross(rho_rel_dot);
@@ -205,7 +238,7 @@ template <typename T>
 void CalcPoint(const Model& model, Data<T>& data, int i) {
   const PointSpec& pt = model.points()[i];
   if (pt.affine) {
-    CalcAffinePoint(pt, data, i);
+    CalcAffinePoint(model, pt, data, i);
     return;
   }
   const int o = pt.from;

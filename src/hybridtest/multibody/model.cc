@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <set>
 
 #include "hybridtest/common/error.h"
@@ -42,6 +43,12 @@ std::vector<int> Union(const std::vector<int>& a, const std::vector<int>& b) {
   std::set<int> s(a.begin(), a.end());
   s.insert(b.begin(), b.end());
   return {s.begin(), s.end()};
+}
+// Elements of the sorted `a` that are not in the sorted `b`.
+std::vector<int> Difference(const std::vector<int>& a, const std::vector<int>& b) {
+  std::vector<int> d;
+  std::set_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(d));
+  return d;
 }
 }  // namespace
 
@@ -258,6 +265,9 @@ Model ModelBuilder::Build() && {
       for (int j = 0; j < static_cast<int>(elements_.coordinates.size()); ++j) own.push_back(j);
     }
     f.active = Union(elements_.frames[f.parent].active, own);
+    f.fresh = Difference(f.active, elements_.frames[f.parent].active);
+    f.affine_angle = f.kind == FrameSpec::Kind::kAxisAngle && f.angle.is_affine() &&
+                     !elements_.kinematic_matrix;
   }
   for (std::size_t i = 1; i < elements_.points.size(); ++i) {
     PointSpec& p = elements_.points[i];
@@ -271,10 +281,15 @@ Model ModelBuilder::Build() && {
     p.affine = !elements_.kinematic_matrix &&
                std::all_of(p.position.begin(), p.position.end(),
                            [](const ScalarField& c) { return c.is_affine(); });
+    p.fresh = Difference(p.active, elements_.points[p.from].active);
     if (p.affine) {
-      for (int c = 0; c < 3; ++c)
+      for (int c = 0; c < 3; ++c) {
+        p.offset(c) = p.position[c].constant();
+        p.time_rate(c) = p.position[c].time_rate();
         for (const auto& term : p.position[c].terms())
           p.rate_terms.push_back({c, term.coordinate, term.coefficient});
+      }
+      p.has_time_rate = !p.time_rate.isZero(0.0);
     }
   }
   Model m;
@@ -288,11 +303,13 @@ Model ModelBuilder::Build() && {
     (l.kind == LoadSpec::Kind::kForce ? loaded_points : loaded_frames).insert(l.target);
   }
   // Translational mass terms: every pair j ≤ k of a point mass's active speeds.
+  const int n = static_cast<int>(elements_.coordinates.size());
   auto add_mass_terms = [&](int point, double mass) {
     const std::vector<int>& active = elements_.points[point].active;
     for (std::size_t a = 0; a < active.size(); ++a)
       for (std::size_t b = a; b < active.size(); ++b)
-        m.mass_terms_.push_back({point, active[a], active[b], mass});
+        m.mass_terms_.push_back({point, active[a], active[b], mass, 3 * active[a],
+                                 3 * active[b], active[a] + active[b] * n, active[b] + active[a] * n});
   };
   for (const auto& pa : elements_.particles) add_mass_terms(pa.point, pa.mass);
   for (const auto& b : elements_.bodies) {

@@ -61,6 +61,11 @@ struct FrameSpec {
   double constant_cos = 1.0;
   double constant_sin = 0.0;
   std::vector<int> active;  // speeds u_j whose partial angular velocity may be non-zero
+  // Set by Build(): the angle is affine and q̇ = u (the engine evaluates it inline, writing its
+  // constant partial rates straight into the columns); and the active speeds that are not
+  // active in the parent (their columns start from zero instead of the parent's).
+  bool affine_angle = false;
+  std::vector<int> fresh;
 };
 
 struct PointSpec {
@@ -79,6 +84,12 @@ struct PointSpec {
   // rates are the constant `rate_terms` (the engine's fast path, no scratch to clear).
   bool affine = false;
   std::vector<RateTerm> rate_terms;
+  // Set by Build() for an affine point: the constant parts of the components [m] and their
+  // time rates [m/s]; and the active speeds not active for `from` (columns start from zero).
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+  Eigen::Vector3d time_rate = Eigen::Vector3d::Zero();
+  bool has_time_rate = false;
+  std::vector<int> fresh;
 };
 
 struct ParticleSpec {
@@ -122,6 +133,12 @@ struct MassTerm {
   int j = -1;
   int k = -1;
   double mass = 0.0;  // [kg]
+  // Set by Build(): offsets of v_j and v_k in the point's 3 × n column-major partial
+  // velocities, and of M_jk and M_kj in the n × n column-major mass matrix.
+  int vj = 0;
+  int vk = 0;
+  int m_jk = 0;
+  int m_kj = 0;
 };
 
 // Everything a model is made of, as the builder collects it and the built model holds it
