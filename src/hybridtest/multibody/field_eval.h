@@ -22,6 +22,13 @@ FieldEval<T> EvalField(const Model& model, Data<T>& data, const ScalarField& fie
 template <typename T>
 Matrix3<T> RotationAboutAxis(const Eigen::Vector3d& axis, const T& angle);
 
+// R v for a 3 × 3 matrix and a 3-vector, inline as a combination of R's columns (Eigen's
+// 3 × 3 product is an out-of-line loop here; this is on the kinematics' hot path).
+template <typename T>
+inline Vector3<T> Multiply(const Matrix3<T>& R, const Vector3<T>& v) {
+  return R.col(0) * v(0) + R.col(1) * v(1) + R.col(2) * v(2);
+}
+
 // Fills data.q_jets from data.q, data.qdot, data.qddot_rem (value-only seeds if `rates` is false).
 template <typename T>
 void SeedCoordinateJets(Data<T>& data, bool rates);

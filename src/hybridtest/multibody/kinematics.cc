@@ -206,7 +206,7 @@ void CalcFrame(const Model& model, Data<T>& data, int i) {
 // A point whose position components are all affine, with q̇ = u (PointSpec::affine): the
 // partial rates are constants, added column by column (R_NE e_c c_k) with no scratch.
 template <typename T>
-void CalcAffinePoint(const Model& model, const PointSpec& pt, Data<T>& data, int i) {
+void CalcAffinePoint(const PointSpec& pt, Data<T>& data, int i) {
   const int o = pt.from;
   const int e = pt.frame;
   Vector3<T> r = pt.offset.template cast<T>();
@@ -218,17 +218,18 @@ void CalcAffinePoint(const Model& model, const PointSpec& pt, Data<T>& data, int
   }
   const Matrix3<T>& R_NE = data.R_NF[e];
   const Vector3<T>& w = data.w_NF[e];
-  const Vector3<T> rho = R_NE * r;
-  const Vector3<T> rho_rel_dot = R_NE * rd;  // rate of rho as seen in E, N components
+  const Vector3<T> rho = internal::Multiply(R_NE, r);
+  const Vector3<T> rho_rel_dot = internal::Multiply(R_NE, rd);  // rate of rho as seen in E, N components
   data.p_OP[i] = data.p_OP[o] + rho;
   data.v_NP[i] = data.v_NP[o] + w.cross(rho) + rho_rel_dot;
-  // Columns: from's (or zero), plus ω_j × ρ for the frame's active speeds, plus the rates.
+  // Columns: from's and/or ω_j × ρ (or zero), then the constant rates.
   Matrix3X<T>& V = data.v_partial[i];
   const Matrix3X<T>& V_o = data.v_partial[o];
   const Matrix3X<T>& W_e = data.w_partial[e];
-  for (int j : model.points()[o].active) V.col(j) = V_o.col(j);
+  for (int j : pt.from_only) V.col(j) = V_o.col(j);
+  for (int j : pt.frame_only) V.col(j) = Vector3<T>(W_e.col(j)).cross(rho);
+  for (int j : pt.from_and_frame) V.col(j) = V_o.col(j) + Vector3<T>(W_e.col(j)).cross(rho);
   for (int j : pt.fresh) V.col(j).setZero();
-  for (int j : model.frames()[e].active) V.col(j) += Vector3<T>(W_e.col(j)).cross(rho);
   for (const auto& term : pt.rate_terms) V.col(term.speed) += term.coefficient * R_NE.col(term.component);
   data.a_rem[i] = data.a_rem[o] + data.alpha_rem[e].cross(rho) + w.cross(w.cross(rho)) +
                   2.0 * w.cross(rho_rel_dot);
@@ -238,7 +239,7 @@ template <typename T>
 void CalcPoint(const Model& model, Data<T>& data, int i) {
   const PointSpec& pt = model.points()[i];
   if (pt.affine) {
-    CalcAffinePoint(model, pt, data, i);
+    CalcAffinePoint(pt, data, i);
     return;
   }
   const int o = pt.from;

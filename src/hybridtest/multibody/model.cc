@@ -281,7 +281,14 @@ Model ModelBuilder::Build() && {
     p.affine = !elements_.kinematic_matrix &&
                std::all_of(p.position.begin(), p.position.end(),
                            [](const ScalarField& c) { return c.is_affine(); });
-    p.fresh = Difference(p.active, elements_.points[p.from].active);
+    {
+      const std::vector<int>& from = elements_.points[p.from].active;
+      const std::vector<int>& frame = elements_.frames[p.frame].active;
+      p.from_only = Difference(from, frame);
+      p.frame_only = Difference(frame, from);
+      p.from_and_frame = Difference(from, p.from_only);
+      p.fresh = Difference(Difference(p.active, from), frame);
+    }
     if (p.affine) {
       for (int c = 0; c < 3; ++c) {
         p.offset(c) = p.position[c].constant();

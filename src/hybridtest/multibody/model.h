@@ -85,10 +85,15 @@ struct PointSpec {
   bool affine = false;
   std::vector<RateTerm> rate_terms;
   // Set by Build() for an affine point: the constant parts of the components [m] and their
-  // time rates [m/s]; and the active speeds not active for `from` (columns start from zero).
+  // time rates [m/s]; and the active speeds split by where their partial velocity starts:
+  // active for `from` only (copy from's column), for `frame` only (ω_j × ρ), for both (the
+  // sum), or for neither (zero; only the rate terms contribute).
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();
   Eigen::Vector3d time_rate = Eigen::Vector3d::Zero();
   bool has_time_rate = false;
+  std::vector<int> from_only;
+  std::vector<int> frame_only;
+  std::vector<int> from_and_frame;
   std::vector<int> fresh;
 };
 
