@@ -3,6 +3,7 @@
 // or stage 1 of a step leaves behind (rows, NaN forces, holds, the sidecar's stop report).
 #include "hybridtest/runner/hybrid_test.h"
 
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -149,7 +150,7 @@ TEST(HybridTest, JournalRowNHoldsXnAndTheForcesMeasuredAtStageZero) {
     SCOPED_TRACE("row " + std::to_string(n));
     EXPECT_NEAR(t(n), static_cast<double>(n) * kH, 1e-15);
     for (int s = 0; s < 3; ++s) {
-      const std::string q = "q" + std::to_string(s + 1), r = "r" + std::to_string(s + 1);
+      const std::string q = fmt::format("q{}", s + 1), r = fmt::format("r{}", s + 1);
       const Call& stage0 = FindTrial(out.calls, s, n, 0);
       // The slot displacement of r_s is q_s: the trial at stage 0 saw exactly x_n.
       EXPECT_EQ(run.Get(q)(n), stage0.d);
