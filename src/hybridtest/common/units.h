@@ -9,9 +9,4 @@ inline constexpr double kMillimetre = 1e-3;  // [m] per [mm]
 inline constexpr double kKilonewton = 1e3;   // [N] per [kN]
 inline constexpr double kMillisecond = 1e-3; // [s] per [ms]
 
-// Converts a length in [m] to [mm].
-constexpr double MetresToMillimetres(double metres) { return metres / kMillimetre; }
-// Converts a length in [mm] to [m].
-constexpr double MillimetresToMetres(double millimetres) { return millimetres * kMillimetre; }
-
 }  // namespace hybridtest::units

@@ -194,14 +194,4 @@ std::vector<std::unique_ptr<Substructure>> MakeSubstructures(const SimulationCon
   return result;
 }
 
-bool HasPhysicalSubstructure(const SimulationConfig& cfg) {
-  const YAML::Node section = cfg.input.root()["substructures"];
-  if (!section.IsDefined() || !section.IsMap()) return false;
-  for (const auto& kv : section) {
-    if (kv.second.IsMap() && kv.second["type"] && kv.second["type"].as<std::string>() == "physical")
-      return true;
-  }
-  return false;
-}
-
 }  // namespace hybridtest::io

@@ -41,7 +41,4 @@ struct SubstructureOptions {
 std::vector<std::unique_ptr<substructures::Substructure>> MakeSubstructures(
     const SimulationConfig& cfg, const SubstructureOptions& options);
 
-// True if the config maps any slot to a physical substructure.
-bool HasPhysicalSubstructure(const SimulationConfig& cfg);
-
 }  // namespace hybridtest::io

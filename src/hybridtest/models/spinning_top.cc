@@ -59,13 +59,7 @@ BuiltModel BuildSpinningTop(const ParameterSet& p) {
     using T = std::decay_t<decltype(a.t)>;
     return Vector3<T>(T(0.0), T(0.0), T(-m * g));
   });
-  b.SetKinematicalEquations([](const auto& a, auto W) {
-    const auto s2 = sin(a.q[1]), c2 = cos(a.q[1]);
-    const auto s3 = sin(a.q[2]), c3 = cos(a.q[2]);
-    W[0] = c3 / c2;       W[1] = -s3 / c2;      W[2] = 0.0;
-    W[3] = s3;            W[4] = c3;            W[5] = 0.0;
-    W[6] = -s2 * c3 / c2; W[7] = s2 * s3 / c2;  W[8] = 1.0;
-  });
+  b.SetKinematicalEquations(BodyXyzKinematics{});
   return {"spinning_top", "3D rigid body with a full inertia dyadic about a fixed pivot", p,
           std::move(b).Build(), {}};
 }

@@ -17,6 +17,19 @@
 
 namespace hybridtest::models {
 
+// q̇ = W(q) u for body-fixed x-y-z angles and body-frame angular velocity components (the W
+// above), as a kinematical-matrix function for ModelBuilder::SetKinematicalEquations.
+struct BodyXyzKinematics {
+  template <class Args, class Span>
+  void operator()(const Args& a, Span W) const {
+    const auto s2 = sin(a.q[1]), c2 = cos(a.q[1]);
+    const auto s3 = sin(a.q[2]), c3 = cos(a.q[2]);
+    W[0] = c3 / c2;       W[1] = -s3 / c2;      W[2] = 0.0;
+    W[3] = s3;            W[4] = c3;            W[5] = 0.0;
+    W[6] = -s2 * c3 / c2; W[7] = s2 * s3 / c2;  W[8] = 1.0;
+  }
+};
+
 ParameterSet SpinningTopDefaultParameters();
 BuiltModel BuildSpinningTop(const ParameterSet& parameters);
 

@@ -20,6 +20,14 @@ using units::kMillimetre;
 using units::kMillisecond;
 
 // A sub-mapping with only `allowed` keys; an undefined node when absent.
+// A value the config gives in `unit` (e.g. kMillimetre for a key ending in _mm), returned in
+// SI; `si_default` (SI) when the key is absent.
+double ReadInUnit(const YamlInput& in, const YAML::Node& node, std::string_view path,
+                  const std::string& key, std::string_view expected, double si_default,
+                  double unit) {
+  return in.ReadNumber(node, path, key, expected, si_default / unit) * unit;
+}
+
 YAML::Node SubMapping(const YamlInput& in, const YAML::Node& node, std::string_view where,
                       const std::string& key, std::initializer_list<std::string_view> allowed) {
   const std::string path = JoinKeyPath(where, key);
@@ -135,10 +143,9 @@ EmulatedBenchConfig ParseEmulatedBenchConfig(const YAML::Node& bench, std::strin
     in.ThrowValue(bench["pacing"], JoinKeyPath(where, "pacing"), "accelerated or realtime");
   }
   c.realtime = pacing == "realtime";
-  c.p0 = in.ReadNumber(bench, where, "p0_mm", "a position in mm", 0.0) * kMillimetre;
+  c.p0 = ReadInUnit(in, bench, where, "p0_mm", "a position in mm", c.p0, kMillimetre);
   c.initial_position =
-      in.ReadNumber(bench, where, "initial_position_mm", "a position in mm", c.p0 / kMillimetre) *
-      kMillimetre;
+      ReadInUnit(in, bench, where, "initial_position_mm", "a position in mm", c.p0, kMillimetre);
   if (bench["specimen"]) {
     c.specimen = constitutive::ParseRestoringForceLaw(bench["specimen"],
                                                       JoinKeyPath(where, "specimen"));
@@ -148,18 +155,17 @@ EmulatedBenchConfig ParseEmulatedBenchConfig(const YAML::Node& bench, std::strin
                           {"position_min_mm", "position_max_mm", "capacity_kN",
                            "velocity_limit_mm_per_s", "lag", "delay_ms"})) {
     const std::string path = JoinKeyPath(where, "actuator");
-    c.position_min =
-        in.ReadNumber(n, path, "position_min_mm", "a position in mm", -150) * kMillimetre;
-    c.position_max =
-        in.ReadNumber(n, path, "position_max_mm", "a position in mm", 150) * kMillimetre;
-    c.capacity = in.ReadNumber(n, path, "capacity_kN", "a positive force in kN", 10) * kKilonewton;
-    c.velocity_limit = in.ReadNumber(n, path, "velocity_limit_mm_per_s", "a positive speed in mm/s",
-                                     c.velocity_limit / kMillimetre) *
-                       kMillimetre;
+    c.position_min = ReadInUnit(in, n, path, "position_min_mm", "a position in mm",
+                                c.position_min, kMillimetre);
+    c.position_max = ReadInUnit(in, n, path, "position_max_mm", "a position in mm",
+                                c.position_max, kMillimetre);
+    c.capacity = ReadInUnit(in, n, path, "capacity_kN", "a positive force in kN", c.capacity,
+                            kKilonewton);
+    c.velocity_limit = ReadInUnit(in, n, path, "velocity_limit_mm_per_s",
+                                  "a positive speed in mm/s", c.velocity_limit, kMillimetre);
     if (n["lag"]) ParseLag(in, n["lag"], JoinKeyPath(path, "lag"), c.lag);
     c.delay =
-        in.ReadNumber(n, path, "delay_ms", "a non-negative delay in ms", c.delay / kMillisecond) *
-        kMillisecond;
+        ReadInUnit(in, n, path, "delay_ms", "a non-negative delay in ms", c.delay, kMillisecond);
   }
   // Load cell.
   if (auto n =
@@ -173,27 +179,22 @@ EmulatedBenchConfig ParseEmulatedBenchConfig(const YAML::Node& bench, std::strin
   // Settling, sampling, timing.
   if (auto n = SubMapping(in, bench, where, "settling", {"tolerance_mm", "dwell_ms"})) {
     const std::string path = JoinKeyPath(where, "settling");
-    c.settle_tolerance = in.ReadNumber(n, path, "tolerance_mm", "a positive length in mm",
-                                       c.settle_tolerance / kMillimetre) *
-                         kMillimetre;
-    c.settle_dwell = in.ReadNumber(n, path, "dwell_ms", "a non-negative time in ms",
-                                   c.settle_dwell / kMillisecond) *
-                     kMillisecond;
+    c.settle_tolerance = ReadInUnit(in, n, path, "tolerance_mm", "a positive length in mm",
+                                    c.settle_tolerance, kMillimetre);
+    c.settle_dwell = ReadInUnit(in, n, path, "dwell_ms", "a non-negative time in ms",
+                                c.settle_dwell, kMillisecond);
   }
   if (auto n = SubMapping(in, bench, where, "sampling", {"window_ms"})) {
     c.sampling_window =
-        in.ReadNumber(n, JoinKeyPath(where, "sampling"), "window_ms", "a non-negative time in ms",
-                      c.sampling_window / kMillisecond) *
-        kMillisecond;
+        ReadInUnit(in, n, JoinKeyPath(where, "sampling"), "window_ms",
+                   "a non-negative time in ms", c.sampling_window, kMillisecond);
   }
   if (auto n = SubMapping(in, bench, where, "timing", {"overhead_ms", "internal_step_ms"})) {
     const std::string path = JoinKeyPath(where, "timing");
-    c.overhead = in.ReadNumber(n, path, "overhead_ms", "a non-negative time in ms",
-                               c.overhead / kMillisecond) *
-                 kMillisecond;
-    c.internal_step = in.ReadNumber(n, path, "internal_step_ms", "a positive time in ms",
-                                    c.internal_step / kMillisecond) *
-                      kMillisecond;
+    c.overhead = ReadInUnit(in, n, path, "overhead_ms", "a non-negative time in ms", c.overhead,
+                            kMillisecond);
+    c.internal_step = ReadInUnit(in, n, path, "internal_step_ms", "a positive time in ms",
+                                 c.internal_step, kMillisecond);
   }
   // Safety: defaults follow the actuator.
   c.safety.stroke_min = c.position_min;
@@ -206,20 +207,15 @@ EmulatedBenchConfig ParseEmulatedBenchConfig(const YAML::Node& bench, std::strin
     const std::string path = JoinKeyPath(where, "safety");
     SafetyLimits& s = c.safety;
     s.stroke_min =
-        in.ReadNumber(n, path, "stroke_min_mm", "a position in mm", s.stroke_min / kMillimetre) *
-        kMillimetre;
+        ReadInUnit(in, n, path, "stroke_min_mm", "a position in mm", s.stroke_min, kMillimetre);
     s.stroke_max =
-        in.ReadNumber(n, path, "stroke_max_mm", "a position in mm", s.stroke_max / kMillimetre) *
-        kMillimetre;
-    s.max_increment = in.ReadNumber(n, path, "max_increment_mm", "a positive length in mm",
-                                    s.max_increment / kMillimetre) *
-                      kMillimetre;
-    s.force_soft = in.ReadNumber(n, path, "force_soft_kN", "a positive force in kN",
-                                 s.force_soft / kKilonewton) *
-                   kKilonewton;
-    s.force_hard = in.ReadNumber(n, path, "force_hard_kN", "a positive force in kN",
-                                 s.force_hard / kKilonewton) *
-                   kKilonewton;
+        ReadInUnit(in, n, path, "stroke_max_mm", "a position in mm", s.stroke_max, kMillimetre);
+    s.max_increment = ReadInUnit(in, n, path, "max_increment_mm", "a positive length in mm",
+                                 s.max_increment, kMillimetre);
+    s.force_soft = ReadInUnit(in, n, path, "force_soft_kN", "a positive force in kN",
+                              s.force_soft, kKilonewton);
+    s.force_hard = ReadInUnit(in, n, path, "force_hard_kN", "a positive force in kN",
+                              s.force_hard, kKilonewton);
     s.timeout = in.ReadNumber(n, path, "timeout_s", "a positive time in s", s.timeout);
   }
   if (bench["faults"]) ParseFaults(in, bench["faults"], JoinKeyPath(where, "faults"), c.faults);
@@ -258,7 +254,9 @@ void ValidateEmulatedBenchConfig(const EmulatedBenchConfig& c) {
                      c.initial_position / kMillimetre, c.safety.stroke_min / kMillimetre,
                      c.safety.stroke_max / kMillimetre));
   }
-  if (!(c.capacity > 0.0)) fail(fmt::format("actuator.capacity_kN = {}: expected > 0", c.capacity / kKilonewton));
+  if (!(c.capacity > 0.0)) {
+    fail(fmt::format("actuator.capacity_kN = {}: expected > 0", c.capacity / kKilonewton));
+  }
   if (!(c.velocity_limit > 0.0)) {
     fail(fmt::format("actuator.velocity_limit_mm_per_s = {}: expected > 0",
                      c.velocity_limit / kMillimetre));
