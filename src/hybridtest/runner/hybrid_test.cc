@@ -159,7 +159,7 @@ RunStatistics HybridTest::Run() {
         row(c++) = measured ? v : std::numeric_limits<double>::quiet_NaN();
       }
     }
-    journal.Append(std::span<const double>(row.data(), row.size()));
+    journal.Append(std::span<const double>(row.data(), row.size()), measured);
     stats_.rows = journal.rows();
   };
 

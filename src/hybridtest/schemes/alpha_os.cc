@@ -130,7 +130,7 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
     if (it == 0) scale = std::max(1.0, f_try_.lpNorm<Eigen::Infinity>());
     const Eigen::VectorXd delta = lu.solve(res_);
     a_new_ -= delta;
-    converged = delta.lpNorm<Eigen::Infinity>() <= 1e-13 * scale;
+    converged = delta.lpNorm<Eigen::Infinity>() <= 1e-10 * scale;
   }
   if (!converged || !a_new_.allFinite()) {
     throw Error(fmt::format("α-OS: the corrector did not converge at t = {} s (step {}, h = {} s); "
