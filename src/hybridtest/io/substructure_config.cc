@@ -28,6 +28,9 @@ std::unique_ptr<transfer::TransferSystem> MakeTransfer(const YamlInput& in, cons
                                                        const SubstructureOptions& options,
                                                        double reply_timeout) {
   in.CheckKeys(node, kp, {"type", "config", "bench", "law", "p0", "address", "token", "timeout"});
+  if (options.emulate_bench) {
+    return transfer::MakeEmulatedBench(transfer::LoadEmulatedBenchConfig(*options.emulate_bench));
+  }
   const std::string type =
       in.String(node["type"], kp + ".type", "a transfer type: emulated, loopback or remote");
   if (type == "emulated") {

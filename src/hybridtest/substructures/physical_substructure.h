@@ -37,6 +37,8 @@ class PhysicalSubstructure final : public Substructure {
   long evaluations() const override { return evaluations_; }
   std::string Describe() const override;
   const transfer::SafetyMonitor& safety() const { return safety_; }
+  const transfer::TransferSystem& transfer() const { return *transfer_; }
+  const SetupTransform& setup() const { return setup_; }
 
   // K0 = dr/dd of the slot [N/m]: set from the config, or measured by
   // MeasureInitialStiffness(); else derived from the safety section's specimen stiffness.
