@@ -237,6 +237,8 @@ RunStatistics HybridTest::Run() {
     if (scheme && scheme->uncommitted() != nullptr) {
       try {
         const schemes::CommittedPoint& u = *scheme->uncommitted();
+        stats_.steps = u.step;  // the step that computed it is done; its trial failed
+        t_now = u.t;
         write_row(u.t, u.x, Eigen::VectorXd::Constant(m, std::numeric_limits<double>::quiet_NaN()),
                   false);
       } catch (const std::exception&) {
