@@ -15,6 +15,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <bit>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -27,8 +28,18 @@ constexpr int kCommand = 0, kSequence = 2;                            // holding
 constexpr int kPosition = 0, kForce = 2, kAck = 4, kStatus = 5;       // input registers
 constexpr int kEnable = 0, kHold = 1;                                 // coils
 
-// float32 big-endian, high word first (the default profile).
-void SetFloat(std::uint16_t* dest, float value) { modbus_set_float_abcd(value, dest); }
+// float32 big-endian, high word first (the default profile). Not libmodbus's
+// modbus_set_float_abcd: in Debian 12's libmodbus 3.1.6 it swaps the bytes inside each register
+// ({0xA041, 0x0000} for 20.0f instead of {0x41A0, 0x0000}), while modbus_get_float_abcd reads
+// the standard order.
+void SetFloat(std::uint16_t* dest, float value) {
+  const auto bits = std::bit_cast<std::uint32_t>(value);
+  dest[0] = static_cast<std::uint16_t>(bits >> 16);
+  dest[1] = static_cast<std::uint16_t>(bits & 0xFFFF);
+}
+float GetFloat(const std::uint16_t* src) {
+  return std::bit_cast<float>((static_cast<std::uint32_t>(src[0]) << 16) | src[1]);
+}
 
 void Update(modbus_mapping_t* m, double stiffness, double p0, std::uint16_t& last_sequence) {
   const int status = (m->tab_bits[kEnable] ? 1 : 0) | (m->tab_bits[kHold] ? 4 : 0);
@@ -36,7 +47,7 @@ void Update(modbus_mapping_t* m, double stiffness, double p0, std::uint16_t& las
   const std::uint16_t sequence = m->tab_registers[kSequence];
   if (sequence == last_sequence) return;
   last_sequence = sequence;
-  const float position = modbus_get_float_abcd(m->tab_registers + kCommand);  // ideal actuator
+  const float position = GetFloat(m->tab_registers + kCommand);  // ideal actuator
   SetFloat(m->tab_input_registers + kPosition, position);
   SetFloat(m->tab_input_registers + kForce,
            static_cast<float>(stiffness * (static_cast<double>(position) - p0)));
