@@ -104,6 +104,8 @@ TEST(ModbusTransfer, SilentControllerTimesOutNamingTheAckRegister) {
   EXPECT_NE(error.find("ack 1 (input register 4)"), std::string::npos) << error;
   EXPECT_NE(error.find("sequence 2"), std::string::npos) << error;
   EXPECT_LT(waited, 5.0);  // bounded (not a timing assertion: a hang would be minutes)
+  EXPECT_NE(error.find("the hold coil was set"), std::string::npos) << error;
+  EXPECT_TRUE(transfer.is_connected()) << "the link works: it stays open for the hold";
   EXPECT_NO_THROW(transfer.Hold());
   EXPECT_NE(TransferFailure([&] { transfer.Execute(1.5); }).find("not active"), std::string::npos);
 }

@@ -12,7 +12,8 @@
 //     connect_timeout: 5        # [s] longest wait for the TCP connection
 //     hold_timeout: 0.5         # [s] longest wait for the answer to the hold request
 //     poll_interval: 0          # [s] pause between two reads while waiting for the ack
-//     plausibility: {position_tolerance: 1, force: 1e6}   # bench units, first exchange
+//     plausibility: {position_tolerance: 1, force: 1e6}   # first exchange, bench units
+//                               #   (default: 1 mm and 1 MN in the map's units)
 //     map: {...}                # register map (register_map.h); default profile if absent
 #include <memory>
 #include <optional>

@@ -38,11 +38,17 @@ ModbusTransfer::ModbusTransfer(ModbusOptions options) : options_(std::move(optio
                                     value));
     }
   }
-  if (!(o.poll_interval >= 0.0) || !(o.position_tolerance > 0.0) || !(o.force_plausible > 0.0)) {
+  if (!options_.position_tolerance) {
+    options_.position_tolerance = 1e-3 / o.map.units.metres_per_length_unit;  // 1 mm
+  }
+  if (!options_.force_plausible) {
+    options_.force_plausible = 1e6 / o.map.units.newtons_per_force_unit;  // 1 MN
+  }
+  if (!(o.poll_interval >= 0.0) || !(*o.position_tolerance > 0.0) || !(*o.force_plausible > 0.0)) {
     throw ConfigError(fmt::format(
         "modbus transfer: poll_interval = {} s, position_tolerance = {}, force_plausible = {}: "
         "expected a non-negative interval and positive plausibility bounds",
-        o.poll_interval, o.position_tolerance, o.force_plausible));
+        o.poll_interval, *o.position_tolerance, *o.force_plausible));
   }
   if (o.unit_id < 0 || o.unit_id > 255) {
     throw ConfigError(fmt::format("modbus transfer: unit_id = {}: expected 0..255 (usually 1; "
@@ -259,15 +265,19 @@ Measurement ModbusTransfer::Execute(double command) {
                        Endpoint(), m.status_bits.enabled, waiting, Describe(r)), false);
     }
     if (r.ack == sequence) break;
+    // The link works but the controller does not do what it should: hold, then stop.
     if (r.ack != last_ack_) {
+      Hold();
       Fail(fmt::format("the Modbus controller at {} acknowledged sequence {}, expected {} (or the "
-                       "previous {} while moving) {}: {}; is another client writing to it?",
-                       Endpoint(), r.ack, sequence, last_ack_, waiting, Describe(r)), true);
+                       "previous {} while moving) {}: {}; is another client writing to it? The "
+                       "hold coil was set", Endpoint(), r.ack, sequence, last_ack_, waiting,
+                       Describe(r)), false);
     }
     if (Clock::now() >= deadline) {
+      Hold();
       Fail(fmt::format("the Modbus controller at {} did not acknowledge within {} s {}: last read "
-                       "{}; the connection was closed so the controller holds",
-                       Endpoint(), options_.ack_timeout, waiting, Describe(r)), true);
+                       "{}; the hold coil was set", Endpoint(), options_.ack_timeout, waiting,
+                       Describe(r)), false);
     }
     if (options_.poll_interval > 0.0) {
       std::this_thread::sleep_for(std::chrono::duration<double>(options_.poll_interval));
@@ -276,16 +286,16 @@ Measurement ModbusTransfer::Execute(double command) {
   last_ack_ = sequence;
   // 3. The first exchange must be plausible (catches a wrong word or byte order).
   if (first_exchange_) {
-    const bool position_ok = std::abs(r.position - command) <= options_.position_tolerance;
-    const bool force_ok = std::abs(r.force) <= options_.force_plausible;  // false for NaN
+    const bool position_ok = std::abs(r.position - command) <= *options_.position_tolerance;
+    const bool force_ok = std::abs(r.force) <= *options_.force_plausible;  // false for NaN
     if (!position_ok || !force_ok) {
       Fail(fmt::format("implausible first measurement from the Modbus controller at {}: command "
                        "{} {}, {}; expected the position within {} {} of the command and "
                        "|force| ≤ {} {}; check the map (type, word_order, byte_order, scale, "
                        "units) against the controller's manual",
                        Endpoint(), command, m.units.length_name, Describe(r),
-                       options_.position_tolerance, m.units.length_name,
-                       options_.force_plausible, m.units.force_name), false);
+                       *options_.position_tolerance, m.units.length_name,
+                       *options_.force_plausible, m.units.force_name), false);
     }
     first_exchange_ = false;
   }

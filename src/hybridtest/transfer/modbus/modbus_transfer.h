@@ -13,14 +13,16 @@
 //      register minus its value at Activate, or else the wall time since Activate) [s].
 // It raises TransferError naming host:port, the register and the last values read on: an ack
 // timeout, any other ack, a fault bit, a drive that is no longer enabled, a Modbus exception,
-// a lost connection or a libmodbus response timeout. After a communication failure (timeout,
-// lost connection, garbled answer) the connection is closed: its state is unknown, and the
-// controller must hold when its client goes away. After a Modbus exception or a fault bit the
-// connection stays open, so that Hold() still reaches the controller.
+// a lost connection or a libmodbus response timeout. When the link itself still works (ack
+// timeout, unexpected ack) it sets the hold coil first. After a communication failure
+// (response timeout, lost connection, garbled answer) the connection is closed: its state is
+// unknown, and the controller must hold when its client goes away. After a Modbus exception,
+// a fault bit or a dropped enable the connection stays open, so that Hold() still reaches
+// the controller.
 //
 // The first exchange after Activate() is checked for plausibility: the measured position must
-// lie within `position_tolerance` of the command and the force be finite and within
-// `force_plausible`. A wrong word or byte order in the map turns a settled position into an
+// lie within `position_tolerance` of the command (default 1 mm) and the force be finite and
+// within `force_plausible` (default 1 MN). A wrong word or byte order in the map turns a settled position into an
 // absurd number (±1e±30, NaN), which this catches before the test goes on.
 //
 // Lifecycle: Activate() connects (bounded by connect_timeout), reads the current ack and
@@ -52,8 +54,10 @@ struct ModbusOptions {
   double ack_timeout = 5.0;            // longest wait for the ack of one command. Unit: [s].
   double hold_timeout = 0.5;           // longest wait for the answer to Hold()'s write. Unit: [s].
   double poll_interval = 0.0;          // pause between two reads while waiting. Unit: [s].
-  double position_tolerance = 1.0;     // first exchange: |position − command|. Unit: bench length.
-  double force_plausible = 1e6;        // first exchange: |force| at most this. Unit: bench force.
+  // First exchange: the largest |position − command| and |force|. Unit: bench length and
+  // force units. Unset: 1 mm and 1 MN, converted to the map's units.
+  std::optional<double> position_tolerance;
+  std::optional<double> force_plausible;
 };
 
 class ModbusTransfer final : public TransferSystem {
