@@ -111,8 +111,9 @@ TEST(ModbusLadder, ControllerFaultStopsTheRunWithExitStatus4) {
   EXPECT_EQ(run.status, 4) << run.output;
   EXPECT_NE(run.output.find("reports a fault (status bit 1)"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find(server.address()), std::string::npos) << run.output;
-  // Command 101 is stage 0 of step 50 (the initial row's stage plus two per step): steps
-  // 0..49 are committed, rows t = 0..0.049 s... and the stop is recorded.
+  // Command 1 is the initial row's evaluation, then two per step (Heun): command 101 is the
+  // first stage of the step that starts at t = 0.050 s, so rows t = 0..0.050 s (51) are
+  // committed, and the stop is recorded in the sidecar.
   const io::RunData data = io::LoadRun(run.csv);
   EXPECT_EQ(data.num_rows(), 51);
   EXPECT_EQ(data.metadata.at("status").get<std::string>().rfind("stopped", 0), 0u);
