@@ -15,7 +15,7 @@ void AddRunCommand(CLI::App& root) {
   cmd->add_option("--out", opt->out, "journal CSV (default: output.csv of the config, else "
                                      "results/<config name>.csv)");
   cmd->add_option("--bench", opt->bench,
-                  "HOST:PORT of a bench server, for remote transfer systems");
+                  "HOST:PORT of a bench server (remote) or a Modbus/TCP controller (modbus)");
   cmd->add_flag("--quiet", opt->quiet, "no progress output and no summary");
   cmd->callback([opt] { ExecuteRun(*opt); });
 }

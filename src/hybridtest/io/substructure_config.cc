@@ -13,6 +13,7 @@
 #include "hybridtest/substructures/physical_substructure.h"
 #include "hybridtest/transfer/bench_client.h"
 #include "hybridtest/transfer/emulated_bench.h"
+#include "hybridtest/transfer/modbus/modbus_config.h"
 #include "hybridtest/transfer/numerical_loopback.h"
 #include "hybridtest/transfer/socket.h"
 
@@ -27,12 +28,15 @@ std::unique_ptr<transfer::TransferSystem> MakeTransfer(const YamlInput& in, cons
                                                        const std::string& kp,
                                                        const SubstructureOptions& options,
                                                        double reply_timeout) {
+  if (node["type"].IsScalar() && node["type"].Scalar() == "modbus") {  // keys: modbus_config.h
+    return transfer::modbus::MakeModbusTransfer(in, node, kp, options.bench_address, reply_timeout);
+  }
   in.CheckKeys(node, kp, {"type", "config", "bench", "law", "p0", "address", "token", "timeout"});
   if (options.emulate_bench) {
     return transfer::MakeEmulatedBench(transfer::LoadEmulatedBenchConfig(*options.emulate_bench));
   }
   const std::string type =
-      in.String(node["type"], kp + ".type", "a transfer type: emulated, loopback or remote");
+      in.String(node["type"], kp + ".type", "a transfer type: emulated, loopback, remote or modbus");
   if (type == "emulated") {
     transfer::EmulatedBenchConfig bench;
     if (node["config"]) {
@@ -79,7 +83,7 @@ std::unique_ptr<transfer::TransferSystem> MakeTransfer(const YamlInput& in, cons
                         : reply_timeout;
     return std::make_unique<transfer::BenchClient>(client);
   }
-  throw ConfigError(fmt::format("{} = '{}': expected emulated, loopback or remote",
+  throw ConfigError(fmt::format("{} = '{}': expected emulated, loopback, remote or modbus",
                                 in.Where(node["type"], kp + ".type"), type));
 }
 
