@@ -14,6 +14,7 @@
 #include "hybridtest/transfer/bench_client.h"
 #include "hybridtest/transfer/emulated_bench.h"
 #include "hybridtest/transfer/numerical_loopback.h"
+#include "hybridtest/transfer/openfresco/client_config.h"
 #include "hybridtest/transfer/socket.h"
 
 namespace hybridtest::io {
@@ -27,6 +28,10 @@ std::unique_ptr<transfer::TransferSystem> MakeTransfer(const YamlInput& in, cons
                                                        const std::string& kp,
                                                        const SubstructureOptions& options,
                                                        double reply_timeout) {
+  if (node["type"] && node["type"].IsScalar() && node["type"].Scalar() == "openfresco") {
+    return transfer::openfresco::MakeClientTransfer(in, node, kp, options.bench_address,
+                                                    reply_timeout);
+  }
   in.CheckKeys(node, kp, {"type", "config", "bench", "law", "p0", "address", "token", "timeout"});
   const std::string type =
       in.String(node["type"], kp + ".type", "a transfer type: emulated, loopback or remote");
