@@ -2,7 +2,8 @@
 // docs/protocol.md) until SIGINT or SIGTERM.
 //
 //   hybridtest bench [--config FILE] [--listen HOST:PORT] [--token TOKEN]
-//                    [--heartbeat-timeout S] [--inject KIND@N]... [--protocol hybridtest|openfresco]
+//                    [--heartbeat-timeout S] [--inject KIND@N]...
+//                    [--protocol hybridtest|openfresco]
 //
 // --protocol openfresco serves OpenFresco's generic TCP protocol instead (OpenSees's
 // `expElement genericClient`; docs/openfresco.md), with the config's `openfresco:` setup.

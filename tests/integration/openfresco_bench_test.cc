@@ -91,7 +91,8 @@ TEST(OpenFrescoBenchProcess, MalformedHeaderNeverCrashesTheServer) {
 }
 
 TEST(OpenFrescoBenchProcess, ArgumentErrorsAreClear) {
-  auto [status, out] = testing::RunCommand(kBinary + " bench --protocol openfresco --listen 127.0.0.1:0");
+  auto [status, out] =
+      testing::RunCommand(kBinary + " bench --protocol openfresco --listen 127.0.0.1:0");
   EXPECT_EQ(status, 2) << out;
   EXPECT_NE(out.find("needs --config"), std::string::npos) << out;
   std::tie(status, out) = testing::RunCommand(
@@ -124,7 +125,8 @@ TEST(OpenFrescoBenchProcess, RunThroughTheOpenFrescoClientMatchesTheSimulation) 
          "    setup: {p0: 0}   # the bench adds its own p0 = 20 mm\n"
          "    safety: {stroke_min: -0.15, stroke_max: 0.15, max_increment: 0.005, "
          "force_soft: 8000, force_hard: 10000, timeout: 5}\n";
-  testing::BenchProcess bench({"--protocol", "openfresco", "--config", (dir / "bench.yaml").string()});
+  testing::BenchProcess bench(
+      {"--protocol", "openfresco", "--config", (dir / "bench.yaml").string()});
   auto [status, out] = testing::RunCommand(fmt::format(
       "{} simulate {} --out {} --quiet", kBinary, (dir / "numerical.yaml").string(),
       (dir / "numerical.csv").string()));

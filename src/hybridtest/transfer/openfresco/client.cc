@@ -48,7 +48,9 @@ void Client::Activate() {
 }
 
 void Client::Send(const std::vector<double>& values, const std::string& what) {
-  if (!socket_.is_open()) Fail(fmt::format("not connected while sending {}; call Activate()", what));
+  if (!socket_.is_open()) {
+    Fail(fmt::format("not connected while sending {}; call Activate()", what));
+  }
   if (!SendAll(socket_.fd(), EncodeMessage(values, header_.data_size), options_.reply_timeout)) {
     Fail(fmt::format("could not send {} (connection closed or stalled)", what));
   }

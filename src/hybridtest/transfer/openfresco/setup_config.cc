@@ -8,7 +8,8 @@
 
 namespace hybridtest::transfer::openfresco {
 
-ExpSetup ParseSetup(const YAML::Node& node, std::string_view where, const EmulatedBenchConfig& bench) {
+ExpSetup ParseSetup(const YAML::Node& node, std::string_view where,
+                    const EmulatedBenchConfig& bench) {
   const YamlInput in = YamlInput::ForNode(node);
   in.RequireMapping(node, where);
   in.CheckKeys(node, where, {"units", "transform", "initial_stiffness"});

@@ -22,7 +22,8 @@ namespace hybridtest::transfer::openfresco {
 
 // Parses the `openfresco:` mapping itself; `where` is its key path for messages ("b.yaml:
 // openfresco"). p0 and the default K0 come from `bench`. Throws ConfigError naming the key.
-ExpSetup ParseSetup(const YAML::Node& node, std::string_view where, const EmulatedBenchConfig& bench);
+ExpSetup ParseSetup(const YAML::Node& node, std::string_view where,
+                    const EmulatedBenchConfig& bench);
 
 // Reads the `openfresco:` section of the bench file at `path`. Throws ConfigError if the file
 // has none (naming the example to copy), has two, or the section is invalid.
