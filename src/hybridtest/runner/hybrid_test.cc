@@ -244,13 +244,9 @@ RunStatistics HybridTest::Run() {
       } catch (const std::exception&) {
         // The journal itself failed; the original error is the one to report.
       }
-    } else if (journal.rows() == 0) {
-      try {
-        write_row(0.0, cfg_.x0, Eigen::VectorXd::Constant(m, std::numeric_limits<double>::quiet_NaN()),
-                  false);
-      } catch (const std::exception&) {
-      }
     }
+    // Nothing committed (the run could not start): no row, so the journal is never published
+    // and an earlier run at this path survives (decision 0006).
     update_stats(t_now);
     progress.Finish();
     nlohmann::json statistics = ToJson(stats_);
