@@ -153,9 +153,8 @@ TEST(ResultsKept, AFullDiskStopIsRecordedWithWholeRows) {
   fs::remove_all(dir);
 }
 
-// The two tests below need HybridTest::Run to write its stop row only after a committed row
-// (journal.rows() > 0): today it writes a row of x0 with NaN forces when Activate() fails,
-// which publishes the journal. Enable them with that one-line change of the runner (issue 8).
+// A run that commits nothing (Activate() fails) writes no row, so its journal is never
+// published.
 TEST(ResultsKept, ARunThatCannotStartLeavesNoFile) {
   const fs::path dir = FreshDir("no_start");
   const Outcome o = Hybridtest(dir, {"run", kExamples + "remote.yaml", "--bench", "127.0.0.1:9",
