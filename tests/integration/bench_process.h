@@ -113,10 +113,10 @@ class BenchProcess {
   std::string first_line_;
 };
 
-// Runs a shell command line (bounded by `timeout 30`) and returns its exit status and its
-// combined stdout and stderr.
-inline std::pair<int, std::string> RunCommand(const std::string& command_line) {
-  const std::string full = "timeout 30 " + command_line + " 2>&1";
+// Runs a shell command line (bounded by `timeout_s` seconds) and returns its exit status and
+// its combined stdout and stderr.
+inline std::pair<int, std::string> RunCommand(const std::string& command_line, int timeout_s = 30) {
+  const std::string full = "timeout " + std::to_string(timeout_s) + " " + command_line + " 2>&1";
   FILE* pipe = popen(full.c_str(), "r");
   if (pipe == nullptr) throw std::runtime_error("popen failed");
   std::string output;

@@ -1,0 +1,129 @@
+// Lab time (issue 7) with real `hybridtest` processes:
+//   - the contract of examples/rotor/emulated-fast.yaml: exit 0, the journal's first columns,
+//     statistics.physical_evaluations, and the targets: ≤ 1 % error against the reference
+//     (tests/data/lab-time-reference.yaml) with ≤ 1,000 specimen evaluations (stretch ≤ 400);
+//   - a dummy hybrid test through the physical path (loopback transfer, setup, safety) equals
+//     the numerical simulation bit for bit with every scheme;
+//   - `hybridtest plan examples/rotor/emulated.yaml` exits 0, prints the table and a
+//     recommendation that meets the tolerance.
+#include <fmt/format.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "hybridtest/io/config.h"
+#include "hybridtest/io/run_reader.h"
+#include "hybridtest/runner/plan.h"
+#include "integration/bench_process.h"
+
+namespace hybridtest {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::RunCommand;
+
+const std::string kSource = HYBRIDTEST_SOURCE_DIR;
+const std::string kBinary = HYBRIDTEST_BINARY;
+
+fs::path OutDir() {
+  static const fs::path dir = [] {
+    const fs::path d = fs::temp_directory_path() / fmt::format("hybridtest_labtime_{}", ::getpid());
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+  }();
+  return dir;
+}
+
+TEST(LabTime, EmulatedFastMeetsTheTargetsWithAFewHundredEvaluations) {
+  const fs::path csv = OutDir() / "fast.csv";
+  const auto [status, output] = RunCommand(
+      fmt::format("{} run {}/examples/rotor/emulated-fast.yaml --quiet --out {}", kBinary, kSource,
+                  csv.string()), 300);
+  ASSERT_EQ(status, 0) << output;
+  const fs::path ref_csv = OutDir() / "reference.csv";
+  const auto [ref_status, ref_output] = RunCommand(
+      fmt::format("{} simulate {}/tests/data/lab-time-reference.yaml --quiet --out {}", kBinary,
+                  kSource, ref_csv.string()), 300);
+  ASSERT_EQ(ref_status, 0) << ref_output;
+
+  const io::RunData run = io::LoadRun(csv.string());
+  const std::vector<std::string> first = {"t", "q1", "q2", "q3", "q4", "u1",
+                                          "u2", "u3", "u4", "r1", "r2", "r3"};
+  ASSERT_GE(run.channels.size(), first.size());
+  for (std::size_t i = 0; i < first.size(); ++i) EXPECT_EQ(run.channels[i].name, first[i]);
+  const long evaluations = run.metadata.at("statistics").at("physical_evaluations").get<long>();
+  EXPECT_LE(evaluations, 400) << "stretch target";
+  EXPECT_GT(evaluations, 20) << "fewer samples than the theoretical floor: is the specimen used?";
+  EXPECT_EQ(run.metadata.at("statistics").at("initial_stiffness").at(0).at("source"), "measured");
+
+  const io::SimulationConfig cfg = io::LoadSimulationConfig(kSource + "/tests/data/lab-time-reference.yaml");
+  double p2p = 0.0;
+  const double error = runner::RelativeError(cfg.model.model, run, io::LoadRun(ref_csv.string()), 0, &p2p);
+  EXPECT_LE(error, 0.01);
+  EXPECT_NEAR(p2p, 7.35e-3, 0.05e-3);  // the study's peak-to-peak of q1 over [2, 10] s
+  // Against the paper's 6 h 16 min (22,560 s): minutes, not hours.
+  EXPECT_LT(run.metadata.at("statistics").at("lab_time_s").get<double>(), 0.1 * 22560.0);
+}
+
+// The same 1 s dummy test, as a simulation and through the physical path, with one scheme.
+// The increment limit is wide: a binding limit rightly makes an adaptive scheme shorten its
+// steps on the physical path, which a simulation has no reason to do.
+void ExpectDummyEqualsSimulation(const std::string& name, const std::string& integrator) {
+  const fs::path dir = OutDir() / name;
+  fs::create_directories(dir);
+  const std::string common = fmt::format("model: {{name: rotor, blades: 3}}\nintegrator: {}\n"
+                                         "duration: 1.0\n", integrator);
+  std::ofstream(dir / "numerical.yaml") << common;
+  std::ofstream(dir / "dummy.yaml")
+      << common
+      << "substructures:\n  r1:\n    type: physical\n    initial_stiffness: 7200\n"
+         "    transfer: {type: loopback, law: {type: linear, stiffness: 7200}}\n"
+         "    setup: {p0: 0.0}\n"
+         "    safety: {stroke_min: -0.1, stroke_max: 0.1, max_increment: 0.05,"
+         " force_soft: 1000, force_hard: 2000, timeout: 5}\n";
+  for (const char* cmd : {"simulate numerical", "run dummy"}) {
+    const std::string file = std::string(cmd).substr(std::string(cmd).find(' ') + 1);
+    const auto [status, output] = RunCommand(fmt::format(
+        "{} {} --quiet --out {}", kBinary,
+        std::string(cmd).substr(0, std::string(cmd).find(' ')) + " " + (dir / (file + ".yaml")).string(),
+        (dir / (file + ".csv")).string()), 120);
+    ASSERT_EQ(status, 0) << name << ": " << cmd << "\n" << output;
+  }
+  const io::RunData a = io::LoadRun((dir / "numerical.csv").string());
+  const io::RunData b = io::LoadRun((dir / "dummy.csv").string());
+  ASSERT_EQ(a.num_rows(), b.num_rows()) << name;
+  for (const char* ch : {"t", "q1", "q2", "q3", "q4", "u1", "u2", "u3", "u4", "r1"}) {
+    EXPECT_TRUE(a.Get(ch) == b.Get(ch)) << name << ": channel " << ch << " differs";
+  }
+}
+
+TEST(LabTime, DummyThroughThePhysicalPathEqualsTheSimulationWithEveryScheme) {
+  ExpectDummyEqualsSimulation("heun", "{tableau: heun, dt: 0.001}");
+  ExpectDummyEqualsSimulation("alpha_os", "{scheme: alpha-os, dt: 0.005}");
+  ExpectDummyEqualsSimulation(
+      "alpha_os_adaptive",
+      "{scheme: alpha-os, dt: 0.005, adaptive: {tolerance: 1.0e-6, dt_min: 0.001, dt_max: 0.05}}");
+  ExpectDummyEqualsSimulation(
+      "mr_os_adaptive",
+      "{scheme: mr-os, dt: 0.01, adaptive: {tolerance: 2.0e-6, dt_min: 0.005, dt_max: 0.2}}");
+}
+
+TEST(LabTime, PlanPrintsATableAndRecommendsASchemeThatMeetsTheTolerance) {
+  const auto [status, output] =
+      RunCommand(fmt::format("{} plan {}/examples/rotor/emulated.yaml", kBinary, kSource), 900);
+  ASSERT_EQ(status, 0) << output;
+  EXPECT_THAT(output, ::testing::HasSubstr("evaluations"));
+  EXPECT_THAT(output, ::testing::HasSubstr("as configured (runge-kutta heun"));
+  EXPECT_THAT(output, ::testing::HasSubstr("recommended"));
+  EXPECT_THAT(output, ::testing::HasSubstr("scheme: mr-os"));
+  // The configured Heun run makes 20,001 evaluations; the recommendation far fewer.
+  EXPECT_THAT(output, ::testing::HasSubstr("20001"));
+}
+
+}  // namespace
+}  // namespace hybridtest
