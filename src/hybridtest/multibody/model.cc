@@ -228,13 +228,17 @@ int ModelBuilder::AddTimeFunctionSpec(std::string name, TimeFunction f) {
 }
 
 int ModelBuilder::AddRestoringForceSlot(std::string name, std::string description,
-                                        ScalarField displacement) {
+                                        ScalarField displacement, std::string unit) {
   CheckField(displacement, "restoring-force slot '" + name + "'");
+  if (unit != "N" && unit != "N·m") {
+    throw ModelError(fmt::format("restoring-force slot '{}': unit '{}': expected N (a force) or "
+                                 "N·m (a moment)", name, unit));
+  }
   for (const auto& s : elements_.slots) {
     if (s.info.name == name) throw ModelError("restoring-force slot '" + name + "' declared twice");
   }
   elements_.slots.push_back(
-      {{std::move(name), "N", std::move(description)}, std::move(displacement)});
+      {{std::move(name), std::move(unit), std::move(description)}, std::move(displacement)});
   return static_cast<int>(elements_.slots.size()) - 1;
 }
 
