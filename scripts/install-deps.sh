@@ -8,7 +8,7 @@ packages=(
   libeigen3-dev libyaml-cpp-dev libcli11-dev libfmt-dev nlohmann-json3-dev zlib1g-dev
   libhdf5-dev hdf5-tools
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3 python3-sympy python3-h5py python3-numpy
+  python3 python3-sympy python3-yaml python3-h5py python3-numpy
   gnuplot-nox
 )
 
