@@ -37,8 +37,14 @@ int EditDistance(std::string_view a, std::string_view b) {
 }  // namespace
 
 std::vector<std::string> SymbolTable::Closest(std::string_view name) const {
+  // By edit distance, ties broken by the longer common prefix ("lenght" → l before t).
   std::vector<std::pair<int, std::string>> scored;
-  for (const Symbol& s : symbols_) scored.emplace_back(EditDistance(name, s.name), s.name);
+  for (const Symbol& s : symbols_) {
+    std::size_t prefix = 0;
+    while (prefix < name.size() && prefix < s.name.size() && name[prefix] == s.name[prefix]) ++prefix;
+    scored.emplace_back(4 * EditDistance(name, s.name) - static_cast<int>(std::min<std::size_t>(prefix, 3)),
+                        s.name);
+  }
   std::stable_sort(scored.begin(), scored.end(),
                    [](const auto& x, const auto& y) { return x.first < y.first; });
   std::vector<std::string> out;
@@ -61,7 +67,7 @@ constexpr FunctionInfo kFunctions[] = {
 
 bool IsNameStart(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
 bool IsNameChar(char c) {
-  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.';
+  return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
 }
 
 // Value of a unary or binary operation on constants.
