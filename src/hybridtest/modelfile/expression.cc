@@ -207,10 +207,14 @@ class Parser {
         const int a = ParseExpr();
         int b = -1;
         if (f.arity == 2) {
-          if (!Accept(",")) Fail(name, fmt::format("{}() takes two arguments: {}(a, b)", name, name));
+          if (!Accept(",")) {
+            token_start_ = name_start;
+            Fail(name, fmt::format("{}() takes two arguments: {}(a, b)", name, name));
+          }
           b = ParseExpr();
         }
         if (!Accept(")")) {
+          token_start_ = name_start;
           Fail(name, fmt::format("{}() takes {} argument{}; close it with ')'", name, f.arity,
                                  f.arity == 2 ? "s" : ""));
         }
