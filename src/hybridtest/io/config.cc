@@ -131,6 +131,73 @@ integrators::ButcherTableau ParseTableau(const YamlInput& in, const YAML::Node& 
   return t;
 }
 
+schemes::SchemeConfig ParseScheme(const YamlInput& in, const YAML::Node& integ) {
+  in.CheckKeys(integ, "integrator", {"scheme", "tableau", "dt", "alpha", "adaptive", "substep"});
+  schemes::SchemeConfig sc;
+  const std::string name = integ["scheme"]
+                               ? in.String(integ["scheme"], "integrator.scheme",
+                                           "runge-kutta, alpha-os or mr-os")
+                               : "runge-kutta";
+  if (name == "runge-kutta") {
+    sc.kind = schemes::SchemeKind::kRungeKutta;
+  } else if (name == "alpha-os") {
+    sc.kind = schemes::SchemeKind::kAlphaOs;
+  } else if (name == "mr-os") {
+    sc.kind = schemes::SchemeKind::kMrOs;
+  } else {
+    throw ConfigError(fmt::format("{} = '{}': expected runge-kutta (explicit, any tableau), "
+                                  "alpha-os (operator splitting, one specimen evaluation per step) "
+                                  "or mr-os (multi-rate operator splitting)",
+                                  in.Where(integ["scheme"], "integrator.scheme"), name));
+  }
+  auto only_for = [&](const char* key, bool allowed, const char* schemes_list) {
+    if (integ[key] && !allowed) {
+      throw ConfigError(fmt::format("{}: `{}` applies to scheme {} only; remove it or change the "
+                                    "scheme", in.Where(integ[key], std::string("integrator.") + key),
+                                    key, schemes_list));
+    }
+  };
+  const bool os = sc.kind != schemes::SchemeKind::kRungeKutta;
+  only_for("alpha", sc.kind == schemes::SchemeKind::kAlphaOs, "alpha-os");
+  only_for("adaptive", os, "alpha-os or mr-os");
+  only_for("substep", sc.kind == schemes::SchemeKind::kMrOs, "mr-os");
+  if (integ["alpha"]) {
+    sc.alpha = in.Number(integ["alpha"], "integrator.alpha", "α between -1/3 and 0");
+    if (!(sc.alpha >= -1.0 / 3.0 - 1e-12 && sc.alpha <= 0.0)) {
+      throw ConfigError(fmt::format("{} = {}: expected α in [-1/3, 0] (0: no numerical damping; "
+                                    "-0.05 is a common choice)",
+                                    in.Where(integ["alpha"], "integrator.alpha"), sc.alpha));
+    }
+  }
+  if (integ["substep"]) {
+    sc.substep = in.PositiveNumber(integ["substep"], "integrator.substep",
+                                   "the largest RK4 substep of the numerical model in seconds");
+  }
+  if (integ["adaptive"]) {
+    const YAML::Node a = in.Mapping(integ, "adaptive", "integrator.adaptive", true);
+    in.CheckKeys(a, "integrator.adaptive", {"tolerance", "dt_min", "dt_max"});
+    sc.adaptive.enabled = true;
+    if (a["tolerance"]) {
+      sc.adaptive.tolerance = in.PositiveNumber(a["tolerance"], "integrator.adaptive.tolerance",
+                                                "the local error per step in m (e.g. 2e-6)");
+    }
+    if (a["dt_min"]) {
+      sc.adaptive.dt_min = in.PositiveNumber(a["dt_min"], "integrator.adaptive.dt_min",
+                                             "the smallest step in seconds");
+    }
+    if (a["dt_max"]) {
+      sc.adaptive.dt_max = in.PositiveNumber(a["dt_max"], "integrator.adaptive.dt_max",
+                                             "the largest step in seconds");
+    }
+    if (sc.adaptive.dt_min > sc.adaptive.dt_max) {
+      throw ConfigError(fmt::format("{}: dt_min = {} s > dt_max = {} s; expected dt_min ≤ dt_max",
+                                    in.Where(a, "integrator.adaptive"), sc.adaptive.dt_min,
+                                    sc.adaptive.dt_max));
+    }
+  }
+  return sc;
+}
+
 SimulationConfig ParseSimulationConfig(const YamlInput& in) {
   const YAML::Node& root = in.root();
   in.CheckKeys(root, "", {"model", "initial_state", "integrator", "duration", "output",
@@ -138,7 +205,7 @@ SimulationConfig ParseSimulationConfig(const YamlInput& in) {
   int blades = 0;
   models::BuiltModel model = ParseModel(in, in.Mapping(root, "model", "model", true), &blades);
   SimulationConfig cfg{.input = in, .model = std::move(model), .blades = blades, .x0 = {},
-                       .tableau = {}, .dt = 0.0, .duration = 0.0, .steps = 0, .output_csv = {},
+                       .tableau = {}, .scheme = {}, .dt = 0.0, .duration = 0.0, .steps = 0, .output_csv = {},
                        .quiet = false};
   const int n = cfg.model.model.num_coordinates();
 
@@ -161,17 +228,27 @@ SimulationConfig ParseSimulationConfig(const YamlInput& in) {
   }
 
   const YAML::Node integ = in.Mapping(root, "integrator", "integrator", true);
-  in.CheckKeys(integ, "integrator", {"tableau", "dt"});
-  if (!integ["tableau"]) {
-    throw ConfigError(fmt::format("{}: missing; expected a tableau name such as heun or rk4",
-                                  in.Where(integ, "integrator.tableau")));
+  cfg.scheme = ParseScheme(in, integ);
+  if (cfg.scheme.kind == schemes::SchemeKind::kRungeKutta) {
+    if (!integ["tableau"]) {
+      throw ConfigError(fmt::format("{}: missing; expected a tableau name such as heun or rk4",
+                                    in.Where(integ, "integrator.tableau")));
+    }
+    cfg.tableau = ParseTableau(in, integ["tableau"], "integrator.tableau");
+  } else {
+    if (integ["tableau"]) {
+      throw ConfigError(fmt::format("{}: the {} scheme has no tableau; remove this key (tableaux "
+                                    "belong to scheme: runge-kutta)",
+                                    in.Where(integ["tableau"], "integrator.tableau"),
+                                    schemes::SchemeKindName(cfg.scheme.kind)));
+    }
+    cfg.tableau = integrators::FindTableau("rk4");  // MR-OS substeps; recorded in the sidecar
   }
-  cfg.tableau = ParseTableau(in, integ["tableau"], "integrator.tableau");
   cfg.dt = in.PositiveNumber(integ["dt"], "integrator.dt", "a positive time step in seconds");
   cfg.duration = in.PositiveNumber(root["duration"], "duration",
                                    "a positive simulated duration in seconds");
   const double steps = std::round(cfg.duration / cfg.dt);
-  if (std::abs(steps * cfg.dt - cfg.duration) > 1e-9 * cfg.duration) {
+  if (!cfg.scheme.adaptive.enabled && std::abs(steps * cfg.dt - cfg.duration) > 1e-9 * cfg.duration) {
     throw ConfigError(fmt::format("{}: duration {} s is not a whole number of steps of dt = {} s; "
                                   "choose a duration that is a multiple of dt",
                                   in.Where(root["duration"], "duration"), cfg.duration, cfg.dt));

@@ -12,8 +12,9 @@
 //     q: [0, 0, 0, 0]          # (n) SI
 //     u: [0, 0, 0, 0]          # (n) SI
 //   integrator:
-//     tableau: heun            # a catalogue name, or {name, a: [[..]], b: [..], c: [..], order}
-//     dt: 0.001                # step [s]
+//     scheme: runge-kutta      # default; or alpha-os | mr-os (see schemes/scheme_config.h)
+//     tableau: heun            # runge-kutta: a catalogue name, or {name, a, b, c, order}
+//     dt: 0.001                # step [s] (the first step of an adaptive scheme)
 //   duration: 10.0             # simulated time [s]
 //   output:
 //     csv: results/run.csv     # journal path (overridden by --out)
@@ -28,6 +29,7 @@
 #include "hybridtest/integrators/butcher_tableau.h"
 #include "hybridtest/common/yaml_input.h"
 #include "hybridtest/models/catalogue.h"
+#include "hybridtest/schemes/scheme_config.h"
 
 namespace hybridtest::io {
 
@@ -36,7 +38,8 @@ struct SimulationConfig {
   models::BuiltModel model;           // built from name, blades and resolved parameters
   int blades = 0;                     // rotor only (0 otherwise)
   Eigen::VectorXd x0;                 // (2n) initial state [q; u]
-  integrators::ButcherTableau tableau;
+  integrators::ButcherTableau tableau;  // runge-kutta scheme
+  schemes::SchemeConfig scheme;         // integrator.scheme and its parameters
   double dt = 0.0;                    // [s]
   double duration = 0.0;              // [s]
   long steps = 0;                     // round(duration / dt)
@@ -51,6 +54,9 @@ SimulationConfig ParseSimulationConfig(const YamlInput& input);
 
 // The model described by a `model:` section: a built-in name or a model file.
 models::BuiltModel ParseModel(const YamlInput& input, const YAML::Node& model_node, int* blades);
+
+// The scheme named by `integrator.scheme` and its parameters (not the tableau and dt).
+schemes::SchemeConfig ParseScheme(const YamlInput& input, const YAML::Node& integrator_node);
 
 // A tableau given by name or as a mapping; validated.
 integrators::ButcherTableau ParseTableau(const YamlInput& input, const YAML::Node& node,

@@ -170,7 +170,7 @@ Journal::~Journal() {
   }
 }
 
-void Journal::Append(std::span<const double> row) {
+void Journal::Append(std::span<const double> row, bool durable) {
   if (row.size() != channels_.size()) {
     throw IoError(fmt::format("{}: row {} has {} values, expected {} (one per channel)",
                               csv_path_, rows_ + 1, row.size(), channels_.size()));
@@ -188,7 +188,7 @@ void Journal::Append(std::span<const double> row) {
   }
   ++rows_;
   // fsync puts it on the disk: from here on a power cut loses nothing either.
-  if (policy_ == SyncPolicy::kEveryRow || rows_ % batch_rows_ == 0) {
+  if ((policy_ == SyncPolicy::kEveryRow && durable) || rows_ % batch_rows_ == 0) {
     if (::fsync(::fileno(file_)) != 0) {
       throw IoError(fmt::format("{}: cannot sync row {} to disk: {}", csv_path_, rows_,
                                 OsError()));

@@ -55,7 +55,10 @@ class Journal {
 
   // Appends one committed step; row.size() must equal the number of channels. Values are
   // written with 17 significant digits. Throws IoError on a write failure.
-  void Append(std::span<const double> row);
+  // durable = false: the row reaches the kernel (a killed process loses nothing) but is not
+  // synced on its own even with kEveryRow; the next durable row's fsync covers it (a scheme's
+  // intermediate rows between two specimen samples).
+  void Append(std::span<const double> row, bool durable = true);
 
   // Syncs the CSV and rewrites the sidecar (atomically: write + rename) with the run's
   // statistics and its final status ("completed", or "stopped: <reason>").

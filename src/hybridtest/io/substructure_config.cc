@@ -28,6 +28,9 @@ std::unique_ptr<transfer::TransferSystem> MakeTransfer(const YamlInput& in, cons
                                                        const SubstructureOptions& options,
                                                        double reply_timeout) {
   in.CheckKeys(node, kp, {"type", "config", "bench", "law", "p0", "address", "token", "timeout"});
+  if (options.emulate_bench) {
+    return transfer::MakeEmulatedBench(transfer::LoadEmulatedBenchConfig(*options.emulate_bench));
+  }
   const std::string type =
       in.String(node["type"], kp + ".type", "a transfer type: emulated, loopback or remote");
   if (type == "emulated") {
@@ -132,6 +135,31 @@ std::unique_ptr<Substructure> DefaultNumerical(const SimulationConfig& cfg, int 
       std::make_unique<constitutive::LinearSpring>(k, "model default"));
 }
 
+// `initial_stiffness:` of a physical slot: K0 = dr/dd [N/m], `measure`, or
+// {measure: true, amplitude: 0.001}.
+void ParseInitialStiffness(const YamlInput& in, const YAML::Node& node, const std::string& kp,
+                           substructures::PhysicalSubstructure& physical) {
+  const std::string key = kp + ".initial_stiffness";
+  const char* expected = "K0 in N/m (a positive number), `measure`, or {measure: true, amplitude: "
+                         "0.001} (ramp amplitude in m)";
+  if (node.IsScalar() && node.Scalar() == "measure") {
+    physical.RequestStiffnessMeasurement(1e-3);
+    return;
+  }
+  if (node.IsMap()) {
+    in.CheckKeys(node, key, {"measure", "amplitude"});
+    if (!node["measure"] || !node["measure"].IsScalar() || node["measure"].Scalar() != "true") {
+      throw ConfigError(fmt::format("{}: expected {}", in.Where(node, key), expected));
+    }
+    physical.RequestStiffnessMeasurement(
+        node["amplitude"] ? in.PositiveNumber(node["amplitude"], key + ".amplitude",
+                                              "the ramp amplitude in m (e.g. 0.001)")
+                          : 1e-3);
+    return;
+  }
+  physical.SetInitialStiffness(in.PositiveNumber(node, key, expected));
+}
+
 }  // namespace
 
 std::vector<std::unique_ptr<Substructure>> MakeSubstructures(const SimulationConfig& cfg,
@@ -160,7 +188,7 @@ std::vector<std::unique_ptr<Substructure>> MakeSubstructures(const SimulationCon
         throw ConfigError(fmt::format("{}: expected a mapping with `type: numerical` or "
                                       "`type: physical`", in.Where(node, kp)));
       }
-      in.CheckKeys(node, kp, {"type", "law", "transfer", "setup", "safety"});
+      in.CheckKeys(node, kp, {"type", "law", "transfer", "setup", "safety", "initial_stiffness"});
       const std::string type = in.String(node["type"], kp + ".type", "numerical or physical");
       if (type == "numerical") {
         result[slot] = node["law"] ? std::make_unique<substructures::NumericalSubstructure>(
@@ -174,7 +202,7 @@ std::vector<std::unique_ptr<Substructure>> MakeSubstructures(const SimulationCon
         }
         const YAML::Node tr = in.Mapping(node, "transfer", kp + ".transfer", true);
         const transfer::SafetyLimits limits = ParseSafety(in, node["safety"], kp + ".safety");
-        result[slot] = std::make_unique<substructures::PhysicalSubstructure>(
+        auto physical = std::make_unique<substructures::PhysicalSubstructure>(
             slot_name, MakeTransfer(in, tr, kp + ".transfer", options, limits.timeout),
             ParseSetup(in, node["setup"], kp + ".setup"), limits,
             node["safety"] && node["safety"]["initial_stiffness"]
@@ -182,6 +210,8 @@ std::vector<std::unique_ptr<Substructure>> MakeSubstructures(const SimulationCon
                                                           kp + ".safety.initial_stiffness",
                                                           "the specimen's expected stiffness in N/m"))
                 : std::nullopt);
+        if (node["initial_stiffness"]) ParseInitialStiffness(in, node["initial_stiffness"], kp, *physical);
+        result[slot] = std::move(physical);
       } else {
         throw ConfigError(fmt::format("{} = '{}': expected numerical or physical",
                                       in.Where(node["type"], kp + ".type"), type));

@@ -35,6 +35,9 @@ struct SubstructureOptions {
   std::optional<std::string> bench_address;  // --bench HOST:PORT for remote transfer systems
   bool allow_physical = true;                // false: a physical slot is a ConfigError
   std::string physical_hint = "give its restoring force explicitly";  // how to fix that error
+  // If set: every physical slot's transfer system is the in-process emulated bench of this
+  // bench config file instead of the configured one (`hybridtest plan --emulate`).
+  std::optional<std::string> emulate_bench;
 };
 
 // One substructure per slot of cfg.model, in slot order. Nothing is activated or connected.

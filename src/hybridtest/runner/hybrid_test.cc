@@ -8,11 +8,13 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <optional>
 
 #include "hybridtest/common/error.h"
-#include "hybridtest/integrators/explicit_runge_kutta.h"
+#include "hybridtest/schemes/scheme_config.h"
+#include "hybridtest/substructures/physical_substructure.h"
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/transfer/safety.h"
 
@@ -51,6 +53,17 @@ nlohmann::json StopDetails(const std::exception& e) {
   }
   return stop;
 }
+// What the schemes may know of the substructures: K0 and the largest safe increment per slot.
+schemes::SlotInfo SlotInfoOf(const SubstructureList& subs) {
+  schemes::SlotInfo info{Eigen::VectorXd::Zero(static_cast<Eigen::Index>(subs.size())),
+                         Eigen::VectorXd::Zero(static_cast<Eigen::Index>(subs.size()))};
+  for (std::size_t s = 0; s < subs.size(); ++s) {
+    info.k0(static_cast<Eigen::Index>(s)) =
+        subs[s]->initial_stiffness().value_or(std::numeric_limits<double>::quiet_NaN());
+    info.max_increment(static_cast<Eigen::Index>(s)) = subs[s]->max_displacement_increment();
+  }
+  return info;
+}
 }  // namespace
 
 std::string ResolveOutputPath(const io::SimulationConfig& cfg, const std::string& out_option) {
@@ -68,11 +81,31 @@ HybridTest::HybridTest(const io::SimulationConfig& cfg, SubstructureList substru
   }
 }
 
+void HybridTest::MeasureRequestedStiffness() {
+  stiffness_record_ = nlohmann::json::array();
+  const multibody::Model& model = cfg_.model.model;
+  for (std::size_t s = 0; s < subs_.size(); ++s) {
+    nlohmann::json entry = {{"slot", model.slots()[s].info.name}};
+    auto* physical = dynamic_cast<substructures::PhysicalSubstructure*>(subs_[s].get());
+    if (physical != nullptr && physical->requested_stiffness_ramp()) {
+      const auto m = physical->MeasureInitialStiffness(*physical->requested_stiffness_ramp());
+      nlohmann::json samples = nlohmann::json::array();
+      for (const auto& [d, r] : m.samples) samples.push_back({d, r});
+      entry.update({{"k0", m.k0}, {"source", "measured"}, {"amplitude_m", m.amplitude},
+                    {"samples_d_m_r_N", samples}});
+    } else if (const auto k0 = subs_[s]->initial_stiffness()) {
+      entry.update({{"k0", *k0}, {"source", subs_[s]->is_physical() ? "configured" : "law"}});
+    } else {
+      entry.update({{"k0", nullptr}, {"source", "unknown"}});
+    }
+    stiffness_record_.push_back(entry);
+  }
+}
+
 RunStatistics HybridTest::Run() {
   const multibody::Model& model = cfg_.model.model;
   const int n = model.num_coordinates();
   const int m = model.num_slots();
-  const double h = cfg_.dt;
   bool physical = false;
   for (const auto& s : subs_) physical = physical || s->is_physical();
 
@@ -91,8 +124,7 @@ RunStatistics HybridTest::Run() {
   }
 
   multibody::Data<double> data(model);
-  integrators::ExplicitRungeKutta stepper(cfg_.tableau, 2 * n);
-  Eigen::VectorXd x = cfg_.x0, x_next(2 * n), d(m), r(m);
+  Eigen::VectorXd d(m), r0(m);
   Eigen::VectorXd row(static_cast<Eigen::Index>(channels.size()));
   Eigen::VectorXd stage_row(stages ? static_cast<Eigen::Index>(stages->channels().size()) : 0);
   Progress progress(options_.progress);
@@ -111,23 +143,8 @@ RunStatistics HybridTest::Run() {
     stats_.slowdown = t > 0.0 && physical ? stats_.lab_time / t : 0.0;
     stats_.wall_slowdown = t > 0.0 ? stats_.wall_time / t : 0.0;
   };
-  // Trials of every substructure at state xs (stage `stage` of step `step`) → r.
-  auto trial_all = [&](long step, int stage, double t, const Eigen::VectorXd& xs) {
-    multibody::CalcSlotDisplacements<double>(model, data, t, xs.head(n), d);
-    for (int s = 0; s < m; ++s) r(s) = subs_[s]->Trial(d(s), {step, stage, t});
-    if (!stages) return;
-    Eigen::Index c = 0;
-    stage_row(c++) = static_cast<double>(step);
-    stage_row(c++) = stage;
-    stage_row(c++) = t;
-    for (const auto& s : subs_) {
-      if (!s->is_physical()) continue;
-      const auto e = s->last_exchange();
-      for (double v : {e.command, e.position, e.force, e.lab_time}) stage_row(c++) = v;
-    }
-    stages->Append(std::span<const double>(stage_row.data(), stage_row.size()));
-  };
-  // Journal row of the committed state xs with restoring forces rs.
+  // Journal row of a committed state xs with restoring forces rs; `measured`: the physical
+  // channels hold the last exchange (else NaN: no specimen sample belongs to this row).
   auto write_row = [&](double t, const Eigen::VectorXd& xs, const Eigen::VectorXd& rs, bool measured) {
     Eigen::Index c = 0;
     row(c++) = t;
@@ -142,57 +159,100 @@ RunStatistics HybridTest::Run() {
         row(c++) = measured ? v : std::numeric_limits<double>::quiet_NaN();
       }
     }
-    journal.Append(std::span<const double>(row.data(), row.size()));
+    journal.Append(std::span<const double>(row.data(), row.size()), measured);
     stats_.rows = journal.rows();
   };
 
-  long step = 0;
+  // The seam: trials of every substructure at a state (and the stage record).
+  class Seam final : public schemes::SubstructureSeam {
+   public:
+    explicit Seam(std::function<void(long, int, double, const Eigen::VectorXd&,
+                                     Eigen::Ref<Eigen::VectorXd>)> f) : f_(std::move(f)) {}
+    void Trial(long step, int stage, double t, const Eigen::VectorXd& x,
+               Eigen::Ref<Eigen::VectorXd> r) override { f_(step, stage, t, x, r); }
+   private:
+    std::function<void(long, int, double, const Eigen::VectorXd&, Eigen::Ref<Eigen::VectorXd>)> f_;
+  };
+  Seam seam([&](long step, int stage, double t, const Eigen::VectorXd& xs,
+                Eigen::Ref<Eigen::VectorXd> r) {
+    multibody::CalcSlotDisplacements<double>(model, data, t, xs.head(n), d);
+    for (int s = 0; s < m; ++s) r(s) = subs_[s]->Trial(d(s), {step, stage, t});
+    if (!stages) return;
+    Eigen::Index c = 0;
+    stage_row(c++) = static_cast<double>(step);
+    stage_row(c++) = stage;
+    stage_row(c++) = t;
+    for (const auto& s : subs_) {
+      if (!s->is_physical()) continue;
+      const auto e = s->last_exchange();
+      for (double v : {e.command, e.position, e.force, e.lab_time}) stage_row(c++) = v;
+    }
+    stages->Append(std::span<const double>(stage_row.data(), stage_row.size()));
+  });
+  class Rows final : public schemes::RowSink {
+   public:
+    explicit Rows(std::function<void(double, const Eigen::VectorXd&, const Eigen::VectorXd&)> f)
+        : f_(std::move(f)) {}
+    void Row(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& r) override { f_(t, x, r); }
+   private:
+    std::function<void(double, const Eigen::VectorXd&, const Eigen::VectorXd&)> f_;
+  };
+  Rows rows([&](double t, const Eigen::VectorXd& xs, const Eigen::VectorXd& rs) {
+    write_row(t, xs, rs, false);
+  });
+
+  std::unique_ptr<schemes::HybridScheme> scheme;
+  double t_now = 0.0;
   try {
     for (auto& s : subs_) s->Activate();
-    for (; step < cfg_.steps; ++step) {
-      const double t = static_cast<double>(step) * h;
-      stepper.Step(t, h, x,
-                   [&](int i, double t_i, const Eigen::VectorXd& x_i, Eigen::Ref<Eigen::VectorXd> k) {
-                     trial_all(step, i, t_i, x_i);
-                     if (i == 0) {
-                       for (auto& s : subs_) s->Commit();
-                       write_row(t, x, r, true);
-                     }
-                     multibody::CalcStateDerivative<double>(model, data, t_i, x_i, r, k);
-                   },
-                   x_next);
-      x.swap(x_next);
-      stats_.steps = step + 1;
-      update_stats(static_cast<double>(step + 1) * h);
-      progress.Update({step + 1, cfg_.steps, stats_.sim_time, cfg_.duration,
-                       stats_.physical_evaluations, stats_.lab_time, stats_.wall_time});
-      if (StopRequested()) {
-        ++step;  // x is the committed state of the next step, not yet journalled
+    MeasureRequestedStiffness();
+    scheme = schemes::MakeScheme(cfg_.scheme, cfg_.tableau, cfg_.dt, cfg_.duration, cfg_.steps,
+                                 model, SlotInfoOf(subs_));
+    // The initial state: tried (stage 0 of step 0), committed, journalled.
+    seam.Trial(0, 0, 0.0, cfg_.x0, r0);
+    for (auto& s : subs_) s->Commit();
+    write_row(0.0, cfg_.x0, r0, true);
+    scheme->Start(0.0, cfg_.x0, r0);
+    while (!scheme->finished()) {
+      scheme->Step(seam, rows);
+      const schemes::CommittedPoint& p = scheme->committed();
+      for (auto& s : subs_) s->Commit();
+      write_row(p.t, p.x, p.r, true);
+      t_now = p.t;
+      stats_.steps = p.step;
+      update_stats(p.t);
+      progress.Update({p.step, p.step + scheme->EstimatedStepsLeft(cfg_.duration), p.t,
+                       cfg_.duration, stats_.physical_evaluations, stats_.lab_time,
+                       stats_.wall_time});
+      if (StopRequested() && !scheme->finished()) {
         throw Interrupted(fmt::format("interrupted by the operator at t = {} s after {} steps; "
-                                      "every committed step is in {}", stats_.sim_time, step,
+                                      "every committed step is in {}", p.t, p.step,
                                       options_.csv_path));
       }
     }
-    // The last committed state gets its row too.
-    const double t_end = static_cast<double>(cfg_.steps) * h;
-    trial_all(cfg_.steps, 0, t_end, x);
-    for (auto& s : subs_) s->Commit();
-    write_row(t_end, x, r, true);
     for (auto& s : subs_) s->Deactivate();
   } catch (const std::exception& e) {
     for (auto& s : subs_) s->Hold();
-    // x is the committed state x_step; its row exists unless its own trial failed.
-    if (journal.rows() == step) {
+    // A state computed but not committed (its own trial failed) is recorded without forces.
+    if (scheme && scheme->uncommitted() != nullptr) {
       try {
-        write_row(static_cast<double>(step) * h, x,
-                  Eigen::VectorXd::Constant(m, std::numeric_limits<double>::quiet_NaN()), false);
+        const schemes::CommittedPoint& u = *scheme->uncommitted();
+        write_row(u.t, u.x, Eigen::VectorXd::Constant(m, std::numeric_limits<double>::quiet_NaN()),
+                  false);
       } catch (const std::exception&) {
         // The journal itself failed; the original error is the one to report.
       }
+    } else if (journal.rows() == 0) {
+      try {
+        write_row(0.0, cfg_.x0, Eigen::VectorXd::Constant(m, std::numeric_limits<double>::quiet_NaN()),
+                  false);
+      } catch (const std::exception&) {
+      }
     }
-    update_stats(static_cast<double>(step) * h);
+    update_stats(t_now);
     progress.Finish();
     nlohmann::json statistics = ToJson(stats_);
+    statistics["initial_stiffness"] = stiffness_record_;
     statistics["stop"] = StopDetails(e);
     try {
       journal.Finish(statistics, std::string("stopped: ") + e.what());
@@ -201,10 +261,12 @@ RunStatistics HybridTest::Run() {
     }
     throw;
   }
-  update_stats(static_cast<double>(cfg_.steps) * h);
+  update_stats(t_now);
   progress.Finish();
-  journal.Finish(ToJson(stats_), "completed");
-  if (stages) stages->Finish(ToJson(stats_), "completed");
+  nlohmann::json statistics = ToJson(stats_);
+  statistics["initial_stiffness"] = stiffness_record_;
+  journal.Finish(statistics, "completed");
+  if (stages) stages->Finish(statistics, "completed");
   return stats_;
 }
 

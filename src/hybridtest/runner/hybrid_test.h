@@ -51,7 +51,12 @@ class HybridTest {
   const RunStatistics& statistics() const { return stats_; }
 
  private:
+  // Measures K0 on every physical substructure whose config asks for it (a slow ramp before
+  // the test) and records every slot's K0 and its source for the sidecar.
+  void MeasureRequestedStiffness();
+
   const io::SimulationConfig& cfg_;
+  nlohmann::json stiffness_record_ = nlohmann::json::array();
   SubstructureList subs_;
   RunOptions options_;
   RunStatistics stats_;

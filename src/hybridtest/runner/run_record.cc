@@ -90,8 +90,20 @@ io::JournalMetadata JournalMetadataFor(const io::SimulationConfig& cfg,
     }
     meta.substructures.push_back(entry);
   }
-  meta.extra = {{"integrator", {{"tableau", cfg.tableau.name}, {"title", cfg.tableau.title},
-                                {"order", cfg.tableau.order}, {"stages", cfg.tableau.stages()}}},
+  nlohmann::json integrator = {{"scheme", schemes::SchemeKindName(cfg.scheme.kind)}};
+  if (cfg.scheme.kind == schemes::SchemeKind::kRungeKutta) {
+    integrator.update({{"tableau", cfg.tableau.name}, {"title", cfg.tableau.title},
+                       {"order", cfg.tableau.order}, {"stages", cfg.tableau.stages()}});
+  } else {
+    if (cfg.scheme.kind == schemes::SchemeKind::kAlphaOs) integrator["alpha"] = cfg.scheme.alpha;
+    if (cfg.scheme.kind == schemes::SchemeKind::kMrOs) integrator["substep_s"] = cfg.scheme.substep;
+    if (cfg.scheme.adaptive.enabled) {
+      integrator["adaptive"] = {{"tolerance_m", cfg.scheme.adaptive.tolerance},
+                                {"dt_min_s", cfg.scheme.adaptive.dt_min},
+                                {"dt_max_s", cfg.scheme.adaptive.dt_max}};
+    }
+  }
+  meta.extra = {{"integrator", integrator},
                 {"dt", cfg.dt},
                 {"duration", cfg.duration},
                 {"steps", cfg.steps}};

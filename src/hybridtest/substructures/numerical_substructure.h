@@ -14,6 +14,8 @@ class NumericalSubstructure final : public Substructure {
   double Trial(double displacement, const TrialContext& context) override;
   void Commit() override { law_->Commit(); }
   std::string Describe() const override;
+  // From the law's initial tangent stiffness.
+  std::optional<double> initial_stiffness() const override { return law_->initial_stiffness(); }
 
  private:
   std::unique_ptr<constitutive::RestoringForceLaw> law_;

@@ -3,6 +3,7 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "hybridtest/common/error.h"
@@ -33,6 +34,69 @@ PhysicalSubstructure::PhysicalSubstructure(std::string name,
   setup_.Validate();
   safety_.SetStartPosition(setup_.p0);
   if (initial_stiffness) safety_.SetInitialStiffness(*initial_stiffness);
+  safety_stiffness_ = initial_stiffness;
+}
+
+std::optional<double> PhysicalSubstructure::initial_stiffness() const {
+  if (k0_) return k0_;
+  // The safety section's stiffness is force per actuator displacement; r per d differs by the
+  // setup's signs and scales.
+  if (safety_stiffness_) {
+    return *safety_stiffness_ * setup_.sign * setup_.scale * setup_.force_sign * setup_.force_scale;
+  }
+  return std::nullopt;
+}
+
+void PhysicalSubstructure::SetInitialStiffness(double k0) {
+  if (!std::isfinite(k0)) {
+    throw ConfigError(fmt::format("{}: initial stiffness {} N/m: expected a finite value", name_, k0));
+  }
+  k0_ = k0;
+  // The monitor predicts forces per actuator displacement from the start.
+  const double per_actuator = k0 / (setup_.sign * setup_.scale * setup_.force_sign * setup_.force_scale);
+  if (per_actuator > 0.0) safety_.SetInitialStiffness(per_actuator);
+}
+
+double PhysicalSubstructure::max_displacement_increment() const {
+  return safety_.limits().max_increment / setup_.scale;
+}
+
+PhysicalSubstructure::StiffnessMeasurement PhysicalSubstructure::MeasureInitialStiffness(
+    double amplitude) {
+  if (!(amplitude > 0.0) || !std::isfinite(amplitude)) {
+    throw ConfigError(fmt::format("{}: stiffness ramp amplitude {} m: expected a positive length",
+                                  name_, amplitude));
+  }
+  // Moves of at most half the increment limit, at least 4 up and 4 down.
+  const double step_limit = 0.5 * max_displacement_increment();
+  const int steps = std::max(4, static_cast<int>(std::ceil(amplitude / step_limit)));
+  StiffnessMeasurement out;
+  out.amplitude = amplitude;
+  for (int k = 1; k <= 2 * steps; ++k) {
+    const int level = k <= steps ? k : 2 * steps - k;
+    const double d = amplitude * static_cast<double>(level) / steps;
+    // Labelled step −1: before the test's first step.
+    out.samples.emplace_back(d, Trial(d, {-1, k, 0.0}));
+  }
+  double sdd = 0.0, sdr = 0.0, sd = 0.0, sr = 0.0;
+  const double count = static_cast<double>(out.samples.size());
+  for (const auto& [d, r] : out.samples) {
+    sd += d;
+    sr += r;
+  }
+  for (const auto& [d, r] : out.samples) {
+    sdd += (d - sd / count) * (d - sd / count);
+    sdr += (d - sd / count) * (r - sr / count);
+  }
+  out.k0 = sdr / sdd;
+  if (!(out.k0 > 0.0) || !std::isfinite(out.k0)) {
+    throw Error(fmt::format("{}: the stiffness ramp (0 → {} m → 0, {} samples) gave K0 = {} N/m; "
+                            "expected a positive stiffness: check the specimen, the setup's signs "
+                            "and the load cell, or give initial_stiffness in N/m",
+                            name_, amplitude, out.samples.size(), out.k0));
+  }
+  SetInitialStiffness(out.k0);
+  return out;
 }
 
 PhysicalSubstructure::~PhysicalSubstructure() {

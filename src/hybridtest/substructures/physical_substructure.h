@@ -37,6 +37,31 @@ class PhysicalSubstructure final : public Substructure {
   long evaluations() const override { return evaluations_; }
   std::string Describe() const override;
   const transfer::SafetyMonitor& safety() const { return safety_; }
+  const transfer::TransferSystem& transfer() const { return *transfer_; }
+  const SetupTransform& setup() const { return setup_; }
+
+  // K0 = dr/dd of the slot [N/m]: set from the config, or measured by
+  // MeasureInitialStiffness(); else derived from the safety section's specimen stiffness.
+  std::optional<double> initial_stiffness() const override;
+  void SetInitialStiffness(double k0);
+  // Measures K0 on the specimen before the test (after Activate(), before the first trial):
+  // a slow ramp of `steps` equal moves from d = 0 to d = amplitude and `steps` moves back to
+  // d = 0 (command p0), every move inside the safety limits (each increment is at most half
+  // the monitor's max_increment), then K0 = the least-squares slope of r against d over all
+  // samples. Each move is a specimen evaluation (counted, lab time). amplitude [m] > 0.
+  // Returns the record {k0, amplitude, samples: [[d, r], ...]}. Throws SafetyStop,
+  // TransferError, or hybridtest::Error if the slope is not positive and finite.
+  struct StiffnessMeasurement {
+    double k0 = 0.0;                          // [N/m]
+    double amplitude = 0.0;                   // [m]
+    std::vector<std::pair<double, double>> samples;  // (d [m], r [N])
+  };
+  StiffnessMeasurement MeasureInitialStiffness(double amplitude);
+  // The config asks for K0 to be measured before the test with this ramp amplitude [m].
+  void RequestStiffnessMeasurement(double amplitude) { k0_ramp_ = amplitude; }
+  std::optional<double> requested_stiffness_ramp() const { return k0_ramp_; }
+  // |max_increment| of the safety limits in slot displacement [m].
+  double max_displacement_increment() const override;
 
  private:
   std::string name_;
@@ -44,6 +69,9 @@ class PhysicalSubstructure final : public Substructure {
   SetupTransform setup_;
   transfer::SafetyMonitor safety_;
   Exchange last_;
+  std::optional<double> k0_;            // dr/dd [N/m]
+  std::optional<double> k0_ramp_;       // measure K0 before the test with this amplitude [m]
+  std::optional<double> safety_stiffness_;  // the safety section's specimen stiffness [N/m]
   long evaluations_ = 0;
   bool active_ = false;
   bool held_ = false;  // Hold() already sent since the last trial

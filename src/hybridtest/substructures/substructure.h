@@ -4,6 +4,8 @@
 //             Physical: the actuator moves (this is the one impure seam of a hybrid test).
 //   Commit()  makes the last trial permanent (the state it was taken at is committed).
 // A substructure knows nothing of Kane: it sees a displacement d [m] and returns r^s [N].
+#include <limits>
+#include <optional>
 #include <string>
 
 namespace hybridtest::substructures {
@@ -41,6 +43,14 @@ class Substructure {
   // Number of trials sent to a bench so far (physical substructures only).
   virtual long evaluations() const { return 0; }
   virtual std::string Describe() const = 0;
+  // The specimen's initial stiffness K0 (operator-splitting schemes use it), if known.
+  // Unit: [N/m] (or [N·m/rad] for a rotational slot).
+  virtual std::optional<double> initial_stiffness() const { return std::nullopt; }
+  // The largest change of the slot displacement between two trials that the safety limits
+  // allow (+inf if none). Unit: [m] (or [rad]).
+  virtual double max_displacement_increment() const {
+    return std::numeric_limits<double>::infinity();
+  }
 };
 
 }  // namespace hybridtest::substructures

@@ -1,0 +1,94 @@
+// hybridtest plan CONFIG [--tolerance 0.01] [--emulate BENCH.yaml] [--keep DIR] [--quiet]
+// The day before a test: candidate schemes against emulated specimens, their specimen
+// evaluations, lab time and error against a fine numerical reference, and the cheapest one
+// that meets the tolerance (runner/plan.h).
+#include <fmt/core.h>
+
+#include <cstdio>
+
+#include "command.h"
+#include "hybridtest/common/error.h"
+#include "hybridtest/io/config.h"
+#include "hybridtest/runner/plan.h"
+
+namespace hybridtest::app {
+namespace {
+
+struct PlanCommandOptions {
+  std::string config;
+  double tolerance = 0.01;
+  std::string emulate;
+  std::string keep;
+  bool quiet = false;
+};
+
+std::string Duration(double seconds) {
+  const long s = std::lround(seconds);
+  return fmt::format("{}h{:02}m{:02}s", s / 3600, (s % 3600) / 60, s % 60);
+}
+
+std::string Row(const runner::PlanResult& r) {
+  if (!r.ok) return fmt::format("{:<44} failed: {}", r.candidate.label, r.failure);
+  return fmt::format("{:<44} {:>11} {:>11} {:>8.3f} % {:>9}", r.candidate.label, r.evaluations,
+                     Duration(r.lab_time), 100.0 * r.error, r.reversals);
+}
+
+void ExecutePlan(const PlanCommandOptions& opt) {
+  if (!(opt.tolerance > 0.0)) {
+    throw ConfigError(fmt::format("--tolerance {}: expected a positive relative error, e.g. "
+                                  "0.01 for 1 %", opt.tolerance));
+  }
+  const io::SimulationConfig cfg = io::LoadSimulationConfig(opt.config);
+  runner::PlanOptions options;
+  options.tolerance = opt.tolerance;
+  if (!opt.emulate.empty()) options.emulate_bench = opt.emulate;
+  options.work_dir = opt.keep;
+  const std::string header = fmt::format("{:<44} {:>11} {:>11} {:>10} {:>9}", "scheme",
+                                         "evaluations", "lab time", "error", "reversals");
+  if (!opt.quiet) {
+    fmt::print("hybridtest plan {}: candidate schemes on emulated specimens against RK4 at "
+               "0.1 ms (error: max slot-displacement difference / peak-to-peak of the first "
+               "physical slot after 20 % of the run)\n{}\n", opt.config, header);
+    std::fflush(stdout);
+  }
+  options.on_result = [&](std::size_t i, std::size_t n, const runner::PlanResult& r) {
+    if (opt.quiet) return;
+    fmt::print("{}   [{}/{}]\n", Row(r), i + 1, n);
+    std::fflush(stdout);
+  };
+  const auto results = runner::PlanTest(cfg, options);
+  const auto best = runner::Recommend(results, opt.tolerance);
+  if (!best) {
+    fmt::print("no candidate met the tolerance of {} %; tighten the steps or check the "
+               "specimen's K0\n", 100.0 * opt.tolerance);
+    return;
+  }
+  fmt::print("\nrecommended (fewest specimen evaluations with error ≤ {} %): {}\n  {} "
+             "evaluations, lab time {} (the configured scheme: {}), error {:.3f} %\n{}",
+             100.0 * opt.tolerance, best->candidate.label, best->evaluations,
+             Duration(best->lab_time),
+             results.front().ok ? Duration(results.front().lab_time) : std::string("failed"),
+             100.0 * best->error, runner::IntegratorYaml(best->candidate));
+}
+
+void AddPlanCommand(CLI::App& root) {
+  auto opt = std::make_shared<PlanCommandOptions>();
+  CLI::App* cmd = root.add_subcommand(
+      "plan", "Before a test: compare schemes on emulated specimens (evaluations, lab time, "
+              "error) and recommend the cheapest that meets a tolerance; moves no real bench");
+  cmd->add_option("config", opt->config, "run configuration (YAML)")->required();
+  cmd->add_option("--tolerance", opt->tolerance,
+                  "largest acceptable error, relative to the specimen's peak-to-peak (default "
+                  "0.01 = 1 %)");
+  cmd->add_option("--emulate", opt->emulate,
+                  "emulated bench config that stands in for physical slots on other transfer "
+                  "systems (remote, modbus, ...)");
+  cmd->add_option("--keep", opt->keep, "write every run into this folder and keep it");
+  cmd->add_flag("--quiet", opt->quiet, "print only the recommendation");
+  cmd->callback([opt] { ExecutePlan(*opt); });
+}
+
+const CommandRegistration kRegistration{"plan", &AddPlanCommand};
+
+}  // namespace
+}  // namespace hybridtest::app

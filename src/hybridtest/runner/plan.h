@@ -1,0 +1,76 @@
+#pragma once
+// Planning a hybrid test the day before: which scheme and step buy the required accuracy
+// with the fewest specimen evaluations? `hybridtest plan CONFIG` runs the configured test,
+// with candidate schemes, against emulated specimens only (never a real bench), and compares
+// every run with a fine numerical reference.
+//
+// Reference: the same model with every physical slot replaced by a numerical substructure of
+// its emulated specimen's law (for the default cantilever bench: the linear 5,250 N/m spring,
+// i.e. the paper's rotor with blade1.k_b = 5250), integrated with RK4 at h = 0.1 ms.
+//
+// Error of a run (the definition of the lab-time study, docs/lab-time.md):
+//   e = max over every slot s and every journal row k of |d_s(t_k) − d_s,ref(t_k)|
+//       / (peak-to-peak of the first physical slot's d_ref over t ∈ [0.2 T, T])
+// with d the slot displacements (q1..q3 for the rotor), d_ref interpolated linearly to the
+// row times; T the duration (so [2, 10] s for the paper's 10 s).
+//
+// Lab time: as the emulated bench's clock reports it (calibrated to the paper's bench).
+// Reversals: how often the commanded actuator motion changes direction (stage record).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hybridtest/io/config.h"
+#include "hybridtest/io/run_reader.h"
+
+namespace hybridtest::runner {
+
+struct PlanCandidate {
+  std::string label;                   // e.g. "mr-os adaptive, tol 2e-06 m"
+  schemes::SchemeConfig scheme;
+  integrators::ButcherTableau tableau; // runge-kutta only
+  double dt = 0.0;                     // [s]
+};
+
+struct PlanResult {
+  PlanCandidate candidate;
+  bool ok = false;               // the run completed
+  std::string failure;           // why not, if !ok
+  long evaluations = 0;          // specimen evaluations (incl. a K0 ramp)
+  double lab_time = 0.0;         // [s]
+  double error = 0.0;            // relative, see above [-]
+  long reversals = 0;            // direction reversals of the first physical command
+  double wall_time = 0.0;        // [s]
+};
+
+struct PlanOptions {
+  double tolerance = 0.01;                   // largest acceptable error [-]
+  std::optional<std::string> emulate_bench;  // stand-in bench for non-emulated physical slots
+  std::string work_dir;                      // where runs are written (empty: a temp folder,
+                                             // removed afterwards)
+  // Called after each candidate (index, count, result) for progress output.
+  std::function<void(std::size_t, std::size_t, const PlanResult&)> on_result;
+};
+
+// The candidates for cfg: the configured scheme first, then α-OS (fixed and adaptive) and
+// MR-OS (fixed and adaptive) over a range of steps and tolerances scaled to the reference's
+// peak-to-peak `p2p` [m].
+std::vector<PlanCandidate> DefaultCandidates(const io::SimulationConfig& cfg, double p2p);
+
+// Relative error of `run` against `reference` (definition above); `first_physical_slot` is
+// the slot whose peak-to-peak normalises it. Throws IoError if a channel is missing.
+double RelativeError(const multibody::Model& model, const io::RunData& run,
+                     const io::RunData& reference, int first_physical_slot, double* p2p = nullptr);
+
+// Runs the reference and every candidate; returns the results in candidate order. Throws
+// ConfigError if cfg has no physical slot, or one whose bench is not emulated and no
+// emulate_bench is given.
+std::vector<PlanResult> PlanTest(const io::SimulationConfig& cfg, const PlanOptions& options);
+
+// The cheapest result (fewest evaluations, then lab time) with error ≤ tolerance, if any.
+std::optional<PlanResult> Recommend(const std::vector<PlanResult>& results, double tolerance);
+
+// The `integrator:` section that selects a candidate, as YAML text.
+std::string IntegratorYaml(const PlanCandidate& candidate);
+
+}  // namespace hybridtest::runner

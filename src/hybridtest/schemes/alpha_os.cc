@@ -1,0 +1,172 @@
+// See alpha_os.h.
+#include "hybridtest/schemes/alpha_os.h"
+
+#include <fmt/core.h>
+
+#include <cmath>
+#include <limits>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/multibody/kane.h"
+#include "hybridtest/schemes/step_control.h"
+
+namespace hybridtest::schemes {
+
+AlphaOs::AlphaOs(const multibody::Model& model, const SchemeConfig& config, const SlotInfo& slots,
+                 double dt, double duration, long steps)
+    : HybridScheme(2 * model.num_coordinates(), model.num_slots()),
+      model_(model),
+      config_(config),
+      slots_(slots),
+      alpha_(config.alpha),
+      beta_((1.0 - config.alpha) * (1.0 - config.alpha) / 4.0),
+      gamma_(0.5 - config.alpha),
+      h_(config.adaptive.enabled ? std::clamp(dt, config.adaptive.dt_min, config.adaptive.dt_max)
+                                 : dt),
+      duration_(duration),
+      steps_(steps),
+      n_(model.num_coordinates()),
+      m_(model.num_slots()),
+      data_(model) {
+  if (!model.has_identity_kinematics()) {
+    throw ConfigError("integrator.scheme = alpha-os: this model has kinematical equations "
+                      "q̇ = W(q) u with W ≠ I; α-OS needs q̇ = u. Use scheme: mr-os or "
+                      "runge-kutta");
+  }
+  for (int s = 0; s < m_; ++s) {
+    if (!std::isfinite(slots_.k0(s))) {
+      throw ConfigError(fmt::format("integrator.scheme = alpha-os: slot {} has no initial stiffness "
+                                    "K0; give substructures.{}.initial_stiffness (N/m) or "
+                                    "`measure`", model.slots()[s].info.name,
+                                    model.slots()[s].info.name));
+    }
+  }
+  for (Eigen::VectorXd* v : {&a_, &f_n_, &a_new_, &f_try_, &res_, &q_scratch_}) v->setZero(n_);
+  for (Eigen::VectorXd* v : {&x_pred_, &x_try_, &xdot_}) v->setZero(2 * n_);
+  for (Eigen::VectorXd* v : {&r_pred_, &r_try_, &d_pred_, &d_try_, &d_last_, &d_plus_, &d_minus_}) {
+    v->setZero(m_);
+  }
+}
+
+std::string AlphaOs::Describe() const {
+  return fmt::format("α-OS (Combescure & Pegon 1997), α = {}, β = {}, γ = {}, {}", alpha_, beta_,
+                     gamma_,
+                     config_.adaptive.enabled
+                         ? fmt::format("adaptive step {}–{} s, tolerance {} m",
+                                       config_.adaptive.dt_min, config_.adaptive.dt_max,
+                                       config_.adaptive.tolerance)
+                         : fmt::format("fixed step {} s", h_));
+}
+
+bool AlphaOs::finished() const {
+  if (!config_.adaptive.enabled) return point_.step >= steps_;
+  return point_.t >= duration_ * (1.0 - 1e-12);
+}
+
+void AlphaOs::Acceleration(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& r,
+                           Eigen::VectorXd& out) {
+  multibody::CalcStateDerivative<double>(model_, data_, t, x, r, xdot_);
+  out = xdot_.tail(n_);
+}
+
+void AlphaOs::OnStart() {
+  Acceleration(point_.t, point_.x, point_.r, f_n_);
+  a_ = f_n_;
+  multibody::CalcSlotDisplacements<double>(model_, data_, point_.t, point_.x.head(n_), d_last_);
+}
+
+void AlphaOs::Predict(double h) {
+  const auto q = point_.x.head(n_);
+  const auto u = point_.x.tail(n_);
+  x_pred_.head(n_) = q + h * u + (h * h * (0.5 - beta_)) * a_;
+  x_pred_.tail(n_) = u + (h * (1.0 - gamma_)) * a_;
+}
+
+void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
+  const long n = point_.step;
+  // The step: fixed (t_{n+1} = (n+1) h, as exact as the RK schemes), or adaptive towards t_end.
+  double h = h_;
+  double t_next = static_cast<double>(n + 1) * h_;
+  if (config_.adaptive.enabled) {
+    h = StepTowards(point_.t, duration_, h_, config_.adaptive.dt_min);
+    // Shorten (before anything moves) while the command would use too much of an increment.
+    for (int k = 0; k < 20; ++k) {
+      Predict(h);
+      multibody::CalcSlotDisplacements<double>(model_, data_, point_.t + h, x_pred_.head(n_), d_pred_);
+      if (IncrementRatio(d_pred_, d_last_, slots_.max_increment) <= kIncrementMargin ||
+          h <= config_.adaptive.dt_min) {
+        break;
+      }
+      h = std::max(config_.adaptive.dt_min, 0.5 * h);
+    }
+    t_next = point_.t + h;
+  }
+  Predict(h);
+  multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_pred_.head(n_), d_pred_);
+
+  // The one specimen evaluation of the step.
+  seam.Trial(n + 1, 0, t_next, x_pred_, r_pred_);
+
+  // Newton on a with the Jacobian at the predictor.
+  const Eigen::MatrixXd J = multibody::CalcStateJacobian(model_, t_next, x_pred_, r_pred_);
+  const Eigen::MatrixXd B = multibody::CalcCouplingMatrix(model_, t_next, x_pred_);
+  multibody::CalcStateDerivative<double>(model_, data_, t_next, x_pred_, r_pred_, xdot_);
+  CalcSlotJacobian(model_, data_, t_next, x_pred_.head(n_), D_, q_scratch_, d_plus_, d_minus_);
+  const Eigen::MatrixXd dfdr = data_.M.llt().solve(B);  // (n × m) ∂f_u/∂r = M⁻¹ B
+  jac_ = Eigen::MatrixXd::Identity(n_, n_) -
+         (1.0 + alpha_) * (beta_ * h * h * (J.block(n_, 0, n_, n_) + dfdr * slots_.k0.asDiagonal() * D_) +
+                           gamma_ * h * J.block(n_, n_, n_, n_));
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(jac_);
+  a_new_ = a_;
+  double scale = 1.0;
+  bool converged = false;
+  for (int it = 0; it < 50 && !converged; ++it) {
+    x_try_.head(n_) = x_pred_.head(n_) + (beta_ * h * h) * a_new_;
+    x_try_.tail(n_) = x_pred_.tail(n_) + (gamma_ * h) * a_new_;
+    multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_try_.head(n_), d_try_);
+    r_try_ = r_pred_ + slots_.k0.cwiseProduct(d_try_ - d_pred_);
+    Acceleration(t_next, x_try_, r_try_, f_try_);
+    res_ = a_new_ - (1.0 + alpha_) * f_try_ + alpha_ * f_n_;
+    if (it == 0) scale = std::max(1.0, f_try_.lpNorm<Eigen::Infinity>());
+    const Eigen::VectorXd delta = lu.solve(res_);
+    a_new_ -= delta;
+    converged = delta.lpNorm<Eigen::Infinity>() <= 1e-10 * scale;
+  }
+  if (!converged || !a_new_.allFinite()) {
+    throw Error(fmt::format("α-OS: the corrector did not converge at t = {} s (step {}, h = {} s); "
+                            "the specimen holds at the predictor. Reduce integrator.dt "
+                            "(or adaptive.dt_max)", t_next, n + 1, h));
+  }
+  // Commit: the solution, its split restoring forces, F_{n+1} and the error estimate.
+  x_try_.head(n_) = x_pred_.head(n_) + (beta_ * h * h) * a_new_;
+  x_try_.tail(n_) = x_pred_.tail(n_) + (gamma_ * h) * a_new_;
+  multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_try_.head(n_), d_try_);
+  r_try_ = r_pred_ + slots_.k0.cwiseProduct(d_try_ - d_pred_);
+  if (config_.adaptive.enabled) {
+    const double e =
+        h * h * std::abs(beta_ - 1.0 / 6.0) * (D_ * (a_new_ - a_)).lpNorm<Eigen::Infinity>();
+    h_ = NextStepSize(config_.adaptive, h, e, 3.0);
+  }
+  Acceleration(t_next, x_try_, r_try_, f_n_);
+  a_ = a_new_;
+  d_last_ = d_pred_;
+  point_.step = n + 1;
+  point_.t = t_next;
+  point_.x = x_try_;
+  point_.r = r_try_;
+}
+
+nlohmann::json AlphaOs::SaveOwnState() const {
+  return {{"h", h_}, {"a", ToJson(a_)}, {"f", ToJson(f_n_)}, {"d_last", ToJson(d_last_)},
+          {"k0", ToJson(slots_.k0)}};
+}
+
+void AlphaOs::RestoreOwnState(const nlohmann::json& state) {
+  h_ = state.at("h").get<double>();
+  a_ = VectorFromJson(state.at("a"), n_, "alpha-os a");
+  f_n_ = VectorFromJson(state.at("f"), n_, "alpha-os f");
+  d_last_ = VectorFromJson(state.at("d_last"), m_, "alpha-os d_last");
+  slots_.k0 = VectorFromJson(state.at("k0"), m_, "alpha-os k0");
+}
+
+}  // namespace hybridtest::schemes
