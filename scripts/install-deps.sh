@@ -7,8 +7,10 @@ packages=(
   build-essential cmake ninja-build git pkg-config
   libeigen3-dev libyaml-cpp-dev libcli11-dev libfmt-dev nlohmann-json3-dev zlib1g-dev
   libhdf5-dev hdf5-tools
+  libmodbus-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-sympy python3-yaml python3-h5py python3-numpy
+  python3-pymodbus python3-serial python3-serial-asyncio   # the Modbus test controller
   gnuplot-nox
 )
 

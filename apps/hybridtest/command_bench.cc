@@ -3,6 +3,10 @@
 //
 //   hybridtest bench [--config FILE] [--listen HOST:PORT] [--token TOKEN]
 //                    [--heartbeat-timeout S] [--inject KIND@N]...
+//                    [--protocol hybridtest|openfresco]
+//
+// --protocol openfresco serves OpenFresco's generic TCP protocol instead (OpenSees's
+// `expElement genericClient`; docs/openfresco.md), with the config's `openfresco:` setup.
 //
 // Prints one line "hybridtest bench: listening on HOST:PORT (...)" to stdout once it accepts
 // connections (port 0 picks a free port; the line shows the one chosen), then logs events to
@@ -20,6 +24,8 @@
 #include "hybridtest/transfer/bench_config.h"
 #include "hybridtest/transfer/bench_server.h"
 #include "hybridtest/transfer/emulated_bench.h"
+#include "hybridtest/transfer/openfresco/server.h"
+#include "hybridtest/transfer/openfresco/setup_config.h"
 
 namespace hybridtest::app {
 namespace {
@@ -30,13 +36,44 @@ struct BenchArgs {
   std::string token;
   double heartbeat_timeout = 10.0;
   std::vector<std::string> inject;
+  std::string protocol = "hybridtest";
 };
 
 // The server the signal handlers stop. Stop() only stores an atomic flag.
 transfer::BenchServer* g_server = nullptr;
+transfer::openfresco::Server* g_openfresco_server = nullptr;
 
 extern "C" void StopOnSignal(int /*signal*/) {
   if (g_server != nullptr) g_server->Stop();
+  if (g_openfresco_server != nullptr) g_openfresco_server->Stop();
+}
+
+// --protocol openfresco: the same bench and options, served by the OpenFresco server.
+void ServeOpenFresco(const BenchArgs& args, const transfer::EmulatedBenchConfig& config,
+                     transfer::TransferSystem& bench, const transfer::BenchServerOptions& options) {
+  if (args.config.empty()) {
+    throw ConfigError("--protocol openfresco needs --config FILE with an `openfresco:` section "
+                      "(see examples/rotor/bench-openfresco.yaml)");
+  }
+  transfer::openfresco::Server server(bench, transfer::openfresco::LoadSetup(args.config, config),
+                                      options);
+  std::printf("hybridtest bench: listening on %s (OpenFresco protocol, n = %d; %s; token %s)\n",
+              server.address().c_str(), server.setup().dofs(), bench.Describe().c_str(),
+              args.token.empty() ? "none" : "required");
+  std::fflush(stdout);
+  g_openfresco_server = &server;
+  struct sigaction action {};
+  action.sa_handler = StopOnSignal;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+  try {
+    server.Serve();
+  } catch (...) {
+    g_openfresco_server = nullptr;
+    throw;
+  }
+  g_openfresco_server = nullptr;
 }
 
 void RunBench(const BenchArgs& args) {
@@ -59,6 +96,7 @@ void RunBench(const BenchArgs& args) {
   };
 
   std::unique_ptr<EmulatedBench> bench = MakeEmulatedBench(config);
+  if (args.protocol == "openfresco") return ServeOpenFresco(args, config, *bench, options);
   BenchServer server(*bench, options);
 
   std::string faults;
@@ -101,6 +139,11 @@ void AddBenchCommand(CLI::App& root) {
   cmd->add_option("--inject", args->inject,
                   "TEST FACILITY ONLY: inject a fault KIND@N at the N-th command "
                   "(nan, spike, corrupt, stale_seq, duplicate, silence, close)");
+  cmd->add_option("--protocol", args->protocol,
+                  "hybridtest (bench protocol v1, default) or openfresco (OpenFresco's generic "
+                  "TCP protocol, for OpenSees genericClient elements; needs --config with an "
+                  "`openfresco:` section; docs/openfresco.md)")
+      ->check(CLI::IsMember({"hybridtest", "openfresco"}));
   cmd->callback([args] { RunBench(*args); });
 }
 

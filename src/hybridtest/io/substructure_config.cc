@@ -13,7 +13,9 @@
 #include "hybridtest/substructures/physical_substructure.h"
 #include "hybridtest/transfer/bench_client.h"
 #include "hybridtest/transfer/emulated_bench.h"
+#include "hybridtest/transfer/modbus/modbus_config.h"
 #include "hybridtest/transfer/numerical_loopback.h"
+#include "hybridtest/transfer/openfresco/client_config.h"
 #include "hybridtest/transfer/socket.h"
 
 namespace hybridtest::io {
@@ -27,12 +29,19 @@ std::unique_ptr<transfer::TransferSystem> MakeTransfer(const YamlInput& in, cons
                                                        const std::string& kp,
                                                        const SubstructureOptions& options,
                                                        double reply_timeout) {
-  in.CheckKeys(node, kp, {"type", "config", "bench", "law", "p0", "address", "token", "timeout"});
-  if (options.emulate_bench) {
+  if (options.emulate_bench) {  // `plan --emulate`: no real bench, whatever the config names
     return transfer::MakeEmulatedBench(transfer::LoadEmulatedBenchConfig(*options.emulate_bench));
   }
+  if (node["type"] && node["type"].IsScalar() && node["type"].Scalar() == "modbus") {
+    return transfer::modbus::MakeModbusTransfer(in, node, kp, options.bench_address, reply_timeout);
+  }
+  if (node["type"] && node["type"].IsScalar() && node["type"].Scalar() == "openfresco") {
+    return transfer::openfresco::MakeClientTransfer(in, node, kp, options.bench_address,
+                                                    reply_timeout);
+  }
+  in.CheckKeys(node, kp, {"type", "config", "bench", "law", "p0", "address", "token", "timeout"});
   const std::string type =
-      in.String(node["type"], kp + ".type", "a transfer type: emulated, loopback or remote");
+      in.String(node["type"], kp + ".type", "a transfer type: emulated, loopback, remote, modbus or openfresco");
   if (type == "emulated") {
     transfer::EmulatedBenchConfig bench;
     if (node["config"]) {
@@ -79,7 +88,7 @@ std::unique_ptr<transfer::TransferSystem> MakeTransfer(const YamlInput& in, cons
                         : reply_timeout;
     return std::make_unique<transfer::BenchClient>(client);
   }
-  throw ConfigError(fmt::format("{} = '{}': expected emulated, loopback or remote",
+  throw ConfigError(fmt::format("{} = '{}': expected emulated, loopback, remote or modbus",
                                 in.Where(node["type"], kp + ".type"), type));
 }
 

@@ -116,6 +116,15 @@ void ParseFaults(const YamlInput& in, const YAML::Node& node, std::string_view w
 
 }  // namespace
 
+BenchUnits ParseBenchUnits(const YAML::Node& units, std::string_view where) {
+  const YamlInput in = YamlInput::ForNode(units);
+  in.RequireMapping(units, where);
+  in.CheckKeys(units, where, {"length", "force"});
+  BenchUnits result;
+  ParseUnits(in, units, where, result);
+  return result;
+}
+
 EmulatedBenchConfig DefaultEmulatedBenchConfig() {
   EmulatedBenchConfig config;
   config.specimen = constitutive::MakeCantileverSpring(0.5, 0.1, 0.005, 210e9);
@@ -128,7 +137,8 @@ EmulatedBenchConfig ParseEmulatedBenchConfig(const YAML::Node& bench, std::strin
   in.RequireMapping(bench, where);
   in.CheckKeys(bench, where,
                {"units", "seed", "pacing", "p0_mm", "initial_position_mm", "specimen", "actuator",
-                "load_cell", "settling", "sampling", "timing", "safety", "faults"});
+                "load_cell", "settling", "sampling", "timing", "safety", "faults",
+                "openfresco"});
   // Top level.
   if (auto n = SubMapping(in, bench, where, "units", {"length", "force"})) {
     ParseUnits(in, n, JoinKeyPath(where, "units"), c.units);

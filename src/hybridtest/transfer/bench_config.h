@@ -40,6 +40,7 @@
 //       timeout_s: 5                  # longest lab time for one command
 //     faults:                         # TEST FACILITY ONLY; see BenchFault
 //       - {at: 100, kind: nan}
+//     openfresco: {...}               # optional; read by transfer/openfresco/setup_config.h
 //
 // The defaults are calibrated so that the seed paper's test (20,000 small moves) takes about
 // 6 h 16 min of lab time: ~1.13 s per command (see tests/transfer/emulated_bench_test.cc).
@@ -118,6 +119,10 @@ EmulatedBenchConfig DefaultEmulatedBenchConfig();
 // e.g. "bench.yaml: bench". Missing keys take the defaults above. Throws ConfigError naming the
 // key path, the value, what was expected and how to fix it.
 EmulatedBenchConfig ParseEmulatedBenchConfig(const YAML::Node& bench, std::string_view where);
+
+// Parses a `units: {length: mm|m, force: N|kN}` mapping (missing keys: mm and N). `where` is
+// its key path. Throws ConfigError naming the key and the allowed values.
+BenchUnits ParseBenchUnits(const YAML::Node& units, std::string_view where);
 
 // Loads a YAML file whose top level holds a `bench:` mapping. Throws ConfigError (also for an
 // unreadable file or a YAML syntax error, with the line).

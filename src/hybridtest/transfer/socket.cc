@@ -247,6 +247,10 @@ bool SendAll(int fd, const std::vector<std::uint8_t>& bytes, double timeout) {
   return true;
 }
 
+ReadStatus ReadBytes(int fd, double timeout, std::vector<std::uint8_t>& out) {
+  return ReadExactly(fd, out.data(), out.size(), DeadlineAfter(timeout));
+}
+
 ReadStatus ReadFrame(int fd, double timeout, Frame& out) {
   const auto deadline = DeadlineAfter(timeout);
   std::vector<std::uint8_t> bytes(kFrameHeaderSize);

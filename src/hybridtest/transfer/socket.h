@@ -69,6 +69,11 @@ enum class ReadStatus { kFrame, kTimeout, kClosed };
 // connection or the time ran out (no SIGPIPE is raised).
 bool SendAll(int fd, const std::vector<std::uint8_t>& bytes, double timeout);
 
+// Reads exactly out.size() bytes, waiting up to `timeout` [s] in total. Returns kFrame when
+// all arrived, kTimeout or kClosed (EOF, reset, or EOF part-way) otherwise. For fixed-length
+// protocols without frames (e.g. OpenFresco's, transfer/openfresco/wire.h).
+ReadStatus ReadBytes(int fd, double timeout, std::vector<std::uint8_t>& out);
+
 // Reads one frame, waiting up to `timeout` [s] in total for all of its bytes. Returns kTimeout
 // or kClosed (orderly shutdown, reset, or EOF mid-frame) without throwing; throws
 // TransferError when the bytes received are not a valid frame (see DecodeFrame).

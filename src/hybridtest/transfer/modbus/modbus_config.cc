@@ -1,0 +1,83 @@
+// See modbus_config.h.
+#include "hybridtest/transfer/modbus/modbus_config.h"
+
+#include <fmt/core.h>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/transfer/socket.h"
+
+namespace hybridtest::transfer::modbus {
+
+ModbusOptions ParseModbusOptions(const YamlInput& in, const YAML::Node& node,
+                                 const std::string& kp,
+                                 const std::optional<std::string>& bench_address,
+                                 double default_timeout) {
+  in.CheckKeys(node, kp, {"type", "host", "port", "unit_id", "timeout", "response_timeout",
+                          "connect_timeout", "hold_timeout", "poll_interval", "plausibility",
+                          "map"});
+  ModbusOptions o;
+  if (bench_address && !bench_address->empty()) {
+    const HostPort hp = ParseHostPort(*bench_address, "--bench");
+    o.host = hp.host;
+    o.port = hp.port;
+  } else {
+    if (!node["host"]) {
+      throw ConfigError(fmt::format("{}: a modbus transfer needs the controller's address: give "
+                                    "`host:` (and `port:`, default 502) or --bench HOST:PORT",
+                                    in.Where(node, kp)));
+    }
+    o.host = in.String(node["host"], kp + ".host", "the controller's host name or IP address");
+    if (node["port"]) {
+      const int port = in.Integer(node["port"], kp + ".port", "a TCP port 1..65535 (Modbus: 502)");
+      if (port < 1 || port > 65535) {
+        in.ThrowValue(node["port"], kp + ".port", "a TCP port 1..65535 (Modbus: 502)");
+      }
+      o.port = static_cast<std::uint16_t>(port);
+    }
+  }
+  if (node["unit_id"]) {
+    o.unit_id = in.Integer(node["unit_id"], kp + ".unit_id", "a Modbus unit id 0..255");
+    if (o.unit_id < 0 || o.unit_id > 255) {
+      in.ThrowValue(node["unit_id"], kp + ".unit_id", "a Modbus unit id 0..255 (usually 1)");
+    }
+  }
+  const auto seconds = [&](const char* key, double fallback) {
+    return node[key] ? in.PositiveNumber(node[key], kp + "." + key, "a time in seconds")
+                     : fallback;
+  };
+  o.ack_timeout = seconds("timeout", default_timeout);
+  o.response_timeout = seconds("response_timeout", std::min(o.response_timeout, o.ack_timeout));
+  o.connect_timeout = seconds("connect_timeout", o.connect_timeout);
+  o.hold_timeout = seconds("hold_timeout", o.hold_timeout);
+  o.poll_interval = in.ReadNumber(node, kp, "poll_interval",
+                                  "a pause in seconds (0: poll back to back)", o.poll_interval);
+  if (o.poll_interval < 0.0) {
+    in.ThrowValue(node["poll_interval"], kp + ".poll_interval", "a non-negative time in seconds");
+  }
+  if (const YAML::Node p = in.Mapping(node, "plausibility", kp + ".plausibility", false);
+      p.IsDefined()) {
+    const std::string pkp = kp + ".plausibility";
+    in.CheckKeys(p, pkp, {"position_tolerance", "force"});
+    if (p["position_tolerance"]) {
+      o.position_tolerance = in.PositiveNumber(
+          p["position_tolerance"], pkp + ".position_tolerance",
+          "the largest |position − command| of the first exchange, in bench length units");
+    }
+    if (p["force"]) {
+      o.force_plausible = in.PositiveNumber(
+          p["force"], pkp + ".force", "the largest |force| of the first exchange, in bench force units");
+    }
+  }
+  o.map = ParseRegisterMap(in, node["map"], kp + ".map");
+  return o;
+}
+
+std::unique_ptr<TransferSystem> MakeModbusTransfer(const YamlInput& in, const YAML::Node& node,
+                                                   const std::string& kp,
+                                                   const std::optional<std::string>& bench_address,
+                                                   double default_timeout) {
+  return std::make_unique<ModbusTransfer>(
+      ParseModbusOptions(in, node, kp, bench_address, default_timeout));
+}
+
+}  // namespace hybridtest::transfer::modbus

@@ -1,0 +1,42 @@
+#pragma once
+// The `transfer: {type: modbus}` section of a physical substructure (docs/modbus.md):
+//
+//   transfer:
+//     type: modbus
+//     host: 192.168.0.10        # the controller's address (--bench HOST:PORT overrides host
+//     port: 502                 #   and port)
+//     unit_id: 1                # Modbus unit identifier
+//     timeout: 5                # [s] longest wait for the ack of one command (default:
+//                               #   the substructure's safety.timeout)
+//     response_timeout: 1       # [s] longest wait for the answer to one request
+//     connect_timeout: 5        # [s] longest wait for the TCP connection
+//     hold_timeout: 0.5         # [s] longest wait for the answer to the hold request
+//     poll_interval: 0          # [s] pause between two reads while waiting for the ack
+//     plausibility: {position_tolerance: 1, force: 1e6}   # first exchange, bench units
+//                               #   (default: 1 mm and 1 MN in the map's units)
+//     map: {...}                # register map (register_map.h); default profile if absent
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <yaml-cpp/yaml.h>
+
+#include "hybridtest/common/yaml_input.h"
+#include "hybridtest/transfer/modbus/modbus_transfer.h"
+
+namespace hybridtest::transfer::modbus {
+
+// Reads the section at key path `kp`. `bench_address` (--bench HOST:PORT) overrides host and
+// port; `default_timeout` [s] is the ack timeout unless `timeout` is given. Throws ConfigError.
+ModbusOptions ParseModbusOptions(const YamlInput& in, const YAML::Node& node,
+                                 const std::string& kp,
+                                 const std::optional<std::string>& bench_address,
+                                 double default_timeout);
+
+// The transfer system for the section (not connected).
+std::unique_ptr<TransferSystem> MakeModbusTransfer(const YamlInput& in, const YAML::Node& node,
+                                                   const std::string& kp,
+                                                   const std::optional<std::string>& bench_address,
+                                                   double default_timeout);
+
+}  // namespace hybridtest::transfer::modbus

@@ -1,0 +1,29 @@
+#pragma once
+// The run-config form of the OpenFresco client (client.h), a substructure's `transfer:`:
+//
+//   transfer:
+//     type: openfresco
+//     host: 127.0.0.1                # the site server (--bench HOST:PORT overrides host and port)
+//     port: 8090
+//     units: {length: mm, force: N}  # units of the numbers on the wire (default mm, N)
+//     timeout: 5                     # longest wait for one reply [s] (default: safety.timeout)
+//     token: ...                     # only for a hybridtest server that has a token
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <yaml-cpp/yaml.h>
+
+#include "hybridtest/common/yaml_input.h"
+#include "hybridtest/transfer/transfer_system.h"
+
+namespace hybridtest::transfer::openfresco {
+
+// `node` is the `transfer:` mapping at key path `kp`; `bench_address` is --bench when given;
+// `reply_timeout` [s] is used unless `timeout:` is given. Throws ConfigError naming the key.
+std::unique_ptr<TransferSystem> MakeClientTransfer(const YamlInput& in, const YAML::Node& node,
+                                                   const std::string& kp,
+                                                   const std::optional<std::string>& bench_address,
+                                                   double reply_timeout);
+
+}  // namespace hybridtest::transfer::openfresco

@@ -1,0 +1,95 @@
+#pragma once
+// Server: serves one TransferSystem to OpenFresco mode-A clients (wire.h) — OpenSees's
+// `expElement genericClient`, OpenFresco's ECGenericTCP control or plain-C client — through a
+// ExpSetup (setup.h), one client at a time. `hybridtest bench --protocol openfresco` runs it.
+//
+// Session: header (optionally preceded by the token preamble), then messages until the
+// client sends 99 (DIE, ends the session cleanly), 98 (shutdown: ends the session) or leaves.
+//   3  setTrialResponse → the bench moves to p0 + T d now (no reply)
+//   5  commitState      → nothing to do (no reply)
+//   6  getDaqResponse   → blocks disp|vel|accel|force|time of sizes sizeDaq; the first word of
+//                         each block holds the actuator's measured offset x = p − p0, 0, 0,
+//                         measured force f, lab time [s]; the rest is zero
+//   7  getDisp          → Tᵀ(T Tᵀ)⁻¹ x             8, 9  getVel, getAccel → the trial v, a
+//                                                        projected on T (zeros if not sent)
+//   10 getForce         → q = Tᵀ f                 11 getTime → lab time of the measurement [s]
+//   12, 13 getInitialStiff, getTangentStiff → Tᵀ K0 T (column-major)   14, 15 → zeros (n × n)
+// Before the first trial of a session, getDisp/getForce/getDaqResponse report zeros.
+//
+// Safety — the rules of BenchServer (bench_server.h), with the same SafetyMonitor:
+//  - binds 127.0.0.1 by default; a non-loopback address needs a shared token, which clients
+//    present in the token preamble; a preamble with another token (or one the server does not
+//    expect) is refused. OpenSees sends no preamble: reach a remote bench through a tunnel.
+//  - every trial command is checked (SafetyLimits, SI) before the bench moves, and every
+//    measurement after; a refusal holds the bench and ends the session. The OpenFresco
+//    protocol has no error message, so the client learns of it by the closed connection.
+//  - a malformed header, an unknown action, a non-finite trial value, a message not complete
+//    within heartbeat_timeout, a client silent for heartbeat_timeout, or a disconnect is
+//    logged and puts the bench in Hold() (it never moves to a new position by itself); the
+//    session ends and the server waits for the next client. A second client while a session
+//    is open is logged and closed at once.
+// After a hold, the next trial resumes the bench with Activate() before Execute().
+#include <atomic>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hybridtest/transfer/bench_server.h"
+#include "hybridtest/transfer/openfresco/setup.h"
+#include "hybridtest/transfer/openfresco/wire.h"
+#include "hybridtest/transfer/safety.h"
+#include "hybridtest/transfer/socket.h"
+#include "hybridtest/transfer/transfer_system.h"
+
+namespace hybridtest::transfer::openfresco {
+
+class Server {
+ public:
+  // Binds and listens. Uses host, port, token, heartbeat_timeout, send_timeout, limits,
+  // start_position and log of `options` (initial_stiffness defaults to the setup's K0).
+  // Throws ConfigError for a non-loopback host without a token, an invalid setup, inconsistent
+  // limits or test faults (they belong to the hybridtest protocol); TransferError if the
+  // address cannot be bound. `bench` must outlive the server.
+  Server(TransferSystem& bench, ExpSetup setup, BenchServerOptions options);
+  Server(const Server&) = delete;
+  Server& operator=(const Server&) = delete;
+
+  std::uint16_t port() const { return listener_.port(); }
+  std::string address() const;  // "HOST:PORT"
+  const ExpSetup& setup() const { return setup_; }
+
+  // Activates the bench and serves clients until Stop(); then holds and deactivates it.
+  // Session errors are logged and end the session; they are never thrown.
+  void Serve();
+  // Asks Serve() to return within about 0.1 s. Safe from another thread or a signal handler.
+  void Stop() noexcept { stop_.store(true); }
+
+  long sessions_served() const { return sessions_.load(); }      // lifetime count
+  long trials_executed() const { return trials_.load(); }        // lifetime count
+
+ private:
+  struct Session;
+  void ServeClient(Socket client);
+  bool OpenSession(Session& session);                    // preamble, token, header
+  bool HandleMessage(Session& session, const std::vector<double>& message);
+  bool HandleTrial(Session& session, const std::vector<double>& message);
+  bool Reply(Session& session, const std::vector<double>& values);
+  std::vector<double> DaqResponse(const Session& session) const;
+  void RefuseBusyClient();
+  void HoldBench(const std::string& why);
+  void Log(const std::string& line) const;
+
+  TransferSystem& bench_;
+  ExpSetup setup_;
+  BenchServerOptions options_;
+  BenchUnits bench_units_;
+  SafetyMonitor monitor_;
+  Listener listener_;
+  std::atomic<bool> stop_{false};
+  std::atomic<long> sessions_{0};
+  std::atomic<long> trials_{0};
+  bool bench_held_ = false;
+};
+
+}  // namespace hybridtest::transfer::openfresco
