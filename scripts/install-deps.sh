@@ -9,7 +9,7 @@ packages=(
   libhdf5-dev hdf5-tools
   libmodbus-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3 python3-sympy python3-h5py python3-numpy
+  python3 python3-sympy python3-yaml python3-h5py python3-numpy
   python3-pymodbus python3-serial python3-serial-asyncio   # the Modbus test controller
   gnuplot-nox
 )

@@ -90,8 +90,17 @@ TEST(BuilderErrorsTest, AsymmetricOrIndefiniteInertiaIsRejected) {
 }
 
 TEST(BuilderErrorsTest, TooManyOrNoCoordinatesAreRejected) {
+  // The jets' cap applies to models with general fields only (here a W(q)), at Build().
   std::vector<QuantityInfo> many(kMaxJetCoordinates + 1, {"q", "m", ""});
-  EXPECT_THAT(ErrorOf([&] { ModelBuilder b(many); }),
+  EXPECT_THAT(ErrorOf([&] {
+                ModelBuilder b(many);
+                b.AddParticle("p", b.AddPoint("P", b.origin(), b.newtonian(),
+                                              {ScalarField::Coordinate(0), {}, {}}), 1.0);
+                b.SetKinematicalEquations([](const auto&, auto W) {
+                  for (auto& w : W) w = 0.0;
+                });
+                Model m = std::move(b).Build();
+              }),
               AllOf(HasSubstr("at most 32"), HasSubstr("got 33")));
   EXPECT_THAT(ErrorOf([&] { ModelBuilder b({}); }), HasSubstr("at least one"));
   EXPECT_THAT(ErrorOf([&] { ModelBuilder b({{"q1", "m", ""}}, {{"u1", "", ""}, {"u2", "", ""}}); }),
@@ -144,5 +153,28 @@ TEST(BuilderErrorsTest, ZeroRotationAxisIsRejected) {
               AllOf(HasSubstr("frame 'A'"), HasSubstr("axis")));
 }
 
+}  // namespace
+}  // namespace hybridtest::multibody
+
+namespace hybridtest::multibody {
+namespace {
+// A DCM frame whose matrix is not a rotation (here a scaling by 2 for q ≠ 0) is refused by
+// Build(), naming the frame.
+TEST(BuilderErrorsTest, DcmThatIsNotARotationIsRefusedAtBuild) {
+  ModelBuilder b({{"q1", "rad", ""}});
+  const FrameId F = b.AddFrameWithDcm("F", b.newtonian(), DcmFunction([](const auto& a, auto R) {
+    for (auto& r : R) r = 0.0;
+    R[0] = 1.0 + a.q[0] * a.q[0];
+    R[4] = 1.0;
+    R[8] = 1.0;
+  }));
+  b.AddParticle("p", b.AddPoint("P", b.origin(), F, {ScalarField::Constant(1.0), {}, {}}), 1.0);
+  try {
+    Model m = std::move(b).Build();
+    ADD_FAILURE() << "expected a ModelError";
+  } catch (const ModelError& e) {
+    EXPECT_THAT(e.what(), AllOf(HasSubstr("frame 'F'"), HasSubstr("not a rotation")));
+  }
+}
 }  // namespace
 }  // namespace hybridtest::multibody

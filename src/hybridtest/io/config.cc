@@ -4,14 +4,56 @@
 #include <fmt/core.h>
 
 #include <cmath>
+#include <filesystem>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/integrators/catalogue.h"
+#include "hybridtest/modelfile/model_file.h"
 
 namespace hybridtest::io {
 
+namespace {
+// Applies `model.parameters` overrides to `parameters`; returns the overrides node.
+YAML::Node ApplyOverrides(const YamlInput& in, const YAML::Node& node,
+                          models::ParameterSet& parameters) {
+  const YAML::Node overrides = in.Mapping(node, "parameters", "model.parameters", false);
+  if (overrides.IsDefined()) {
+    for (const auto& kv : overrides) {
+      const std::string key = kv.first.as<std::string>();
+      const std::string path = "model.parameters." + key;
+      const double value = in.Number(kv.second, path, "a number in SI units");
+      parameters.Set(key, value, in.Where(kv.second, path));
+    }
+  }
+  return overrides;
+}
+
+// `model: {file: PATH, parameters: {...}}`: a model file, PATH relative to the run config.
+models::BuiltModel ParseModelFileSection(const YamlInput& in, const YAML::Node& node) {
+  in.CheckKeys(node, "model", {"file", "parameters"});
+  const std::string file = in.String(node["file"], "model.file", "the path of a model file");
+  std::filesystem::path path(file);
+  if (path.is_relative() && !in.path().empty()) {
+    path = std::filesystem::path(in.path()).parent_path() / path;
+  }
+  if (!std::filesystem::exists(path)) {
+    throw ConfigError(fmt::format("{} = '{}': no such model file ({}); the path is relative to "
+                                  "the run config", in.Where(node["file"], "model.file"), file,
+                                  path.string()));
+  }
+  const modelfile::ModelFile model_file = modelfile::LoadModelFile(path.lexically_normal().string());
+  models::ParameterSet parameters = model_file.parameters;
+  ApplyOverrides(in, node, parameters);
+  return modelfile::BuildModelFile(model_file, parameters);
+}
+}  // namespace
+
 models::BuiltModel ParseModel(const YamlInput& in, const YAML::Node& node, int* blades_out) {
-  in.CheckKeys(node, "model", {"name", "blades", "parameters"});
+  if (node["file"]) {
+    if (blades_out != nullptr) *blades_out = 0;
+    return ParseModelFileSection(in, node);
+  }
+  in.CheckKeys(node, "model", {"name", "file", "blades", "parameters"});
   const std::string name =
       in.String(node["name"], "model.name", "a model name: rotor, double_pendulum or spinning_top");
   int blades = 0;
@@ -34,15 +76,7 @@ models::BuiltModel ParseModel(const YamlInput& in, const YAML::Node& node, int* 
   } catch (const ConfigError& e) {
     throw ConfigError(fmt::format("{}: {}", in.Where(node["name"], "model.name"), e.what()));
   }
-  const YAML::Node overrides = in.Mapping(node, "parameters", "model.parameters", false);
-  if (overrides.IsDefined()) {
-    for (const auto& kv : overrides) {
-      const std::string key = kv.first.as<std::string>();
-      const std::string path = "model.parameters." + key;
-      const double value = in.Number(kv.second, path, "a number in SI units");
-      parameters.Set(key, value, in.Where(kv.second, path));
-    }
-  }
+  const YAML::Node overrides = ApplyOverrides(in, node, parameters);
   if (blades_out != nullptr) *blades_out = blades;
   try {
     return models::BuildModel(name, blades, parameters);

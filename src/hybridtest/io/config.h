@@ -2,7 +2,8 @@
 // The run configuration (YAML). One file describes a simulation or a hybrid test:
 //
 //   model:
-//     name: rotor              # rotor | double_pendulum | spinning_top
+//     name: rotor              # rotor | double_pendulum | spinning_top, or instead
+//     # file: my_model.yaml    # a model file (docs/model-files.md), relative to this config
 //     blades: 3                # rotor only
 //     parameters:              # optional overrides, SI units (see `hybridtest models`)
 //       k_b: 7200
@@ -51,7 +52,7 @@ SimulationConfig LoadSimulationConfig(const std::string& path);
 // Same from text (tests).
 SimulationConfig ParseSimulationConfig(const YamlInput& input);
 
-// The built-in model described by a `model:` section.
+// The model described by a `model:` section: a built-in name or a model file.
 models::BuiltModel ParseModel(const YamlInput& input, const YAML::Node& model_node, int* blades);
 
 // The scheme named by `integrator.scheme` and its parameters (not the tableau and dt).

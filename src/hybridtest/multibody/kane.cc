@@ -200,54 +200,6 @@ void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
   xdot.tail(n) = data.udot;
 }
 
-Eigen::MatrixXd CalcCouplingMatrix(const Model& model, double t, const Eigen::VectorXd& x) {
-  const int n = model.num_coordinates();
-  const int m = model.num_slots();
-  if (m > kMaxDerivatives) {
-    throw ModelError(fmt::format("CalcCouplingMatrix supports at most {} slots; the model has {}",
-                                 kMaxDerivatives, m));
-  }
-  Data<AutoDiff> data(model);
-  // Every input carries a derivative vector of the full size (zeros where not seeded): Eigen's
-  // AutoDiffScalar cannot combine derivative expressions of different sizes.
-  const Derivatives zero = Derivatives::Zero(m);
-  VectorX<AutoDiff> xa(x.size());
-  for (Eigen::Index i = 0; i < x.size(); ++i) xa(i) = AutoDiff(x(i), zero);
-  VectorX<AutoDiff> r(m);
-  for (int s = 0; s < m; ++s) r(s) = AutoDiff(0.0, Derivatives::Unit(m, s));
-  CalcKinematics<AutoDiff>(model, data, AutoDiff(t, zero), xa);
-  CalcForcing<AutoDiff>(model, data, r);
-  Eigen::MatrixXd B(n, m);
-  for (int j = 0; j < n; ++j) {
-    const Derivatives& d = data.g(j).derivatives();
-    for (int s = 0; s < m; ++s) B(j, s) = d.size() > s ? d(s) : 0.0;
-  }
-  return B;
-}
-
-Eigen::MatrixXd CalcStateJacobian(const Model& model, double t, const Eigen::VectorXd& x,
-                                  const Eigen::VectorXd& r) {
-  const int nx = model.num_states();
-  if (nx > kMaxDerivatives) {
-    throw ModelError(fmt::format("CalcStateJacobian supports at most {} states; the model has {}",
-                                 kMaxDerivatives, nx));
-  }
-  Data<AutoDiff> data(model);
-  VectorX<AutoDiff> xa(nx);
-  for (int i = 0; i < nx; ++i) xa(i) = AutoDiff(x(i), Derivatives::Unit(nx, i));
-  const Derivatives zero = Derivatives::Zero(nx);  // full-size derivatives on every input
-  VectorX<AutoDiff> ra(r.size());
-  for (Eigen::Index i = 0; i < r.size(); ++i) ra(i) = AutoDiff(r(i), zero);
-  VectorX<AutoDiff> xdot(nx);
-  CalcStateDerivative<AutoDiff>(model, data, AutoDiff(t, zero), xa, ra, xdot);
-  Eigen::MatrixXd J(nx, nx);
-  for (int i = 0; i < nx; ++i) {
-    const Derivatives& d = xdot(i).derivatives();
-    for (int k = 0; k < nx; ++k) J(i, k) = d.size() > k ? d(k) : 0.0;
-  }
-  return J;
-}
-
 #define HYBRIDTEST_INSTANTIATE(T)                                                             \
   template void CalcMassMatrix<T>(const Model&, Data<T>&);                                    \
   template void CalcForcing<T>(const Model&, Data<T>&, const Eigen::Ref<const VectorX<T>>&);  \

@@ -50,10 +50,12 @@ void CalcSlotDisplacements(const Model& model, Data<T>& data, const T& t,
                            const Eigen::Ref<const VectorX<T>>& q, Eigen::Ref<VectorX<T>> d);
 
 // B = ∂g/∂r (n × num_slots) at (t, x): the generalized force of a unit restoring force in each
-// slot (the hybrid coupling matrix). Exact. Requires num_slots ≤ kMaxDerivatives.
+// slot (the hybrid coupling matrix). Exact. Allocates a workspace per call; the
+// allocation-free form with a DerivativeWorkspace is in derivatives.h.
 Eigen::MatrixXd CalcCouplingMatrix(const Model& model, double t, const Eigen::VectorXd& x);
 
-// J = ∂f_rhs/∂x (2n × 2n) at (t, x, r), exact. Requires 2n ≤ kMaxDerivatives.
+// J = ∂f_rhs/∂x (2n × 2n) at (t, x, r), exact. Allocates a workspace per call; the
+// allocation-free form with a DerivativeWorkspace is in derivatives.h.
 Eigen::MatrixXd CalcStateJacobian(const Model& model, double t, const Eigen::VectorXd& x,
                                   const Eigen::VectorXd& r);
 

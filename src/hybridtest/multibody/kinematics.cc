@@ -35,8 +35,11 @@ Data<T>::Data(const Model& model) : n(model.num_coordinates()) {
   time_values.assign(model.time_functions().size(), T(0.0));
   force.assign(np, Vector3<T>::Zero());
   torque.assign(nf, Vector3<T>::Zero());
-  q_jets.assign(n, Jet<T>());
-  jet_buffer.assign(std::max<std::size_t>(9, std::size_t(n) * n), Jet<T>());
+  // Jets only for general fields, W(q) or DCM frames (a Jet<AutoDiff> is kilobytes).
+  if (model.has_general_fields()) {
+    q_jets.assign(n, Jet<T>());
+    jet_buffer.assign(std::max<std::size_t>(9, std::size_t(n) * n), Jet<T>());
+  }
   partial_rate.setZero(n);
   partial_rate3.setZero(3, n);
   cholesky_factor.setZero(n, n);

@@ -50,6 +50,32 @@ std::vector<int> Difference(const std::vector<int>& a, const std::vector<int>& b
   std::set_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(d));
   return d;
 }
+// Evaluates every DCM frame at q = 0 and at two pseudo-random q (t = 0) and refuses one that
+// is not a rotation (RᵀR = I, det R = +1, to 1e-9): a wrong DCM would silently give wrong
+// equations of motion.
+void CheckDcmFrames(const ModelElements& e) {
+  const int n = static_cast<int>(e.coordinates.size());
+  std::vector<Jet<double>> q(static_cast<std::size_t>(n));
+  std::array<Jet<double>, 9> c;
+  for (int trial = 0; trial < 3; ++trial) {
+    for (int k = 0; k < n; ++k) q[k] = Jet<double>(trial == 0 ? 0.0 : std::sin(1.3 * k + 0.7 * trial));
+    const KinematicArgs<double> args{std::span<const Jet<double>>(q.data(), q.size()), Jet<double>(0.0)};
+    for (const FrameSpec& f : e.frames) {
+      if (f.kind != FrameSpec::Kind::kDcm) continue;
+      f.dcm.get<double>()(args, std::span<Jet<double>>(c.data(), 9));
+      Eigen::Matrix3d R;
+      for (int i = 0; i < 9; ++i) R(i / 3, i % 3) = c[i].v;
+      const double orth = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+      if (!(orth < 1e-9) || !(R.determinant() > 0.0)) {
+        throw ModelError(fmt::format("frame '{}': its direction-cosine matrix is not a rotation "
+                                     "at q = [{}] (|RᵀR − I| = {:.3g}, det R = {:.6g}); it must "
+                                     "be orthonormal with determinant +1 for every q",
+                                     f.name, trial == 0 ? "0, ..." : "random", orth,
+                                     R.determinant()));
+      }
+    }
+  }
+}
 }  // namespace
 
 ModelBuilder::ModelBuilder(std::vector<QuantityInfo> coordinates,
@@ -58,10 +84,6 @@ ModelBuilder::ModelBuilder(std::vector<QuantityInfo> coordinates,
   elements_.speeds = std::move(speeds);
   const int n = static_cast<int>(elements_.coordinates.size());
   if (n < 1) throw ModelError("a model needs at least one generalized coordinate; got none");
-  if (n > kMaxJetCoordinates) {
-    throw ModelError(fmt::format("a model may have at most {} generalized coordinates; got {}",
-                                 kMaxJetCoordinates, n));
-  }
   if (elements_.speeds.empty()) {
     for (int k = 0; k < n; ++k) {
       const std::string unit = elements_.coordinates[k].unit + "/s";
@@ -228,13 +250,17 @@ int ModelBuilder::AddTimeFunctionSpec(std::string name, TimeFunction f) {
 }
 
 int ModelBuilder::AddRestoringForceSlot(std::string name, std::string description,
-                                        ScalarField displacement) {
+                                        ScalarField displacement, std::string unit) {
   CheckField(displacement, "restoring-force slot '" + name + "'");
+  if (unit != "N" && unit != "N·m") {
+    throw ModelError(fmt::format("restoring-force slot '{}': unit '{}': expected N (a force) or "
+                                 "N·m (a moment)", name, unit));
+  }
   for (const auto& s : elements_.slots) {
     if (s.info.name == name) throw ModelError("restoring-force slot '" + name + "' declared twice");
   }
   elements_.slots.push_back(
-      {{std::move(name), "N", std::move(description)}, std::move(displacement)});
+      {{std::move(name), std::move(unit), std::move(description)}, std::move(displacement)});
   return static_cast<int>(elements_.slots.size()) - 1;
 }
 
@@ -299,6 +325,16 @@ Model ModelBuilder::Build() && {
       p.has_time_rate = !p.time_rate.isZero(0.0);
     }
   }
+  // Jets (general expressions, W(q), DCM frames) carry ∂/∂q inline for up to
+  // kMaxJetCoordinates coordinates; affine models have no such cap.
+  const int num_q = static_cast<int>(elements_.coordinates.size());
+  if (general && num_q > kMaxJetCoordinates) {
+    throw ModelError(fmt::format("a model with general (non-affine) kinematic expressions, "
+                                 "kinematical equations W(q) or DCM frames may have at most {} "
+                                 "generalized coordinates; got {} (affine models have no cap)",
+                                 kMaxJetCoordinates, num_q));
+  }
+  if (general) CheckDcmFrames(elements_);
   Model m;
   std::set<int> loaded_points, loaded_frames;
   for (const auto& pa : elements_.particles) loaded_points.insert(pa.point);

@@ -205,9 +205,10 @@ class ModelBuilder {
   int AddTimeFunction(std::string name, const F& f) {
     return AddTimeFunctionSpec(std::move(name), TimeFunction(f));
   }
-  // Declares a restoring-force slot r^s [N]; returns its index in r.
+  // Declares a restoring-force slot r^s; returns its index in r. `unit` is "N" (a force; the
+  // displacement is in m) or "N·m" (a moment; the displacement is in rad).
   int AddRestoringForceSlot(std::string name, std::string description,
-                            ScalarField displacement);
+                            ScalarField displacement, std::string unit = "N");
   // q̇ = W(q) u with W filled by f (see KinematicMatrixSignature).
   template <class F>
   void SetKinematicalEquations(const F& f) {

@@ -71,6 +71,7 @@ io::JournalMetadata JournalMetadataFor(const io::SimulationConfig& cfg,
   nlohmann::json slots = nlohmann::json::array();
   for (int s = 0; s < model.num_slots(); ++s) {
     slots.push_back({{"name", model.slots()[s].info.name},
+                     {"unit", model.slots()[s].info.unit},
                      {"coordinate", SlotCoordinate(model, s)},
                      {"description", model.slots()[s].info.description}});
   }

@@ -1,0 +1,164 @@
+#!/usr/bin/python3
+"""The SymPy half of `hybridtest check-model`: an independent reading of a model file.
+
+Reads the model file (docs/model-files.md) with PyYAML, builds the same model with
+sympy.physics.mechanics (ReferenceFrame.orient_axis / orient_body_fixed / orient_explicit,
+Point.locatenew, Particle, RigidBody) and derives Kane's equations with KanesMethod, sharing no
+code with the C++ engine. Then evaluates the mass matrix M and the forcing g (SymPy's
+convention M u' = forcing, the engine's too) at the states given in a JSON file:
+
+    [{"t": 0.3, "q": [...], "u": [...], "r": [...]}, ...]
+
+and prints one JSON object {"M": [n x n per state], "g": [n per state]} on stdout.
+
+Usage: check_model_sympy.py MODEL.yaml STATES.json
+The file is assumed valid (the C++ reader checked it first); parameters take their values
+from the file.
+"""
+
+import json
+import sys
+
+import sympy as sp
+import yaml
+from sympy.parsing.sympy_parser import (convert_xor, parse_expr,
+                                        standard_transformations)
+from sympy.physics import mechanics as me
+
+TRANSFORMS = standard_transformations + (convert_xor,)
+FUNCTIONS = {'sin': sp.sin, 'cos': sp.cos, 'tan': sp.tan, 'exp': sp.exp, 'log': sp.log,
+             'sqrt': sp.sqrt, 'abs': sp.Abs, 'pow': sp.Pow, 'min': sp.Min, 'max': sp.Max,
+             'pi': sp.pi}
+
+
+class Reader:
+    def __init__(self, doc):
+        self.doc = doc
+        self.t = me.dynamicsymbols._t
+        self.names = dict(FUNCTIONS)
+        self.names['t'] = self.t
+        for name, p in (doc.get('parameters') or {}).items():
+            value = p['value'] if isinstance(p, dict) else p
+            self.names[name] = sp.Float(float(value))
+        coords = doc['coordinates']
+        n = len(coords)
+        self.q = list(me.dynamicsymbols(f'qq0:{n}')) if n > 1 else [me.dynamicsymbols('qq0')]
+        self.u = list(me.dynamicsymbols(f'uu0:{n}')) if n > 1 else [me.dynamicsymbols('uu0')]
+        for k, c in enumerate(coords):
+            self.names[c['name']] = self.q[k]
+        speeds = doc.get('speeds') or [{'name': f'u{k + 1}'} for k in range(n)]
+        for k, s in enumerate(speeds):
+            self.names[s['name']] = self.u[k]
+        slots = doc.get('slots') or []
+        self.r = [sp.Symbol(f'rr{k}') for k in range(len(slots))]
+        for k, s in enumerate(slots):
+            self.names[s['name']] = self.r[k]
+        for name, text in (doc.get('time_functions') or {}).items():
+            self.names[name] = self.expr(text)
+
+    def expr(self, text):
+        return parse_expr(str(text), local_dict=dict(self.names), transformations=TRANSFORMS)
+
+    def vector(self, frame, components):
+        units = (frame.x, frame.y, frame.z)
+        return sum((self.expr(c) * e for c, e in zip(components, units)), me.Vector(0))
+
+    def build(self):
+        doc = self.doc
+        N = me.ReferenceFrame('N')
+        O = me.Point('O')
+        O.set_vel(N, 0)
+        frames = {'N': N}
+        points = {'O': O}
+        for f in doc.get('frames') or []:
+            parent = frames[f.get('parent', 'N')]
+            F = me.ReferenceFrame('F_' + str(len(frames)))
+            if 'angle' in f:
+                axis = f.get('axis', 'z')
+                if isinstance(axis, str):
+                    vec = {'x': parent.x, 'y': parent.y, 'z': parent.z}[axis.lower()]
+                else:
+                    vec = self.vector(parent, axis)
+                F.orient_axis(parent, vec, self.expr(f['angle']))
+            elif 'euler' in f:
+                angles = [self.expr(a) for a in f['euler']['angles']]
+                F.orient_body_fixed(parent, angles, f['euler']['sequence'].upper())
+            else:
+                R = sp.Matrix([[self.expr(c) for c in row] for row in f['dcm']])
+                # R's columns are F's unit vectors in the parent: parent.dcm(F) == R.
+                F.orient_explicit(parent, R)
+                if any(abs(float(v)) > 1e-12 for v in (parent.dcm(F) - R)):
+                    F.orient_explicit(parent, R.T)
+            frames[f['name']] = F
+        for p in doc.get('points') or []:
+            base = points[p.get('from', 'O')]
+            frame = frames[p.get('frame', 'N')]
+            r = self.vector(frame, p['position'])
+            P = base.locatenew(p['name'], r)
+            P.set_vel(N, base.vel(N) + r.dt(N))
+            points[p['name']] = P
+        bodies = []
+        for p in doc.get('particles') or []:
+            bodies.append(me.Particle(p['name'], points[p['point']], self.expr(p['mass'])))
+        for b in doc.get('bodies') or []:
+            frame = frames[b['frame']]
+            I = b['inertia']
+            if not isinstance(I[0], list):
+                I = [[I[0], 0, 0], [0, I[1], 0], [0, 0, I[2]]]
+            I = [[self.expr(c) for c in row] for row in I]
+            dyadic = me.inertia(frame, I[0][0], I[1][1], I[2][2], I[0][1], I[1][2], I[2][0])
+            center = points[b['mass_center']]
+            bodies.append(me.RigidBody(b['name'], center, frame, self.expr(b.get('mass', 0)),
+                                       (dyadic, center)))
+        loads = []
+        for f in doc.get('forces') or []:
+            loads.append((points[f['point']],
+                          self.vector(frames[f.get('expressed_in', 'N')], f['value'])))
+        for f in doc.get('torques') or []:
+            loads.append((frames[f['frame']],
+                          self.vector(frames[f.get('expressed_in', 'N')], f['value'])))
+        n = len(self.q)
+        W = doc.get('kinematical_equations')
+        if W:
+            W = sp.Matrix([[self.expr(c) for c in row] for row in W])
+        else:
+            W = sp.eye(n)
+        qd = sp.Matrix([qk.diff(self.t) for qk in self.q])
+        kd = list(qd - W * sp.Matrix(self.u))
+        kane = me.KanesMethod(N, q_ind=self.q, u_ind=self.u, kd_eqs=kd)
+        kane.kanes_equations(bodies, loads)
+        # q' may remain in the forcing: eliminate it through the kinematical equations.
+        kdd = kane.kindiffdict()
+        return kane.mass_matrix.subs(kdd), kane.forcing.subs(kdd)
+
+
+def main():
+    if len(sys.argv) != 3:
+        print(__doc__, file=sys.stderr)
+        return 2
+    with open(sys.argv[1], encoding='utf-8') as f:
+        doc = yaml.safe_load(f)
+    with open(sys.argv[2], encoding='utf-8') as f:
+        states = json.load(f)
+    reader = Reader(doc)
+    M, F = reader.build()
+    n = len(reader.q)
+    Q = sp.symbols(f'Q0:{n}')
+    U = sp.symbols(f'U0:{n}')
+    plain = {**dict(zip(reader.q, Q)), **dict(zip(reader.u, U))}
+    M = me.msubs(M, plain)
+    F = me.msubs(F, plain)
+    args = [reader.t, *Q, *U, *reader.r]
+    fM = sp.lambdify(args, M.tolist(), 'math')
+    fF = sp.lambdify(args, list(F), 'math')
+    out = {'M': [], 'g': []}
+    for s in states:
+        values = [s['t'], *s['q'], *s['u'], *s['r']]
+        out['M'].append([[float(v) for v in row] for row in fM(*values)])
+        out['g'].append([float(v) for v in fF(*values)])
+    print(json.dumps(out))
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,106 @@
+// See sympy_check.h.
+#include "sympy_check.h"
+
+#include <fmt/core.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "hybridtest/common/error.h"
+
+namespace hybridtest::app {
+namespace {
+std::string Quote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// Runs `command` through the shell; returns its standard output and sets `status`.
+std::string Capture(const std::string& command, int* status) {
+  std::string out;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (pipe == nullptr) {
+    *status = -1;
+    return out;
+  }
+  char buffer[4096];
+  std::size_t got = 0;
+  while ((got = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) out.append(buffer, got);
+  *status = ::pclose(pipe);
+  return out;
+}
+}  // namespace
+
+std::optional<std::string> FindSympyReader(std::string* why) {
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  const std::filesystem::path script = exe.parent_path() / "hybridtest_check_model_sympy.py";
+  if (!ec && std::filesystem::exists(script)) return script.string();
+  *why = fmt::format("the SymPy reader {} is missing (it ships beside the hybridtest binary)",
+                     script.string());
+  return std::nullopt;
+}
+
+std::string FindPythonWithSympy(std::string* why) {
+  std::vector<std::string> candidates;
+  if (const char* env = std::getenv("HYBRIDTEST_PYTHON"); env != nullptr && *env != '\0') {
+    candidates.emplace_back(env);
+  }
+  candidates.emplace_back("/usr/bin/python3");
+  candidates.emplace_back("python3");
+  for (const std::string& py : candidates) {
+    int status = 0;
+    Capture(Quote(py) + " -c 'import sympy, yaml' 2>/dev/null", &status);
+    if (status == 0) return py;
+  }
+  *why = "no python3 with SymPy and PyYAML found (on Debian: apt-get install python3-sympy "
+         "python3-yaml)";
+  return {};
+}
+
+SympyResult RunSympyReader(const std::string& python, const std::string& script,
+                           const std::string& model_file, const std::vector<SympyState>& states) {
+  nlohmann::json in = nlohmann::json::array();
+  for (const SympyState& s : states) {
+    in.push_back({{"t", s.t},
+                  {"q", std::vector<double>(s.q.data(), s.q.data() + s.q.size())},
+                  {"u", std::vector<double>(s.u.data(), s.u.data() + s.u.size())},
+                  {"r", std::vector<double>(s.r.data(), s.r.data() + s.r.size())}});
+  }
+  const std::filesystem::path states_file = std::filesystem::temp_directory_path() /
+      fmt::format("hybridtest-check-model-{}.json", ::getpid());
+  std::ofstream(states_file) << in.dump();
+  int status = 0;
+  const std::string out = Capture(fmt::format("{} -B {} {} {}", Quote(python), Quote(script),
+                                              Quote(model_file), Quote(states_file.string())),
+                                  &status);
+  std::filesystem::remove(states_file);
+  if (status != 0) {
+    throw Error(fmt::format("the SymPy reader failed (exit status {}) on {}; its message is "
+                            "above", status, model_file));
+  }
+  const nlohmann::json j = nlohmann::json::parse(out, nullptr, false);
+  if (j.is_discarded() || !j.contains("M") || !j.contains("g")) {
+    throw Error("the SymPy reader printed no JSON {M, g}: " + out.substr(0, 200));
+  }
+  SympyResult result;
+  for (const auto& m : j["M"]) {
+    const int n = static_cast<int>(m.size());
+    Eigen::MatrixXd M(n, n);
+    for (int i = 0; i < n; ++i)
+      for (int k = 0; k < n; ++k) M(i, k) = m[i][k].get<double>();
+    result.M.push_back(M);
+  }
+  for (const auto& g : j["g"]) {
+    const std::vector<double> v = g.get<std::vector<double>>();
+    result.g.push_back(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));
+  }
+  return result;
+}
+
+}  // namespace hybridtest::app

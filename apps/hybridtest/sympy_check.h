@@ -1,0 +1,36 @@
+#pragma once
+// The SymPy half of `hybridtest check-model`: runs check_model_sympy.py (shipped beside the
+// binary as hybridtest_check_model_sympy.py), which reads the same model file on its own
+// (PyYAML + SymPy's KanesMethod, no code shared with the engine) and evaluates M and g at the
+// given states; the engine's M and g are compared with them.
+#include <Eigen/Core>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hybridtest::app {
+
+struct SympyState {
+  double t = 0.0;      // [s]
+  Eigen::VectorXd q;   // (n)
+  Eigen::VectorXd u;   // (n)
+  Eigen::VectorXd r;   // (num_slots)
+};
+
+struct SympyResult {
+  std::vector<Eigen::MatrixXd> M;  // one (n × n) per state
+  std::vector<Eigen::VectorXd> g;  // one (n) per state
+};
+
+// The script's path beside the running binary, or nullopt (with the reason in `why`).
+std::optional<std::string> FindSympyReader(std::string* why);
+// The Python interpreter to use: $HYBRIDTEST_PYTHON, else /usr/bin/python3 (Debian's, with
+// python3-sympy), else python3 on PATH. Empty with `why` set if none has sympy and yaml.
+std::string FindPythonWithSympy(std::string* why);
+
+// Runs the reader on `model_file` at `states`. Throws hybridtest::Error if the script fails.
+SympyResult RunSympyReader(const std::string& python, const std::string& script,
+                           const std::string& model_file, const std::vector<SympyState>& states);
+
+}  // namespace hybridtest::app

@@ -1,0 +1,331 @@
+// Parsing, constant folding and linearisation of model-file expressions. See expression.h.
+#include "hybridtest/modelfile/expression.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <numbers>
+
+namespace hybridtest::modelfile {
+
+void SymbolTable::Add(Symbol symbol) { symbols_.push_back(std::move(symbol)); }
+
+const Symbol* SymbolTable::Find(std::string_view name) const {
+  for (const Symbol& s : symbols_) {
+    if (s.name == name) return &s;
+  }
+  return nullptr;
+}
+
+namespace {
+int EditDistance(std::string_view a, std::string_view b) {
+  std::vector<int> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = static_cast<int>(j);
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = static_cast<int>(i);
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
+    }
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+}  // namespace
+
+std::vector<std::string> SymbolTable::Closest(std::string_view name) const {
+  // By edit distance, ties broken by the longer common prefix ("lenght" → l before t).
+  std::vector<std::pair<int, std::string>> scored;
+  for (const Symbol& s : symbols_) {
+    std::size_t prefix = 0;
+    while (prefix < name.size() && prefix < s.name.size() && name[prefix] == s.name[prefix]) ++prefix;
+    scored.emplace_back(4 * EditDistance(name, s.name) - static_cast<int>(std::min<std::size_t>(prefix, 3)),
+                        s.name);
+  }
+  std::stable_sort(scored.begin(), scored.end(),
+                   [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < scored.size() && i < 3; ++i) out.push_back(scored[i].second);
+  return out;
+}
+
+namespace {
+struct FunctionInfo {
+  const char* name;
+  Op op;
+  int arity;
+};
+constexpr FunctionInfo kFunctions[] = {
+    {"sin", Op::kSin, 1},   {"cos", Op::kCos, 1},   {"tan", Op::kTan, 1},
+    {"exp", Op::kExp, 1},   {"log", Op::kLog, 1},   {"sqrt", Op::kSqrt, 1},
+    {"abs", Op::kAbs, 1},   {"pow", Op::kPow, 2},   {"min", Op::kMin, 2},
+    {"max", Op::kMax, 2},
+};
+
+bool IsNameStart(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
+bool IsNameChar(char c) {
+  return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+}
+
+// Value of a unary or binary operation on constants.
+double Fold(Op op, double a, double b) {
+  switch (op) {
+    case Op::kNeg: return -a;
+    case Op::kAdd: return a + b;
+    case Op::kSub: return a - b;
+    case Op::kMul: return a * b;
+    case Op::kDiv: return a / b;
+    case Op::kPow: return std::pow(a, b);
+    case Op::kSin: return std::sin(a);
+    case Op::kCos: return std::cos(a);
+    case Op::kTan: return std::tan(a);
+    case Op::kExp: return std::exp(a);
+    case Op::kLog: return std::log(a);
+    case Op::kSqrt: return std::sqrt(a);
+    case Op::kAbs: return std::abs(a);
+    case Op::kMin: return std::min(a, b);
+    case Op::kMax: return std::max(a, b);
+    default: return a;
+  }
+}
+}  // namespace
+
+class Parser {
+ public:
+  Parser(std::string_view text, const SymbolTable& symbols) : text_(text), symbols_(symbols) {}
+
+  Expression Run() {
+    Skip();
+    if (pos_ >= text_.size()) Fail("", "the expression is empty; write a number or a formula");
+    e_.root_ = ParseExpr();
+    Skip();
+    if (pos_ < text_.size()) {
+      Fail(std::string(1, text_[pos_]), "unexpected character after a complete expression; "
+                                        "check for a missing operator or parenthesis");
+    }
+    return std::move(e_);
+  }
+
+ private:
+  [[noreturn]] void Fail(std::string token, std::string message) const {
+    throw ExpressionError{static_cast<int>(token_start_), std::move(token), std::move(message)};
+  }
+  void Skip() {
+    while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+    token_start_ = pos_;
+  }
+  bool Accept(std::string_view s) {
+    Skip();
+    if (text_.substr(pos_, s.size()) == s) {
+      pos_ += s.size();
+      return true;
+    }
+    return false;
+  }
+  int Push(Node n) {
+    // Constant folding: operations on constants become constants.
+    const bool ca = n.a >= 0 && e_.nodes_[n.a].op == Op::kConst;
+    const bool cb = n.b < 0 || e_.nodes_[n.b].op == Op::kConst;
+    if (n.op != Op::kConst && n.a >= 0 && ca && cb) {
+      const double b = n.b >= 0 ? e_.nodes_[n.b].value : 0.0;
+      n = Node{Op::kConst, Fold(n.op, e_.nodes_[n.a].value, b), -1, -1, -1};
+    }
+    e_.nodes_.push_back(n);
+    return static_cast<int>(e_.nodes_.size()) - 1;
+  }
+  int ParseExpr() {
+    int left = ParseTerm();
+    for (;;) {
+      if (Accept("+")) {
+        left = Push({Op::kAdd, 0, -1, left, ParseTerm()});
+      } else if (Accept("-")) {
+        left = Push({Op::kSub, 0, -1, left, ParseTerm()});
+      } else {
+        return left;
+      }
+    }
+  }
+  int ParseTerm() {
+    int left = ParseUnary();
+    for (;;) {
+      Skip();
+      if (text_.substr(pos_, 2) == "**") return left;
+      if (Accept("*")) {
+        left = Push({Op::kMul, 0, -1, left, ParseUnary()});
+      } else if (Accept("/")) {
+        left = Push({Op::kDiv, 0, -1, left, ParseUnary()});
+      } else {
+        return left;
+      }
+    }
+  }
+  int ParseUnary() {
+    if (Accept("-")) return Push({Op::kNeg, 0, -1, ParseUnary(), -1});
+    if (Accept("+")) return ParseUnary();
+    return ParsePower();
+  }
+  int ParsePower() {
+    const int base = ParsePrimary();
+    if (Accept("**") || Accept("^")) return Push({Op::kPow, 0, -1, base, ParseUnary()});
+    return base;
+  }
+  int ParsePrimary() {
+    Skip();
+    if (pos_ >= text_.size()) Fail("", "the expression ends early; complete the formula");
+    const char c = text_[pos_];
+    if (c == '(') {
+      ++pos_;
+      const int inner = ParseExpr();
+      if (!Accept(")")) Fail(std::string(text_.substr(token_start_, 1)), "expected ')'");
+      return inner;
+    }
+    if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') return ParseNumber();
+    if (IsNameStart(c)) return ParseName();
+    Fail(std::string(1, c), "expected a number, a name, a function call or '('");
+  }
+  int ParseNumber() {
+    const std::string rest(text_.substr(pos_));
+    char* end = nullptr;
+    const double v = std::strtod(rest.c_str(), &end);
+    if (end == rest.c_str()) Fail(rest.substr(0, 1), "expected a number");
+    pos_ += static_cast<std::size_t>(end - rest.c_str());
+    return Push({Op::kConst, v, -1, -1, -1});
+  }
+  int ParseName() {
+    const std::size_t start = pos_;
+    while (pos_ < text_.size() && IsNameChar(text_[pos_])) ++pos_;
+    const std::string name(text_.substr(start, pos_ - start));
+    const std::size_t name_start = start;
+    Skip();
+    if (pos_ < text_.size() && text_[pos_] == '(') {
+      for (const FunctionInfo& f : kFunctions) {
+        if (name != f.name) continue;
+        ++pos_;
+        const int a = ParseExpr();
+        int b = -1;
+        if (f.arity == 2) {
+          if (!Accept(",")) {
+            token_start_ = name_start;
+            Fail(name, fmt::format("{}() takes two arguments: {}(a, b)", name, name));
+          }
+          b = ParseExpr();
+        }
+        if (!Accept(")")) {
+          token_start_ = name_start;
+          Fail(name, fmt::format("{}() takes {} argument{}; close it with ')'", name, f.arity,
+                                 f.arity == 2 ? "s" : ""));
+        }
+        return Push({f.op, 0, -1, a, b});
+      }
+      token_start_ = name_start;
+      Fail(name, "unknown function; known: sin cos tan exp log sqrt abs pow min max");
+    }
+    if (name == "pi") return Push({Op::kConst, std::numbers::pi, -1, -1, -1});
+    const Symbol* s = symbols_.Find(name);
+    if (s == nullptr) {
+      token_start_ = name_start;
+      std::string hint;
+      for (const std::string& c : symbols_.Closest(name)) hint += (hint.empty() ? "" : ", ") + c;
+      Fail(name, fmt::format("unknown name; did you mean {}? (names are coordinates, speeds, "
+                             "slots, parameters, time functions, t and pi)", hint));
+    }
+    if (s->kind == Op::kConst) return Push({Op::kConst, s->value, -1, -1, -1});
+    return Push({s->kind, 0, s->index, -1, -1});
+  }
+
+  std::string_view text_;
+  const SymbolTable& symbols_;
+  std::size_t pos_ = 0;
+  std::size_t token_start_ = 0;
+  Expression e_;
+};
+
+Expression Expression::Parse(std::string_view text, const SymbolTable& symbols) {
+  Expression e = Parser(text, symbols).Run();
+  // Keep only the nodes reachable from the root, children before parents (folded constants
+  // leave their operands behind).
+  Expression out;
+  std::vector<int> map(e.nodes_.size(), -1);
+  auto copy = [&](auto&& self, int i) -> int {
+    if (map[i] >= 0) return map[i];
+    Node n = e.nodes_[i];
+    if (n.a >= 0) n.a = self(self, n.a);
+    if (n.b >= 0) n.b = self(self, n.b);
+    out.nodes_.push_back(n);
+    return map[i] = static_cast<int>(out.nodes_.size()) - 1;
+  };
+  out.root_ = copy(copy, e.root_);
+  return out;
+}
+
+Expression Expression::Constant(double value) {
+  Expression e;
+  e.nodes_.push_back({Op::kConst, value, -1, -1, -1});
+  return e;
+}
+
+bool Expression::Uses(Op op) const {
+  return std::any_of(nodes_.begin(), nodes_.end(), [op](const Node& n) { return n.op == op; });
+}
+
+namespace {
+using Key = std::pair<int, int>;  // (kind, index)
+struct Affine {
+  bool ok = true;
+  double c = 0.0;
+  std::map<Key, double> terms;
+};
+Affine Scale(Affine a, double s) {
+  a.c *= s;
+  for (auto& kv : a.terms) kv.second *= s;
+  return a;
+}
+Affine Combine(Affine a, const Affine& b, double sb) {
+  a.ok = a.ok && b.ok;
+  a.c += sb * b.c;
+  for (const auto& kv : b.terms) a.terms[kv.first] += sb * kv.second;
+  return a;
+}
+Affine LinearizeNode(const std::vector<Node>& nodes, int i) {
+  const Node& n = nodes[i];
+  Affine r;
+  switch (n.op) {
+    case Op::kConst: r.c = n.value; return r;
+    case Op::kTime: case Op::kCoordinate: case Op::kSpeed: case Op::kSlot:
+    case Op::kTimeFunction:
+      r.terms[{static_cast<int>(n.op), n.op == Op::kTime ? -1 : n.index}] = 1.0;
+      return r;
+    case Op::kNeg: return Scale(LinearizeNode(nodes, n.a), -1.0);
+    case Op::kAdd: return Combine(LinearizeNode(nodes, n.a), LinearizeNode(nodes, n.b), 1.0);
+    case Op::kSub: return Combine(LinearizeNode(nodes, n.a), LinearizeNode(nodes, n.b), -1.0);
+    case Op::kMul: {
+      if (nodes[n.a].op == Op::kConst) return Scale(LinearizeNode(nodes, n.b), nodes[n.a].value);
+      if (nodes[n.b].op == Op::kConst) return Scale(LinearizeNode(nodes, n.a), nodes[n.b].value);
+      break;
+    }
+    case Op::kDiv:
+      if (nodes[n.b].op == Op::kConst) return Scale(LinearizeNode(nodes, n.a), 1.0 / nodes[n.b].value);
+      break;
+    default: break;
+  }
+  r.ok = false;
+  return r;
+}
+}  // namespace
+
+LinearForm Linearize(const Expression& e) {
+  const Affine a = LinearizeNode(e.nodes(), e.root());
+  LinearForm f;
+  if (!a.ok) return f;
+  f.affine = true;
+  f.constant = a.c;
+  for (const auto& [key, c] : a.terms) {
+    if (c != 0.0) f.terms.push_back({static_cast<Op>(key.first), key.second, c});
+  }
+  return f;
+}
+
+}  // namespace hybridtest::modelfile

@@ -1,0 +1,96 @@
+#pragma once
+// A scalar expression of a model file, parsed once into a flat tree and then evaluated, with
+// no allocation, for any scalar the engine uses: double, AutoDiff (loads), Jet<double> and
+// Jet<AutoDiff> (kinematic fields). See expression_eval.h for evaluation and
+// docs/decisions/0006-model-file-expressions.md for why this is a small tree of our own.
+//
+// Grammar (usual precedence, left-associative, `^` and `**` right-associative):
+//   expr    := term (('+' | '-') term)*
+//   term    := unary (('*' | '/') unary)*
+//   unary   := ('-' | '+') unary | power
+//   power   := primary (('^' | '**') unary)?
+//   primary := number | name | name '(' expr (',' expr)* ')' | '(' expr ')'
+// Functions: sin cos tan exp log sqrt abs (one argument), pow min max (two). Constant: pi.
+// Names resolve through a SymbolTable: time t [s], coordinates q_k, speeds u_k, slots r_k,
+// time functions, and parameters (replaced by their SI value at parse time). Sub-trees
+// without variables are folded into constants.
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace hybridtest::modelfile {
+
+enum class Op {
+  kConst, kTime, kCoordinate, kSpeed, kSlot, kTimeFunction,
+  kNeg, kAdd, kSub, kMul, kDiv, kPow,
+  kSin, kCos, kTan, kExp, kLog, kSqrt, kAbs, kMin, kMax,
+};
+
+struct Node {
+  Op op = Op::kConst;
+  double value = 0.0;  // kConst
+  int index = -1;      // kCoordinate, kSpeed, kSlot, kTimeFunction: 0-based index
+  int a = -1;          // first operand (node index)
+  int b = -1;          // second operand
+};
+
+// What a name means in an expression.
+struct Symbol {
+  std::string name;
+  Op kind = Op::kConst;  // kConst (parameter or constant), kTime, kCoordinate, kSpeed, ...
+  int index = -1;
+  double value = 0.0;  // kConst: SI value
+};
+
+class SymbolTable {
+ public:
+  void Add(Symbol symbol);
+  const Symbol* Find(std::string_view name) const;
+  // Up to three known names closest to `name` (edit distance), for "did you mean" hints.
+  std::vector<std::string> Closest(std::string_view name) const;
+
+ private:
+  std::vector<Symbol> symbols_;
+};
+
+// A parse error: `column` (0-based) and the offending `token` in the expression text.
+struct ExpressionError {
+  int column = 0;
+  std::string token;
+  std::string message;  // what is wrong and how to fix it
+};
+
+class Expression {
+ public:
+  // Parses `text` against `symbols`. Throws ExpressionError.
+  static Expression Parse(std::string_view text, const SymbolTable& symbols);
+  static Expression Constant(double value);
+
+  const std::vector<Node>& nodes() const { return nodes_; }
+  int root() const { return root_; }
+  bool is_constant() const { return nodes_[root_].op == Op::kConst; }
+  double constant_value() const { return nodes_[root_].value; }
+  // True if any node is of kind `op` (e.g. kSpeed: the expression reads a speed).
+  bool Uses(Op op) const;
+
+ private:
+  friend class Parser;
+  std::vector<Node> nodes_;
+  int root_ = 0;
+};
+
+// An expression as c0 + Σ c_i v_i over variables (t, q_k, u_k, r_k, time functions), if it
+// is affine in them with constant coefficients; `affine` is false otherwise.
+struct LinearForm {
+  struct Term {
+    Op kind;     // kTime, kCoordinate, kSpeed, kSlot, kTimeFunction
+    int index;   // −1 for kTime
+    double coefficient;
+  };
+  bool affine = false;
+  double constant = 0.0;
+  std::vector<Term> terms;
+};
+LinearForm Linearize(const Expression& e);
+
+}  // namespace hybridtest::modelfile

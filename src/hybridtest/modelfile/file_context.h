@@ -1,0 +1,56 @@
+#pragma once
+// Internal to the model-file reader: what the element readers share while one file is built
+// (the YAML, the names declared so far, the builder) and the readers themselves.
+#include <map>
+#include <memory>
+#include <string>
+
+#include "hybridtest/common/yaml_input.h"
+#include "hybridtest/modelfile/expression.h"
+#include "hybridtest/multibody/model.h"
+
+namespace hybridtest::modelfile::internal {
+
+struct FileContext {
+  const YamlInput& in;
+  SymbolTable symbols;
+  std::map<std::string, multibody::FrameId> frames;
+  std::map<std::string, multibody::PointId> points;
+  multibody::ModelBuilder* builder = nullptr;
+  int num_coordinates = 0;
+
+  // "file:line: key_path".
+  std::string Where(const YAML::Node& node, const std::string& key_path) const {
+    return in.Where(node, key_path);
+  }
+  // The expression written at `node` (a number or a formula). Throws ConfigError naming the
+  // place, the token and the fix.
+  Expression Parse(const YAML::Node& node, const std::string& key_path) const;
+  // As Parse, for expressions of t and the coordinates only (angles, positions,
+  // displacements, W(q)).
+  Expression ParseKinematic(const YAML::Node& node, const std::string& key_path) const;
+  // A value that must be constant (masses, inertias, stiffnesses): numbers and parameters.
+  double Constant(const YAML::Node& node, const std::string& key_path,
+                  const std::string& expected) const;
+  // A kinematic expression as the engine's ScalarField (affine when it can be).
+  multibody::ScalarField Field(const YAML::Node& node, const std::string& key_path) const;
+  multibody::FrameId Frame(const YAML::Node& node, const std::string& key_path) const;
+  multibody::PointId Point(const YAML::Node& node, const std::string& key_path) const;
+};
+
+// Readers of the sections, in the order they are built (model_file_elements.cc,
+// model_file_loads.cc).
+void ReadKinematicalEquations(FileContext& c, const YAML::Node& node);
+void ReadFrames(FileContext& c, const YAML::Node& node);
+void ReadPoints(FileContext& c, const YAML::Node& node);
+void ReadMasses(FileContext& c, const YAML::Node& particles, const YAML::Node& bodies);
+void ReadTimeFunctions(FileContext& c, const YAML::Node& node);
+// Slots: declares them in the builder; returns each slot's default stiffness.
+std::vector<double> ReadSlots(FileContext& c, const YAML::Node& node);
+void ReadLoads(FileContext& c, const YAML::Node& forces, const YAML::Node& torques);
+
+// The elements of the optional list section `node` at `key` (empty when absent).
+std::vector<YAML::Node> ListItems(const YamlInput& in, const YAML::Node& node,
+                                  const std::string& key);
+
+}  // namespace hybridtest::modelfile::internal

@@ -1,0 +1,234 @@
+// Model files: top level, parameters, coordinates and the expression helpers. See
+// model_file.h.
+#include "hybridtest/modelfile/model_file.h"
+
+#include <fmt/core.h>
+
+#include <cmath>
+#include <filesystem>
+#include <set>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/modelfile/compiled_scalar.h"
+#include "hybridtest/modelfile/file_context.h"
+
+namespace hybridtest::modelfile {
+
+namespace {
+// Quantities (coordinates or speeds) as a list of {name, unit, description}.
+std::vector<multibody::QuantityInfo> ReadQuantities(const YamlInput& in, const YAML::Node& root,
+                                                    const std::string& key) {
+  std::vector<multibody::QuantityInfo> out;
+  const std::vector<YAML::Node> items = internal::ListItems(in, root[key], key);
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const std::string kp = fmt::format("{}[{}]", key, i);
+    in.RequireMapping(items[i], kp);
+    in.CheckKeys(items[i], kp, {"name", "unit", "description"});
+    out.push_back({in.String(items[i]["name"], kp + ".name", "a name such as q1 or theta"),
+                   in.String(items[i]["unit"], kp + ".unit", "an SI unit such as m or rad"),
+                   in.ReadString(items[i], kp, "description", "")});
+  }
+  return out;
+}
+}  // namespace
+
+ModelFile ParseModelFile(YamlInput input) {
+  ModelFile f{std::move(input), {}, {}, {}};
+  const YamlInput& in = f.input;
+  const YAML::Node& root = in.root();
+  in.CheckKeys(root, "", {"name", "description", "parameters", "coordinates", "speeds",
+                          "kinematical_equations", "time_functions", "frames", "points",
+                          "particles", "bodies", "slots", "forces", "torques"});
+  f.name = in.ReadString(root, "", "name",
+                         std::filesystem::path(in.path()).stem().string());
+  f.description = in.ReadString(root, "", "description", "model file " + in.path());
+  const YAML::Node params = in.Mapping(root, "parameters", "parameters", false);
+  if (params.IsDefined()) {
+    for (const auto& kv : params) {
+      const std::string name = kv.first.as<std::string>();
+      const std::string kp = "parameters." + name;
+      if (kv.second.IsScalar()) {
+        f.parameters.Add(name, in.Number(kv.second, kp, "a number in SI units"), "", "");
+        continue;
+      }
+      in.RequireMapping(kv.second, kp);
+      in.CheckKeys(kv.second, kp, {"value", "unit", "description"});
+      f.parameters.Add(name, in.ReadNumber(kv.second, kp, "value", "a number in SI units"),
+                       in.ReadString(kv.second, kp, "unit", ""),
+                       in.ReadString(kv.second, kp, "description", ""));
+    }
+  }
+  return f;
+}
+
+ModelFile LoadModelFile(const std::string& path) {
+  return ParseModelFile(YamlInput::FromFile(
+      path, "keys such as name:, parameters:, coordinates:, frames:, points:, particles:"));
+}
+
+models::BuiltModel BuildModelFile(const ModelFile& file, const models::ParameterSet& parameters) {
+  const YamlInput& in = file.input;
+  const YAML::Node& root = in.root();
+  std::vector<multibody::QuantityInfo> coordinates = ReadQuantities(in, root, "coordinates");
+  std::vector<multibody::QuantityInfo> speeds = ReadQuantities(in, root, "speeds");
+  if (coordinates.empty()) {
+    throw ConfigError(fmt::format("{}: no coordinates; add `coordinates:` with at least one "
+                                  "{{name, unit, description}}", in.Where(root, "coordinates")));
+  }
+  if (!speeds.empty() && speeds.size() != coordinates.size()) {
+    throw ConfigError(fmt::format("{}: {} speeds for {} coordinates; list one speed per "
+                                  "coordinate, or none (then u_k = q̇_k)",
+                                  in.Where(root["speeds"], "speeds"), speeds.size(),
+                                  coordinates.size()));
+  }
+  internal::FileContext c{in, {}, {}, {}, nullptr, static_cast<int>(coordinates.size())};
+  // Names: t, coordinates, speeds, parameters; each declared once.
+  std::set<std::string> seen{"t", "pi", "N", "O"};
+  auto declare = [&](const std::string& name, Op kind, int index, double value,
+                     const std::string& where) {
+    if (!seen.insert(name).second) {
+      throw ConfigError(fmt::format("{}: the name '{}' is already used (t, pi, N and O are "
+                                    "reserved); rename it", where, name));
+    }
+    c.symbols.Add({name, kind, index, value});
+  };
+  c.symbols.Add({"t", Op::kTime, -1, 0.0});
+  for (std::size_t k = 0; k < coordinates.size(); ++k) {
+    declare(coordinates[k].name, Op::kCoordinate, static_cast<int>(k), 0.0,
+            in.Where(root["coordinates"][k], fmt::format("coordinates[{}].name", k)));
+  }
+  for (std::size_t k = 0; k < speeds.size(); ++k) {
+    declare(speeds[k].name, Op::kSpeed, static_cast<int>(k), 0.0,
+            in.Where(root["speeds"][k], fmt::format("speeds[{}].name", k)));
+  }
+  if (speeds.empty()) {
+    for (std::size_t k = 0; k < coordinates.size(); ++k) {
+      const std::string name = fmt::format("u{}", k + 1);
+      speeds.push_back({name, coordinates[k].unit + "/s",
+                        "time derivative of " + coordinates[k].name});
+      declare(name, Op::kSpeed, static_cast<int>(k), 0.0, in.Where(root, "speeds"));
+    }
+  }
+  for (const models::Parameter& p : parameters.all()) {
+    declare(p.name, Op::kConst, -1, p.value, in.Where(root["parameters"], "parameters." + p.name));
+  }
+
+  try {
+    multibody::ModelBuilder builder(coordinates, speeds);
+    c.builder = &builder;
+    c.frames["N"] = builder.newtonian();
+    c.points["O"] = builder.origin();
+    internal::ReadKinematicalEquations(c, root["kinematical_equations"]);
+    internal::ReadTimeFunctions(c, root["time_functions"]);
+    internal::ReadFrames(c, root["frames"]);
+    internal::ReadPoints(c, root["points"]);
+    internal::ReadMasses(c, root["particles"], root["bodies"]);
+    std::vector<double> stiffness = internal::ReadSlots(c, root["slots"]);
+    internal::ReadLoads(c, root["forces"], root["torques"]);
+    return {file.name, file.description, parameters, std::move(builder).Build(),
+            std::move(stiffness)};
+  } catch (const ModelError& e) {
+    throw ConfigError(fmt::format("{}: {}", in.path(), e.what()));
+  }
+}
+
+namespace internal {
+
+std::vector<YAML::Node> ListItems(const YamlInput& in, const YAML::Node& node,
+                                  const std::string& key) {
+  std::vector<YAML::Node> out;
+  if (!node.IsDefined() || node.IsNull()) return out;
+  if (!node.IsSequence()) {
+    throw ConfigError(fmt::format("{}: expected a list (lines starting with '- ')",
+                                  in.Where(node, key)));
+  }
+  for (const auto& item : node) out.push_back(item);
+  return out;
+}
+
+Expression FileContext::Parse(const YAML::Node& node, const std::string& key_path) const {
+  if (!node.IsDefined() || node.IsNull() || !node.IsScalar()) {
+    in.ThrowValue(node, key_path, "a number or a formula such as `l * cos(q1)`");
+  }
+  const std::string text = node.Scalar();
+  try {
+    return Expression::Parse(text, symbols);
+  } catch (const ExpressionError& e) {
+    throw ConfigError(fmt::format("{} = '{}': at '{}' (column {}): {}", Where(node, key_path),
+                                  text, e.token, e.column + 1, e.message));
+  }
+}
+
+Expression FileContext::ParseKinematic(const YAML::Node& node, const std::string& key_path) const {
+  Expression e = Parse(node, key_path);
+  if (e.Uses(Op::kSpeed) || e.Uses(Op::kSlot) || e.Uses(Op::kTimeFunction)) {
+    throw ConfigError(fmt::format("{} = '{}': reads a speed, a slot or a time function; angles, "
+                                  "positions, displacements and W(q) may use only t, the "
+                                  "coordinates and parameters (write speeds into loads)",
+                                  Where(node, key_path), node.Scalar()));
+  }
+  return e;
+}
+
+double FileContext::Constant(const YAML::Node& node, const std::string& key_path,
+                             const std::string& expected) const {
+  const Expression e = Parse(node, key_path);
+  if (!e.is_constant() || !std::isfinite(e.constant_value())) {
+    throw ConfigError(fmt::format("{} = '{}': expected {}, a constant (numbers and parameters "
+                                  "only, no t, coordinates, speeds or slots)",
+                                  Where(node, key_path), node.Scalar(), expected));
+  }
+  return e.constant_value();
+}
+
+multibody::ScalarField FileContext::Field(const YAML::Node& node, const std::string& key_path) const {
+  Expression e = ParseKinematic(node, key_path);
+  const LinearForm f = Linearize(e);
+  if (f.affine) {
+    std::vector<multibody::ScalarField::Term> terms;
+    double time_rate = 0.0;
+    for (const LinearForm::Term& t : f.terms) {
+      if (t.kind == Op::kTime) {
+        time_rate += t.coefficient;
+      } else {
+        terms.push_back({t.index, t.coefficient});
+      }
+    }
+    return multibody::ScalarField::Affine(f.constant, std::move(terms), time_rate);
+  }
+  auto shared = std::make_shared<const Expression>(std::move(e));
+  return multibody::ScalarField::Function([shared](const auto& a) {
+    using J = std::decay_t<decltype(a.t)>;
+    const Variables<J> v{a.t, a.q, {}, {}, {}};
+    return Evaluate(*shared, v);
+  });
+}
+
+multibody::FrameId FileContext::Frame(const YAML::Node& node, const std::string& key_path) const {
+  const std::string name = in.String(node, key_path, "a frame name (N or one under frames:)");
+  const auto it = frames.find(name);
+  if (it != frames.end()) return it->second;
+  SymbolTable known;
+  for (const auto& kv : frames) known.Add({kv.first, Op::kConst, -1, 0.0});
+  std::string hint;
+  for (const std::string& s : known.Closest(name)) hint += (hint.empty() ? "" : ", ") + s;
+  throw ConfigError(fmt::format("{} = '{}': unknown frame; did you mean {}? (a frame must be "
+                                "declared under frames: before it is used)",
+                                Where(node, key_path), name, hint));
+}
+
+multibody::PointId FileContext::Point(const YAML::Node& node, const std::string& key_path) const {
+  const std::string name = in.String(node, key_path, "a point name (O or one under points:)");
+  const auto it = points.find(name);
+  if (it != points.end()) return it->second;
+  SymbolTable known;
+  for (const auto& kv : points) known.Add({kv.first, Op::kConst, -1, 0.0});
+  std::string hint;
+  for (const std::string& s : known.Closest(name)) hint += (hint.empty() ? "" : ", ") + s;
+  throw ConfigError(fmt::format("{} = '{}': unknown point; did you mean {}? (a point must be "
+                                "declared under points: before it is used)",
+                                Where(node, key_path), name, hint));
+}
+
+}  // namespace internal
+}  // namespace hybridtest::modelfile

@@ -1,0 +1,154 @@
+// Model files: time functions, restoring-force slots, forces and torques. See model_file.h and
+// docs/model-files.md.
+#include <fmt/core.h>
+
+#include <array>
+#include <cmath>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/modelfile/compiled_scalar.h"
+#include "hybridtest/modelfile/file_context.h"
+
+namespace hybridtest::modelfile::internal {
+
+namespace {
+// Declares a name for expressions, refusing one already taken.
+void Declare(FileContext& c, Symbol s, const std::string& where) {
+  if (s.name == "t" || s.name == "pi" || c.symbols.Find(s.name) != nullptr) {
+    throw ConfigError(fmt::format("{}: the name '{}' is already used; rename it", where, s.name));
+  }
+  c.symbols.Add(std::move(s));
+}
+
+// Whether the sub-tree at i reads a slot r_k, and whether it is linear in the slots (the
+// engine's coupling matrix ∂g/∂r relies on g being affine in r).
+struct SlotUse {
+  bool uses = false;
+  bool linear = true;
+};
+SlotUse SlotUsage(const std::vector<Node>& nodes, int i) {
+  const Node& n = nodes[i];
+  if (n.op == Op::kSlot) return {true, true};
+  if (n.a < 0) return {false, true};
+  const SlotUse a = SlotUsage(nodes, n.a);
+  const SlotUse b = n.b >= 0 ? SlotUsage(nodes, n.b) : SlotUse{};
+  const bool both_linear = a.linear && b.linear;
+  switch (n.op) {
+    case Op::kNeg: case Op::kAdd: case Op::kSub:
+      return {a.uses || b.uses, both_linear};
+    case Op::kMul: return {a.uses || b.uses, both_linear && !(a.uses && b.uses)};
+    case Op::kDiv: return {a.uses || b.uses, both_linear && !b.uses};
+    default: return {a.uses || b.uses, !(a.uses || b.uses)};
+  }
+}
+}  // namespace
+
+void ReadTimeFunctions(FileContext& c, const YAML::Node& node) {
+  if (!node.IsDefined() || node.IsNull()) return;
+  c.in.RequireMapping(node, "time_functions");
+  for (const auto& kv : node) {
+    const std::string name = kv.first.as<std::string>();
+    const std::string kp = "time_functions." + name;
+    auto e = std::make_shared<const CompiledScalar>(c.Parse(kv.second, kp));
+    if (e->expression.Uses(Op::kCoordinate) || e->expression.Uses(Op::kSpeed) ||
+        e->expression.Uses(Op::kSlot) || e->expression.Uses(Op::kTimeFunction)) {
+      throw ConfigError(fmt::format("{} = '{}': a time function may use only t and parameters",
+                                    c.Where(kv.second, kp), kv.second.Scalar()));
+    }
+    const int index = c.builder->AddTimeFunction(name, [e](const auto& t) {
+      using T = std::decay_t<decltype(t)>;
+      const Variables<T> v{t, {}, {}, {}, {}};
+      return e->Eval(v);
+    });
+    Declare(c, {name, Op::kTimeFunction, index, 0.0}, c.Where(kv.first, kp));
+  }
+}
+
+std::vector<double> ReadSlots(FileContext& c, const YAML::Node& node) {
+  std::vector<double> stiffness;
+  const std::vector<YAML::Node> items = ListItems(c.in, node, "slots");
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const YAML::Node& s = items[i];
+    const std::string kp = fmt::format("slots[{}]", i);
+    c.in.RequireMapping(s, kp);
+    c.in.CheckKeys(s, kp, {"name", "unit", "description", "displacement", "stiffness"});
+    const std::string name = c.in.String(s["name"], kp + ".name", "a slot name such as r1");
+    std::string unit = c.in.ReadString(s, kp, "unit", "N");
+    if (unit == "N*m" || unit == "Nm" || unit == "N m" || unit == "N.m") unit = "N·m";
+    if (unit != "N" && unit != "N·m") {
+      c.in.ThrowValue(s["unit"], kp + ".unit", "N (a force, displacement in m) or N·m (a "
+                                               "moment, displacement in rad)");
+    }
+    multibody::ScalarField d = c.Field(s["displacement"], kp + ".displacement");
+    stiffness.push_back(s["stiffness"]
+                            ? c.Constant(s["stiffness"], kp + ".stiffness",
+                                         unit == "N" ? "a stiffness in N/m" : "a stiffness in N·m/rad")
+                            : 0.0);
+    try {
+      const int index = c.builder->AddRestoringForceSlot(
+          name, c.in.ReadString(s, kp, "description", ""), std::move(d), unit);
+      Declare(c, {name, Op::kSlot, index, 0.0}, c.Where(s["name"], kp + ".name"));
+    } catch (const ModelError& e) {
+      throw ConfigError(fmt::format("{}: {}", c.Where(s, kp), e.what()));
+    }
+  }
+  return stiffness;
+}
+
+namespace {
+void ReadLoadList(FileContext& c, const YAML::Node& node, const std::string& key, bool force) {
+  const std::vector<YAML::Node> items = ListItems(c.in, node, key);
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const YAML::Node& l = items[i];
+    const std::string kp = fmt::format("{}[{}]", key, i);
+    c.in.RequireMapping(l, kp);
+    if (force) {
+      c.in.CheckKeys(l, kp, {"name", "point", "expressed_in", "value"});
+    } else {
+      c.in.CheckKeys(l, kp, {"name", "frame", "expressed_in", "value"});
+    }
+    const std::string name = c.in.String(l["name"], kp + ".name", "a name");
+    const multibody::FrameId in =
+        l["expressed_in"] ? c.Frame(l["expressed_in"], kp + ".expressed_in") : multibody::FrameId{0};
+    const YAML::Node value = l["value"];
+    if (!value.IsSequence() || value.size() != 3) {
+      c.in.ThrowValue(value, kp + ".value", fmt::format("three components [x, y, z] in "
+                                                        "`expressed_in`, in {}", force ? "N" : "N·m"));
+    }
+    std::vector<CompiledScalar> parts;
+    for (int k = 0; k < 3; ++k) {
+      const std::string vkp = fmt::format("{}.value[{}]", kp, k);
+      Expression e = c.Parse(value[k], vkp);
+      if (!SlotUsage(e.nodes(), e.root()).linear) {
+        throw ConfigError(fmt::format("{} = '{}': not linear in the slots r (a slot may be added "
+                                      "or multiplied by something free of slots, not passed "
+                                      "through a function); the hybrid coupling needs loads "
+                                      "affine in r", c.Where(value[k], vkp), value[k].Scalar()));
+      }
+      parts.emplace_back(std::move(e));
+    }
+    auto load = std::make_shared<const std::vector<CompiledScalar>>(std::move(parts));
+    auto f = [load](const auto& a) {
+      using T = std::decay_t<decltype(a.t)>;
+      const Variables<T> v{a.t, a.q, a.u, a.r, a.time_values};
+      return multibody::Vector3<T>((*load)[0].Eval(v), (*load)[1].Eval(v), (*load)[2].Eval(v));
+    };
+    try {
+      if (force) {
+        c.builder->AddForce(name, c.Point(l["point"], kp + ".point"), in, f);
+      } else {
+        c.builder->AddTorque(name, c.Frame(l["frame"], kp + ".frame"), in, f);
+      }
+    } catch (const ModelError& e) {
+      throw ConfigError(fmt::format("{}: {}", c.Where(l, kp), e.what()));
+    }
+  }
+}
+}  // namespace
+
+void ReadLoads(FileContext& c, const YAML::Node& forces, const YAML::Node& torques) {
+  ReadLoadList(c, forces, "forces", true);
+  ReadLoadList(c, torques, "torques", false);
+}
+
+}  // namespace hybridtest::modelfile::internal

@@ -1,0 +1,127 @@
+// Model files through the real `hybridtest` binary: `eom` on the rotor's model file gives the
+// built-in rotor's JSON within 1e-12; `check-model` exits 0 on a valid file and 2 naming
+// file:line on an invalid one; the wind turbine's dummy hybrid test equals its simulation bit
+// for bit and records its N·m slot in the sidecar.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+
+namespace hybridtest {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kSource = HYBRIDTEST_SOURCE_DIR;
+
+// Runs `hybridtest ARGS` (stdout only unless `merge`); returns (exit status, output).
+std::pair<int, std::string> Hybridtest(const std::string& args, bool merge = true) {
+  const std::string line =
+      fmt::format("timeout 300 {} {} {}", HYBRIDTEST_BINARY, args, merge ? "2>&1" : "2>/dev/null");
+  FILE* pipe = popen(line.c_str(), "r");
+  if (pipe == nullptr) throw std::runtime_error("popen failed");
+  std::string output;
+  char buffer[512];
+  while (fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+fs::path TempDir() {
+  static const fs::path dir = [] {
+    const fs::path d = fs::temp_directory_path() / fmt::format("hybridtest_modelfile_{}", ::getpid());
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+  }();
+  return dir;
+}
+
+double MaxRelative(const nlohmann::json& a, const nlohmann::json& b) {
+  if (a.is_array()) {
+    double worst = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, MaxRelative(a[i], b[i]));
+    return worst;
+  }
+  const double x = a.get<double>(), y = b.get<double>();
+  return std::abs(x - y) / std::max(1.0, std::abs(y));
+}
+
+TEST(ModelFileCliTest, EomOnTheRotorFileEqualsTheBuiltInRotor) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int trial = 0; trial < 5; ++trial) {
+    std::string state;
+    for (int i = 0; i < 8; ++i) {
+      const double scale = i < 3 ? 0.05 : (i == 3 ? 3.0 : 5.0);
+      state += fmt::format("{}{:.17g}", i ? "," : "", scale * unit(rng));
+    }
+    const std::string args = fmt::format("--time {} --state={} --json", 0.4 * trial, state);
+    const auto [s1, file] =
+        Hybridtest(fmt::format("eom {}/examples/01_rotor_model_file/numerical.yaml {}", kSource, args), false);
+    const auto [s2, builtin] =
+        Hybridtest(fmt::format("eom {}/examples/rotor/numerical.yaml {}", kSource, args), false);
+    ASSERT_EQ(s1, 0) << file;
+    ASSERT_EQ(s2, 0) << builtin;
+    const nlohmann::json a = nlohmann::json::parse(file), b = nlohmann::json::parse(builtin);
+    for (const char* key : {"mass_matrix", "forcing", "xdot", "restoring"}) {
+      EXPECT_LT(MaxRelative(a[key], b[key]), 1e-12) << key << " at " << args;
+    }
+  }
+}
+
+TEST(ModelFileCliTest, CheckModelExitsZeroOnAValidFile) {
+  const auto [status, out] =
+      Hybridtest(fmt::format("check-model {}/examples/models/double_pendulum.yaml --no-sympy", kSource));
+  EXPECT_EQ(status, 0) << out;
+  EXPECT_NE(out.find("coordinates (2)"), std::string::npos) << out;
+  EXPECT_NE(out.find("positive definite"), std::string::npos) << out;
+}
+
+TEST(ModelFileCliTest, CheckModelExitsTwoNamingFileLineAndTheFixOnAnInvalidFile) {
+  const fs::path bad = TempDir() / "bad.yaml";
+  std::ofstream(bad) << "name: bad\n"
+                        "parameters:\n  l: {value: 1.0, unit: m}\n  m: {value: 2.0, unit: kg}\n"
+                        "coordinates:\n  - {name: theta, unit: rad}\n"
+                        "frames:\n  - {name: A, parent: N, axis: z, angle: theta}\n"
+                        "points:\n  - {name: P, from: O, frame: A, position: [lenght, 0, 0]}\n"
+                        "particles:\n  - {name: bob, point: P, mass: m}\n";
+  const auto [status, out] = Hybridtest("check-model " + bad.string());
+  EXPECT_EQ(status, 2) << out;
+  EXPECT_NE(out.find(bad.string() + ":10: points[0].position[0]"), std::string::npos) << out;
+  EXPECT_NE(out.find("'lenght'"), std::string::npos) << out;
+  EXPECT_NE(out.find("did you mean l"), std::string::npos) << out;
+}
+
+std::string ReadFile(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(ModelFileCliTest, WindTurbineDummyHybridTestEqualsItsSimulation) {
+  const fs::path sim = TempDir() / "wt_sim.csv", dummy = TempDir() / "wt_dummy.csv";
+  const std::string dir = kSource + "/examples/04_wind_turbine/";
+  const auto [s1, o1] = Hybridtest(fmt::format("simulate {}simulation.yaml --out {}", dir, sim.string()));
+  const auto [s2, o2] = Hybridtest(fmt::format("run {}dummy.yaml --out {}", dir, dummy.string()));
+  ASSERT_EQ(s1, 0) << o1;
+  ASSERT_EQ(s2, 0) << o2;
+  // Same channels and values, row by row (the journal prints 17 significant digits).
+  EXPECT_EQ(ReadFile(sim), ReadFile(dummy));
+  const nlohmann::json meta = nlohmann::json::parse(ReadFile(TempDir() / "wt_dummy.meta.json"));
+  const nlohmann::json& slots = meta["model"]["slots"];
+  ASSERT_EQ(slots.size(), 3u);
+  EXPECT_EQ(slots[0]["name"], "r1");
+  EXPECT_EQ(slots[0]["unit"], "N·m");
+  EXPECT_EQ(meta["model"]["name"], "wind_turbine");
+}
+
+}  // namespace
+}  // namespace hybridtest
