@@ -13,6 +13,7 @@
 #include "hybridtest/integrators/catalogue.h"
 #include "hybridtest/schemes/scheme_config.h"
 #include "schemes/oscillator.h"
+#include "support/alloc_counter.h"
 
 namespace hybridtest::schemes {
 namespace {
@@ -167,6 +168,34 @@ TEST(Schemes, ContinueBitIdenticallyAfterSaveAndRestore) {
       const SchemeRun resumed = Integrate(o, c, 0.01, 0.8 * o.k, 17);
       EXPECT_EQ(straight.q_end, resumed.q_end) << SchemeKindName(kind) << " adaptive=" << adaptive;
       EXPECT_EQ(straight.times, resumed.times) << SchemeKindName(kind);
+    }
+  }
+}
+
+// A step allocates nothing once the scheme is built (the seam and row sink here record into
+// vectors with reserved room).
+TEST(Schemes, StepsDoNotAllocate) {
+  if (!test_support::kCanCountAllocations) GTEST_SKIP() << "allocations cannot be counted here";
+  const Oscillator o;
+  const multibody::Model model = OscillatorModel(o);
+  for (const bool adaptive : {false, true}) {
+    for (const SchemeKind kind : {SchemeKind::kRungeKutta, SchemeKind::kAlphaOs, SchemeKind::kMrOs}) {
+      if (adaptive && kind == SchemeKind::kRungeKutta) continue;
+      auto scheme = Make(model, Config(kind, adaptive), 0.01, 0.8 * o.k);
+      SpringSeam seam(o.k);
+      seam.trials.reserve(100000);
+      CollectRows rows;
+      rows.times.reserve(100000);
+      rows.q.reserve(100000);
+      Eigen::VectorXd x0(2), r0(1);
+      x0 << 0.01, 0.0;
+      seam.Trial(0, 0, 0.0, x0, r0);
+      scheme->Start(0.0, x0, r0);
+      scheme->Step(seam, rows);  // warm-up
+      const long allocations = test_support::CountAllocations([&] {
+        for (int k = 0; k < 5 && !scheme->finished(); ++k) scheme->Step(seam, rows);
+      });
+      EXPECT_EQ(allocations, 0) << SchemeKindName(kind) << " adaptive=" << adaptive;
     }
   }
 }

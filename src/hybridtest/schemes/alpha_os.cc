@@ -27,7 +27,15 @@ AlphaOs::AlphaOs(const multibody::Model& model, const SchemeConfig& config, cons
       steps_(steps),
       n_(model.num_coordinates()),
       m_(model.num_slots()),
-      data_(model) {
+      data_(model),
+      D_(model.num_slots(), model.num_coordinates()),
+      jac_(model.num_coordinates(), model.num_coordinates()),
+      J_(2 * model.num_coordinates(), 2 * model.num_coordinates()),
+      B_(model.num_coordinates(), model.num_slots()),
+      dfdr_(model.num_coordinates(), model.num_slots()),
+      derivatives_(model),
+      mass_llt_(model.num_coordinates()),
+      newton_lu_(model.num_coordinates()) {
   if (!model.has_identity_kinematics()) {
     throw ConfigError("integrator.scheme = alpha-os: this model has kinematical equations "
                       "q̇ = W(q) u with W ≠ I; α-OS needs q̇ = u. Use scheme: mr-os or "
@@ -41,7 +49,7 @@ AlphaOs::AlphaOs(const multibody::Model& model, const SchemeConfig& config, cons
                                     model.slots()[s].info.name));
     }
   }
-  for (Eigen::VectorXd* v : {&a_, &f_n_, &a_new_, &f_try_, &res_, &q_scratch_}) v->setZero(n_);
+  for (Eigen::VectorXd* v : {&a_, &f_n_, &a_new_, &f_try_, &res_, &delta_, &q_scratch_}) v->setZero(n_);
   for (Eigen::VectorXd* v : {&x_pred_, &x_try_, &xdot_}) v->setZero(2 * n_);
   for (Eigen::VectorXd* v : {&r_pred_, &r_try_, &d_pred_, &d_try_, &d_last_, &d_plus_, &d_minus_}) {
     v->setZero(m_);
@@ -108,15 +116,21 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
   seam.Trial(n + 1, 0, t_next, x_pred_, r_pred_);
 
   // Newton on a with the Jacobian at the predictor.
-  const Eigen::MatrixXd J = multibody::CalcStateJacobian(model_, t_next, x_pred_, r_pred_);
-  const Eigen::MatrixXd B = multibody::CalcCouplingMatrix(model_, t_next, x_pred_);
+  // (allocation-free: the derivative workspace and the factorisations are built once)
+  multibody::CalcStateJacobian(model_, derivatives_, t_next, x_pred_, r_pred_, J_);
+  multibody::CalcCouplingMatrix(model_, derivatives_, t_next, x_pred_, B_);
   multibody::CalcStateDerivative<double>(model_, data_, t_next, x_pred_, r_pred_, xdot_);
   CalcSlotJacobian(model_, data_, t_next, x_pred_.head(n_), D_, q_scratch_, d_plus_, d_minus_);
-  const Eigen::MatrixXd dfdr = data_.M.llt().solve(B);  // (n × m) ∂f_u/∂r = M⁻¹ B
-  jac_ = Eigen::MatrixXd::Identity(n_, n_) -
-         (1.0 + alpha_) * (beta_ * h * h * (J.block(n_, 0, n_, n_) + dfdr * slots_.k0.asDiagonal() * D_) +
-                           gamma_ * h * J.block(n_, n_, n_, n_));
-  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(jac_);
+  mass_llt_.compute(data_.M);
+  dfdr_ = B_;  // (n × m) ∂f_u/∂r = M⁻¹ B, a column at a time (no solver workspace)
+  for (int s = 0; s < m_; ++s) mass_llt_.solveInPlace(dfdr_.col(s));
+  jac_.setIdentity();
+  jac_.noalias() -= ((1.0 + alpha_) * beta_ * h * h) * J_.block(n_, 0, n_, n_);
+  dfdr_ = dfdr_ * slots_.k0.asDiagonal();  // M⁻¹ B K0
+  jac_.noalias() -= ((1.0 + alpha_) * beta_ * h * h) * dfdr_ * D_;
+  jac_.noalias() -= ((1.0 + alpha_) * gamma_ * h) * J_.block(n_, n_, n_, n_);
+  newton_lu_.compute(jac_);
+  const auto& lu = newton_lu_;
   a_new_ = a_;
   double scale = 1.0;
   bool converged = false;
@@ -128,9 +142,9 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
     Acceleration(t_next, x_try_, r_try_, f_try_);
     res_ = a_new_ - (1.0 + alpha_) * f_try_ + alpha_ * f_n_;
     if (it == 0) scale = std::max(1.0, f_try_.lpNorm<Eigen::Infinity>());
-    const Eigen::VectorXd delta = lu.solve(res_);
-    a_new_ -= delta;
-    converged = delta.lpNorm<Eigen::Infinity>() <= 1e-10 * scale;
+    delta_ = lu.solve(res_);
+    a_new_ -= delta_;
+    converged = delta_.lpNorm<Eigen::Infinity>() <= 1e-10 * scale;
   }
   if (!converged || !a_new_.allFinite()) {
     throw Error(fmt::format("α-OS: the corrector did not converge at t = {} s (step {}, h = {} s); "
@@ -143,8 +157,9 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
   multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_try_.head(n_), d_try_);
   r_try_ = r_pred_ + slots_.k0.cwiseProduct(d_try_ - d_pred_);
   if (config_.adaptive.enabled) {
-    const double e =
-        h * h * std::abs(beta_ - 1.0 / 6.0) * (D_ * (a_new_ - a_)).lpNorm<Eigen::Infinity>();
+    res_ = a_new_ - a_;
+    d_plus_.noalias() = D_ * res_;
+    const double e = h * h * std::abs(beta_ - 1.0 / 6.0) * d_plus_.lpNorm<Eigen::Infinity>();
     h_ = NextStepSize(config_.adaptive, h, e, 3.0);
   }
   Acceleration(t_next, x_try_, r_try_, f_n_);

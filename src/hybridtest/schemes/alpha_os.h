@@ -38,6 +38,7 @@
 #include <Eigen/LU>
 
 #include "hybridtest/multibody/data.h"
+#include "hybridtest/multibody/derivatives.h"
 #include "hybridtest/multibody/model.h"
 #include "hybridtest/schemes/hybrid_scheme.h"
 #include "hybridtest/schemes/scheme_config.h"
@@ -81,9 +82,12 @@ class AlphaOs final : public HybridScheme {
   // Memory (part of the run state): a_n and F_n, and the last command's slot displacements.
   Eigen::VectorXd a_, f_n_, d_last_;
   // Workspaces.
-  Eigen::VectorXd x_pred_, x_try_, xdot_, r_pred_, r_try_, d_pred_, d_try_, f_try_, a_new_, res_,
+  Eigen::VectorXd x_pred_, x_try_, xdot_, r_pred_, r_try_, d_pred_, d_try_, f_try_, a_new_, res_, delta_,
       q_scratch_, d_plus_, d_minus_;
-  Eigen::MatrixXd D_, jac_;
+  Eigen::MatrixXd D_, jac_, J_, B_, dfdr_;  // (m×n), (n×n), (2n×2n), (n×m), (n×m)
+  multibody::DerivativeWorkspace derivatives_;
+  Eigen::LLT<Eigen::MatrixXd> mass_llt_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> newton_lu_;
 };
 
 }  // namespace hybridtest::schemes

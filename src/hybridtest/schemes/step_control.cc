@@ -6,7 +6,8 @@
 namespace hybridtest::schemes {
 
 void CalcSlotJacobian(const multibody::Model& model, multibody::Data<double>& data, double t,
-                      const Eigen::VectorXd& q, Eigen::MatrixXd& D, Eigen::VectorXd& q_scratch,
+                      const Eigen::Ref<const Eigen::VectorXd>& q, Eigen::MatrixXd& D,
+                      Eigen::VectorXd& q_scratch,
                       Eigen::VectorXd& d_plus, Eigen::VectorXd& d_minus) {
   const Eigen::Index n = q.size();
   D.resize(model.num_slots(), n);

@@ -45,7 +45,8 @@ inline double StepTowards(double t, double t_end, double h, double dt_min) {
 // central differences (exact for the affine slot fields of most models to rounding).
 // d_scratch: (m) workspaces; no allocation once D has its size.
 void CalcSlotJacobian(const multibody::Model& model, multibody::Data<double>& data, double t,
-                      const Eigen::VectorXd& q, Eigen::MatrixXd& D, Eigen::VectorXd& q_scratch,
+                      const Eigen::Ref<const Eigen::VectorXd>& q, Eigen::MatrixXd& D,
+                      Eigen::VectorXd& q_scratch,
                       Eigen::VectorXd& d_plus, Eigen::VectorXd& d_minus);
 
 // Largest |d_new − d_old| / max_increment over the slots with a finite max_increment.
