@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-sympy python3-h5py python3-numpy
   gnuplot-nox
+  clang libclang-rt-14-dev
 )
 
 missing=()

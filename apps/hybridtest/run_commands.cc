@@ -3,13 +3,17 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <csignal>
 #include <filesystem>
 
 #include "hybridtest/io/config.h"
+#include "hybridtest/io/output_budget.h"
 #include "hybridtest/io/substructure_config.h"
 #include "hybridtest/runner/hybrid_test.h"
+#include "hybridtest/runner/run_record.h"
 #include "hybridtest/runner/stop_request.h"
+#include "pre_run_checks.h"
 
 namespace hybridtest::app {
 namespace {
@@ -43,11 +47,21 @@ class StopOnSignal {
 
 void ExecuteRun(const RunCommandOptions& options) {
   const io::SimulationConfig cfg = io::LoadSimulationConfig(options.config);
+  CheckStepStability(cfg);  // pre-run check: refuses a step beyond the stability limit
   auto subs = io::MakeSubstructures(
       cfg, {options.bench, options.allow_physical,
             "`simulate` is numerical only: use `hybridtest run` for a hybrid test"});
   runner::RunOptions run;
   run.csv_path = runner::ResolveOutputPath(cfg, options.out);
+  // Pre-run check: the journal and stage record must fit on the disk.
+  const bool physical = std::any_of(subs.begin(), subs.end(),
+                                    [](const auto& s) { return s->is_physical(); });
+  io::CheckOutputFits(run.csv_path,
+                      io::EstimateOutputBytes(
+                          cfg.steps, static_cast<int>(runner::JournalChannels(cfg, subs).size()),
+                          cfg.tableau.stages(),
+                          physical ? static_cast<int>(runner::StageChannels(cfg, subs).size())
+                                   : 0));
   run.command = options.command;
   if (options.quiet || cfg.quiet) run.progress.mode = runner::ProgressMode::kQuiet;
   const auto parent = std::filesystem::path(run.csv_path).parent_path();

@@ -7,6 +7,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/integrators/catalogue.h"
+#include "hybridtest/multibody/jet.h"
 
 namespace hybridtest::io {
 
@@ -20,11 +21,10 @@ models::BuiltModel ParseModel(const YamlInput& in, const YAML::Node& node, int* 
       throw ConfigError(fmt::format("{}: only the rotor model has blades; remove this key",
                                     in.Where(node["blades"], "model.blades")));
     }
-    blades = in.Integer(node["blades"], "model.blades", "a whole number of blades ≥ 1");
-    if (blades < 1) {
-      throw ConfigError(fmt::format("{} = {}: expected a whole number of blades ≥ 1",
-                                    in.Where(node["blades"], "model.blades"), blades));
-    }
+    // Bounded before anything is allocated: the engine takes at most kMaxJetCoordinates
+    // coordinates, the hub's and one per blade.
+    blades = static_cast<int>(in.Count(node["blades"], "model.blades", "a whole number of blades",
+                                       1, multibody::kMaxJetCoordinates - 1));
   } else if (name == "rotor") {
     blades = 3;
   }
@@ -136,10 +136,22 @@ SimulationConfig ParseSimulationConfig(const YamlInput& in) {
   cfg.dt = in.PositiveNumber(integ["dt"], "integrator.dt", "a positive time step in seconds");
   cfg.duration = in.PositiveNumber(root["duration"], "duration",
                                    "a positive simulated duration in seconds");
-  const double steps = std::round(cfg.duration / cfg.dt);
+  // The step count is range-checked before it is converted (duration: 1e19 must not wrap).
+  const double ratio = cfg.duration / cfg.dt;
+  if (!(ratio <= static_cast<double>(kMaxSteps))) {
+    throw ConfigError(fmt::format("{}: duration {} s with dt = {} s gives {:.3g} steps; at most {} "
+                                  "are allowed: shorten the duration or enlarge dt",
+                                  in.Where(root["duration"], "duration"), cfg.duration, cfg.dt,
+                                  ratio, kMaxSteps));
+  }
+  const double steps = std::round(ratio);
   if (std::abs(steps * cfg.dt - cfg.duration) > 1e-9 * cfg.duration) {
     throw ConfigError(fmt::format("{}: duration {} s is not a whole number of steps of dt = {} s; "
                                   "choose a duration that is a multiple of dt",
+                                  in.Where(root["duration"], "duration"), cfg.duration, cfg.dt));
+  }
+  if (steps < 1) {
+    throw ConfigError(fmt::format("{}: duration {} s is shorter than one step of dt = {} s",
                                   in.Where(root["duration"], "duration"), cfg.duration, cfg.dt));
   }
   cfg.steps = static_cast<long>(steps);
