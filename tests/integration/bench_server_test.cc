@@ -8,6 +8,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/transfer/bench_client.h"
 #include "hybridtest/transfer/safety.h"
+#include "hybridtest/transfer/bench_faults.h"
 #include "integration/bench_process.h"
 
 namespace hybridtest {
