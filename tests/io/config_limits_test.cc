@@ -58,6 +58,14 @@ TEST(ConfigLimits, ScalarWhereAMappingBelongsNamesTheKey) {
   EXPECT_THAT(ErrorOf(head + "    setup: 5\n"), HasSubstr("substructures.r1.setup"));
 }
 
+TEST(ConfigLimits, NonScalarKeysAreConfigErrorsNamingTheSection) {
+  const std::string rest = "integrator: {tableau: heun, dt: 0.001}\nduration: 1\n";
+  EXPECT_THAT(ErrorOf("model: {name: rotor, parameters: {[1]: 2}}\n" + rest),
+              HasSubstr("model.parameters"));
+  EXPECT_THAT(ErrorOf("model: {name: rotor}\n" + rest + "substructures: {[r1]: {}}\n"),
+              HasSubstr("substructures"));
+}
+
 TEST(ConfigLimits, ATokenInTheRunConfigIsRefused) {
   const std::string text = kRotor + "integrator: {tableau: heun, dt: 0.001}\nduration: 0.01\n" +
                            "substructures:\n  r1:\n    type: physical\n"

@@ -37,7 +37,7 @@ models::BuiltModel ParseModel(const YamlInput& in, const YAML::Node& node, int* 
   const YAML::Node overrides = in.Mapping(node, "parameters", "model.parameters", false);
   if (overrides.IsDefined()) {
     for (const auto& kv : overrides) {
-      const std::string key = kv.first.as<std::string>();
+      const std::string key = in.String(kv.first, "model.parameters", "a parameter name");
       const std::string path = "model.parameters." + key;
       const double value = in.Number(kv.second, path, "a number in SI units");
       parameters.Set(key, value, in.Where(kv.second, path));

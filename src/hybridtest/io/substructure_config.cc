@@ -161,7 +161,7 @@ std::vector<std::unique_ptr<Substructure>> MakeSubstructures(const SimulationCon
   const YAML::Node section = in.Mapping(in.root(), "substructures", "substructures", false);
   if (section.IsDefined()) {
     for (const auto& kv : section) {
-      const std::string slot_name = kv.first.as<std::string>();
+      const std::string slot_name = in.String(kv.first, "substructures", "a slot name");
       const std::string kp = "substructures." + slot_name;
       int slot = -1;
       for (std::size_t s = 0; s < slots.size(); ++s) {
