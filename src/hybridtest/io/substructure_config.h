@@ -19,6 +19,8 @@
 //       safety: {stroke_min: -0.15, stroke_max: 0.15, max_increment: 0.005,
 //                force_soft: 8000, force_hard: 10000, timeout: 5,   # SI: m, N, s
 //                initial_stiffness: 5250}   # [N/m] optional: predict forces from the start
+//                # remote: a given `safety:` must lie within the limits the bench announces
+//                # at connection (transfer/limits_check.h), else ConfigError (a unit slip)
 //     r2:
 //       type: numerical
 //       law: {type: linear, stiffness: 7200}   # or bouc_wen / cantilever (constitutive/)

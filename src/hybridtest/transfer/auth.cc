@@ -79,7 +79,8 @@ void AuthThrottle::Prune(Clock::time_point now) {
                        now - it->second.first_failure > kFailureWindow;
     it = stale ? peers_.erase(it) : std::next(it);
   }
-  // Still full (a flood of fresh addresses): forget the oldest half rather than grow.
+  // Still full (a flood of fresh addresses): forget entries (in address order) rather than
+  // grow without bound; a forgotten address starts counting again.
   while (peers_.size() >= kMaxTracked) peers_.erase(peers_.begin());
 }
 
