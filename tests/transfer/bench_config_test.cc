@@ -146,3 +146,17 @@ TEST(BenchConfigLimits, OneFaultInjectorWithOneIndexingConvention) {
 
 }  // namespace
 }  // namespace hybridtest::transfer
+
+namespace hybridtest::transfer {
+namespace {
+
+// Found by fuzz/bench_config_fuzz.cc: an absent `bench:` (an invalid node of a const mapping)
+// escaped as YAML::InvalidNode (exit 70) instead of a ConfigError.
+TEST(BenchConfigLimits, AnAbsentBenchNodeIsAConfigError) {
+  const YAML::Node root = YAML::Load("benc: {seed: 1}");
+  const YAML::Node& const_root = root;
+  EXPECT_THROW(ParseEmulatedBenchConfig(const_root["bench"], "t.yaml: bench"), ConfigError);
+}
+
+}  // namespace
+}  // namespace hybridtest::transfer

@@ -82,7 +82,9 @@ YamlInput YamlInput::FromText(const std::string& text, const std::string& path,
 
 YamlInput YamlInput::ForNode(const YAML::Node& node) {
   YamlInput input;
-  input.root_ = node;
+  // An absent key of a const node is an invalid node, which yaml-cpp refuses to assign (found
+  // by fuzzing); the caller's RequireMapping then reports it as missing.
+  if (node.IsDefined()) input.root_ = node;
   return input;
 }
 
