@@ -12,6 +12,7 @@ packages=(
   python3 python3-sympy python3-yaml python3-h5py python3-numpy
   python3-pymodbus python3-serial python3-serial-asyncio   # the Modbus test controller
   gnuplot-nox
+  clang libclang-rt-14-dev
 )
 
 missing=()

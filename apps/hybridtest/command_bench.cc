@@ -1,12 +1,15 @@
 // `hybridtest bench`: serves the emulated test bench over TCP (bench protocol v1,
 // docs/protocol.md) until SIGINT or SIGTERM.
 //
-//   hybridtest bench [--config FILE] [--listen HOST:PORT] [--token TOKEN]
+//   hybridtest bench [--config FILE] [--listen HOST:PORT] [--token-file FILE]
 //                    [--heartbeat-timeout S] [--inject KIND@N]...
 //                    [--protocol hybridtest|openfresco]
 //
 // --protocol openfresco serves OpenFresco's generic TCP protocol instead (OpenSees's
 // `expElement genericClient`; docs/openfresco.md), with the config's `openfresco:` setup.
+//
+// The token comes from --token-file or the environment (HYBRIDTEST_BENCH_TOKEN), never from
+// the command line, which every user of the machine can read in /proc/PID/cmdline.
 //
 // Prints one line "hybridtest bench: listening on HOST:PORT (...)" to stdout once it accepts
 // connections (port 0 picks a free port; the line shows the one chosen), then logs events to
@@ -21,6 +24,7 @@
 
 #include "command.h"
 #include "hybridtest/common/error.h"
+#include "hybridtest/transfer/auth.h"
 #include "hybridtest/transfer/bench_config.h"
 #include "hybridtest/transfer/bench_server.h"
 #include "hybridtest/transfer/emulated_bench.h"
@@ -33,7 +37,8 @@ namespace {
 struct BenchArgs {
   std::string config;
   std::string listen = "127.0.0.1:7471";
-  std::string token;
+  std::string token_file;
+  std::string token_on_command_line;  // refused: see AddBenchCommand
   double heartbeat_timeout = 10.0;
   std::vector<std::string> inject;
   std::string protocol = "hybridtest";
@@ -85,7 +90,13 @@ void RunBench(const BenchArgs& args) {
   BenchServerOptions options;
   options.host = listen.host;
   options.port = listen.port;
-  options.token = args.token;
+  if (!args.token_on_command_line.empty()) {
+    throw ConfigError("--token: a token on the command line is visible to every user in the "
+                      "process list; put it in a file and give --token-file FILE, or set "
+                      "HYBRIDTEST_BENCH_TOKEN");
+  }
+  options.token = args.token_file.empty() ? TokenFromEnvironment()
+                                          : ReadTokenFile(args.token_file, "--token-file");
   options.heartbeat_timeout = args.heartbeat_timeout;
   options.limits = config.safety;
   options.start_position = config.initial_position;
@@ -102,7 +113,7 @@ void RunBench(const BenchArgs& args) {
   std::string faults;
   for (const auto& spec : args.inject) faults += (faults.empty() ? "" : ",") + spec;
   std::printf("hybridtest bench: listening on %s (%s; token %s%s)\n", server.address().c_str(),
-              bench->Describe().c_str(), args.token.empty() ? "none" : "required",
+              bench->Describe().c_str(), options.token.empty() ? "none" : "required",
               faults.empty() ? "" : ("; TEST FAULTS INJECTED: " + faults).c_str());
   std::fflush(stdout);
 
@@ -130,9 +141,13 @@ void AddBenchCommand(CLI::App& root) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--listen", args->listen,
                   "HOST:PORT to listen on; port 0 picks a free port (default 127.0.0.1:7471). "
-                  "A non-loopback host requires --token");
-  cmd->add_option("--token", args->token, "shared token clients must present")
-      ->envname("HYBRIDTEST_BENCH_TOKEN");
+                  "A non-loopback host requires a token (--token-file or HYBRIDTEST_BENCH_TOKEN)");
+  cmd->add_option("--token-file", args->token_file,
+                  "file whose first line is the shared token clients must present (default: "
+                  "the environment variable HYBRIDTEST_BENCH_TOKEN, if set)");
+  cmd->add_option("--token", args->token_on_command_line,
+                  "refused: visible in the process list; use --token-file")
+      ->group("");
   cmd->add_option("--heartbeat-timeout", args->heartbeat_timeout,
                   "seconds without a frame after which a client is dropped and the bench holds")
       ->check(CLI::PositiveNumber);

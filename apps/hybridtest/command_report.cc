@@ -3,6 +3,7 @@
 // name>-report.html.
 #include <fmt/core.h>
 
+#include <filesystem>
 #include <memory>
 
 #include "command.h"
@@ -46,6 +47,9 @@ void AddReportCommand(CLI::App& root) {
     }
     const std::string out =
         options->out_path.empty() ? report::DefaultReportPath(options->run_csv) : options->out_path;
+    // Like `run`: the folders of --out are created.
+    const auto parent = std::filesystem::path(out).parent_path();
+    if (!parent.empty()) std::filesystem::create_directories(parent);
     report::HtmlReportOptions report_options;
     report_options.transient = options->transient;
     report::WriteHtmlReport(run, against.get(), out, report_options);

@@ -2,11 +2,14 @@
 // and turn their exceptions into a message on stderr and a non-zero exit status.
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
+#include <yaml-cpp/exceptions.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <mutex>
+#include <new>
 
 #include "command.h"
 #include "hybridtest/common/error.h"
@@ -46,17 +49,19 @@ int main(int argc, char** argv) {
   root.set_version_flag("--version", std::string("hybridtest ") + kVersion);
   root.require_subcommand(1);
   root.footer(
-      "Exit status: 0 success; 1 error; 2 configuration error; 3 safety stop (a limit was "
+      "Exit status: 0 success; 1 error; 2 configuration or command-line error; 3 safety stop (a limit was "
       "reached, the bench holds); 4 transfer system error (bench lost, timeout, corrupted "
       "frame); 70 internal error; 130 interrupted (Ctrl-C or SIGTERM: the run stops after the "
-      "current step, everything committed is written); other non-zero: command-line usage "
-      "error.");
+      "current step, everything committed is written).");
   for (const auto& [name, add] : app::RegisteredCommands()) add(root);
 
   try {
     root.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return root.exit(e);
+    // CLI11's own codes (105, 106, ...) are mapped to the documented one: 2 for a bad
+    // argument; --help and --version keep 0.
+    const int status = root.exit(e);
+    return status == 0 ? 0 : 2;
   } catch (const ConfigError& e) {
     std::fprintf(stderr, "hybridtest: configuration error: %s\n", e.what());
     return 2;
@@ -71,6 +76,17 @@ int main(int argc, char** argv) {
     return 4;
   } catch (const Error& e) {
     std::fprintf(stderr, "hybridtest: error: %s\n", e.what());
+    return 1;
+  } catch (const YAML::Exception& e) {
+    // A YAML type error the config readers did not catch themselves: still the user's input.
+    std::fprintf(stderr, "hybridtest: configuration error: line %d, column %d: %s\n",
+                 e.mark.line + 1, e.mark.column + 1, e.msg.c_str());
+    return 2;
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::fprintf(stderr, "hybridtest: error: %s\n", e.what());  // a folder or file we cannot make
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "hybridtest: out of memory: check the sizes in the configuration\n");
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hybridtest: internal error: %s\n", e.what());

@@ -3,14 +3,18 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <csignal>
 #include <filesystem>
 
 #include "hybridtest/io/config.h"
 #include "hybridtest/io/run_outputs.h"
+#include "hybridtest/io/output_budget.h"
 #include "hybridtest/io/substructure_config.h"
 #include "hybridtest/runner/hybrid_test.h"
+#include "hybridtest/runner/run_record.h"
 #include "hybridtest/runner/stop_request.h"
+#include "pre_run_checks.h"
 
 namespace hybridtest::app {
 namespace {
@@ -44,11 +48,22 @@ class StopOnSignal {
 
 void ExecuteRun(const RunCommandOptions& options) {
   const io::SimulationConfig cfg = io::LoadSimulationConfig(options.config);
+  CheckSchemeStability(cfg);  // pre-run check: refuses a step beyond the stability limit
   auto subs = io::MakeSubstructures(
       cfg, {options.bench, options.allow_physical,
             "`simulate` is numerical only: use `hybridtest run` for a hybrid test"});
   runner::RunOptions run;
   run.csv_path = runner::ResolveOutputPath(cfg, options.out);
+  // Pre-run check: the journal and stage record must fit on the disk.
+  const bool physical = std::any_of(subs.begin(), subs.end(),
+                                    [](const auto& s) { return s->is_physical(); });
+  io::CheckOutputFits(run.csv_path,
+                      io::EstimateOutputBytes(
+                          runner::MaxJournalRows(cfg),
+                          static_cast<int>(runner::JournalChannels(cfg, subs).size()),
+                          cfg.scheme.kind == schemes::SchemeKind::kRungeKutta ? cfg.tableau.stages() : 1,
+                          physical ? static_cast<int>(runner::StageChannels(cfg, subs).size())
+                                   : 0));
   run.command = options.command;
   // Results are never destroyed: an earlier run needs --overwrite, an input is never an output.
   io::CheckRunOutputs(run.csv_path, io::RunInputFiles(cfg), options.overwrite);
@@ -62,9 +77,12 @@ void ExecuteRun(const RunCommandOptions& options) {
   const StopOnSignal stop_on_signal;
   const runner::RunStatistics s = test.Run();
   if (options.quiet) return;
-  fmt::print("hybridtest {}: {} steps of {} s with {} ({} stages), t = {} s, {} rows -> {}\n",
-             options.command, s.steps, cfg.dt, cfg.tableau.name, cfg.tableau.stages(), s.sim_time,
-             s.rows, run.csv_path);
+  fmt::print("hybridtest {}: {} steps with {}, t = {} s, {} rows -> {}\n", options.command, s.steps,
+             cfg.scheme.kind == schemes::SchemeKind::kRungeKutta
+                 ? fmt::format("{} ({} stages) at {} s", cfg.tableau.name, cfg.tableau.stages(), cfg.dt)
+                 : schemes::SchemeKindName(cfg.scheme.kind) +
+                       (cfg.scheme.adaptive.enabled ? " (adaptive step)" : fmt::format(" at {} s", cfg.dt)),
+             s.sim_time, s.rows, run.csv_path);
   fmt::print("  wall time {:.3f} s ({:.3g}x real time)", s.wall_time, s.wall_slowdown);
   if (s.physical_evaluations > 0) {
     fmt::print("; {} physical evaluations, lab time {:.0f} s = {}h{:02}m ({:.0f}x slower than "

@@ -8,6 +8,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/transfer/bench_client.h"
 #include "hybridtest/transfer/safety.h"
+#include "hybridtest/transfer/bench_faults.h"
 #include "integration/bench_process.h"
 
 namespace hybridtest {
@@ -17,6 +18,7 @@ using testing::BenchProcess;
 using transfer::BenchClient;
 using transfer::BenchClientOptions;
 using transfer::SafetyStop;
+using transfer::kDefaultSpikeForce;
 
 constexpr double kCantileverStiffness = 5.25;  // 3EI/L³ of the default specimen. Unit: [N/mm].
 
@@ -96,7 +98,7 @@ TEST(BenchProcessTest, NanForceIsCaughtByTheCallersMonitor) {
   }
 }
 
-TEST(BenchProcessTest, ForceSpikeIsHundredfoldAndTripsTheHardLimit) {
+TEST(BenchProcessTest, ForceSpikeAddsTheSpikeForceAndTripsTheHardLimit) {
   BenchProcess bench({"--inject", "spike@5"});
   BenchClient client(ClientFor(bench));
   client.Activate();
@@ -106,7 +108,8 @@ TEST(BenchProcessTest, ForceSpikeIsHundredfoldAndTripsTheHardLimit) {
     monitor.CheckMeasurement(4e-3 * i, m.position * 1e-3, m.force, i, 0);
   }
   const transfer::Measurement spike = client.Execute(20.0);
-  EXPECT_NEAR(spike.force / 100.0, kCantileverStiffness * spike.position, 0.1);
+  // One spike semantics (bench_faults.h): + 1e5 N, in the bench's force unit (N here).
+  EXPECT_NEAR(spike.force - kDefaultSpikeForce, kCantileverStiffness * spike.position, 0.1);
   EXPECT_THROW(monitor.CheckMeasurement(20e-3, spike.position * 1e-3, spike.force, 5, 0),
                SafetyStop);
 }

@@ -101,7 +101,7 @@ TEST(BenchClient, NanAndSpikeArePassedThroughForTheCallersMonitor) {
   client.Activate();
   EXPECT_EQ(client.Execute(1.0).force, 5.0);
   EXPECT_TRUE(std::isnan(client.Execute(2.0).force));
-  EXPECT_EQ(client.Execute(3.0).force, 100.0 * 15.0);
+  EXPECT_EQ(client.Execute(3.0).force, 15.0 + kDefaultSpikeForce);  // N: + 1e5 N
   EXPECT_EQ(client.Execute(4.0).force, 20.0);
 }
 

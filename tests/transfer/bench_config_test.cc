@@ -73,8 +73,9 @@ faults: [{at: 5, kind: spike, force_N: 1000}]
   EXPECT_DOUBLE_EQ(c.safety.max_increment, 0.002);
   EXPECT_DOUBLE_EQ(c.safety.force_soft, 1e3);
   ASSERT_EQ(c.faults.size(), 1u);
-  EXPECT_EQ(c.faults[0].kind, BenchFault::Kind::kSpike);
+  EXPECT_EQ(c.faults[0].kind, FaultKind::kSpike);
   EXPECT_DOUBLE_EQ(c.faults[0].spike_force, 1000.0);
+  EXPECT_EQ(c.faults[0].command, 5);
 }
 
 TEST(BenchConfig, ErrorsNameTheKeyPathAndTheFix) {
@@ -116,6 +117,45 @@ TEST(BenchConfig, ExamplesLoad) {
   const auto cantilever = LoadEmulatedBenchConfig(kExamples + "bench-cantilever.yaml");
   EXPECT_NEAR(cantilever.specimen->initial_stiffness(), 5250.0, 1e-9);
   EXPECT_GT(cantilever.noise_std, 0.0);
+}
+
+}  // namespace
+}  // namespace hybridtest::transfer
+
+namespace hybridtest::transfer {
+namespace {
+
+TEST(BenchConfigLimits, SeedAndFaultIndexAreRangeChecked) {
+  EXPECT_THAT(ErrorOf("{seed: 1e30}"), AllOf(HasSubstr("bench.seed"), HasSubstr("from 0 to")));
+  EXPECT_THAT(ErrorOf("{seed: -1}"), HasSubstr("bench.seed"));
+  EXPECT_THAT(ErrorOf("{faults: [{at: 1e30, kind: nan}]}"),
+              AllOf(HasSubstr("bench.faults[0].at"), HasSubstr("from 1 to")));
+  EXPECT_THAT(ErrorOf("{faults: [{at: 0, kind: nan}]}"), HasSubstr("1-based"));
+  EXPECT_EQ(Parse("{seed: 9007199254740992}").seed, 9007199254740992ul);
+}
+
+TEST(BenchConfigLimits, OneFaultInjectorWithOneIndexingConvention) {
+  const EmulatedBenchConfig c = Parse("{faults: [{at: 3, kind: inf}, {at: 4, kind: spike}]}");
+  ASSERT_EQ(c.faults.size(), 2u);
+  EXPECT_EQ(c.faults[0].kind, FaultKind::kInf);
+  EXPECT_EQ(c.faults[0].command, 3);  // the same 1-based N as `--inject inf@3`
+  EXPECT_EQ(c.faults[1].spike_force, kDefaultSpikeForce);
+  EXPECT_THAT(ErrorOf("{faults: [{at: 1, kind: corrupt}]}"),
+              AllOf(HasSubstr("bench.faults[0].kind"), HasSubstr("--inject")));
+}
+
+}  // namespace
+}  // namespace hybridtest::transfer
+
+namespace hybridtest::transfer {
+namespace {
+
+// Found by fuzz/bench_config_fuzz.cc: an absent `bench:` (an invalid node of a const mapping)
+// escaped as YAML::InvalidNode (exit 70) instead of a ConfigError.
+TEST(BenchConfigLimits, AnAbsentBenchNodeIsAConfigError) {
+  const YAML::Node root = YAML::Load("benc: {seed: 1}");
+  const YAML::Node& const_root = root;
+  EXPECT_THROW(ParseEmulatedBenchConfig(const_root["bench"], "t.yaml: bench"), ConfigError);
 }
 
 }  // namespace

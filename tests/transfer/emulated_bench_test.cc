@@ -151,8 +151,8 @@ TEST(EmulatedBench, BoucWenSpecimenIsDeformedAlongThePath) {
 
 TEST(EmulatedBench, InjectedFaultsCorruptTheReportedMeasurement) {
   EmulatedBenchConfig config = LoadEmulatedBenchConfig(kExamples + "bench-ideal.yaml");
-  config.faults = {{1, BenchFault::Kind::kNan, 0.0}, {2, BenchFault::Kind::kSpike, 2e4},
-                   {3, BenchFault::Kind::kSilence, 0.0}};
+  // 1-based command indices (bench_faults.h): commands 2, 3 and 4.
+  config.faults = {{FaultKind::kNan, 2}, {FaultKind::kSpike, 3, 2e4}, {FaultKind::kSilence, 4}};
   EmulatedBench bench(config);
   bench.Activate();
   EXPECT_TRUE(std::isfinite(bench.Execute(21.0).force));

@@ -5,9 +5,9 @@
 
 #include <cmath>
 #include <fstream>
-#include <sstream>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/common/text.h"
 
 namespace hybridtest {
 namespace {
@@ -36,14 +36,24 @@ std::string JoinKeyPath(std::string_view parent, std::string_view key) {
 }
 
 YamlInput YamlInput::FromFile(const std::string& path, std::string_view top_level_hint) {
-  std::ifstream in(path);
+  if (const std::string bad = FindInvalidUtf8(path); !bad.empty()) {
+    throw ConfigError(fmt::format("{}: the file name is not valid UTF-8 (at {}); rename the file "
+                                  "with UTF-8 characters only", Printable(path), bad));
+  }
+  std::ifstream in(path, std::ios::binary);
   if (!in) {
     throw ConfigError(fmt::format("{}: cannot open this YAML file; check that it exists "
                                   "(relative paths start at the current directory)", path));
   }
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return FromText(buffer.str(), path, top_level_hint);
+  std::string text(kMaxConfigBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > kMaxConfigBytes) {
+    throw ConfigError(fmt::format("{}: larger than {} MiB; a configuration is a few kilobytes: "
+                                  "check that this is the right file", path,
+                                  kMaxConfigBytes >> 20));
+  }
+  return FromText(text, path, top_level_hint);
 }
 
 YamlInput YamlInput::FromText(const std::string& text, const std::string& path,
@@ -51,6 +61,11 @@ YamlInput YamlInput::FromText(const std::string& text, const std::string& path,
   YamlInput input;
   input.path_ = path;
   input.text_ = text;
+  if (const std::string bad = FindInvalidUtf8(text); !bad.empty()) {
+    throw ConfigError(fmt::format("{}: not valid UTF-8 at {}; save the file as UTF-8 (check for "
+                                  "characters pasted from another encoding)", Printable(path),
+                                  bad));
+  }
   try {
     input.root_ = YAML::Load(text);
   } catch (const YAML::Exception& e) {
@@ -67,7 +82,9 @@ YamlInput YamlInput::FromText(const std::string& text, const std::string& path,
 
 YamlInput YamlInput::ForNode(const YAML::Node& node) {
   YamlInput input;
-  input.root_ = node;
+  // An absent key of a const node is an invalid node, which yaml-cpp refuses to assign (found
+  // by fuzzing); the caller's RequireMapping then reports it as missing.
+  if (node.IsDefined()) input.root_ = node;
   return input;
 }
 
@@ -200,6 +217,16 @@ int YamlInput::Integer(const YAML::Node& node, std::string_view key_path,
   return static_cast<int>(value);
 }
 
+long long YamlInput::Count(const YAML::Node& node, std::string_view key_path,
+                           std::string_view expected, long long min, long long max) const {
+  const double value = Number(node, key_path, expected);
+  if (value != std::floor(value) || value < static_cast<double>(min) ||
+      value > static_cast<double>(max)) {
+    ThrowValue(node, key_path, fmt::format("{} from {} to {}", expected, min, max));
+  }
+  return static_cast<long long>(value);
+}
+
 std::string YamlInput::String(const YAML::Node& node, std::string_view key_path,
                               std::string_view expected) const {
   if (IsAbsent(node)) ThrowMissing(node, key_path, expected);
@@ -211,6 +238,10 @@ std::vector<double> YamlInput::Numbers(const YAML::Node& node, std::string_view 
                                        std::string_view expected) const {
   if (IsAbsent(node) || !node.IsSequence()) {
     ThrowValue(node, key_path, fmt::format("a list [a, b, ...] of {}", expected));
+  }
+  if (node.size() > kMaxListLength) {
+    throw ConfigError(fmt::format("{}: a list of {} entries; at most {} are allowed",
+                                  Where(node, key_path), node.size(), kMaxListLength));
   }
   std::vector<double> values;
   for (std::size_t i = 0; i < node.size(); ++i) {

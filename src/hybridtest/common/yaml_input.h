@@ -12,6 +12,7 @@
 // the whole location, such as "bench.yaml: bench", and the line is appended "(line N)").
 #include <yaml-cpp/yaml.h>
 
+#include <cstddef>
 #include <initializer_list>
 #include <string>
 #include <string_view>
@@ -22,9 +23,15 @@ namespace hybridtest {
 // "parent.key", or "key" when `parent` is empty.
 std::string JoinKeyPath(std::string_view parent, std::string_view key);
 
+// Input size limits: a config is a few kilobytes; these bounds keep a mistaken or hostile
+// file from exhausting memory before a clear error is given.
+inline constexpr std::size_t kMaxConfigBytes = 4u << 20;  // a YAML file. Unit: [bytes].
+inline constexpr std::size_t kMaxListLength = 100000;     // entries of one list
+
 class YamlInput {
  public:
-  // Parses the file at `path`. Throws ConfigError if it cannot be read, is not valid YAML (with
+  // Parses the file at `path`. Throws ConfigError if it cannot be read, is larger than
+  // kMaxConfigBytes, is not UTF-8 (nor is its path), is not valid YAML (with
   // line and column) or is not a mapping at the top level; `top_level_hint` names the expected
   // top-level keys in that message ("keys such as model:, integrator:, duration:").
   static YamlInput FromFile(const std::string& path,
@@ -65,6 +72,10 @@ class YamlInput {
   double PositiveNumber(const YAML::Node& node, std::string_view key_path,
                         std::string_view expected) const;
   int Integer(const YAML::Node& node, std::string_view key_path, std::string_view expected) const;
+  // A whole number in [min, max] (a count, an index, a seed). Throws ConfigError naming the
+  // range when the value is fractional or out of range (e.g. `seed: 1e30`).
+  long long Count(const YAML::Node& node, std::string_view key_path, std::string_view expected,
+                  long long min, long long max) const;
   std::string String(const YAML::Node& node, std::string_view key_path,
                      std::string_view expected) const;  // any scalar
   std::vector<double> Numbers(const YAML::Node& node, std::string_view key_path,

@@ -9,6 +9,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/integrators/catalogue.h"
 #include "hybridtest/modelfile/model_file.h"
+#include "hybridtest/multibody/jet.h"
 
 namespace hybridtest::io {
 
@@ -19,7 +20,7 @@ YAML::Node ApplyOverrides(const YamlInput& in, const YAML::Node& node,
   const YAML::Node overrides = in.Mapping(node, "parameters", "model.parameters", false);
   if (overrides.IsDefined()) {
     for (const auto& kv : overrides) {
-      const std::string key = kv.first.as<std::string>();
+      const std::string key = in.String(kv.first, "model.parameters", "a parameter name");
       const std::string path = "model.parameters." + key;
       const double value = in.Number(kv.second, path, "a number in SI units");
       parameters.Set(key, value, in.Where(kv.second, path));
@@ -62,11 +63,10 @@ models::BuiltModel ParseModel(const YamlInput& in, const YAML::Node& node, int* 
       throw ConfigError(fmt::format("{}: only the rotor model has blades; remove this key",
                                     in.Where(node["blades"], "model.blades")));
     }
-    blades = in.Integer(node["blades"], "model.blades", "a whole number of blades ≥ 1");
-    if (blades < 1) {
-      throw ConfigError(fmt::format("{} = {}: expected a whole number of blades ≥ 1",
-                                    in.Where(node["blades"], "model.blades"), blades));
-    }
+    // Bounded before anything is allocated: the engine takes at most kMaxJetCoordinates
+    // coordinates, the hub's and one per blade.
+    blades = static_cast<int>(in.Count(node["blades"], "model.blades", "a whole number of blades",
+                                       1, multibody::kMaxJetCoordinates - 1));
   } else if (name == "rotor") {
     blades = 3;
   }
@@ -247,10 +247,22 @@ SimulationConfig ParseSimulationConfig(const YamlInput& in) {
   cfg.dt = in.PositiveNumber(integ["dt"], "integrator.dt", "a positive time step in seconds");
   cfg.duration = in.PositiveNumber(root["duration"], "duration",
                                    "a positive simulated duration in seconds");
-  const double steps = std::round(cfg.duration / cfg.dt);
+  // The step count is range-checked before it is converted (duration: 1e19 must not wrap).
+  const double ratio = cfg.duration / cfg.dt;
+  if (!(ratio <= static_cast<double>(kMaxSteps))) {
+    throw ConfigError(fmt::format("{}: duration {} s with dt = {} s gives {:.3g} steps; at most {} "
+                                  "are allowed: shorten the duration or enlarge dt",
+                                  in.Where(root["duration"], "duration"), cfg.duration, cfg.dt,
+                                  ratio, kMaxSteps));
+  }
+  const double steps = std::round(ratio);
   if (!cfg.scheme.adaptive.enabled && std::abs(steps * cfg.dt - cfg.duration) > 1e-9 * cfg.duration) {
     throw ConfigError(fmt::format("{}: duration {} s is not a whole number of steps of dt = {} s; "
                                   "choose a duration that is a multiple of dt",
+                                  in.Where(root["duration"], "duration"), cfg.duration, cfg.dt));
+  }
+  if (steps < 1) {
+    throw ConfigError(fmt::format("{}: duration {} s is shorter than one step of dt = {} s",
                                   in.Where(root["duration"], "duration"), cfg.duration, cfg.dt));
   }
   cfg.steps = static_cast<long>(steps);

@@ -33,6 +33,9 @@
 
 namespace hybridtest::io {
 
+// The most steps a run may take: 1e9 steps already write ~100 GB of journal.
+inline constexpr long kMaxSteps = 1'000'000'000L;
+
 struct SimulationConfig {
   YamlInput input;                    // the parsed file (path, verbatim text, tree)
   models::BuiltModel model;           // built from name, blades and resolved parameters

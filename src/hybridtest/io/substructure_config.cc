@@ -3,7 +3,6 @@
 
 #include <fmt/core.h>
 
-#include <cstdlib>
 #include <filesystem>
 
 #include "hybridtest/common/error.h"
@@ -11,6 +10,7 @@
 #include "hybridtest/constitutive/parse_law.h"
 #include "hybridtest/substructures/numerical_substructure.h"
 #include "hybridtest/substructures/physical_substructure.h"
+#include "hybridtest/transfer/auth.h"
 #include "hybridtest/transfer/bench_client.h"
 #include "hybridtest/transfer/emulated_bench.h"
 #include "hybridtest/transfer/modbus/modbus_config.h"
@@ -28,7 +28,8 @@ using substructures::Substructure;
 std::unique_ptr<transfer::TransferSystem> MakeTransfer(const YamlInput& in, const YAML::Node& node,
                                                        const std::string& kp,
                                                        const SubstructureOptions& options,
-                                                       double reply_timeout) {
+                                                       double reply_timeout,
+                                                       const transfer::SafetyLimits* limits) {
   if (options.emulate_bench) {  // `plan --emulate`: no real bench, whatever the config names
     return transfer::MakeEmulatedBench(transfer::LoadEmulatedBenchConfig(*options.emulate_bench));
   }
@@ -39,7 +40,8 @@ std::unique_ptr<transfer::TransferSystem> MakeTransfer(const YamlInput& in, cons
     return transfer::openfresco::MakeClientTransfer(in, node, kp, options.bench_address,
                                                     reply_timeout);
   }
-  in.CheckKeys(node, kp, {"type", "config", "bench", "law", "p0", "address", "token", "timeout"});
+  in.CheckKeys(node, kp, {"type", "config", "bench", "law", "p0", "address", "token",
+                          "token_file", "timeout"});
   const std::string type =
       in.String(node["type"], kp + ".type", "a transfer type: emulated, loopback, remote, modbus or openfresco");
   if (type == "emulated") {
@@ -78,10 +80,25 @@ std::unique_ptr<transfer::TransferSystem> MakeTransfer(const YamlInput& in, cons
     const transfer::HostPort hp = transfer::ParseHostPort(address, "--bench / " + kp + ".address");
     client.host = hp.host;
     client.port = hp.port;
+    // The token is a secret: never in the config, whose text is copied into the results.
     if (node["token"]) {
-      client.token = in.String(node["token"], kp + ".token", "the bench's shared token");
-    } else if (const char* env = std::getenv("HYBRIDTEST_BENCH_TOKEN")) {
-      client.token = env;
+      throw ConfigError(fmt::format(
+          "{}: a token written in the run config would be copied into the results (.meta.json); "
+          "put it in a file and give `token_file: PATH`, or set {}", in.Where(node["token"],
+          kp + ".token"), transfer::kTokenEnvironmentVariable));
+    }
+    if (node["token_file"]) {
+      std::filesystem::path file =
+          in.String(node["token_file"], kp + ".token_file", "the path of a file with the token");
+      if (file.is_relative()) file = std::filesystem::path(in.path()).parent_path() / file;
+      client.token = transfer::ReadTokenFile(file.string(), in.Where(node["token_file"],
+                                                                     kp + ".token_file"));
+    } else {
+      client.token = transfer::TokenFromEnvironment();
+    }
+    if (limits != nullptr) {
+      client.expected_limits = *limits;
+      client.limits_where = kp.substr(0, kp.rfind('.')) + ".safety";
     }
     client.reply_timeout =
         node["timeout"] ? in.PositiveNumber(node["timeout"], kp + ".timeout", "seconds")
@@ -96,6 +113,7 @@ substructures::SetupTransform ParseSetup(const YamlInput& in, const YAML::Node& 
                                          const std::string& kp) {
   substructures::SetupTransform s;
   if (!node.IsDefined()) return s;
+  in.RequireMapping(node, kp);
   in.CheckKeys(node, kp, {"p0", "sign", "scale", "force_sign", "force_scale", "load_cell_zero"});
   s.p0 = in.ReadNumber(node, kp, "p0", "the actuator position at zero specimen force, in m", s.p0);
   s.sign = in.ReadNumber(node, kp, "sign", "+1 or -1", s.sign);
@@ -116,6 +134,7 @@ transfer::SafetyLimits ParseSafety(const YamlInput& in, const YAML::Node& node,
                                    const std::string& kp) {
   transfer::SafetyLimits l;
   if (!node.IsDefined()) return l;
+  in.RequireMapping(node, kp);
   in.CheckKeys(node, kp, {"stroke_min", "stroke_max", "max_increment", "force_soft",
                           "force_hard", "timeout", "initial_stiffness"});
   l.stroke_min = in.ReadNumber(node, kp, "stroke_min", "the lowest actuator position in m",
@@ -179,7 +198,7 @@ std::vector<std::unique_ptr<Substructure>> MakeSubstructures(const SimulationCon
   const YAML::Node section = in.Mapping(in.root(), "substructures", "substructures", false);
   if (section.IsDefined()) {
     for (const auto& kv : section) {
-      const std::string slot_name = kv.first.as<std::string>();
+      const std::string slot_name = in.String(kv.first, "substructures", "a slot name");
       const std::string kp = "substructures." + slot_name;
       int slot = -1;
       for (std::size_t s = 0; s < slots.size(); ++s) {
@@ -212,7 +231,8 @@ std::vector<std::unique_ptr<Substructure>> MakeSubstructures(const SimulationCon
         const YAML::Node tr = in.Mapping(node, "transfer", kp + ".transfer", true);
         const transfer::SafetyLimits limits = ParseSafety(in, node["safety"], kp + ".safety");
         auto physical = std::make_unique<substructures::PhysicalSubstructure>(
-            slot_name, MakeTransfer(in, tr, kp + ".transfer", options, limits.timeout),
+            slot_name, MakeTransfer(in, tr, kp + ".transfer", options, limits.timeout,
+                                    node["safety"] ? &limits : nullptr),
             ParseSetup(in, node["setup"], kp + ".setup"), limits,
             node["safety"] && node["safety"]["initial_stiffness"]
                 ? std::optional<double>(in.PositiveNumber(node["safety"]["initial_stiffness"],

@@ -12,12 +12,15 @@
 //         # bench: {...}              # emulated: or the bench inline
 //         # law: {type: linear, stiffness: 7200}   # loopback: the specimen law
 //         # address: 127.0.0.1:7471   # remote (--bench HOST:PORT overrides it)
-//         # token: secret             # remote (or env HYBRIDTEST_BENCH_TOKEN)
+//         # token_file: bench.token   # remote: file with the token (or env
+//                                     # HYBRIDTEST_BENCH_TOKEN); never `token:` in the config
 //         # timeout: 5                # remote: longest wait for one reply [s] (default: safety.timeout)
 //       setup: {p0: 0.02, sign: 1, scale: 1, force_sign: 1, force_scale: 1, load_cell_zero: 0}
 //       safety: {stroke_min: -0.15, stroke_max: 0.15, max_increment: 0.005,
 //                force_soft: 8000, force_hard: 10000, timeout: 5,   # SI: m, N, s
 //                initial_stiffness: 5250}   # [N/m] optional: predict forces from the start
+//                # remote: a given `safety:` must lie within the limits the bench announces
+//                # at connection (transfer/limits_check.h), else ConfigError (a unit slip)
 //     r2:
 //       type: numerical
 //       law: {type: linear, stiffness: 7200}   # or bouc_wen / cantilever (constitutive/)

@@ -3,6 +3,9 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
+#include <cmath>
+
 namespace hybridtest::runner {
 namespace {
 
@@ -47,6 +50,17 @@ std::vector<io::Channel> StageChannels(const io::SimulationConfig& cfg,
     if (subs[s]->is_physical()) AddPhysicalChannels(cfg.model.model.slots()[s].info.name, channels);
   }
   return channels;
+}
+
+long MaxJournalRows(const io::SimulationConfig& cfg) {
+  const auto& sc = cfg.scheme;
+  double steps = static_cast<double>(cfg.steps);
+  if (sc.kind != schemes::SchemeKind::kRungeKutta && sc.adaptive.enabled) {
+    steps = std::ceil(cfg.duration / sc.adaptive.dt_min);
+  }
+  double rows = steps + 1.0;
+  if (sc.kind == schemes::SchemeKind::kMrOs) rows += std::ceil(cfg.duration / sc.substep) + steps;
+  return static_cast<long>(std::min(rows, 1e15));
 }
 
 io::JournalMetadata JournalMetadataFor(const io::SimulationConfig& cfg,

@@ -26,6 +26,10 @@ std::vector<io::Channel> JournalChannels(const io::SimulationConfig& cfg,
 std::vector<io::Channel> StageChannels(const io::SimulationConfig& cfg,
                                        const SubstructureList& subs);
 
+// An upper bound of the journal rows a run writes (adaptive schemes: at their smallest step;
+// MR-OS: a row per substep). Used to check that the output fits on the disk.
+long MaxJournalRows(const io::SimulationConfig& cfg);
+
 io::JournalMetadata JournalMetadataFor(const io::SimulationConfig& cfg,
                                        const SubstructureList& subs, const std::string& command);
 

@@ -5,6 +5,7 @@
 #include <chrono>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/transfer/limits_check.h"
 #include "hybridtest/transfer/safety.h"
 
 namespace hybridtest::transfer {
@@ -110,6 +111,16 @@ void BenchClient::Activate() {
     welcome_ = std::move(welcome);
   } catch (const TransferError& e) {
     Fail(fmt::format("bad WELCOME from the bench at {}: {}", Endpoint(), e.what()));
+  }
+  if (options_.expected_limits) {
+    try {
+      CheckLimitsAgainstBench(*options_.expected_limits, welcome_->limits, options_.limits_where,
+                              fmt::format("the bench at {}", Endpoint()));
+    } catch (const ConfigError&) {
+      Hold();  // nothing moved; leave the session cleanly, then report
+      socket_.Close();
+      throw;
+    }
   }
 }
 

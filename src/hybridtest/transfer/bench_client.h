@@ -24,6 +24,7 @@
 #include <string>
 
 #include "hybridtest/transfer/protocol.h"
+#include "hybridtest/transfer/safety.h"
 #include "hybridtest/transfer/socket.h"
 #include "hybridtest/transfer/transfer_system.h"
 
@@ -37,6 +38,10 @@ struct BenchClientOptions {
   double connect_timeout = 5.0;  // longest wait for the TCP connection. Unit: [s].
   double reply_timeout = 5.0;    // longest wait for any one reply. Unit: [s].
   double hold_timeout = 0.5;     // longest wait for HOLD_ACK in Hold(). Unit: [s].
+  // The caller's own safety limits (SI), if any: Activate() refuses a bench whose announced
+  // limits do not contain them (limits_check.h), naming `limits_where` (a config key path).
+  std::optional<SafetyLimits> expected_limits;
+  std::string limits_where = "safety";
 };
 
 class BenchClient final : public TransferSystem {
@@ -45,7 +50,8 @@ class BenchClient final : public TransferSystem {
   explicit BenchClient(BenchClientOptions options);
   ~BenchClient() override;
 
-  // Connects, sends HELLO and reads WELCOME. Throws TransferError (e.g. wrong token, version).
+  // Connects, sends HELLO and reads WELCOME. Throws TransferError (e.g. wrong token, version),
+  // or ConfigError (after closing the connection) if expected_limits exceed the bench's.
   void Activate() override;
   Measurement Execute(double command) override;
   void Hold() noexcept override;

@@ -19,6 +19,9 @@ using units::kKilonewton;
 using units::kMillimetre;
 using units::kMillisecond;
 
+constexpr std::size_t kMaxFaults = 10000;          // entries of `faults:`
+constexpr long long kMaxSeed = 1LL << 53;          // integers a double holds exactly
+
 // A sub-mapping with only `allowed` keys; an undefined node when absent.
 // A value the config gives in `unit` (e.g. kMillimetre for a key ending in _mm), returned in
 // SI; `si_default` (SI) when the key is absent.
@@ -82,33 +85,31 @@ void ParseLag(const YamlInput& in, const YAML::Node& node, std::string_view wher
 }
 
 void ParseFaults(const YamlInput& in, const YAML::Node& node, std::string_view where,
-                 std::vector<BenchFault>& faults) {
-  if (!node.IsSequence()) {
-    in.ThrowValue(node, where, "a list of {at: N, kind: nan|inf|spike|silence}");
+                 std::vector<Fault>& faults) {
+  const std::string expected =
+      "a list of {at: N, kind: nan|inf|spike|silence, force_N: F} (N: 1-based command index)";
+  if (!node.IsSequence()) in.ThrowValue(node, where, expected);
+  if (node.size() > kMaxFaults) {
+    throw ConfigError(fmt::format("{}: {} faults; at most {} are allowed", where, node.size(),
+                                  kMaxFaults));
   }
   for (std::size_t i = 0; i < node.size(); ++i) {
     const std::string path = fmt::format("{}[{}]", where, i);
     const YAML::Node entry = node[i];
     in.RequireMapping(entry, path);
     in.CheckKeys(entry, path, {"at", "kind", "force_N"});
-    BenchFault fault;
-    const double at = in.ReadNumber(entry, path, "at", "a command index (integer >= 0)");
-    if (at < 0 || at != std::floor(at)) {
-      in.ThrowValue(entry["at"], JoinKeyPath(path, "at"), "a command index (integer >= 0)");
-    }
-    fault.at = static_cast<long>(at);
+    Fault fault;
+    fault.command = static_cast<long>(in.Count(entry["at"], JoinKeyPath(path, "at"),
+                                               "a 1-based command index", 1, kMaxFaultCommand));
     const std::string kind = in.ReadString(entry, path, "kind", "");
-    if (kind == "nan") {
-      fault.kind = BenchFault::Kind::kNan;
-    } else if (kind == "inf") {
-      fault.kind = BenchFault::Kind::kInf;
-    } else if (kind == "spike") {
-      fault.kind = BenchFault::Kind::kSpike;
-    } else if (kind == "silence") {
-      fault.kind = BenchFault::Kind::kSilence;
-    } else {
-      in.ThrowValue(entry["kind"], JoinKeyPath(path, "kind"), "one of nan, inf, spike, silence");
+    const std::string kind_path = JoinKeyPath(path, "kind");
+    const bool known = kind == "nan" || kind == "inf" || kind == "spike" || kind == "silence";
+    if (!known) {
+      in.ThrowValue(entry["kind"], kind_path,
+                    "one of nan, inf, spike, silence (the wire faults corrupt, stale_seq, "
+                    "duplicate and close are injected with `hybridtest bench --inject`)");
     }
+    fault.kind = ParseFaultKind(kind, kind_path);
     fault.spike_force = in.ReadNumber(entry, path, "force_N", "a force in N", fault.spike_force);
     faults.push_back(fault);
   }
@@ -143,11 +144,10 @@ EmulatedBenchConfig ParseEmulatedBenchConfig(const YAML::Node& bench, std::strin
   if (auto n = SubMapping(in, bench, where, "units", {"length", "force"})) {
     ParseUnits(in, n, JoinKeyPath(where, "units"), c.units);
   }
-  const double seed = in.ReadNumber(bench, where, "seed", "a non-negative integer", 1.0);
-  if (seed < 0 || seed != std::floor(seed)) {
-    in.ThrowValue(bench["seed"], JoinKeyPath(where, "seed"), "a non-negative integer");
+  if (bench["seed"]) {
+    c.seed = static_cast<unsigned long>(in.Count(bench["seed"], JoinKeyPath(where, "seed"),
+                                                 "a non-negative integer", 0, kMaxSeed));
   }
-  c.seed = static_cast<unsigned long>(seed);
   const std::string pacing = in.ReadString(bench, where, "pacing", "accelerated");
   if (pacing != "accelerated" && pacing != "realtime") {
     in.ThrowValue(bench["pacing"], JoinKeyPath(where, "pacing"), "accelerated or realtime");

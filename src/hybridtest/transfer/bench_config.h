@@ -38,8 +38,10 @@
 //       force_soft_kN: 8
 //       force_hard_kN: 10             # default: actuator.capacity_kN
 //       timeout_s: 5                  # longest lab time for one command
-//     faults:                         # TEST FACILITY ONLY; see BenchFault
-//       - {at: 100, kind: nan}
+//     seed: 1                         # load-cell RNG seed, an integer in [0, 2^53]
+//     faults:                         # TEST FACILITY ONLY; see bench_faults.h
+//       - {at: 100, kind: nan}        # at: 1-based command index; kind: nan|inf|spike|silence
+//       - {at: 200, kind: spike, force_N: 1e5}
 //     openfresco: {...}               # optional; read by transfer/openfresco/setup_config.h
 //
 // The defaults are calibrated so that the seed paper's test (20,000 small moves) takes about
@@ -52,6 +54,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "hybridtest/constitutive/restoring_force_law.h"
+#include "hybridtest/transfer/bench_faults.h"
 #include "hybridtest/transfer/safety.h"
 #include "hybridtest/transfer/transfer_system.h"
 
@@ -65,21 +68,6 @@ struct ServoLag {
   double time_constant = 0.02;      // first order: τ ṗ = r − p. Unit: [s].
   double natural_frequency = 10.0;  // second order: p̈ = ωn²(r − p) − 2ζωn ṗ, fn. Unit: [Hz].
   double damping_ratio = 0.8;       // second order: ζ [-].
-};
-
-// TEST FACILITY: a fault injected into the measurement reported for command number `at`.
-// The fault corrupts the reported measurement AFTER the bench's own checks, as a broken wire
-// or sensor would, so that the caller's SafetyMonitor must catch it.
-struct BenchFault {
-  enum class Kind {
-    kNan,      // force is NaN
-    kInf,      // force is +Inf
-    kSpike,    // force += spike_force
-    kSilence,  // no answer: Execute throws TransferError after safety.timeout of lab time
-  };
-  long at = 0;                 // index of the command (0-based, counting every Execute call)
-  Kind kind = Kind::kNan;
-  double spike_force = 1e5;    // added force for kSpike. Unit: [N]. Key: force_N.
 };
 
 struct EmulatedBenchConfig {
@@ -109,7 +97,7 @@ struct EmulatedBenchConfig {
   double internal_step = 0.001;            // internal simulation step. Unit: [s].
 
   SafetyLimits safety;                     // the bench's own limits, SI
-  std::vector<BenchFault> faults;          // TEST FACILITY
+  std::vector<Fault> faults;               // TEST FACILITY (bench_faults.h): measurement kinds
 };
 
 // The default configuration: the paper's cantilever on a realistic bench.

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/common/text.h"
 #include "hybridtest/transfer/protocol.h"
 
 namespace hybridtest::transfer {
@@ -21,14 +22,16 @@ const std::string& CheckBindPolicy(const BenchServerOptions& options) {
   if (options.token.empty() && !IsLoopbackHost(options.host)) {
     throw ConfigError(fmt::format(
         "refusing to serve the bench on {}:{} without a token: a non-loopback address lets "
-        "anyone on the network move the actuator; set a shared token (--token or "
+        "anyone on the network move the actuator; set a shared token (--token-file or "
         "HYBRIDTEST_BENCH_TOKEN) or listen on 127.0.0.1",
         options.host, options.port));
   }
-  if (!(options.heartbeat_timeout > 0.0) || !(options.send_timeout > 0.0)) {
+  if (!(options.heartbeat_timeout > 0.0) || !(options.send_timeout > 0.0) ||
+      !(options.handshake_timeout > 0.0)) {
     throw ConfigError(fmt::format(
-        "bench server: heartbeat_timeout = {} s, send_timeout = {} s: expected positive times",
-        options.heartbeat_timeout, options.send_timeout));
+        "bench server: heartbeat_timeout = {} s, send_timeout = {} s, handshake_timeout = {} s: "
+        "expected positive times",
+        options.heartbeat_timeout, options.send_timeout, options.handshake_timeout));
   }
   return options.host;
 }
@@ -36,8 +39,11 @@ const std::string& CheckBindPolicy(const BenchServerOptions& options) {
 }  // namespace
 
 struct BenchServer::Session {
-  explicit Session(Socket socket) : client(std::move(socket)) {}
+  explicit Session(Socket socket, std::string peer_address = {})
+      : client(std::move(socket)), peer(std::move(peer_address)) {}
   Socket client;
+  std::string peer;                 // the client's address (for the auth throttle and logs)
+  std::uint64_t last_sequence = 0;  // of the last request accepted; the next must be + 1
   bool refused = false;       // a safety refusal latched: every further COMMAND is refused
   std::string refused_limit;  // the limit of that refusal
   std::string refused_text;
@@ -48,7 +54,8 @@ BenchServer::BenchServer(TransferSystem& bench, BenchServerOptions options)
       options_(std::move(options)),
       units_(bench.bench_units()),
       monitor_(options_.limits),
-      listener_(CheckBindPolicy(options_), options_.port) {
+      listener_(CheckBindPolicy(options_), options_.port),
+      handshakes_(options_.max_pending, options_.handshake_timeout) {
   if (options_.start_position) monitor_.SetStartPosition(*options_.start_position);
   if (options_.initial_stiffness) monitor_.SetInitialStiffness(*options_.initial_stiffness);
 }
@@ -60,7 +67,8 @@ std::string BenchServer::address() const {
 }
 
 void BenchServer::Log(const std::string& line) const {
-  if (options_.log) options_.log(line);
+  // Client-supplied text (names, error texts) may hold newlines: one event, one line.
+  if (options_.log) options_.log(Printable(line));
 }
 
 void BenchServer::HoldBench(const std::string& why) {
@@ -73,12 +81,71 @@ void BenchServer::Serve() {
   bench_.Activate();
   Log(fmt::format("serving {} on {}", bench_.Describe(), address()));
   while (!stop_.load()) {
-    Socket client = listener_.Accept(kPollIntervalMs * 1e-3);
-    if (client.is_open()) ServeClient(std::move(client));
+    // Wait for a new connection or bytes from a pending one.
+    std::vector<pollfd> fds = {{listener_.fd(), POLLIN, 0}};
+    for (std::size_t i = 0; i < handshakes_.size(); ++i) {
+      fds.push_back({handshakes_.at(i).socket.fd(), POLLIN, 0});
+    }
+    poll(fds.data(), fds.size(), kPollIntervalMs);
+    // Pending handshakes, last first so that removing one keeps the others' indices.
+    for (std::size_t k = fds.size(); k-- > 1;) {
+      if ((fds[k].revents & (POLLIN | POLLHUP | POLLERR)) != 0 && AdvanceHandshake(k - 1)) break;
+    }
+    DropExpiredHandshakes();
+    if ((fds[0].revents & POLLIN) != 0 && !stop_.load()) {
+      Socket client = listener_.Accept(0.0);
+      if (client.is_open()) {
+        const std::string evicted = handshakes_.Add(std::move(client), Clock::now());
+        if (!evicted.empty()) {
+          Log(fmt::format("{} connections await HELLO: dropped the oldest, from {}",
+                          options_.max_pending, evicted));
+        }
+      }
+    }
   }
+  handshakes_.TakeAll();
   HoldBench("server stopping");
   bench_.Deactivate();
   Log("stopped");
+}
+
+bool BenchServer::AdvanceHandshake(std::size_t i) {
+  Frame hello;
+  HandshakeQueue::Progress progress = HandshakeQueue::Progress::kWaiting;
+  try {
+    progress = handshakes_.Read(i, hello);
+  } catch (const TransferError& e) {
+    HandshakeQueue::Pending p = handshakes_.Take(i);
+    Session rejected(std::move(p.socket), p.peer);
+    SendError(rejected, 0, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
+              fmt::format("expected HELLO: {}", e.what()));
+    return false;
+  }
+  if (progress == HandshakeQueue::Progress::kWaiting) return false;
+  HandshakeQueue::Pending p = handshakes_.Take(i);
+  if (progress == HandshakeQueue::Progress::kClosed) {
+    Log(fmt::format("a connection from {} left before HELLO", p.peer));
+    return false;
+  }
+  Session session(std::move(p.socket), p.peer);
+  if (!Handshake(session, hello)) return false;
+  // One session at a time: whoever else is waiting is told the bench is busy.
+  for (HandshakeQueue::Pending& other : handshakes_.TakeAll()) {
+    Session busy(std::move(other.socket), other.peer);
+    SendError(busy, 0, static_cast<int>(ErrorCode::kBusy), "", 0, 0,
+              "the bench is serving another client; try again when it has disconnected");
+  }
+  ServeSession(session);
+  return true;
+}
+
+void BenchServer::DropExpiredHandshakes() {
+  for (HandshakeQueue::Pending& p : handshakes_.TakeExpired(Clock::now())) {
+    Session late(std::move(p.socket), p.peer);
+    SendError(late, 0, static_cast<int>(ErrorCode::kTimeout), "", 0, 0,
+              fmt::format("no complete HELLO within {} s of connecting (handshake timeout)",
+                          options_.handshake_timeout));
+  }
 }
 
 bool BenchServer::Send(Session& session, const Frame& frame) {
@@ -106,13 +173,8 @@ void BenchServer::RefuseBusyClient() {
             "the bench is serving another client; try again when it has disconnected");
 }
 
-void BenchServer::ServeClient(Socket client) {
-  Session session(std::move(client));
+void BenchServer::ServeSession(Session& session) {
   const auto hold = [&](const std::string& why) { HoldBench(why); };
-  if (!Handshake(session)) {
-    hold("handshake failed");
-    return;
-  }
   const auto timeout = std::chrono::duration<double>(options_.heartbeat_timeout);
   auto last_frame = Clock::now();
   while (!stop_.load()) {
@@ -135,6 +197,18 @@ void BenchServer::ServeClient(Socket client) {
         return hold("client timed out mid-frame");
       }
       last_frame = Clock::now();
+      // Strict sequence: each request takes the next number; anything else (a replay, a
+      // stale or skipped number) is refused before it is decoded and ends the session.
+      const std::uint64_t expected = session.last_sequence + 1;
+      if (frame.sequence != expected) {
+        SendError(session, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
+                  fmt::format("{} with sequence number {}: expected {} (each request takes the "
+                              "next number); a duplicate or stale request is never executed",
+                              MessageTypeName(static_cast<std::uint16_t>(frame.type)),
+                              frame.sequence, expected));
+        return hold("duplicate, stale or skipped sequence number");
+      }
+      session.last_sequence = frame.sequence;
       if (!HandleFrame(session, frame)) return hold("session ended");
       continue;
     }
@@ -149,14 +223,12 @@ void BenchServer::ServeClient(Socket client) {
   hold("server stopping");
 }
 
-bool BenchServer::Handshake(Session& session) {
-  Frame frame;
+bool BenchServer::Handshake(Session& session, const Frame& frame) {
+  const auto auth = static_cast<int>(ErrorCode::kAuth);
   try {
-    const ReadStatus status =
-        ReadFrame(session.client.fd(), options_.heartbeat_timeout, frame);
-    if (status != ReadStatus::kFrame) {
-      Log("client left or stayed silent before HELLO");
-      return false;
+    if (frame.type != MessageType::kHello) {
+      throw TransferError(fmt::format("got {} before HELLO",
+                                      MessageTypeName(static_cast<std::uint16_t>(frame.type))));
     }
     const HelloMessage hello = DecodeHello(frame);
     if (hello.version != kProtocolVersion) {
@@ -165,18 +237,32 @@ bool BenchServer::Handshake(Session& session) {
                             hello.version, kProtocolVersion));
       return false;
     }
-    if (hello.token != options_.token) {
-      SendError(session, frame.sequence, static_cast<int>(ErrorCode::kAuth), "", 0, 0,
-                "wrong or missing token: the client's token does not match the bench's "
-                "(--token / HYBRIDTEST_BENCH_TOKEN)");
+    const auto now = Clock::now();
+    if (auth_.IsLocked(session.peer, now)) {
+      SendError(session, frame.sequence, auth, "", 0, 0,
+                fmt::format("too many wrong tokens from {}: locked out for {} s after the last "
+                            "one", session.peer, AuthThrottle::kLockout.count()));
       return false;
     }
+    if (!TokensEqual(hello.token, options_.token)) {
+      if (auth_.RecordFailure(session.peer, now)) {
+        Log(fmt::format("auth lockout: {} wrong tokens from {}; its HELLOs are refused for {} s",
+                        AuthThrottle::kMaxFailures, session.peer,
+                        AuthThrottle::kLockout.count()));
+      }
+      SendError(session, frame.sequence, auth, "", 0, 0,
+                "wrong or missing token: the client's token does not match the bench's "
+                "(--token-file / HYBRIDTEST_BENCH_TOKEN)");
+      return false;
+    }
+    auth_.RecordSuccess(session.peer);
     WelcomeMessage welcome;
     welcome.description = bench_.Describe();
     welcome.units = units_;
     welcome.limits = options_.limits;
     welcome.heartbeat_timeout = options_.heartbeat_timeout;
-    Log(fmt::format("client '{}' connected", hello.client_name));
+    Log(fmt::format("client '{}' connected from {}", hello.client_name, session.peer));
+    session.last_sequence = frame.sequence;
     return Send(session, EncodeWelcome(frame.sequence, welcome));
   } catch (const TransferError& e) {
     SendError(session, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
@@ -264,8 +350,7 @@ bool BenchServer::HandleCommand(Session& session, const Frame& frame) {
     return false;
   }
   // Test faults on the answer.
-  if (fault(FaultKind::kNan)) reply.measurement.force = std::numeric_limits<double>::quiet_NaN();
-  if (fault(FaultKind::kSpike)) reply.measurement.force *= 100.0;
+  ApplyMeasurementFaults(options_.faults, n, units_, reply.measurement);
   const std::uint32_t sequence =
       fault(FaultKind::kStaleSeq) ? frame.sequence - 1 : frame.sequence;
   std::vector<std::uint8_t> bytes = EncodeFrame(EncodeMeasurement(sequence, reply));

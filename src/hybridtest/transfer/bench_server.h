@@ -4,7 +4,16 @@
 //
 // Safety rules, in the order they are applied:
 //  - It binds 127.0.0.1 by default and refuses to bind any non-loopback address unless a
-//    shared token is configured; with a token, a HELLO carrying another token is refused.
+//    shared token is configured; with a token, a HELLO carrying another token is refused
+//    (compared in constant time; five wrong tokens from one address lock that address out
+//    for a minute, logged; see auth.h).
+//  - Connections are authenticated concurrently (HandshakeQueue): every accepted connection has
+//    handshake_timeout to deliver its HELLO, read without blocking, so an idle or slow peer
+//    never delays a real client. Once a session is open, every other connection is answered
+//    ERROR(BUSY) and closed: a session in progress is never taken over.
+//  - Every request of a session must carry the sequence number after the previous one's
+//    (HELLO's + 1, + 2, ...). A duplicate, stale or skipped number (a replayed COMMAND) is
+//    refused with ERROR(PROTOCOL) before it is looked at, never executed, and ends the session.
 //  - Every COMMAND is checked by a SafetyMonitor (SI limits; bench units are converted with
 //    the bench's BenchUnits) before the bench moves. A refused command is answered with
 //    ERROR(SAFETY, limit, value, limit value), the bench holds, and every further COMMAND of
@@ -14,20 +23,23 @@
 //  - On a silent client (no frame for heartbeat_timeout), a malformed frame, an unexpected
 //    message or a disconnect, the bench is put in Hold() — it never moves to a new position
 //    and never returns to zero — and the server waits for the next client.
-//  - A second client connecting while a session is open is answered ERROR(BUSY) and closed.
+//  - Log lines carry client-supplied text (names) with control characters escaped.
 //
 // Lifecycle: the constructor binds and listens (so port() is known at once); Serve() calls
 // the bench's Activate(), serves until Stop(), then holds and deactivates the bench. After a
 // hold (explicit HOLD, disconnect, ...), the next accepted COMMAND resumes the bench with
 // Activate() before Execute(): a TransferSystem must accept Activate() again after Hold().
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "hybridtest/transfer/auth.h"
 #include "hybridtest/transfer/bench_faults.h"
+#include "hybridtest/transfer/handshake_queue.h"
 #include "hybridtest/transfer/frame.h"
 #include "hybridtest/transfer/safety.h"
 #include "hybridtest/transfer/socket.h"
@@ -41,6 +53,8 @@ struct BenchServerOptions {
   std::string token;               // shared secret the client's HELLO must carry; may be empty
                                    // on loopback
   double heartbeat_timeout = 10.0; // a client silent this long is dropped. Unit: [s].
+  double handshake_timeout = 2.0;  // a connection has this long to complete HELLO. Unit: [s].
+  std::size_t max_pending = 16;    // connections awaiting HELLO at once; the oldest is dropped
   double send_timeout = 2.0;       // longest wait to write one frame. Unit: [s].
   SafetyLimits limits;             // checked before every command. SI.
   std::optional<double> start_position;  // actuator position before the first command, so
@@ -74,8 +88,12 @@ class BenchServer {
 
  private:
   struct Session;
-  void ServeClient(Socket client);
-  bool Handshake(Session& session);
+  // Reads pending connection i; runs its session if its HELLO completes one. Returns true if
+  // a session ran (the queue was emptied).
+  bool AdvanceHandshake(std::size_t i);
+  void DropExpiredHandshakes();
+  void ServeSession(Session& session);
+  bool Handshake(Session& session, const Frame& hello);
   // Handles one frame of an open session; returns false when the session must end.
   bool HandleFrame(Session& session, const Frame& frame);
   bool HandleCommand(Session& session, const Frame& frame);
@@ -93,6 +111,8 @@ class BenchServer {
   Listener listener_;
   std::atomic<bool> stop_{false};
   std::atomic<long> commands_received_{0};
+  HandshakeQueue handshakes_;
+  AuthThrottle auth_;
   bool bench_held_ = false;  // a COMMAND after a hold resumes the bench with Activate()
   std::vector<std::uint8_t> previous_measurement_;  // encoded, for the `duplicate` fault
 };

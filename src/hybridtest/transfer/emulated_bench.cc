@@ -59,7 +59,8 @@ Measurement EmulatedBench::Execute(double command) {
         command, config_.units.length_name,
         state_ == State::kHolding ? "holding" : "not active"));
   }
-  const long index = command_count_++;
+  const long index = command_count_++;  // 0-based, the safety monitor's step
+  const long fault_index = index + 1;    // 1-based, the fault injector's convention
   const double target = command * config_.units.metres_per_length_unit;  // [m]
   const double dt = actuator_->step();
 
@@ -70,8 +71,7 @@ Measurement EmulatedBench::Execute(double command) {
     Hold();
     throw;
   }
-  const BenchFault* fault = FindFault(index);
-  if (fault != nullptr && fault->kind == BenchFault::Kind::kSilence) {
+  if (HasFault(config_.faults, FaultKind::kSilence, fault_index)) {
     // TEST FACILITY: the bench does not answer; the caller waits out the timeout.
     clock_->Advance(config_.safety.timeout);
     clock_->Pace();
@@ -79,7 +79,7 @@ Measurement EmulatedBench::Execute(double command) {
     throw TransferError(fmt::format(
         "emulated bench: no measurement for command {} ({} {}) within the timeout of {} s "
         "(injected fault 'silence'); the bench holds",
-        index, command, config_.units.length_name, config_.safety.timeout));
+        fault_index, command, config_.units.length_name, config_.safety.timeout));
   }
   clock_->Advance(config_.overhead);
 
@@ -149,7 +149,7 @@ Measurement EmulatedBench::Execute(double command) {
   // Position relative to the command, so that an exact arrival reports the command exactly.
   Measurement measurement{command + (position - target) / config_.units.metres_per_length_unit,
                           force / config_.units.newtons_per_force_unit, clock_->lab_time()};
-  if (fault != nullptr) ApplyFault(*fault, measurement);
+  ApplyMeasurementFaults(config_.faults, fault_index, config_.units, measurement);
   clock_->Pace();
   return measurement;
 }
@@ -179,30 +179,6 @@ std::string EmulatedBench::Describe() const {
 
 double EmulatedBench::lab_time() const { return clock_->lab_time(); }
 double EmulatedBench::actuator_position() const { return actuator_->position(); }
-
-const BenchFault* EmulatedBench::FindFault(long index) const {
-  for (const auto& fault : config_.faults) {
-    if (fault.at == index) return &fault;
-  }
-  return nullptr;
-}
-
-void EmulatedBench::ApplyFault(const BenchFault& fault, Measurement& measurement) {
-  // TEST FACILITY: corrupts the reported measurement after the bench's own checks.
-  switch (fault.kind) {
-    case BenchFault::Kind::kNan:
-      measurement.force = std::numeric_limits<double>::quiet_NaN();
-      break;
-    case BenchFault::Kind::kInf:
-      measurement.force = std::numeric_limits<double>::infinity();
-      break;
-    case BenchFault::Kind::kSpike:
-      measurement.force += fault.spike_force / config_.units.newtons_per_force_unit;
-      break;
-    case BenchFault::Kind::kSilence:
-      break;  // handled before the move
-  }
-}
 
 std::unique_ptr<EmulatedBench> MakeEmulatedBench(const EmulatedBenchConfig& config) {
   return std::make_unique<EmulatedBench>(config);

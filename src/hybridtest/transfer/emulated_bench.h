@@ -58,8 +58,6 @@ class EmulatedBench final : public TransferSystem {
 
  private:
   enum class State { kConfigured, kActive, kHolding, kDeactivated };
-  const BenchFault* FindFault(long index) const;
-  void ApplyFault(const BenchFault& fault, Measurement& measurement);
 
   EmulatedBenchConfig config_;
   SafetyMonitor safety_;

@@ -1,0 +1,124 @@
+// See pre_run_checks.h.
+#include "pre_run_checks.h"
+
+#include <fmt/core.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <vector>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/constitutive/parse_law.h"
+#include "hybridtest/integrators/stability.h"
+#include "hybridtest/multibody/data.h"
+#include "hybridtest/multibody/kane.h"
+
+namespace hybridtest::app {
+
+std::vector<double> SlotStiffnessForStability(const io::SimulationConfig& cfg) {
+  const auto& slots = cfg.model.model.slots();
+  std::vector<double> k(cfg.model.slot_stiffness.begin(), cfg.model.slot_stiffness.end());
+  k.resize(slots.size(), 0.0);
+  const YAML::Node section = cfg.input.root()["substructures"];
+  if (!section.IsDefined() || !section.IsMap()) return k;
+  for (std::size_t s = 0; s < slots.size(); ++s) {
+    const YAML::Node node = section[slots[s].info.name];
+    if (!node.IsDefined() || !node.IsMap()) continue;
+    const std::string where = "substructures." + slots[s].info.name;
+    if (node["law"]) {
+      k[s] = constitutive::ParseRestoringForceLaw(node["law"], where + ".law")->initial_stiffness();
+    } else if (node["safety"] && node["safety"].IsMap() && node["safety"]["initial_stiffness"]) {
+      k[s] = cfg.input.PositiveNumber(node["safety"]["initial_stiffness"],
+                                      where + ".safety.initial_stiffness", "a stiffness in N/m");
+    }
+  }
+  return k;
+}
+
+double CheckStepStability(const io::SimulationConfig& cfg) {
+  const multibody::Model& model = cfg.model.model;
+  const int n = model.num_coordinates();
+  const int m = model.num_slots();
+  if (2 * n > multibody::kMaxDerivatives) return std::numeric_limits<double>::infinity();
+  const std::vector<double> k = SlotStiffnessForStability(cfg);
+  const Eigen::VectorXd& x0 = cfg.x0;
+  multibody::Data<double> data(model);
+
+  // Slot displacements d(q) and the restoring forces r = K d at the initial state.
+  const auto displacements = [&](const Eigen::VectorXd& q) {
+    Eigen::VectorXd d(m);
+    multibody::CalcSlotDisplacements<double>(model, data, 0.0, q, d);
+    return d;
+  };
+  const Eigen::VectorXd q0 = x0.head(n);
+  Eigen::VectorXd r0 = displacements(q0);
+  for (int i = 0; i < m; ++i) r0(i) *= k[i];
+
+  // J, then ∂f/∂r column by column (f is affine in r), then ∂d/∂q by central differences.
+  Eigen::MatrixXd jacobian = multibody::CalcStateJacobian(model, 0.0, x0, r0);
+  if (m > 0) {
+    Eigen::VectorXd f0(2 * n), f1(2 * n);
+    multibody::CalcStateDerivative<double>(model, data, 0.0, x0, r0, f0);
+    Eigen::MatrixXd f_r(2 * n, m);
+    for (int j = 0; j < m; ++j) {
+      Eigen::VectorXd r = r0;
+      r(j) += 1.0;
+      multibody::CalcStateDerivative<double>(model, data, 0.0, x0, r, f1);
+      f_r.col(j) = f1 - f0;
+    }
+    Eigen::MatrixXd d_q(m, n);
+    for (int j = 0; j < n; ++j) {
+      const double h = 1e-6 * std::max(1.0, std::abs(q0(j)));
+      Eigen::VectorXd qp = q0, qm = q0;
+      qp(j) += h;
+      qm(j) -= h;
+      d_q.col(j) = (displacements(qp) - displacements(qm)) / (2.0 * h);
+    }
+    const Eigen::VectorXd kv = Eigen::Map<const Eigen::VectorXd>(k.data(), m);
+    jacobian.leftCols(n) += f_r * kv.asDiagonal() * d_q;
+  }
+
+  // Modes, and the largest step the tableau keeps stable for all of them.
+  const Eigen::VectorXcd eig = Eigen::EigenSolver<Eigen::MatrixXd>(jacobian, false).eigenvalues();
+  const std::vector<std::complex<double>> modes(eig.data(), eig.data() + eig.size());
+  std::complex<double> limiting;
+  const double h_max = integrators::LargestStableStep(cfg.tableau, modes, &limiting);
+  if (cfg.dt > h_max) {
+    const YAML::Node dt_node = cfg.input.root()["integrator"]["dt"];
+    throw ConfigError(fmt::format(
+        "{} = {} s is beyond the stability limit of {} at the initial state: the largest "
+        "stable step is {:.4g} ms (set by the mode λ = {:.4g} {:+.4g}i 1/s, |λ| = {:.4g} 1/s); "
+        "the results would diverge. Choose dt ≤ {:.4g} s, or a scheme with a larger stability "
+        "region (e.g. rk4)",
+        cfg.input.Where(dt_node, "integrator.dt"), cfg.dt, cfg.tableau.name, h_max * 1e3,
+        limiting.real(), limiting.imag(), std::abs(limiting), h_max));
+  }
+  return h_max;
+}
+
+}  // namespace hybridtest::app
+
+namespace hybridtest::app {
+
+double CheckSchemeStability(const io::SimulationConfig& cfg) {
+  switch (cfg.scheme.kind) {
+    case schemes::SchemeKind::kRungeKutta:
+      return CheckStepStability(cfg);
+    case schemes::SchemeKind::kMrOs: {
+      io::SimulationConfig substeps = cfg;  // cfg.tableau is RK4 for operator splitting
+      substeps.dt = cfg.scheme.substep;
+      try {
+        return CheckStepStability(substeps);
+      } catch (const ConfigError& e) {
+        throw ConfigError(fmt::format("integrator.substep (MR-OS's RK4 substeps): {}", e.what()));
+      }
+    }
+    case schemes::SchemeKind::kAlphaOs:
+      break;
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+}  // namespace hybridtest::app

@@ -1,0 +1,105 @@
+// See handshake_queue.h.
+#include "hybridtest/transfer/handshake_queue.h"
+
+#include <arpa/inet.h>
+#include <fmt/core.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+
+#include <cerrno>
+#include <cmath>
+
+#include "hybridtest/common/error.h"
+
+namespace hybridtest::transfer {
+
+std::string PeerAddress(int fd) {
+  sockaddr_storage address{};
+  socklen_t length = sizeof(address);
+  if (getpeername(fd, reinterpret_cast<sockaddr*>(&address), &length) != 0) return "unknown";
+  char text[INET6_ADDRSTRLEN] = {};
+  const void* raw = nullptr;
+  if (address.ss_family == AF_INET) {
+    raw = &reinterpret_cast<const sockaddr_in*>(&address)->sin_addr;
+  } else if (address.ss_family == AF_INET6) {
+    raw = &reinterpret_cast<const sockaddr_in6*>(&address)->sin6_addr;
+  }
+  if (raw == nullptr || inet_ntop(address.ss_family, raw, text, sizeof(text)) == nullptr) {
+    return "unknown";
+  }
+  return text;
+}
+
+HandshakeQueue::HandshakeQueue(std::size_t capacity, double timeout)
+    : capacity_(capacity < 1 ? 1 : capacity),
+      timeout_(std::chrono::duration_cast<Clock::duration>(
+          std::chrono::duration<double>(timeout > 0.0 ? timeout : 1.0))) {}
+
+std::string HandshakeQueue::Add(Socket socket, Clock::time_point now) {
+  std::string evicted;
+  if (entries_.size() >= capacity_) {
+    evicted = entries_.front().peer;
+    entries_.erase(entries_.begin());
+  }
+  Pending p;
+  p.peer = PeerAddress(socket.fd());
+  p.socket = std::move(socket);
+  p.deadline = now + timeout_;
+  entries_.push_back(std::move(p));
+  return evicted;
+}
+
+HandshakeQueue::Progress HandshakeQueue::Read(std::size_t i, Frame& frame) {
+  Pending& p = entries_[i];
+  // How many bytes the first frame needs: the header, then the declared payload and the CRC.
+  std::size_t needed = kFrameHeaderSize;
+  if (p.bytes.size() >= kFrameHeaderSize) {
+    const FrameHeader header =
+        DecodeFrameHeader(std::span<const std::uint8_t>(p.bytes.data(), kFrameHeaderSize));
+    if (header.payload_length > kMaxHandshakePayload) {
+      throw TransferError(fmt::format("the first frame declares a payload of {} bytes; a HELLO "
+                                      "has at most {}", header.payload_length,
+                                      kMaxHandshakePayload));
+    }
+    needed = kFrameHeaderSize + header.payload_length + kFrameTrailerSize;
+  }
+  if (p.bytes.size() < needed) {
+    const std::size_t have = p.bytes.size();
+    p.bytes.resize(needed);
+    const ssize_t r = ::recv(p.socket.fd(), p.bytes.data() + have, needed - have, MSG_DONTWAIT);
+    if (r <= 0) {
+      p.bytes.resize(have);
+      if (r == 0) return Progress::kClosed;
+      return (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) ? Progress::kWaiting
+                                                                        : Progress::kClosed;
+    }
+    p.bytes.resize(have + static_cast<std::size_t>(r));
+    // The header may just have completed: validate it (and learn the length) at once.
+    if (have < kFrameHeaderSize && p.bytes.size() >= kFrameHeaderSize) return Read(i, frame);
+  }
+  if (p.bytes.size() < kFrameHeaderSize || p.bytes.size() < needed) return Progress::kWaiting;
+  frame = DecodeFrame(p.bytes);
+  return Progress::kFrame;
+}
+
+HandshakeQueue::Pending HandshakeQueue::Take(std::size_t i) {
+  Pending p = std::move(entries_[i]);
+  entries_.erase(entries_.begin() + static_cast<std::ptrdiff_t>(i));
+  return p;
+}
+
+std::vector<HandshakeQueue::Pending> HandshakeQueue::TakeExpired(Clock::time_point now) {
+  std::vector<Pending> expired;
+  for (std::size_t i = entries_.size(); i-- > 0;) {
+    if (now >= entries_[i].deadline) expired.push_back(Take(i));
+  }
+  return expired;
+}
+
+std::vector<HandshakeQueue::Pending> HandshakeQueue::TakeAll() {
+  std::vector<Pending> all = std::move(entries_);
+  entries_.clear();
+  return all;
+}
+
+}  // namespace hybridtest::transfer

@@ -1,0 +1,68 @@
+#pragma once
+// HandshakeQueue: the bench server's connections that are accepted but not yet authenticated.
+//
+// Why: a server that reads HELLO from one connection at a time with a blocking read can be
+// stalled by anyone who opens a TCP connection and sends nothing (docs/protocol.md §3). Here
+// every pending connection is read without blocking, as its bytes arrive, so a silent or slow
+// peer never delays another one:
+//  - each connection has `timeout` [s] from its accept to deliver one complete frame (HELLO);
+//    after that it is dropped (TakeExpired);
+//  - at most `capacity` connections wait at once; a new one beyond that evicts the oldest;
+//  - the first frame may not exceed kMaxHandshakePayload bytes of payload (a HELLO is a
+//    version, a token and a name), so a peer cannot make the server buffer 64 KiB per socket.
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "hybridtest/transfer/frame.h"
+#include "hybridtest/transfer/socket.h"
+
+namespace hybridtest::transfer {
+
+inline constexpr std::uint32_t kMaxHandshakePayload = 4096;  // [bytes]
+
+// The numeric address of the peer of a connected socket ("127.0.0.1", "::1"); "unknown" if it
+// cannot be read.
+std::string PeerAddress(int fd);
+
+class HandshakeQueue {
+ public:
+  using Clock = std::chrono::steady_clock;
+  struct Pending {
+    Socket socket;
+    std::string peer;                // PeerAddress()
+    Clock::time_point deadline;      // accept time + timeout
+    std::vector<std::uint8_t> bytes; // received so far (at most one frame)
+  };
+  enum class Progress { kWaiting, kFrame, kClosed };
+
+  // `timeout` [s] > 0, `capacity` ≥ 1.
+  HandshakeQueue(std::size_t capacity, double timeout);
+
+  // Queues a just-accepted connection. Returns the peer of the connection evicted to make room,
+  // or an empty string.
+  std::string Add(Socket socket, Clock::time_point now);
+
+  std::size_t size() const { return entries_.size(); }
+  const Pending& at(std::size_t i) const { return entries_[i]; }
+
+  // Reads, without blocking, what has arrived on entry i (at most up to the end of its first
+  // frame). kFrame: `frame` holds the complete first frame. kClosed: the peer left. Throws
+  // TransferError for bytes that are not a valid frame (or a payload above
+  // kMaxHandshakePayload).
+  Progress Read(std::size_t i, Frame& frame);
+
+  // Removes and returns entry i / the expired entries / all entries.
+  Pending Take(std::size_t i);
+  std::vector<Pending> TakeExpired(Clock::time_point now);
+  std::vector<Pending> TakeAll();
+
+ private:
+  std::size_t capacity_;
+  Clock::duration timeout_;
+  std::vector<Pending> entries_;  // oldest first
+};
+
+}  // namespace hybridtest::transfer
