@@ -64,7 +64,7 @@ void ServeOpenFresco(const BenchArgs& args, const transfer::EmulatedBenchConfig&
                                       options);
   std::printf("hybridtest bench: listening on %s (OpenFresco protocol, n = %d; %s; token %s)\n",
               server.address().c_str(), server.setup().dofs(), bench.Describe().c_str(),
-              args.token.empty() ? "none" : "required");
+              options.token.empty() ? "none" : "required");
   std::fflush(stdout);
   g_openfresco_server = &server;
   struct sigaction action {};

@@ -116,8 +116,9 @@ TEST(ResultsKept, AnInputIsNeverAnOutput) {
   fs::remove_all(dir);
 }
 
-// A run into a 256 KiB tmpfs: the disk fills after a few hundred rows. Needs a private mount
-// namespace (unshare -rm, or root); skipped where the system does not allow one.
+// A run into a tmpfs that another writer fills while the run goes on (the run's own pre-run
+// check refuses to start when its output cannot fit, so the disk must fill under it). Needs a
+// private mount namespace (unshare -rm, or root); skipped where the system does not allow one.
 TEST(ResultsKept, AFullDiskStopIsRecordedWithWholeRows) {
   if (std::system("unshare -rm true >/dev/null 2>&1") != 0) {
     GTEST_SKIP() << "no private mount namespace here (unshare -rm); the full disk is emulated "
@@ -127,9 +128,14 @@ TEST(ResultsKept, AFullDiskStopIsRecordedWithWholeRows) {
   fs::create_directories(dir / "disk");
   fs::create_directories(dir / "copy");
   const std::string script = fmt::format(
-      "mount -t tmpfs -o size=256k tmpfs '{0}/disk' || exit 90; "
-      "'{1}' simulate '{2}numerical.yaml' --out '{0}/disk/k.csv' --quiet > '{0}/copy/log' 2>&1; "
-      "echo $? > '{0}/copy/status'; cp -a '{0}/disk/.' '{0}/copy/'",
+      "mount -t tmpfs -o size=80m tmpfs '{0}/disk' || exit 90; "
+      "'{1}' run '{2}emulated.yaml' --out '{0}/disk/k.csv' --quiet > '{0}/copy/log' 2>&1 & "
+      "pid=$!; n=0; "
+      "while [ \"$(cat '{0}/disk/k.csv' 2>/dev/null | wc -l)\" -lt 300 ] && [ $n -lt 600 ]; do "
+      "sleep 0.05; n=$((n+1)); done; "
+      "dd if=/dev/zero of='{0}/disk/filler' bs=64k 2>/dev/null; "
+      "wait $pid; echo $? > '{0}/copy/status'; rm -f '{0}/disk/filler'; "
+      "cp -a '{0}/disk/.' '{0}/copy/'",
       dir.string(), HYBRIDTEST_BINARY, kExamples);
   Child child({"/usr/bin/unshare", "-rm", "/bin/sh", "-c", script}, dir / "command.log");
   ASSERT_EQ(child.WaitExit(120.0), 0) << child.output();
