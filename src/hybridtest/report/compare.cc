@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 
@@ -57,7 +58,7 @@ std::pair<double, double> SteadyStats(const Eigen::VectorXd& t, const Eigen::Vec
   double sum = 0, lo = INFINITY, hi = -INFINITY;
   long n = 0;
   for (Eigen::Index i = 0; i < t.size(); ++i) {
-    if (t[i] < t_from) continue;
+    if (t[i] < t_from || !std::isfinite(v[i])) continue;  // rows without the quantity
     sum += v[i];
     lo = std::min(lo, v[i]);
     hi = std::max(hi, v[i]);
@@ -135,13 +136,19 @@ ComparisonTable CompareRuns(const io::RunData& a, const io::RunData& b, double t
     row.channel = channel.name;
     row.unit = channel.unit;
     double sum_sq = 0;
+    long compared = 0;
     for (const Sample& s : samples) {
       const double b_value = s.w == 0.0 ? vb[s.j] : (1 - s.w) * vb[s.j] + s.w * vb[s.j + 1];
       const double d = va[s.a] - b_value;
+      // Rows where a run has no such value (NaN: a substep without a specimen sample, a failed
+      // trial) are not compared.
+      if (!std::isfinite(d)) continue;
       row.max_abs_diff = std::max(row.max_abs_diff, std::abs(d));
       sum_sq += d * d;
+      ++compared;
     }
-    row.rms_diff = std::sqrt(sum_sq / static_cast<double>(samples.size()));
+    row.rms_diff = compared > 0 ? std::sqrt(sum_sq / static_cast<double>(compared))
+                                : std::numeric_limits<double>::quiet_NaN();
     std::tie(row.mean_a, row.amplitude_a) = SteadyStats(ta, va, ta[0] + transient);
     std::tie(row.mean_b, row.amplitude_b) = SteadyStats(tb, vb, tb[0] + transient);
     table.rows.push_back(row);

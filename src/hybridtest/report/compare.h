@@ -11,6 +11,10 @@
 // with t ≥ t_first + transient, i.e. after the initial transient. Amplitude = (max − min) / 2.
 // max |A − B| and RMS(A − B) use every compared point, transient included.
 //
+// Missing values. A NaN sample (a scheme's substep row carries no specimen sample; a failed
+// trial has no force) is left out of every statistic; a channel with no finite sample in the
+// window reports NaN.
+//
 // Common channels are those in both runs except t, in A's order.
 #include <iosfwd>
 #include <string>

@@ -16,11 +16,10 @@ void AppendDatablock(const std::string& name, const PlotSeries& series, Eigen::I
   for (Eigen::Index i : SelectPlotSamples(series.x, series.y, max_points)) {
     const double x = series.x[i];
     const double y = series.y[i];
-    // gnuplot reads NaN as a gap in the line.
-    out += std::isfinite(x) ? fmt::format("{:.10g}", x) : std::string("NaN");
-    out += ' ';
-    out += std::isfinite(y) ? fmt::format("{:.10g}", y) : std::string("NaN");
-    out += '\n';
+    // A non-finite value is a row without that quantity (a scheme's substep carries no
+    // specimen sample; a failed trial has no force): the line joins the samples around it.
+    if (!std::isfinite(x) || !std::isfinite(y)) continue;
+    out += fmt::format("{:.10g} {:.10g}\n", x, y);
   }
   out += "EOD\n";
 }
