@@ -23,7 +23,7 @@ times=()
 for _ in 1 2 3 4 5; do
   start=$(date +%s.%N)
   build/release/apps/hybridtest/hybridtest simulate examples/rotor/numerical.yaml \
-    --out "$out/numerical.csv" --quiet >/dev/null
+    --out "$out/numerical.csv" --quiet --overwrite >/dev/null
   end=$(date +%s.%N)
   times+=("$(awk -v a="$start" -v b="$end" 'BEGIN { print b - a }')")
 done

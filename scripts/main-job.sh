@@ -12,11 +12,13 @@ cd "$root"
 scripts/build.sh
 bin=build/release/apps/hybridtest/hybridtest
 mkdir -p results
+# --overwrite: each run of this script replaces the previous one's results/ (without it, `run`
+# and `simulate` refuse to write over an earlier run: exit 2).
 
 echo "== 1/3 numerical simulation (examples/rotor/numerical.yaml)"
-"$bin" simulate examples/rotor/numerical.yaml --out results/numerical.csv
+"$bin" simulate examples/rotor/numerical.yaml --out results/numerical.csv --overwrite
 echo "== 2/3 hybrid test on the emulated bench (examples/rotor/emulated.yaml)"
-"$bin" run examples/rotor/emulated.yaml --out results/emulated.csv
+"$bin" run examples/rotor/emulated.yaml --out results/emulated.csv --overwrite
 echo "== 3/3 figures, comparison and report"
 "$bin" plot results/numerical.csv --out results/numerical-figures
 "$bin" plot results/emulated.csv --out results/emulated-figures

@@ -1,4 +1,4 @@
-// hybridtest run CONFIG [--out FILE.csv] [--bench HOST:PORT] [--quiet]
+// hybridtest run CONFIG [--out FILE.csv] [--bench HOST:PORT] [--quiet] [--overwrite]
 // A hybrid test: physical substructures through their transfer systems, numerical ones in the
 // loop. Exits non-zero on a safety stop or a lost bench, after writing every committed step.
 #include "command.h"
@@ -17,6 +17,8 @@ void AddRunCommand(CLI::App& root) {
   cmd->add_option("--bench", opt->bench,
                   "HOST:PORT of a bench server, for remote transfer systems");
   cmd->add_flag("--quiet", opt->quiet, "no progress output and no summary");
+  cmd->add_flag("--overwrite", opt->overwrite,
+                "replace an earlier run at the output path (refused without it: exit 2)");
   cmd->callback([opt] { ExecuteRun(*opt); });
 }
 

@@ -1,4 +1,4 @@
-// hybridtest simulate CONFIG [--out FILE.csv] [--quiet]
+// hybridtest simulate CONFIG [--out FILE.csv] [--quiet] [--overwrite]
 // The pure numerical simulation: every restoring force from a numerical substructure.
 #include "command.h"
 #include "run_commands.h"
@@ -16,6 +16,8 @@ void AddSimulateCommand(CLI::App& root) {
   cmd->add_option("--out", opt->out, "journal CSV (default: output.csv of the config, else "
                                      "results/<config name>.csv); a .meta.json sidecar goes beside it");
   cmd->add_flag("--quiet", opt->quiet, "no progress output and no summary");
+  cmd->add_flag("--overwrite", opt->overwrite,
+                "replace an earlier run at the output path (refused without it: exit 2)");
   cmd->callback([opt] { ExecuteRun(*opt); });
 }
 

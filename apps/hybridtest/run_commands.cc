@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "hybridtest/io/config.h"
+#include "hybridtest/io/run_outputs.h"
 #include "hybridtest/io/substructure_config.h"
 #include "hybridtest/runner/hybrid_test.h"
 #include "hybridtest/runner/stop_request.h"
@@ -49,6 +50,11 @@ void ExecuteRun(const RunCommandOptions& options) {
   runner::RunOptions run;
   run.csv_path = runner::ResolveOutputPath(cfg, options.out);
   run.command = options.command;
+  // Results are never destroyed: an earlier run needs --overwrite, an input is never an output.
+  io::CheckRunOutputs(run.csv_path, io::RunInputFiles(cfg), options.overwrite);
+  // A file-size limit makes a write fail (EFBIG, reported with the run's status) instead of
+  // killing the process mid-row.
+  std::signal(SIGXFSZ, SIG_IGN);
   if (options.quiet || cfg.quiet) run.progress.mode = runner::ProgressMode::kQuiet;
   const auto parent = std::filesystem::path(run.csv_path).parent_path();
   if (!parent.empty()) std::filesystem::create_directories(parent);

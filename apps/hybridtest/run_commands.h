@@ -11,6 +11,7 @@ struct RunCommandOptions {
   std::string out;
   std::optional<std::string> bench;
   bool quiet = false;
+  bool overwrite = false;  // --overwrite: a run may replace an earlier run at the same path
   bool allow_physical = true;
   std::string command = "run";
 };

@@ -71,7 +71,8 @@ TEST(Journal, SidecarSaysRunningThenFinished) {
   const std::vector<Channel> channels = {{"t", "s", "simulated time"},
                                          {"q1", "m", "tip deflection of blade 1"}};
   Journal journal(path, channels, SampleMetadata(), SyncPolicy::kEveryRow);
-  const nlohmann::json running = ReadJson(SidecarPath(path));
+  // Staged until the first row (journal_lifecycle_test.cc).
+  const nlohmann::json running = ReadJson(StagedPath(SidecarPath(path)));
   EXPECT_EQ(running["format"], "hybridtest-journal/1");
   EXPECT_EQ(running["software_version"], kVersion);
   EXPECT_EQ(running["status"], "running");
@@ -94,6 +95,7 @@ TEST(Journal, SidecarSaysRunningThenFinished) {
 
   const double row[] = {0.0, 1.0};
   journal.Append(row);
+  EXPECT_EQ(ReadJson(SidecarPath(path)), running);
   journal.Finish({{"steps", 1}, {"physical_evaluations", 0}}, "stopped: force limit");
   const nlohmann::json finished = ReadJson(SidecarPath(path));
   EXPECT_EQ(finished["status"], "stopped: force limit");

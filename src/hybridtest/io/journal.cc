@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <ctime>
@@ -12,12 +13,11 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/version.h"
+#include "hybridtest/io/atomic_file.h"
 #include "hybridtest/io/csv.h"
 
 namespace hybridtest::io {
 namespace {
-
-std::string OsError() { return std::strerror(errno); }
 
 std::string UtcNowIso8601() {
   const std::time_t now = std::time(nullptr);
@@ -26,55 +26,6 @@ std::string UtcNowIso8601() {
   char buffer[32];
   std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &utc);
   return buffer;
-}
-
-std::string ParentDirectory(const std::string& path) {
-  const auto parent = std::filesystem::path(path).parent_path();
-  return parent.empty() ? "." : parent.string();
-}
-
-// Makes a rename or a file creation in `directory` durable. Best effort: some file systems
-// cannot sync a directory, and the data themselves are already synced.
-void SyncDirectory(const std::string& directory) {
-  const int fd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) return;
-  ::fsync(fd);
-  ::close(fd);
-}
-
-// Writes `text` to `path` atomically: a temporary file beside it, fsync, rename over `path`.
-void WriteFileAtomically(const std::string& path, const std::string& text) {
-  const std::string temp = path + ".tmp";
-  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) {
-    throw IoError(fmt::format("{}: cannot create the sidecar's temporary file: {}; check that "
-                              "the directory exists and is writable",
-                              temp, OsError()));
-  }
-  std::size_t written = 0;
-  while (written < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {
-      const std::string error = OsError();
-      ::close(fd);
-      ::unlink(temp.c_str());
-      throw IoError(fmt::format("{}: cannot write the sidecar: {}; check free disk space",
-                                temp, error));
-    }
-    written += static_cast<std::size_t>(n);
-  }
-  if (::fsync(fd) != 0 || ::close(fd) != 0) {
-    const std::string error = OsError();
-    ::unlink(temp.c_str());
-    throw IoError(fmt::format("{}: cannot sync the sidecar to disk: {}", temp, error));
-  }
-  if (::rename(temp.c_str(), path.c_str()) != 0) {
-    const std::string error = OsError();
-    ::unlink(temp.c_str());
-    throw IoError(fmt::format("{}: cannot rename {} over it: {}", path, temp, error));
-  }
-  SyncDirectory(ParentDirectory(path));
 }
 
 void ValidateChannels(const std::string& csv_path, const std::vector<Channel>& channels) {
@@ -101,6 +52,13 @@ std::string SidecarPath(const std::string& csv_path) {
   return std::filesystem::path(csv_path).replace_extension(".meta.json").string();
 }
 
+std::string StagedPath(const std::string& path) { return path + ".partial"; }
+
+std::string StagesPath(const std::string& csv_path) {
+  const std::filesystem::path p(csv_path);
+  return (p.parent_path() / (p.stem().string() + ".stages.csv")).string();
+}
+
 Journal::Journal(std::string csv_path, std::vector<Channel> channels, JournalMetadata metadata,
                  SyncPolicy policy, int batch_rows)
     : csv_path_(std::move(csv_path)),
@@ -113,8 +71,6 @@ Journal::Journal(std::string csv_path, std::vector<Channel> channels, JournalMet
                               "fsyncs",
                               csv_path_, batch_rows_));
   }
-
-  // Sidecar first, so that a CSV never exists without its metadata.
   nlohmann::json channel_list = nlohmann::json::array();
   for (const auto& channel : channels_) {
     channel_list.push_back(
@@ -131,43 +87,119 @@ Journal::Journal(std::string csv_path, std::vector<Channel> channels, JournalMet
               {"extra", metadata.extra},
               {"channels", channel_list},
               {"status", "running"}};
-  WriteFileAtomically(SidecarPath(csv_path_), sidecar_.dump(2) + "\n");
 
-  file_ = std::fopen(csv_path_.c_str(), "we");
-  if (file_ == nullptr) {
+  // Staged sidecar first, so that a CSV never exists without its metadata.
+  WriteSidecar(/*reserve_next=*/false);
+  const std::string staged = StagedPath(csv_path_);
+  fd_ = ::open(staged.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd_ < 0) {
+    const std::string error = OsError();
+    Discard();
     throw IoError(fmt::format("{}: cannot create the journal: {}; check that the directory "
                               "exists and is writable",
-                              csv_path_, OsError()));
+                              staged, error));
   }
   std::vector<std::string> names;
   for (const auto& channel : channels_) names.push_back(channel.name);
-  const std::string header = FormatCsvHeader(names);
-  if (std::fwrite(header.data(), 1, header.size(), file_) != header.size() ||
-      std::fflush(file_) != 0 || ::fsync(::fileno(file_)) != 0) {
-    const std::string error = OsError();
-    std::fclose(file_);
-    file_ = nullptr;
-    throw IoError(fmt::format("{}: cannot write the header line: {}", csv_path_, error));
+  try {
+    WriteRow(FormatCsvHeader(names));
+  } catch (...) {
+    Discard();
+    throw;
   }
-  SyncDirectory(ParentDirectory(csv_path_));
 }
 
 Journal::~Journal() {
-  if (file_ == nullptr) return;
-  std::fflush(file_);
-  ::fsync(::fileno(file_));
-  std::fclose(file_);
-  file_ = nullptr;
-  if (!finished_) {
+  if (fd_ < 0) return;
+  if (!published_) {
+    Discard();
+    return;
+  }
+  ::fsync(fd_);
+  ::close(fd_);
+  fd_ = -1;
+  if (!finished_ && status_is_running_) {
     // Closed without Finish: an exception unwound the run. Say so in the sidecar.
     try {
       sidecar_["status"] = "aborted: the journal was closed without Finish()";
       sidecar_["rows"] = rows_;
-      WriteFileAtomically(SidecarPath(csv_path_), sidecar_.dump(2) + "\n");
+      WriteSidecar(/*reserve_next=*/false);
     } catch (...) {
       // A destructor never throws; the CSV, the record of truth, is already synced.
     }
   }
+  ::unlink(AtomicTempPath(SidecarPath(csv_path_)).c_str());
+}
+
+void Journal::WriteRow(const std::string& line) {
+  std::size_t written = 0;
+  while (written < line.size()) {
+    const ssize_t n = ::pwrite(fd_, line.data() + written, line.size() - written,
+                               static_cast<off_t>(size_ + static_cast<std::int64_t>(written)));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const std::string error = n == 0 ? "no byte written" : OsError();
+      // Cut the partial line: the file ends with its last whole row.
+      const bool cut = ::ftruncate(fd_, static_cast<off_t>(size_)) == 0;
+      throw IoError(fmt::format(
+          "{}: cannot write {}: {}; check free disk space{}",
+          published_ ? csv_path_ : StagedPath(csv_path_),
+          rows_ == 0 && size_ == 0 ? std::string("the header line") : fmt::format("row {}", rows_ + 1),
+          error, cut ? "" : " (and the partial line could not be cut: " + OsError() + ")"));
+    }
+    written += static_cast<std::size_t>(n);
+  }
+  size_ += static_cast<std::int64_t>(line.size());
+}
+
+void Journal::SyncCsv(long row) {
+  if (::fsync(fd_) != 0) {
+    throw IoError(fmt::format("{}: cannot sync row {} to disk: {}", csv_path_, row, OsError()));
+  }
+}
+
+void Journal::WriteSidecar(bool reserve_next) {
+  const std::string path = published_ ? SidecarPath(csv_path_) : StagedPath(SidecarPath(csv_path_));
+  WriteFileAtomically(path, sidecar_.dump(2) + "\n");
+  if (reserve_next) ReserveNextSidecar();
+}
+
+void Journal::ReserveNextSidecar() {
+  // Twice its size now, at least 64 KiB: room for statistics, a stop's history, resumes.
+  const auto size = static_cast<std::int64_t>(sidecar_.dump(2).size());
+  ReserveSpace(SidecarPath(csv_path_), std::max<std::int64_t>(2 * size, 64 * 1024));
+}
+
+void Journal::Publish() {
+  const std::string sidecar = SidecarPath(csv_path_);
+  // The row and the header reach the disk before the new run takes the name.
+  SyncCsv(1);
+  // An older sidecar goes first: a crash below leaves a CSV without sidecar, never a CSV
+  // with the metadata of another run.
+  if (::unlink(sidecar.c_str()) != 0 && errno != ENOENT) {
+    throw IoError(fmt::format("{}: cannot remove the sidecar of the run being replaced: {}",
+                              sidecar, OsError()));
+  }
+  if (::rename(StagedPath(csv_path_).c_str(), csv_path_.c_str()) != 0) {
+    throw IoError(fmt::format("{}: cannot rename {} to it: {}", csv_path_,
+                              StagedPath(csv_path_), OsError()));
+  }
+  published_ = true;
+  if (::rename(StagedPath(sidecar).c_str(), sidecar.c_str()) != 0) {
+    throw IoError(fmt::format("{}: cannot rename {} to it: {}", sidecar, StagedPath(sidecar),
+                              OsError()));
+  }
+  SyncDirectory(ParentDirectory(csv_path_));
+  ReserveNextSidecar();
+}
+
+void Journal::Discard() noexcept {
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
+  const std::string sidecar = SidecarPath(csv_path_);
+  ::unlink(StagedPath(csv_path_).c_str());
+  ::unlink(StagedPath(sidecar).c_str());
+  ::unlink(AtomicTempPath(StagedPath(sidecar)).c_str());
 }
 
 void Journal::Append(std::span<const double> row, bool durable) {
@@ -175,37 +207,61 @@ void Journal::Append(std::span<const double> row, bool durable) {
     throw IoError(fmt::format("{}: row {} has {} values, expected {} (one per channel)",
                               csv_path_, rows_ + 1, row.size(), channels_.size()));
   }
-  if (finished_) {
+  if (finished_ || fd_ < 0) {
     throw IoError(fmt::format("{}: Append() after Finish(): the journal is closed", csv_path_));
   }
   line_.clear();
   AppendCsvRow(row, line_);
-  // fflush hands the row to the kernel: from here on a crash of the process loses nothing.
-  if (std::fwrite(line_.data(), 1, line_.size(), file_) != line_.size() ||
-      std::fflush(file_) != 0) {
-    throw IoError(fmt::format("{}: cannot append row {}: {}; check free disk space", csv_path_,
-                              rows_ + 1, OsError()));
-  }
+  // One pwrite hands the row to the kernel: from here on a crash of the process loses nothing.
+  WriteRow(line_);
   ++rows_;
-  // fsync puts it on the disk: from here on a power cut loses nothing either.
-  if ((policy_ == SyncPolicy::kEveryRow && durable) || rows_ % batch_rows_ == 0) {
-    if (::fsync(::fileno(file_)) != 0) {
-      throw IoError(fmt::format("{}: cannot sync row {} to disk: {}", csv_path_, rows_,
-                                OsError()));
-    }
+  if (!published_) {
+    Publish();
+    return;
   }
+  if (!status_is_running_) {
+    // A reopened journal runs again: its sidecar says so from its first new row on.
+    sidecar_["status"] = "running";
+    sidecar_.erase("finish_time");
+    WriteSidecar(/*reserve_next=*/true);
+    status_is_running_ = true;
+  }
+  // fsync puts it on the disk: from here on a power cut loses nothing either.
+  if ((policy_ == SyncPolicy::kEveryRow && durable) || rows_ % batch_rows_ == 0) SyncCsv(rows_);
 }
 
 void Journal::Finish(const nlohmann::json& statistics, const std::string& status) {
-  if (std::fflush(file_) != 0 || ::fsync(::fileno(file_)) != 0) {
-    throw IoError(fmt::format("{}: cannot sync the journal to disk: {}", csv_path_, OsError()));
+  if (fd_ < 0 && !published_) return;  // already discarded
+  if (!published_) {
+    // No row was ever committed: the run leaves nothing behind.
+    finished_ = true;
+    Discard();
+    return;
+  }
+  std::string csv_error;
+  if (fd_ >= 0 && ::fsync(fd_) != 0) {
+    csv_error = fmt::format("{}: cannot sync the journal to disk: {}", csv_path_, OsError());
   }
   finished_ = true;
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
   sidecar_["statistics"] = statistics;
   sidecar_["status"] = status;
   sidecar_["rows"] = rows_;
   sidecar_["finish_time"] = UtcNowIso8601();
-  WriteFileAtomically(SidecarPath(csv_path_), sidecar_.dump(2) + "\n");
+  // Into the reserved blocks: this works on a full disk too.
+  WriteSidecar(/*reserve_next=*/false);
+  if (!csv_error.empty()) throw IoError(csv_error);
+}
+
+void Journal::SetSidecarEntry(const std::string& key, nlohmann::json value) {
+  if (!published_) {
+    throw IoError(fmt::format("{}: SetSidecarEntry('{}') before the first row: the journal is "
+                              "not published yet",
+                              csv_path_, key));
+  }
+  sidecar_[key] = std::move(value);
+  WriteSidecar(/*reserve_next=*/!finished_);
 }
 
 }  // namespace hybridtest::io

@@ -108,7 +108,8 @@ void SafetyMonitor::CheckCommand(double command, long step, int stage) {
     Stop("command_finite", command, 0.0, step, stage,
          "The command is NaN or infinite: the model produced an invalid displacement. To "
          "proceed: check the model state and the time step (an explicit scheme may be unstable), "
-         "then restart from the last checkpoint.");
+         "then continue from the last committed step with `hybridtest resume RUN.csv` (the "
+         "run's journal).");
   }
   // 2. Inside the stroke.
   if (command < limits_.stroke_min || command > limits_.stroke_max) {
@@ -164,7 +165,8 @@ void SafetyMonitor::CheckMeasurement(double command, double position, double for
          stage,
          fmt::format("The measurement (position {} m, force {} N) is not finite: a sensor, "
                      "cable or amplifier failed. To proceed: check the load cell and encoder "
-                     "wiring and readings at rest, then restart from the last checkpoint.",
+                     "wiring and readings at rest, then continue from the last committed step with "
+                     "`hybridtest resume RUN.csv` (the run's journal).",
                      position, force));
   }
   if (std::abs(force) > limits_.force_hard) {

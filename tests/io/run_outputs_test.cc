@@ -1,0 +1,98 @@
+// The checks that keep results and inputs from being written over (run_outputs.h).
+#include "hybridtest/io/run_outputs.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "hybridtest/common/error.h"
+
+namespace hybridtest::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path TempDir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() /
+                       ("hybridtest_outputs_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string MessageOf(const std::string& csv, const std::vector<std::string>& inputs,
+                      bool overwrite) {
+  try {
+    CheckRunOutputs(csv, inputs, overwrite);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(RunOutputs, TheFourFilesOfARun) {
+  EXPECT_EQ(RunOutputFiles("results/k.csv"),
+            (std::vector<std::string>{"results/k.csv", "results/k.meta.json",
+                                      "results/k.stages.csv", "results/k.stages.meta.json"}));
+}
+
+TEST(RunOutputs, AnyExistingFileOfTheRunNeedsOverwrite) {
+  const fs::path dir = TempDir("exists");
+  const std::string csv = (dir / "k.csv").string();
+  EXPECT_EQ(MessageOf(csv, {}, false), "");
+  for (const char* name : {"k.stages.meta.json", "k.stages.csv", "k.meta.json", "k.csv"}) {
+    std::ofstream(dir / name) << "x";
+    const std::string message = MessageOf(csv, {}, false);
+    EXPECT_NE(message.find((dir / name).string() + ": exists already"), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("pass --overwrite"), std::string::npos) << message;
+    EXPECT_EQ(MessageOf(csv, {}, true), "");
+  }
+  // A dangling symlink is something at that name too.
+  fs::create_symlink(dir / "nowhere", dir / "d.csv");
+  EXPECT_NE(MessageOf((dir / "d.csv").string(), {}, false), "");
+}
+
+TEST(RunOutputs, AnInputIsRefusedEvenWithOverwrite) {
+  const fs::path dir = TempDir("inputs");
+  const std::string config = (dir / "c.yaml").string();
+  std::ofstream(config) << "model: {name: rotor}\n";
+  fs::create_directories(dir / "sub");
+  fs::create_symlink(config, dir / "alias.csv");
+  for (const std::string& out : {config, (dir / "sub" / ".." / "c.yaml").string(),
+                                 (dir / "." / "c.yaml").string(), (dir / "alias.csv").string()}) {
+    const std::string message = MessageOf(out, {config}, true);
+    EXPECT_NE(message.find("a file it reads"), std::string::npos) << out << ": " << message;
+  }
+  // The sidecar of k.csv is k.meta.json: an input of that name is protected too.
+  const std::string message = MessageOf((dir / "c.csv").string(), {(dir / "c.meta.json").string()}, true);
+  EXPECT_NE(message.find("c.meta.json"), std::string::npos) << message;
+  // Relative and absolute spellings of one file.
+  const fs::path cwd = fs::current_path();
+  fs::current_path(dir);
+  EXPECT_TRUE(SameFile("c.yaml", config));
+  EXPECT_TRUE(SameFile("./sub/../c.yaml", config));
+  EXPECT_FALSE(SameFile("other.yaml", config));
+  fs::current_path(cwd);
+}
+
+TEST(RunOutputs, InputsAreTheConfigAndItsBenchFiles) {
+  const fs::path dir = TempDir("bench_files");
+  const std::string text = R"(model: {name: rotor, blades: 3}
+integrator: {tableau: heun, dt: 0.001}
+duration: 0.01
+substructures:
+  r1:
+    type: physical
+    transfer: {type: emulated, config: bench.yaml}
+)";
+  const SimulationConfig cfg =
+      ParseSimulationConfig(YamlInput::FromText(text, (dir / "c.yaml").string()));
+  EXPECT_EQ(RunInputFiles(cfg),
+            (std::vector<std::string>{(dir / "c.yaml").string(), (dir / "bench.yaml").string()}));
+}
+
+}  // namespace
+}  // namespace hybridtest::io
