@@ -6,6 +6,7 @@
 #include <csignal>
 #include <filesystem>
 
+#include "resume_plan.h"
 #include "hybridtest/io/config.h"
 #include "hybridtest/io/run_outputs.h"
 #include "hybridtest/io/substructure_config.h"
@@ -42,6 +43,34 @@ class StopOnSignal {
 
 }  // namespace
 
+namespace {
+
+// The loop and the summary, shared by run, simulate and resume.
+void RunAndReport(const io::SimulationConfig& cfg, runner::SubstructureList subs,
+                  runner::RunOptions run, bool quiet) {
+  // A file-size limit makes a write fail (EFBIG, reported with the run's status) instead of
+  // killing the process mid-row.
+  std::signal(SIGXFSZ, SIG_IGN);
+  if (quiet || cfg.quiet) run.progress.mode = runner::ProgressMode::kQuiet;
+  runner::HybridTest test(cfg, std::move(subs), run);
+  const StopOnSignal stop_on_signal;
+  const runner::RunStatistics s = test.Run();
+  if (quiet) return;
+  fmt::print("hybridtest {}: {} steps of {} s with {} ({} stages), t = {} s, {} rows -> {}\n",
+             run.command, s.steps, cfg.dt, cfg.tableau.name, cfg.tableau.stages(), s.sim_time,
+             s.rows, run.csv_path);
+  fmt::print("  wall time {:.3f} s ({:.3g}x real time)", s.wall_time, s.wall_slowdown);
+  if (s.physical_evaluations > 0) {
+    fmt::print("; {} physical evaluations, lab time {:.0f} s = {}h{:02}m ({:.0f}x slower than "
+               "real time)", s.physical_evaluations, s.lab_time,
+               static_cast<long>(s.lab_time) / 3600, (static_cast<long>(s.lab_time) % 3600) / 60,
+               s.slowdown);
+  }
+  fmt::print("\n");
+}
+
+}  // namespace
+
 void ExecuteRun(const RunCommandOptions& options) {
   const io::SimulationConfig cfg = io::LoadSimulationConfig(options.config);
   auto subs = io::MakeSubstructures(
@@ -52,27 +81,29 @@ void ExecuteRun(const RunCommandOptions& options) {
   run.command = options.command;
   // Results are never destroyed: an earlier run needs --overwrite, an input is never an output.
   io::CheckRunOutputs(run.csv_path, io::RunInputFiles(cfg), options.overwrite);
-  // A file-size limit makes a write fail (EFBIG, reported with the run's status) instead of
-  // killing the process mid-row.
-  std::signal(SIGXFSZ, SIG_IGN);
-  if (options.quiet || cfg.quiet) run.progress.mode = runner::ProgressMode::kQuiet;
   const auto parent = std::filesystem::path(run.csv_path).parent_path();
   if (!parent.empty()) std::filesystem::create_directories(parent);
-  runner::HybridTest test(cfg, std::move(subs), run);
-  const StopOnSignal stop_on_signal;
-  const runner::RunStatistics s = test.Run();
-  if (options.quiet) return;
-  fmt::print("hybridtest {}: {} steps of {} s with {} ({} stages), t = {} s, {} rows -> {}\n",
-             options.command, s.steps, cfg.dt, cfg.tableau.name, cfg.tableau.stages(), s.sim_time,
-             s.rows, run.csv_path);
-  fmt::print("  wall time {:.3f} s ({:.3g}x real time)", s.wall_time, s.wall_slowdown);
-  if (s.physical_evaluations > 0) {
-    fmt::print("; {} physical evaluations, lab time {:.0f} s = {}h{:02}m ({:.0f}x slower than "
-               "real time)", s.physical_evaluations, s.lab_time,
-               static_cast<long>(s.lab_time) / 3600, (static_cast<long>(s.lab_time) % 3600) / 60,
-               s.slowdown);
+  RunAndReport(cfg, std::move(subs), std::move(run), options.quiet);
+}
+
+void ExecuteResume(const ResumeCommandOptions& options) {
+  const ResumePlan plan = PlanResume(options);
+  runner::RunOptions run;
+  run.csv_path = options.csv;
+  run.command = plan.command;
+  run.resume_from = &plan.state;
+  run.resume_force_tolerance =
+      options.force_tolerance.value_or(plan.cfg.resume_force_tolerance.value_or(0.0));
+  run.resume_record = plan.record;
+  auto subs = io::MakeSubstructures(
+      plan.cfg, {options.bench, plan.command != "simulate",
+                 "`simulate` is numerical only: use `hybridtest run` for a hybrid test"});
+  if (!options.quiet) {
+    fmt::print("hybridtest resume: {} from step {} (t = {} s, journal row {}); previous status: "
+               "{}\n", options.csv, plan.step, plan.t, plan.state.rows - 1, plan.previous_status);
+    std::fflush(stdout);
   }
-  fmt::print("\n");
+  RunAndReport(plan.cfg, std::move(subs), std::move(run), options.quiet);
 }
 
 }  // namespace hybridtest::app
