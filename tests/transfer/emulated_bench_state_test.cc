@@ -34,7 +34,7 @@ TEST(EmulatedBenchState, RestoredBenchContinuesBitIdentically) {
   // A fresh bench without the state would not: the noise differs.
   EmulatedBench fresh(config);
   fresh.Activate();
-  EXPECT_NE(fresh.Execute(2.2).force, original.Execute(2.2).force);
+  EXPECT_NE(fresh.Execute(1.5).force, original.Execute(1.5).force);
 }
 
 TEST(EmulatedBenchState, ReadDoesNotMove) {
