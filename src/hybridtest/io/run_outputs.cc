@@ -49,12 +49,13 @@ void CheckRunOutputs(const std::string& csv_path, const std::vector<std::string>
                      bool overwrite) {
   for (const std::string& out : RunOutputFiles(csv_path)) {
     for (const std::string& in : inputs) {
-      if (SameFile(out, in)) {
-        throw ConfigError(fmt::format(
-            "{}: the run would write {} over {}, a file it reads; choose another --out "
-            "(--overwrite does not allow this)",
-            csv_path, out, in));
-      }
+      if (!SameFile(out, in)) continue;
+      const std::string what =
+          out == csv_path ? fmt::format("the output is the same file as {}", in)
+                          : fmt::format("its companion {} would be written over {}", out, in);
+      throw ConfigError(fmt::format("{}: {}, a file it reads; choose another --out "
+                                    "(--overwrite does not allow this)",
+                                    csv_path, what));
     }
   }
   if (overwrite) return;
