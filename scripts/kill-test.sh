@@ -14,7 +14,7 @@ config=${2:-examples/rotor/dummy.yaml}
 bin=build/release/apps/hybridtest/hybridtest
 bench_args=()
 [[ -n "${BENCH:-}" ]] && bench_args=(--bench "$BENCH")
-dir=$(mktemp -d /tmp/hybridtest-kill-test.XXXXXX)
+dir=$(mktemp -d "${TMPDIR:-/tmp}/hybridtest-kill-test.XXXXXX")
 trap 'rm -rf "$dir"' EXIT
 
 "$bin" run "$config" --out "$dir/reference.csv" --quiet "${bench_args[@]}"
@@ -31,7 +31,11 @@ for ((i = 1; i <= trials; i++)); do
   "$bin" run "$config" --out "$csv" --quiet "${bench_args[@]}" & pid=$!
   sleep "$delay"; kill -9 "$pid" 2>/dev/null || true; wait "$pid" 2>/dev/null || true
   resumes=0
-  if ((i % 3 == 0)); then
+  if [[ ! -e "${csv%.csv}.state.json" ]]; then
+    # Killed before row 0 was committed: nothing to resume, the operator starts again.
+    "$bin" run "$config" --out "$csv" --quiet --overwrite "${bench_args[@]}"
+  fi
+  if ((i % 3 == 0)) && ! grep -q '"status": "completed"' "${csv%.csv}.meta.json"; then
     "$bin" resume "$csv" --quiet "${bench_args[@]}" & pid=$!
     sleep "$(awk -v d="$delay" 'BEGIN { printf "%.3f", d / 2 }')"; kill -9 "$pid" 2>/dev/null || true
     wait "$pid" 2>/dev/null || true
