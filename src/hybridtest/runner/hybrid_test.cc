@@ -283,18 +283,16 @@ RunStatistics HybridTest::Run() {
     if (scheme && scheme->uncommitted() != nullptr) {
       try {
         const schemes::CommittedPoint& u = *scheme->uncommitted();
+        stats_.steps = u.step;  // the step that computed it is done; its trial failed
+        t_now = u.t;
         write_row(u.t, u.x, Eigen::VectorXd::Constant(m, std::numeric_limits<double>::quiet_NaN()),
                   false);
       } catch (const std::exception&) {
         // The journal itself failed; the original error is the one to report.
       }
-    } else if (journal.rows() == 0) {
-      try {
-        write_row(0.0, cfg_.x0, Eigen::VectorXd::Constant(m, std::numeric_limits<double>::quiet_NaN()),
-                  false);
-      } catch (const std::exception&) {
-      }
     }
+    // Nothing committed (the run could not start): no row, so the journal is never published
+    // and an earlier run at this path survives (decision 0006).
     update_stats(t_now);
     progress.Finish();
     nlohmann::json statistics = ToJson(stats_);
