@@ -7,6 +7,7 @@
 #include <csignal>
 #include <filesystem>
 
+#include "resume_plan.h"
 #include "hybridtest/io/config.h"
 #include "hybridtest/io/run_outputs.h"
 #include "hybridtest/io/output_budget.h"
@@ -46,38 +47,20 @@ class StopOnSignal {
 
 }  // namespace
 
-void ExecuteRun(const RunCommandOptions& options) {
-  const io::SimulationConfig cfg = io::LoadSimulationConfig(options.config);
-  CheckSchemeStability(cfg);  // pre-run check: refuses a step beyond the stability limit
-  auto subs = io::MakeSubstructures(
-      cfg, {options.bench, options.allow_physical,
-            "`simulate` is numerical only: use `hybridtest run` for a hybrid test"});
-  runner::RunOptions run;
-  run.csv_path = runner::ResolveOutputPath(cfg, options.out);
-  // Pre-run check: the journal and stage record must fit on the disk.
-  const bool physical = std::any_of(subs.begin(), subs.end(),
-                                    [](const auto& s) { return s->is_physical(); });
-  io::CheckOutputFits(run.csv_path,
-                      io::EstimateOutputBytes(
-                          runner::MaxJournalRows(cfg),
-                          static_cast<int>(runner::JournalChannels(cfg, subs).size()),
-                          cfg.scheme.kind == schemes::SchemeKind::kRungeKutta ? cfg.tableau.stages() : 1,
-                          physical ? static_cast<int>(runner::StageChannels(cfg, subs).size())
-                                   : 0));
-  run.command = options.command;
-  // Results are never destroyed: an earlier run needs --overwrite, an input is never an output.
-  io::CheckRunOutputs(run.csv_path, io::RunInputFiles(cfg), options.overwrite);
+namespace {
+
+// The loop and the summary, shared by run, simulate and resume.
+void RunAndReport(const io::SimulationConfig& cfg, runner::SubstructureList subs,
+                  runner::RunOptions run, bool quiet) {
   // A file-size limit makes a write fail (EFBIG, reported with the run's status) instead of
   // killing the process mid-row.
   std::signal(SIGXFSZ, SIG_IGN);
-  if (options.quiet || cfg.quiet) run.progress.mode = runner::ProgressMode::kQuiet;
-  const auto parent = std::filesystem::path(run.csv_path).parent_path();
-  if (!parent.empty()) std::filesystem::create_directories(parent);
+  if (quiet || cfg.quiet) run.progress.mode = runner::ProgressMode::kQuiet;
   runner::HybridTest test(cfg, std::move(subs), run);
   const StopOnSignal stop_on_signal;
   const runner::RunStatistics s = test.Run();
-  if (options.quiet) return;
-  fmt::print("hybridtest {}: {} steps with {}, t = {} s, {} rows -> {}\n", options.command, s.steps,
+  if (quiet) return;
+  fmt::print("hybridtest {}: {} steps with {}, t = {} s, {} rows -> {}\n", run.command, s.steps,
              cfg.scheme.kind == schemes::SchemeKind::kRungeKutta
                  ? fmt::format("{} ({} stages) at {} s", cfg.tableau.name, cfg.tableau.stages(), cfg.dt)
                  : schemes::SchemeKindName(cfg.scheme.kind) +
@@ -91,6 +74,53 @@ void ExecuteRun(const RunCommandOptions& options) {
                s.slowdown);
   }
   fmt::print("\n");
+}
+
+}  // namespace
+
+void ExecuteRun(const RunCommandOptions& options) {
+  const io::SimulationConfig cfg = io::LoadSimulationConfig(options.config);
+  CheckSchemeStability(cfg);  // pre-run check: refuses a step beyond the stability limit
+  auto subs = io::MakeSubstructures(
+      cfg, {options.bench, options.allow_physical,
+            "`simulate` is numerical only: use `hybridtest run` for a hybrid test"});
+  runner::RunOptions run;
+  run.csv_path = runner::ResolveOutputPath(cfg, options.out);
+  run.command = options.command;
+  // Pre-run check: the journal and stage record must fit on the disk.
+  const bool physical = std::any_of(subs.begin(), subs.end(),
+                                    [](const auto& s) { return s->is_physical(); });
+  io::CheckOutputFits(
+      run.csv_path,
+      io::EstimateOutputBytes(
+          runner::MaxJournalRows(cfg), static_cast<int>(runner::JournalChannels(cfg, subs).size()),
+          cfg.scheme.kind == schemes::SchemeKind::kRungeKutta ? cfg.tableau.stages() : 1,
+          physical ? static_cast<int>(runner::StageChannels(cfg, subs).size()) : 0));
+  // Results are never destroyed: an earlier run needs --overwrite, an input is never an output.
+  io::CheckRunOutputs(run.csv_path, io::RunInputFiles(cfg), options.overwrite);
+  const auto parent = std::filesystem::path(run.csv_path).parent_path();
+  if (!parent.empty()) std::filesystem::create_directories(parent);
+  RunAndReport(cfg, std::move(subs), std::move(run), options.quiet);
+}
+
+void ExecuteResume(const ResumeCommandOptions& options) {
+  const ResumePlan plan = PlanResume(options);
+  runner::RunOptions run;
+  run.csv_path = options.csv;
+  run.command = plan.command;
+  run.resume_from = &plan.state;
+  run.resume_force_tolerance =
+      options.force_tolerance.value_or(plan.cfg.resume_force_tolerance.value_or(0.0));
+  run.resume_record = plan.record;
+  auto subs = io::MakeSubstructures(
+      plan.cfg, {options.bench, plan.command != "simulate",
+                 "`simulate` is numerical only: use `hybridtest run` for a hybrid test"});
+  if (!options.quiet) {
+    fmt::print("hybridtest resume: {} from step {} (t = {} s, journal row {}); previous status: "
+               "{}\n", options.csv, plan.step, plan.t, plan.state.rows - 1, plan.previous_status);
+    std::fflush(stdout);
+  }
+  RunAndReport(plan.cfg, std::move(subs), std::move(run), options.quiet);
 }
 
 }  // namespace hybridtest::app

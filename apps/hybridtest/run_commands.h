@@ -20,4 +20,18 @@ struct RunCommandOptions {
 // journal and sidecar are written).
 void ExecuteRun(const RunCommandOptions& options);
 
+struct ResumeCommandOptions {
+  std::string csv;                        // the journal of the run to continue
+  std::optional<std::string> bench;       // --bench HOST:PORT
+  bool quiet = false;
+  std::optional<double> force_tolerance;  // --force-tolerance [N], else resume.force_tolerance
+  bool after_safety_stop = false;         // --after-safety-stop: the operator fixed the cause
+};
+
+// `hybridtest resume`: rebuilds the run from its sidecar (config text and path, command) and
+// continues it from its run state (docs/safety.md, "Resuming a run"), with the same code path
+// and summary as ExecuteRun. Throws ConfigError (exit 2) if the run is completed, has no
+// state, or stopped on a safety limit without --after-safety-stop.
+void ExecuteResume(const ResumeCommandOptions& options);
+
 }  // namespace hybridtest::app

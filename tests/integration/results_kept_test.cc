@@ -69,7 +69,7 @@ TEST(ResultsKept, AnEarlierRunIsNotReplacedWithoutOverwrite) {
   }
   EXPECT_EQ(ReadText(csv), csv_bytes);
   EXPECT_EQ(ReadText(io::SidecarPath(csv)), sidecar_bytes);
-  EXPECT_EQ(FilesIn(dir), (std::vector<std::string>{"k.csv", "k.meta.json"}));
+  EXPECT_EQ(FilesIn(dir), (std::vector<std::string>{"k.csv", "k.meta.json", "k.state.json"}));
 
   // A stage record alone is a run too.
   std::ofstream(dir / "s.stages.csv") << "step\n";
@@ -181,7 +181,7 @@ TEST(ResultsKept, ARunThatCannotStartKeepsTheRunItWouldReplace) {
   EXPECT_EQ(o.status, 4) << o.output;
   EXPECT_EQ(ReadText(csv), csv_bytes);
   EXPECT_EQ(ReadText(io::SidecarPath(csv)), sidecar_bytes);
-  EXPECT_EQ(FilesIn(dir), (std::vector<std::string>{"k.csv", "k.meta.json"}));
+  EXPECT_EQ(FilesIn(dir), (std::vector<std::string>{"k.csv", "k.meta.json", "k.state.json"}));
   fs::remove_all(dir);
 }
 

@@ -91,6 +91,20 @@ void BoucWen::Commit() {
   z_committed_ = z_trial_;
 }
 
+nlohmann::json BoucWen::SaveState() const {
+  return {{"law", "bouc_wen"}, {"x", x_committed_}, {"z", z_committed_}};
+}
+
+void BoucWen::RestoreState(const nlohmann::json& state) {
+  if (!state.is_object() || state.value("law", "") != "bouc_wen" || !state.contains("x") ||
+      !state.contains("z")) {
+    throw Error(fmt::format("Bouc-Wen law: cannot restore the state {}: expected "
+                            "{{\"law\": \"bouc_wen\", \"x\", \"z\"}}", state.dump()));
+  }
+  x_committed_ = x_trial_ = state.at("x").get<double>();
+  z_committed_ = z_trial_ = state.at("z").get<double>();
+}
+
 std::unique_ptr<RestoringForceLaw> BoucWen::Clone() const {
   return std::make_unique<BoucWen>(*this);
 }

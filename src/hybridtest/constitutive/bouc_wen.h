@@ -49,6 +49,9 @@ class BoucWen final : public RestoringForceLaw {
   double initial_stiffness() const override { return p_.initial_stiffness; }
   std::unique_ptr<RestoringForceLaw> Clone() const override;
   std::string Describe() const override;
+  // {"x": committed x [m], "z": committed z [m]}; a restore also resets the trial to them.
+  nlohmann::json SaveState() const override;
+  void RestoreState(const nlohmann::json& state) override;
 
   const Parameters& parameters() const { return p_; }
   // Ultimate hysteretic displacement z_u = (A / (β + γ))^{1/n}. Unit: [m].

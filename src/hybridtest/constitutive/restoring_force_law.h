@@ -11,6 +11,8 @@
 //             displacement).
 // Sign convention: the force is the specimen's restoring force, positive for a positive
 // displacement of a spring with positive stiffness.
+#include <nlohmann/json.hpp>
+
 #include <memory>
 #include <string>
 
@@ -35,6 +37,12 @@ class RestoringForceLaw {
 
   // One line for logs, e.g. "linear spring k=7200 N/m".
   virtual std::string Describe() const = 0;
+  // The committed state (a run's checkpoint, runner/run_state.h): a path-dependent law's
+  // internal variables in SI ({} for an elastic law). RestoreState(SaveState()) on a law with
+  // the same parameters continues bit-identically. RestoreState throws hybridtest::Error if
+  // the state does not belong to this kind of law.
+  virtual nlohmann::json SaveState() const { return nlohmann::json::object(); }
+  virtual void RestoreState(const nlohmann::json& /*state*/) {}
 };
 
 }  // namespace hybridtest::constitutive

@@ -201,12 +201,12 @@ schemes::SchemeConfig ParseScheme(const YamlInput& in, const YAML::Node& integ) 
 SimulationConfig ParseSimulationConfig(const YamlInput& in) {
   const YAML::Node& root = in.root();
   in.CheckKeys(root, "", {"model", "initial_state", "integrator", "duration", "output",
-                          "substructures", "progress"});
+                          "substructures", "progress", "resume"});
   int blades = 0;
   models::BuiltModel model = ParseModel(in, in.Mapping(root, "model", "model", true), &blades);
   SimulationConfig cfg{.input = in, .model = std::move(model), .blades = blades, .x0 = {},
                        .tableau = {}, .scheme = {}, .dt = 0.0, .duration = 0.0, .steps = 0, .output_csv = {},
-                       .quiet = false};
+                       .quiet = false, .resume_force_tolerance = std::nullopt};
   const int n = cfg.model.model.num_coordinates();
 
   // Initial state: zero unless given (the paper states none; see PAPER-NOTES).
@@ -276,6 +276,15 @@ SimulationConfig ParseSimulationConfig(const YamlInput& in) {
   if (progress.IsDefined()) {
     in.CheckKeys(progress, "progress", {"quiet"});
     cfg.quiet = progress["quiet"] && progress["quiet"].as<bool>(false);
+  }
+  const YAML::Node resume = in.Mapping(root, "resume", "resume", false);
+  if (resume.IsDefined()) {
+    in.CheckKeys(resume, "resume", {"force_tolerance"});
+    if (resume["force_tolerance"]) {
+      cfg.resume_force_tolerance = in.PositiveNumber(
+          resume["force_tolerance"], "resume.force_tolerance",
+          "a positive force in newtons (largest |measured - committed force| on resume)");
+    }
   }
   return cfg;
 }

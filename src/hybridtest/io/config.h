@@ -24,6 +24,7 @@
 // Everything is validated here, where it enters; errors name file:line, key, value and fix.
 #include <Eigen/Core>
 
+#include <optional>
 #include <string>
 
 #include "hybridtest/integrators/butcher_tableau.h"
@@ -48,6 +49,10 @@ struct SimulationConfig {
   long steps = 0;                     // round(duration / dt)
   std::string output_csv;             // may be empty
   bool quiet = false;
+  // resume.force_tolerance: largest |measured − committed force| accepted when `resume`
+  // re-imposes the last committed command on a physical slot. Unit: [N]. Unset: 1 % of the
+  // slot's force_hard (docs/safety.md, "Resuming a run").
+  std::optional<double> resume_force_tolerance;
 };
 
 // Loads and validates a config file. Throws ConfigError.

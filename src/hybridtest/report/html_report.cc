@@ -12,6 +12,7 @@
 #include "hybridtest/report/compare.h"
 #include "hybridtest/report/compare_plot.h"
 #include "hybridtest/report/html_report_style.h"
+#include "hybridtest/report/html_report_resumes.h"
 #include "hybridtest/report/html_report_text.h"
 #include "hybridtest/report/plot.h"
 #include "hybridtest/report/plot_layout.h"
@@ -237,6 +238,7 @@ std::string MakeHtmlReport(const io::RunData& run, const io::RunData* against,
           E(run.csv_path) + (layout.model_name.empty() ? "" : " &middot; model " +
           E(layout.model_name)) + "</p></div></header>\n<main>\n";
   html += StatisticsSection(run);
+  html += ResumesSection(run.metadata);
   html += ConfigurationSection(run, layout);
   html += ParametersSection(run);
   html += "<section id=\"figures\"><h2>Figures</h2>\n";

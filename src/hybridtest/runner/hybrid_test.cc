@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/io/journal.h"
 #include "hybridtest/schemes/scheme_config.h"
 #include "hybridtest/substructures/physical_substructure.h"
 #include "hybridtest/multibody/kane.h"
@@ -111,26 +112,42 @@ RunStatistics HybridTest::Run() {
 
   // Records first: a run that cannot write its journal must not move anything.
   const auto channels = JournalChannels(cfg_, subs_);
-  io::Journal journal(options_.csv_path, channels, JournalMetadataFor(cfg_, subs_, options_.command),
-                      physical ? io::SyncPolicy::kEveryRow : io::SyncPolicy::kBatched);
+  const io::SyncPolicy policy = physical ? io::SyncPolicy::kEveryRow : io::SyncPolicy::kBatched;
+  const RunState* resume = options_.resume_from;
+  std::optional<io::Journal> journal_storage;
+  if (resume != nullptr) {
+    rows_cut_ = CutJournalToRows(options_.csv_path, resume->rows);
+    journal_storage.emplace(io::kReopenForAppend, options_.csv_path, policy);
+  } else {
+    journal_storage.emplace(options_.csv_path, channels,
+                            JournalMetadataFor(cfg_, subs_, options_.command), policy);
+  }
+  io::Journal& journal = *journal_storage;
   std::optional<io::Journal> stages;
   if (physical && options_.record_stages) {
-    const std::filesystem::path p(options_.csv_path);
-    stages.emplace((p.parent_path() / (p.stem().string() + ".stages.csv")).string(),
-                   StageChannels(cfg_, subs_), JournalMetadataFor(cfg_, subs_, options_.command),
-                   // Flushed to the kernel every row (a killed process loses nothing); synced
-                   // to the disk in batches: the journal itself is synced every row.
-                   io::SyncPolicy::kBatched, 100);
+    // Flushed to the kernel every row (a killed process loses nothing); synced to the disk
+    // in batches: the journal itself is synced every row.
+    if (resume != nullptr && std::filesystem::exists(io::StagesPath(options_.csv_path))) {
+      stages.emplace(io::kReopenForAppend, io::StagesPath(options_.csv_path),
+                     io::SyncPolicy::kBatched, 100);
+    } else {
+      stages.emplace(io::StagesPath(options_.csv_path), StageChannels(cfg_, subs_),
+                     JournalMetadataFor(cfg_, subs_, options_.command), io::SyncPolicy::kBatched,
+                     100);
+    }
   }
+  const std::string state_path = RunStatePath(options_.csv_path);
+  long state_rows = 0;  // rows of the last saved state
 
   multibody::Data<double> data(model);
   Eigen::VectorXd d(m), r0(m);
   Eigen::VectorXd row(static_cast<Eigen::Index>(channels.size()));
-  Eigen::VectorXd stage_row(stages ? static_cast<Eigen::Index>(stages->channels().size()) : 0);
+  Eigen::VectorXd stage_values(stages ? static_cast<Eigen::Index>(stages->channels().size()) : 0);
   Progress progress(options_.progress);
   const auto wall_start = std::chrono::steady_clock::now();
   auto wall = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    return wall_offset_ +
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   };
   auto update_stats = [&](double t) {
     stats_.sim_time = t;
@@ -173,21 +190,24 @@ RunStatistics HybridTest::Run() {
    private:
     std::function<void(long, int, double, const Eigen::VectorXd&, Eigen::Ref<Eigen::VectorXd>)> f_;
   };
+  auto stage_row = [&](long step, int stage, double t) {
+    if (!stages) return;
+    Eigen::Index c = 0;
+    stage_values(c++) = static_cast<double>(step);
+    stage_values(c++) = stage;
+    stage_values(c++) = t;
+    for (const auto& s : subs_) {
+      if (!s->is_physical()) continue;
+      const auto e = s->last_exchange();
+      for (double v : {e.command, e.position, e.force, e.lab_time}) stage_values(c++) = v;
+    }
+    stages->Append(std::span<const double>(stage_values.data(), stage_values.size()));
+  };
   Seam seam([&](long step, int stage, double t, const Eigen::VectorXd& xs,
                 Eigen::Ref<Eigen::VectorXd> r) {
     multibody::CalcSlotDisplacements<double>(model, data, t, xs.head(n), d);
     for (int s = 0; s < m; ++s) r(s) = subs_[s]->Trial(d(s), {step, stage, t});
-    if (!stages) return;
-    Eigen::Index c = 0;
-    stage_row(c++) = static_cast<double>(step);
-    stage_row(c++) = stage;
-    stage_row(c++) = t;
-    for (const auto& s : subs_) {
-      if (!s->is_physical()) continue;
-      const auto e = s->last_exchange();
-      for (double v : {e.command, e.position, e.force, e.lab_time}) stage_row(c++) = v;
-    }
-    stages->Append(std::span<const double>(stage_row.data(), stage_row.size()));
+    stage_row(step, stage, t);
   });
   class Rows final : public schemes::RowSink {
    public:
@@ -203,20 +223,46 @@ RunStatistics HybridTest::Run() {
 
   std::unique_ptr<schemes::HybridScheme> scheme;
   double t_now = 0.0;
+  // The run state goes to disk before its committed row (resume writes a lost row from it):
+  // at every commit with a physical slot, else at the journal's batch syncs and at the end.
+  auto save_state = [&](bool always, long rows_after) {
+    if (!options_.save_state) return;
+    if (!always && !physical && rows_after / 1000 == state_rows / 1000) return;
+    SaveRunState(state_path, CaptureState(*scheme, rows_after, stages ? stages->rows() : 0,
+                                          ToJson(stats_)));
+    state_rows = rows_after;
+  };
   try {
     for (auto& s : subs_) s->Activate();
-    MeasureRequestedStiffness();
-    scheme = schemes::MakeScheme(cfg_.scheme, cfg_.tableau, cfg_.dt, cfg_.duration, cfg_.steps,
-                                 model, SlotInfoOf(subs_));
-    // The initial state: tried (stage 0 of step 0), committed, journalled.
-    seam.Trial(0, 0, 0.0, cfg_.x0, r0);
-    for (auto& s : subs_) s->Commit();
-    write_row(0.0, cfg_.x0, r0, true);
-    scheme->Start(0.0, cfg_.x0, r0);
+    if (resume != nullptr) {
+      RestoreSubstructures(*resume);
+      scheme = schemes::MakeScheme(cfg_.scheme, cfg_.tableau, cfg_.dt, cfg_.duration, cfg_.steps,
+                                   model, SlotInfoOf(subs_));
+      ResumeFrom(*resume, *scheme, journal, [&] {
+        const schemes::CommittedPoint& p = scheme->committed();
+        write_row(p.t, p.x, p.r, true);
+      }, stage_row);
+      state_rows = resume->rows;
+      t_now = scheme->committed().t;
+    } else {
+      MeasureRequestedStiffness();
+      scheme = schemes::MakeScheme(cfg_.scheme, cfg_.tableau, cfg_.dt, cfg_.duration, cfg_.steps,
+                                   model, SlotInfoOf(subs_));
+      // The initial state: tried (stage 0 of step 0), committed, journalled.
+      seam.Trial(0, 0, 0.0, cfg_.x0, r0);
+      for (auto& s : subs_) s->Commit();
+      scheme->Start(0.0, cfg_.x0, r0);
+      // Row 0 first: it publishes the journal; the state of a run that never published stays
+      // that of the earlier run at the same path.
+      write_row(0.0, cfg_.x0, r0, true);
+      save_state(true, journal.rows());
+    }
     while (!scheme->finished()) {
       scheme->Step(seam, rows);
       const schemes::CommittedPoint& p = scheme->committed();
       for (auto& s : subs_) s->Commit();
+      stats_.steps = p.step;
+      save_state(scheme->finished(), journal.rows() + 1);
       write_row(p.t, p.x, p.r, true);
       t_now = p.t;
       stats_.steps = p.step;

@@ -18,10 +18,14 @@
 // physical substructure is put on Hold(), every committed state is in the journal (the row of
 // the current state with NaN restoring forces if its trial failed), the sidecar records the
 // status and the statistics, and the error propagates to the caller. Nothing is retried.
+#include <functional>
 #include <string>
+
+#include "hybridtest/schemes/hybrid_scheme.h"
 
 #include "hybridtest/runner/progress.h"
 #include "hybridtest/runner/run_record.h"
+#include "hybridtest/runner/run_state.h"
 
 namespace hybridtest::runner {
 
@@ -30,6 +34,12 @@ struct RunOptions {
   std::string command = "run";    // recorded in the sidecar
   ProgressOptions progress;       // mode kQuiet to silence
   bool record_stages = true;      // also write <run>.stages.csv when a physical slot exists
+  bool save_state = true;         // write <run>.state.json (run_state.h) for `resume`
+  // Resume (`hybridtest resume`, docs/safety.md): continue from this state instead of starting
+  // at x0, appending to the reopened journal and stage record; nullptr for a new run.
+  const RunState* resume_from = nullptr;
+  double resume_force_tolerance = 0.0;  // [N]; <= 0: 1 % of each physical slot's force_hard
+  nlohmann::json resume_record = nlohmann::json::object();  // e.g. time, previous stop
 };
 
 struct RunStatistics {
@@ -54,12 +64,28 @@ class HybridTest {
   // Measures K0 on every physical substructure whose config asks for it (a slow ramp before
   // the test) and records every slot's K0 and its source for the sidecar.
   void MeasureRequestedStiffness();
+  // Resume: restores every substructure and the scheme from the state, writes the state's
+  // committed row if a crash lost it, re-imposes the last committed command on each physical
+  // slot (stage record: stage −2 ramp moves, −1 the re-imposition) and records the resume in
+  // the sidecar's "resumes" array. Throws SafetyStop if a force check fails.
+  // Restores every substructure's state (before the scheme is made: K0 may be measured).
+  void RestoreSubstructures(const RunState& state);
+  // write_row(): journals the scheme's committed point with the last exchanges;
+  // stage_row(step, stage, t): appends the last exchanges to the stage record.
+  void ResumeFrom(const RunState& state, schemes::HybridScheme& scheme, io::Journal& journal,
+                  const std::function<void()>& write_row,
+                  const std::function<void(long, int, double)>& stage_row);
+  // The state to save after the commit of `scheme`'s point, which will be row `rows` − 1.
+  RunState CaptureState(const schemes::HybridScheme& scheme, long rows, long stage_rows,
+                        const nlohmann::json& statistics) const;
 
   const io::SimulationConfig& cfg_;
   nlohmann::json stiffness_record_ = nlohmann::json::array();
   SubstructureList subs_;
   RunOptions options_;
   RunStatistics stats_;
+  double wall_offset_ = 0.0;  // wall time of the sessions before a resume [s]
+  long rows_cut_ = 0;         // resume: journal rows after the state's, cut before reopening
 };
 
 // Journal path for a run: --out if given, else the config's output.csv, else

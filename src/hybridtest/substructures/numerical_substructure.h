@@ -14,6 +14,9 @@ class NumericalSubstructure final : public Substructure {
   double Trial(double displacement, const TrialContext& context) override;
   void Commit() override { law_->Commit(); }
   std::string Describe() const override;
+  // The law's committed state ({"law": ...}).
+  nlohmann::json SaveState() const override { return {{"law", law_->SaveState()}}; }
+  void RestoreState(const nlohmann::json& state) override { law_->RestoreState(state.at("law")); }
   // From the law's initial tangent stiffness.
   std::optional<double> initial_stiffness() const override { return law_->initial_stiffness(); }
 

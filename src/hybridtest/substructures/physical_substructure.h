@@ -8,6 +8,7 @@
 //   4. r^s = setup⁻¹(measured force).
 // On any violation or communication failure the transfer system is put on Hold() (it stays at
 // the last safe command) and the error propagates to the runner.
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -62,6 +63,34 @@ class PhysicalSubstructure final : public Substructure {
   std::optional<double> requested_stiffness_ramp() const { return k0_ramp_; }
   // |max_increment| of the safety limits in slot displacement [m].
   double max_displacement_increment() const override;
+
+  // Checkpoint: {"last": last exchange, "evaluations", "k0", "safety": monitor state,
+  // "transfer": the in-process bench's state or null (a remote bench keeps its own)}.
+  nlohmann::json SaveState() const override;
+  void RestoreState(const nlohmann::json& state) override;
+
+  // What a resume did on this slot (see ReimposeCommitted).
+  struct ResumeCheck {
+    double command = 0.0;            // the last committed command [m]
+    double committed_force = 0.0;    // its force in the journal [N]
+    std::optional<double> read_position;  // bench position read before moving [m]
+    std::optional<double> read_force;     // bench force read before moving [N]
+    int ramp_moves = 0;              // moves before the re-imposition (bench had moved)
+    double position = 0.0;           // measured after the re-imposition [m]
+    double force = 0.0;              // measured after the re-imposition [N]
+    double tolerance = 0.0;          // accepted |force − committed_force| [N]
+  };
+  // After RestoreState on an activated substructure, at the start of a resumed run: reads the
+  // bench if it can be read without moving; if it is more than max_increment from the last
+  // committed command, ramps to it in equal moves of at most max_increment; then re-imposes
+  // the last committed command (every move checked by the safety monitor: nothing outside the
+  // limits is sent) and compares the measured force with the committed one. `on_move` is
+  // called after every exchange (last_exchange() holds it) with false for a ramp move and
+  // true for the re-imposition. force_tolerance [N] ≤ 0: 1 % of
+  // force_hard. Throws SafetyStop (limit "resume_force_tolerance", both forces named) if they
+  // differ by more, after putting the bench on hold; SafetyStop/TransferError from the moves.
+  ResumeCheck ReimposeCommitted(double force_tolerance, long step,
+                                const std::function<void(bool reimposition)>& on_move);
 
  private:
   std::string name_;

@@ -4,6 +4,8 @@
 //             Physical: the actuator moves (this is the one impure seam of a hybrid test).
 //   Commit()  makes the last trial permanent (the state it was taken at is committed).
 // A substructure knows nothing of Kane: it sees a displacement d [m] and returns r^s [N].
+#include <nlohmann/json.hpp>
+
 #include <limits>
 #include <optional>
 #include <string>
@@ -51,6 +53,12 @@ class Substructure {
   virtual double max_displacement_increment() const {
     return std::numeric_limits<double>::infinity();
   }
+  // The committed state, for a run's checkpoint (runner/run_state.h): taken right after
+  // Commit(), restored on a freshly built and activated substructure of the same config so
+  // that the run continues as if it had not stopped. Throws hybridtest::Error if a state does
+  // not fit. Default: a stateless substructure ({}).
+  virtual nlohmann::json SaveState() const { return nlohmann::json::object(); }
+  virtual void RestoreState(const nlohmann::json& /*state*/) {}
 };
 
 }  // namespace hybridtest::substructures

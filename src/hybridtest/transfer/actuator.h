@@ -8,6 +8,8 @@
 //                none:          p = r_d
 //                first order:   τ ṗ = r_d − p           (exact discretisation)
 //                second order:  p̈ = ωn² (r_d − p) − 2 ζ ωn ṗ  (semi-implicit Euler)
+#include <nlohmann/json.hpp>
+
 #include <deque>
 
 #include "hybridtest/transfer/bench_config.h"
@@ -28,6 +30,10 @@ class Actuator {
   double position() const { return position_; }  // Unit: [m].
   double velocity() const { return velocity_; }  // Unit: [m/s].
   double step() const { return step_; }          // internal step. Unit: [s].
+  // Reference, delayed reference, delay line, position and velocity (SI), for a checkpoint;
+  // RestoreState(SaveState()) continues bit-identically. Throws hybridtest::Error.
+  nlohmann::json SaveState() const;
+  void RestoreState(const nlohmann::json& state);
 
  private:
   ServoLag lag_;

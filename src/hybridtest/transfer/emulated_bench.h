@@ -55,6 +55,14 @@ class EmulatedBench final : public TransferSystem {
   bool holding() const { return state_ == State::kHolding; }
   const EmulatedBenchConfig& config() const { return config_; }
   const SafetyMonitor& safety() const { return safety_; }
+  // The whole bench (actuator, specimen law, load-cell generator, lab clock, command count,
+  // its own safety monitor), for a run's checkpoint: the in-process bench dies with the
+  // runner, so a resume rebuilds it from here. Throws hybridtest::Error on a bad state.
+  nlohmann::json SaveState() const override;
+  void RestoreState(const nlohmann::json& state) override;
+  // The actuator position [bench length unit] and the true specimen force plus the load-cell
+  // offset [bench force unit], read without moving, without noise and without lab time.
+  std::optional<Measurement> Read() const override;
 
  private:
   enum class State { kConfigured, kActive, kHolding, kDeactivated };

@@ -18,6 +18,8 @@ class LabClock {
   void Pace() const;
 
   double lab_time() const { return lab_time_; }  // Unit: [s].
+  // Sets the lab time [s] (a checkpoint's); a realtime clock paces on from there.
+  void Restore(double lab_time);
   bool realtime() const { return realtime_; }
 
  private:

@@ -4,6 +4,7 @@
 // (no quantisation when resolution = 0). The generator is seeded, so a run is reproducible.
 // All SI: [N].
 #include <random>
+#include <string>
 
 namespace hybridtest::transfer {
 
@@ -14,6 +15,10 @@ class LoadCell {
 
   // One raw reading of the true force `force` [N]. Unit: [N].
   double Sample(double force);
+  // The generator's and the distribution's state as text (std's stream format), for a
+  // checkpoint; RestoreState(SaveState()) draws the same numbers next. Throws hybridtest::Error.
+  std::string SaveState() const;
+  void RestoreState(const std::string& state);
 
  private:
   double noise_std_;

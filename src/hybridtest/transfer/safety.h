@@ -7,6 +7,8 @@
 // The rule: a command beyond a limit is never sent. On any violation the caller puts its
 // transfer system into Hold() (hold at the last safe command) and the SafetyStop propagates
 // to the runner, which writes everything committed and exits non-zero.
+#include <nlohmann/json.hpp>
+
 #include <deque>
 #include <string>
 #include <vector>
@@ -92,6 +94,11 @@ class SafetyMonitor {
   bool has_safe_command() const;
   const SafetyLimits& limits() const { return limits_; }
   std::vector<ExchangeRecord> history() const;
+  // Everything the monitor remembers (last safe command, last measurement, secant and initial
+  // stiffness, history), SI, for a run's checkpoint; RestoreState(SaveState()) on a monitor
+  // with the same limits makes the same decisions. Throws hybridtest::Error on a bad state.
+  nlohmann::json SaveState() const;
+  void RestoreState(const nlohmann::json& state);
 
  private:
   SafetyLimits limits_;

@@ -6,6 +6,9 @@
 //
 // Lifecycle (after ros2_control): construct (configure) → Activate() → Execute()* → Deactivate().
 // Hold() may be called at any time, from any state, and must never throw.
+#include <nlohmann/json.hpp>
+
+#include <optional>
 #include <string>
 
 namespace hybridtest::transfer {
@@ -50,6 +53,15 @@ class TransferSystem {
 
   // One line for logs and reports, e.g. "emulated bench (cantilever 500x100x5 mm, E=210 GPa)".
   virtual std::string Describe() const = 0;
+  // The current position and force, read WITHOUT moving (bench units); nullopt if this
+  // transfer system cannot be queried without a command (resume then re-imposes the last
+  // committed command at once). Never throws.
+  virtual std::optional<Measurement> Read() const { return std::nullopt; }
+  // State of an in-process bench for a run's checkpoint (runner/run_state.h); null if the
+  // bench's state lives outside this process (a remote bench keeps its own and is not
+  // restored). Throws hybridtest::Error on a state that does not fit.
+  virtual nlohmann::json SaveState() const { return nullptr; }
+  virtual void RestoreState(const nlohmann::json& /*state*/) {}
 };
 
 }  // namespace hybridtest::transfer

@@ -1,0 +1,33 @@
+// hybridtest resume RUN.csv [--bench HOST:PORT] [--quiet] [--force-tolerance N]
+//                           [--after-safety-stop]
+// Continues a stopped or killed run from its last committed step (its <run>.state.json),
+// appending to the same journal and stage record. On a physical slot the last committed
+// command is re-imposed first and the force checked (docs/safety.md, "Resuming a run").
+// Exit 0 when the run completes; 2 if it cannot be resumed; 3 if the force check refuses.
+#include "command.h"
+#include "run_commands.h"
+
+namespace hybridtest::app {
+namespace {
+
+void AddResumeCommand(CLI::App& root) {
+  auto opt = std::make_shared<ResumeCommandOptions>();
+  CLI::App* cmd = root.add_subcommand(
+      "resume", "Continue a stopped or killed run from its last committed step");
+  cmd->add_option("run", opt->csv, "journal CSV of the run (its sidecar and state beside it)")
+      ->required();
+  cmd->add_option("--bench", opt->bench,
+                  "HOST:PORT of a bench server, for remote transfer systems");
+  cmd->add_flag("--quiet", opt->quiet, "no progress output and no summary");
+  cmd->add_option("--force-tolerance", opt->force_tolerance,
+                  "largest |measured - committed force| [N] accepted after re-imposing the last "
+                  "committed command (default: resume.force_tolerance, else 1 % of force_hard)");
+  cmd->add_flag("--after-safety-stop", opt->after_safety_stop,
+                "resume a run that stopped on a safety limit, once its cause is fixed");
+  cmd->callback([opt] { ExecuteResume(*opt); });
+}
+
+const CommandRegistration kRegistration{"resume", &AddResumeCommand};
+
+}  // namespace
+}  // namespace hybridtest::app

@@ -1,0 +1,64 @@
+// See resume_plan.h.
+#include "resume_plan.h"
+
+#include <fmt/core.h>
+
+#include <filesystem>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/io/journal.h"
+
+namespace hybridtest::app {
+
+ResumePlan PlanResume(const ResumeCommandOptions& options) {
+  if (!std::filesystem::exists(options.csv)) {
+    throw ConfigError(fmt::format("{}: no such journal: give the CSV of the run to resume",
+                                  options.csv));
+  }
+  const nlohmann::json sidecar = io::ReadSidecar(options.csv);
+  const std::string status = sidecar.value("status", "");
+  if (status == "completed") {
+    throw ConfigError(fmt::format("{}: the run is completed; there is nothing to resume",
+                                  options.csv));
+  }
+  std::string stop_kind;
+  if (sidecar.contains("statistics") && sidecar["statistics"].contains("stop")) {
+    const auto& stop = sidecar["statistics"]["stop"];
+    stop_kind = stop.value("kind", "");
+    // A refused resume (force check) may be retried without the flag: nothing new happened.
+    if (stop_kind == "safety" && stop.value("limit", "") != "resume_force_tolerance" &&
+        !options.after_safety_stop) {
+      throw ConfigError(fmt::format(
+          "{}: the run stopped on a safety limit ({}: {}). Resume retries the step that was "
+          "stopped, with the same limits: find and fix the cause first (docs/safety.md, "
+          "\"Resuming a run\"), then run hybridtest resume {} --after-safety-stop",
+          options.csv, stop.value("limit", "?"), stop.value("message", ""), options.csv));
+    }
+  }
+  const std::string state_path = runner::RunStatePath(options.csv);
+  if (!std::filesystem::exists(state_path)) {
+    throw ConfigError(fmt::format("{}: no run state {} beside it: the run stopped before its "
+                                  "first committed row, or was made before resume existed; "
+                                  "start it again with hybridtest run --overwrite",
+                                  options.csv, state_path));
+  }
+  runner::RunState state = runner::LoadRunState(state_path);
+  const std::string config_path = sidecar.value("config_path", "");
+  const std::string command = sidecar.value("command", "run");
+  if (command != "run" && command != "simulate") {
+    throw ConfigError(fmt::format("{}: made by `hybridtest {}`; only run and simulate can be "
+                                  "resumed", options.csv, command));
+  }
+  io::SimulationConfig cfg = io::ParseSimulationConfig(YamlInput::FromText(
+      sidecar.value("config", ""), config_path, "keys such as model:, integrator:, duration:"));
+  ResumePlan plan{.cfg = std::move(cfg), .command = command, .state = std::move(state),
+                  .step = 0, .t = 0.0, .previous_status = status, .record = {}};
+  plan.step = plan.state.scheme.value("step", 0L);
+  plan.t = plan.state.scheme.value("t", 0.0);
+  plan.record = nlohmann::json::object();
+  if (options.force_tolerance) plan.record["force_tolerance_option_N"] = *options.force_tolerance;
+  if (options.after_safety_stop) plan.record["after_safety_stop"] = true;
+  return plan;
+}
+
+}  // namespace hybridtest::app

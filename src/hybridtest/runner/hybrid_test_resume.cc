@@ -1,0 +1,117 @@
+// HybridTest: the run state it saves and the start of a resumed run (see hybrid_test.h,
+// run_state.h and docs/safety.md, "Resuming a run").
+#include <fmt/core.h>
+
+#include <ctime>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/io/journal.h"
+#include "hybridtest/runner/hybrid_test.h"
+#include "hybridtest/substructures/physical_substructure.h"
+
+namespace hybridtest::runner {
+
+namespace {
+std::string UtcNow() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char buffer[32];
+  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return buffer;
+}
+}  // namespace
+
+RunState HybridTest::CaptureState(const schemes::HybridScheme& scheme, long rows,
+                                  long stage_rows, const nlohmann::json& statistics) const {
+  RunState state;
+  state.rows = rows;
+  state.stage_rows = stage_rows;
+  state.scheme = scheme.SaveState();
+  const auto& slots = cfg_.model.model.slots();
+  for (std::size_t s = 0; s < subs_.size(); ++s) {
+    state.substructures.push_back({{"slot", slots[s].info.name}, {"state", subs_[s]->SaveState()}});
+  }
+  state.statistics = statistics;
+  state.stiffness = stiffness_record_;
+  return state;
+}
+
+void HybridTest::RestoreSubstructures(const RunState& state) {
+  const auto& slots = cfg_.model.model.slots();
+  if (state.substructures.size() != subs_.size()) {
+    throw ConfigError(fmt::format("the run state has {} substructures, the run's config {}",
+                                  state.substructures.size(), subs_.size()));
+  }
+  for (std::size_t s = 0; s < subs_.size(); ++s) {
+    const auto& entry = state.substructures[s];
+    if (entry.value("slot", "") != slots[s].info.name) {
+      throw ConfigError(fmt::format("the run state's substructure {} is slot '{}', the config's "
+                                    "is '{}'", s, entry.value("slot", ""), slots[s].info.name));
+    }
+    subs_[s]->RestoreState(entry.at("state"));
+  }
+}
+
+void HybridTest::ResumeFrom(const RunState& state, schemes::HybridScheme& scheme,
+                            io::Journal& journal, const std::function<void()>& write_row,
+                            const std::function<void(long, int, double)>& stage_row) {
+  scheme.RestoreState(state.scheme);
+  stiffness_record_ = state.stiffness;
+  wall_offset_ = state.statistics.value("wall_time_s", 0.0);
+  const schemes::CommittedPoint& p = scheme.committed();
+  stats_.steps = p.step;
+  // The state is saved just before its row: a crash in between lost only that row.
+  bool row_rewritten = false;
+  if (journal.rows() == state.rows - 1) {
+    write_row();
+    row_rewritten = true;
+  } else if (journal.rows() != state.rows) {
+    throw IoError(fmt::format("{}: {} rows, but the run state belongs to row {}; the journal "
+                              "and its state do not fit together", journal.csv_path(),
+                              journal.rows(), state.rows - 1));
+  }
+  nlohmann::json record = options_.resume_record;
+  record.update({{"time", UtcNow()}, {"step", p.step}, {"t", p.t}, {"row", state.rows - 1},
+                 {"rows_cut", rows_cut_},
+                 {"row_rewritten_from_state", row_rewritten},
+                 {"previous_status", journal.previous_status()}});
+  if (journal.sidecar().contains("statistics") &&
+      journal.sidecar()["statistics"].contains("stop")) {
+    const auto& stop = journal.sidecar()["statistics"]["stop"];
+    record["previous_stop"] = {{"kind", stop.value("kind", "")},
+                               {"message", stop.value("message", "")}};
+  }
+  // Physical slots: the bench is brought back to the last committed command and checked.
+  nlohmann::json checks = nlohmann::json::array();
+  nlohmann::json resumes = journal.sidecar().value("resumes", nlohmann::json::array());
+  const auto& slots = cfg_.model.model.slots();
+  try {
+  for (std::size_t s = 0; s < subs_.size(); ++s) {
+    auto* physical = dynamic_cast<substructures::PhysicalSubstructure*>(subs_[s].get());
+    if (physical == nullptr) continue;
+    const auto check = physical->ReimposeCommitted(
+        options_.resume_force_tolerance, p.step,
+        [&](bool reimposition) { stage_row(p.step, reimposition ? -1 : -2, p.t); });
+    nlohmann::json c = {{"slot", slots[s].info.name},     {"command_m", check.command},
+                        {"committed_force_N", check.committed_force},
+                        {"ramp_moves", check.ramp_moves}, {"position_m", check.position},
+                        {"force_N", check.force},         {"tolerance_N", check.tolerance}};
+    c["read_position_m"] = check.read_position ? nlohmann::json(*check.read_position) : nullptr;
+    c["read_force_N"] = check.read_force ? nlohmann::json(*check.read_force) : nullptr;
+    checks.push_back(c);
+  }
+  } catch (const std::exception& e) {
+    // A refused resume is recorded too; the run's status then says why it stopped.
+    record["checks"] = checks;
+    record["refused"] = e.what();
+    resumes.push_back(record);
+    journal.SetSidecarEntry("resumes", resumes);
+    throw;
+  }
+  record["checks"] = checks;
+  resumes.push_back(record);
+  journal.SetSidecarEntry("resumes", resumes);
+}
+
+}  // namespace hybridtest::runner

@@ -1,0 +1,92 @@
+// Checkpoint state of the emulated bench and its parts (see emulated_bench.h, actuator.h,
+// load_cell.h, lab_clock.h).
+#include <fmt/format.h>
+
+#include <sstream>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/transfer/actuator.h"
+#include "hybridtest/transfer/emulated_bench.h"
+#include "hybridtest/transfer/lab_clock.h"
+#include "hybridtest/transfer/load_cell.h"
+
+namespace hybridtest::transfer {
+
+nlohmann::json Actuator::SaveState() const {
+  return {{"reference_m", reference_}, {"delayed_reference_m", delayed_reference_},
+          {"delay_line_m", std::vector<double>(delay_line_.begin(), delay_line_.end())},
+          {"position_m", position_}, {"velocity_m_per_s", velocity_}};
+}
+
+void Actuator::RestoreState(const nlohmann::json& state) {
+  const auto line = state.at("delay_line_m").get<std::vector<double>>();
+  if (line.size() != delay_line_.size()) {
+    throw Error(fmt::format("emulated actuator: the saved delay line has {} entries, this "
+                            "actuator {}: the bench config changed", line.size(),
+                            delay_line_.size()));
+  }
+  reference_ = state.at("reference_m").get<double>();
+  delayed_reference_ = state.at("delayed_reference_m").get<double>();
+  delay_line_.assign(line.begin(), line.end());
+  position_ = state.at("position_m").get<double>();
+  velocity_ = state.at("velocity_m_per_s").get<double>();
+}
+
+std::string LoadCell::SaveState() const {
+  std::ostringstream out;
+  out << generator_ << ' ' << normal_;
+  return out.str();
+}
+
+void LoadCell::RestoreState(const std::string& state) {
+  std::istringstream in(state);
+  in >> generator_ >> normal_;
+  if (!in) throw Error("emulated load cell: cannot read the saved generator state");
+}
+
+void LabClock::Restore(double lab_time) {
+  lab_time_ = lab_time;
+  if (started_) {
+    origin_ = std::chrono::steady_clock::now() -
+              std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                  std::chrono::duration<double>(lab_time));
+  }
+}
+
+nlohmann::json EmulatedBench::SaveState() const {
+  return {{"kind", "emulated"},
+          {"command_count", command_count_},
+          {"lab_time_s", clock_->lab_time()},
+          {"actuator", actuator_->SaveState()},
+          {"specimen", specimen_->SaveState()},
+          {"load_cell", load_cell_->SaveState()},
+          {"safety", safety_.SaveState()}};
+}
+
+void EmulatedBench::RestoreState(const nlohmann::json& state) {
+  try {
+    if (state.value("kind", "") != "emulated") {
+      throw Error("it is not an emulated bench's state");
+    }
+    actuator_->RestoreState(state.at("actuator"));
+    specimen_->RestoreState(state.at("specimen"));
+    load_cell_->RestoreState(state.at("load_cell").get<std::string>());
+    safety_.RestoreState(state.at("safety"));
+    clock_->Restore(state.at("lab_time_s").get<double>());
+    command_count_ = state.at("command_count").get<long>();
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(fmt::format("emulated bench: cannot restore its state: {}", e.what()));
+  }
+}
+
+std::optional<Measurement> EmulatedBench::Read() const {
+  const double position = actuator_->position();
+  // The specimen's force at the committed state: its law's trial from there (a copy, so the
+  // committed state is untouched).
+  auto law = specimen_->Clone();
+  const double force = law->Trial(position - config_.p0) + config_.offset;
+  return Measurement{position / config_.units.metres_per_length_unit,
+                     force / config_.units.newtons_per_force_unit, clock_->lab_time()};
+}
+
+}  // namespace hybridtest::transfer

@@ -1,0 +1,101 @@
+// PhysicalSubstructure::SaveState/RestoreState and ReimposeCommitted (resume): the last
+// committed command is re-imposed once (ramped in moves within max_increment if the bench is
+// elsewhere), the force is compared with the committed one, and a mismatch refuses with a
+// SafetyStop naming both forces.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include "hybridtest/substructures/physical_substructure.h"
+#include "hybridtest/transfer/bench_config.h"
+#include "hybridtest/transfer/emulated_bench.h"
+
+namespace hybridtest::substructures {
+namespace {
+
+const std::string kIdeal = std::string(HYBRIDTEST_SOURCE_DIR) + "/examples/rotor/bench-ideal.yaml";
+const transfer::SafetyLimits kLimits{-0.15, 0.15, 0.005, 8000.0, 10000.0, 5.0};
+
+std::unique_ptr<PhysicalSubstructure> MakeIdealSlot() {
+  SetupTransform setup;
+  setup.p0 = 0.020;  // [m], the bench's p0_mm
+  return std::make_unique<PhysicalSubstructure>(
+      "r1", transfer::MakeEmulatedBench(transfer::LoadEmulatedBenchConfig(kIdeal)), setup, kLimits);
+}
+
+// A slot that has made a few trials up to d = 12 mm, and its saved state.
+nlohmann::json StateAfterTrials() {
+  auto slot = MakeIdealSlot();
+  slot->Activate();
+  for (int k = 1; k <= 4; ++k) slot->Trial(0.003 * k, {k, 0, 0.001 * k});
+  slot->Commit();
+  return nlohmann::json::parse(slot->SaveState().dump());
+}
+
+TEST(PhysicalResume, ReimposesTheCommittedCommandOnce) {
+  const auto state = StateAfterTrials();
+  auto slot = MakeIdealSlot();
+  slot->Activate();
+  slot->RestoreState(state);  // the in-process bench comes back where it was
+  std::vector<bool> moves;
+  const auto check = slot->ReimposeCommitted(0.0, 4, [&](bool r) { moves.push_back(r); });
+  EXPECT_EQ(moves, std::vector<bool>{true});
+  EXPECT_NEAR(check.command, 0.032, 1e-12);
+  ASSERT_TRUE(check.read_position.has_value());
+  EXPECT_NEAR(*check.read_position, 0.032, 1e-12);
+  EXPECT_EQ(check.ramp_moves, 0);
+  EXPECT_EQ(check.force, check.committed_force);  // ideal bench: exactly
+  EXPECT_DOUBLE_EQ(check.tolerance, 100.0);       // 1 % of force_hard
+}
+
+TEST(PhysicalResume, RampsBackWithinTheIncrementLimit) {
+  auto state = StateAfterTrials();
+  state["transfer"] = nullptr;  // the bench is NOT restored: it starts at p0 = 20 mm
+  auto slot = MakeIdealSlot();
+  slot->Activate();
+  slot->RestoreState(state);
+  std::vector<double> commands;
+  const auto check = slot->ReimposeCommitted(
+      0.0, 4, [&](bool) { commands.push_back(slot->last_exchange().command); });
+  EXPECT_NEAR(*check.read_position, 0.020, 1e-12);
+  EXPECT_EQ(check.ramp_moves, 2);  // 12 mm in moves of at most 5 mm: 3 moves
+  ASSERT_EQ(commands.size(), 3u);
+  double previous = 0.020;
+  for (double c : commands) {
+    EXPECT_LE(std::abs(c - previous), kLimits.max_increment + 1e-15);
+    previous = c;
+  }
+  EXPECT_NEAR(commands.back(), 0.032, 1e-12);
+  EXPECT_NEAR(check.force, check.committed_force, 1e-9);
+}
+
+TEST(PhysicalResume, RefusesAForceThatDisagreesWithTheJournal) {
+  auto state = StateAfterTrials();
+  const double committed = state["last"]["force_N"].get<double>();
+  state["last"]["force_N"] = committed + 150.0;  // the specimen changed (say, it cracked)
+  auto slot = MakeIdealSlot();
+  slot->Activate();
+  slot->RestoreState(state);
+  try {
+    slot->ReimposeCommitted(0.0, 4, {});
+    FAIL() << "no SafetyStop";
+  } catch (const transfer::SafetyStop& e) {
+    EXPECT_EQ(e.limit(), "resume_force_tolerance");
+    EXPECT_NEAR(e.value(), 150.0, 1e-9);
+    EXPECT_DOUBLE_EQ(e.limit_value(), 100.0);
+    const std::string what = e.what();
+    EXPECT_NE(what.find(fmt::format("{} N", committed + 150.0)), std::string::npos) << what;
+    EXPECT_NE(what.find("--force-tolerance"), std::string::npos) << what;
+  }
+  // A wider tolerance accepts it.
+  auto again = MakeIdealSlot();
+  again->Activate();
+  again->RestoreState(state);
+  EXPECT_NO_THROW(again->ReimposeCommitted(200.0, 4, {}));
+}
+
+}  // namespace
+}  // namespace hybridtest::substructures
