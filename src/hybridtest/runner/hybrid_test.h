@@ -1,23 +1,28 @@
 #pragma once
-// HybridTest: the loop policy of a (hybrid) simulation — the paper's Algorithm 1 with all s
-// stages. For each step n:
+// HybridTest: the loop policy of a (hybrid) simulation. It owns the substructures, the
+// journal (and stage record), the run state and the progress display, and drives any
+// schemes::HybridScheme (decision 0010):
 //
-//   for each stage i = 0..s−1 (ExplicitRungeKutta::Step):
-//     x_i = x_n + h Σ_j a_ij k_j                         pure
-//     d   = slot displacements at x_i                    pure (the model's slot fields)
-//     r   = substructures.Trial(d)                       ◄ the impure seam: steel moves here
-//     if i == 0: substructures.Commit(); journal row n   (x_0 = x_n: the committed state)
-//     k_i = f_rhs(t_n + c_i h, x_i, r)                   pure (Kane engine)
-//   x_{n+1} = x_n + h Σ b_i k_i
+//   activate the substructures; measure K0 where the config asks for it
+//   r_0 = trial at x_0 (step 0, stage 0); commit; journal row 0       ◄ steel moves here
+//   until the scheme is finished:
+//     scheme.Step(seam, rows)     the scheme's trials go through the seam: slot displacements
+//                                 d(t, q) of the state it names → substructures.Trial(d) → r;
+//                                 a stage record row per trial; intermediate rows (MR-OS's
+//                                 substeps, no specimen sample) go to the journal
+//     substructures.Commit(); run state saved; journal row of the committed point (t, x, r)
+//                                 with the last exchange of each physical substructure
 //
-// and a last trial at x_N completes the last row. Row n of the journal therefore holds the
-// committed state x_n and the restoring forces measured at exactly that state; it is on disk
-// before stage 1 of step n moves anything.
+// For explicit Runge–Kutta this is the paper's Algorithm 1 with all s stages, trial for trial
+// as before hybrid schemes (the trial at x_{n+1} is the stage 0 of step n+1): row n holds the
+// committed state x_n and the forces measured at exactly that state, on disk before the next
+// trial moves anything.
 //
 // On any failure (SafetyStop, TransferError, a singular mass matrix, a write error) every
-// physical substructure is put on Hold(), every committed state is in the journal (the row of
-// the current state with NaN restoring forces if its trial failed), the sidecar records the
-// status and the statistics, and the error propagates to the caller. Nothing is retried.
+// physical substructure is put on Hold(), every committed state is in the journal (plus the
+// state an explicit RK step computed, with NaN restoring forces, if its own trial failed), the
+// sidecar records the status and the statistics, and the error propagates to the caller.
+// Nothing is retried; `hybridtest resume` continues from the run state (decision 0011).
 #include <functional>
 #include <string>
 
