@@ -14,20 +14,10 @@ namespace hybridtest::schemes {
 
 AlphaOs::AlphaOs(const multibody::Model& model, const SchemeConfig& config, const SlotInfo& slots,
                  double dt, double duration, long steps)
-    : HybridScheme(2 * model.num_coordinates(), model.num_slots()),
-      model_(model),
-      config_(config),
-      slots_(slots),
+    : OperatorSplittingScheme(model, config, slots, dt, duration, steps),
       alpha_(config.alpha),
       beta_((1.0 - config.alpha) * (1.0 - config.alpha) / 4.0),
       gamma_(0.5 - config.alpha),
-      h_(config.adaptive.enabled ? std::clamp(dt, config.adaptive.dt_min, config.adaptive.dt_max)
-                                 : dt),
-      duration_(duration),
-      steps_(steps),
-      n_(model.num_coordinates()),
-      m_(model.num_slots()),
-      data_(model),
       D_(model.num_slots(), model.num_coordinates()),
       jac_(model.num_coordinates(), model.num_coordinates()),
       J_(2 * model.num_coordinates(), 2 * model.num_coordinates()),
@@ -41,34 +31,16 @@ AlphaOs::AlphaOs(const multibody::Model& model, const SchemeConfig& config, cons
                       "q̇ = W(q) u with W ≠ I; α-OS needs q̇ = u. Use scheme: mr-os or "
                       "runge-kutta");
   }
-  for (int s = 0; s < m_; ++s) {
-    if (!std::isfinite(slots_.k0(s))) {
-      throw ConfigError(fmt::format("integrator.scheme = alpha-os: slot {} has no initial stiffness "
-                                    "K0; give substructures.{}.initial_stiffness (N/m) or "
-                                    "`measure`", model.slots()[s].info.name,
-                                    model.slots()[s].info.name));
-    }
-  }
   for (Eigen::VectorXd* v : {&a_, &f_n_, &a_new_, &f_try_, &res_, &delta_, &q_scratch_}) v->setZero(n_);
   for (Eigen::VectorXd* v : {&x_pred_, &x_try_, &xdot_}) v->setZero(2 * n_);
-  for (Eigen::VectorXd* v : {&r_pred_, &r_try_, &d_pred_, &d_try_, &d_last_, &d_plus_, &d_minus_}) {
+  for (Eigen::VectorXd* v : {&r_pred_, &r_try_, &d_pred_, &d_try_, &d_plus_, &d_minus_}) {
     v->setZero(m_);
   }
 }
 
 std::string AlphaOs::Describe() const {
   return fmt::format("α-OS (Combescure & Pegon 1997), α = {}, β = {}, γ = {}, {}", alpha_, beta_,
-                     gamma_,
-                     config_.adaptive.enabled
-                         ? fmt::format("adaptive step {}–{} s, tolerance {} m",
-                                       config_.adaptive.dt_min, config_.adaptive.dt_max,
-                                       config_.adaptive.tolerance)
-                         : fmt::format("fixed step {} s", h_));
-}
-
-bool AlphaOs::finished() const {
-  if (!config_.adaptive.enabled) return point_.step >= steps_;
-  return point_.t >= duration_ * (1.0 - 1e-12);
+                     gamma_, StepDescription());
 }
 
 void AlphaOs::Acceleration(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& r,
@@ -93,10 +65,8 @@ void AlphaOs::Predict(double h) {
 void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
   const long n = point_.step;
   // The step: fixed (t_{n+1} = (n+1) h, as exact as the RK schemes), or adaptive towards t_end.
-  double h = h_;
-  double t_next = static_cast<double>(n + 1) * h_;
+  double h = StepToTake();
   if (config_.adaptive.enabled) {
-    h = StepTowards(point_.t, duration_, h_, config_.adaptive.dt_min);
     // Shorten (before anything moves) while the command would use too much of an increment.
     for (int k = 0; k < 20; ++k) {
       Predict(h);
@@ -107,8 +77,8 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
       }
       h = std::max(config_.adaptive.dt_min, 0.5 * h);
     }
-    t_next = point_.t + h;
   }
+  const double t_next = StepEnd(h);
   Predict(h);
   multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_pred_.head(n_), d_pred_);
 
@@ -172,16 +142,15 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
 }
 
 nlohmann::json AlphaOs::SaveOwnState() const {
-  return {{"h", h_}, {"a", ToJson(a_)}, {"f", ToJson(f_n_)}, {"d_last", ToJson(d_last_)},
-          {"k0", ToJson(slots_.k0)}};
+  nlohmann::json state = {{"a", ToJson(a_)}, {"f", ToJson(f_n_)}};
+  SaveSplittingState(state);
+  return state;
 }
 
 void AlphaOs::RestoreOwnState(const nlohmann::json& state) {
-  h_ = state.at("h").get<double>();
+  RestoreSplittingState(state);
   a_ = VectorFromJson(state.at("a"), n_, "alpha-os a");
   f_n_ = VectorFromJson(state.at("f"), n_, "alpha-os f");
-  d_last_ = VectorFromJson(state.at("d_last"), m_, "alpha-os d_last");
-  slots_.k0 = VectorFromJson(state.at("k0"), m_, "alpha-os k0");
 }
 
 }  // namespace hybridtest::schemes

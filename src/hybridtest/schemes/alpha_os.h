@@ -40,12 +40,11 @@
 #include "hybridtest/multibody/data.h"
 #include "hybridtest/multibody/derivatives.h"
 #include "hybridtest/multibody/model.h"
-#include "hybridtest/schemes/hybrid_scheme.h"
-#include "hybridtest/schemes/scheme_config.h"
+#include "hybridtest/schemes/operator_splitting.h"
 
 namespace hybridtest::schemes {
 
-class AlphaOs final : public HybridScheme {
+class AlphaOs final : public OperatorSplittingScheme {
  public:
   // dt [s]: the step (fixed) or the first step (adaptive); `steps` = duration / dt when fixed.
   AlphaOs(const multibody::Model& model, const SchemeConfig& config, const SlotInfo& slots,
@@ -53,10 +52,7 @@ class AlphaOs final : public HybridScheme {
 
   std::string name() const override { return "alpha-os"; }
   std::string Describe() const override;
-  int evaluations_per_step() const override { return 1; }
   void Step(SubstructureSeam& seam, RowSink& rows) override;
-  bool finished() const override;
-  double next_step_size() const override { return h_; }
 
  protected:
   void OnStart() override;
@@ -70,17 +66,9 @@ class AlphaOs final : public HybridScheme {
   // The predictor for a step of size h from the committed point into x_pred_.
   void Predict(double h);
 
-  const multibody::Model& model_;
-  SchemeConfig config_;
-  SlotInfo slots_;
   double alpha_, beta_, gamma_;
-  double h_;            // next step [s]
-  double duration_;     // [s]
-  long steps_;          // fixed step: number of steps
-  int n_, m_;
-  multibody::Data<double> data_;
-  // Memory (part of the run state): a_n and F_n, and the last command's slot displacements.
-  Eigen::VectorXd a_, f_n_, d_last_;
+  // Memory (part of the run state, with the base's): a_n and F_n.
+  Eigen::VectorXd a_, f_n_;
   // Workspaces.
   Eigen::VectorXd x_pred_, x_try_, xdot_, r_pred_, r_try_, d_pred_, d_try_, f_try_, a_new_, res_, delta_,
       q_scratch_, d_plus_, d_minus_;

@@ -14,45 +14,17 @@ namespace hybridtest::schemes {
 
 MrOs::MrOs(const multibody::Model& model, const SchemeConfig& config, const SlotInfo& slots,
            double dt, double duration, long steps)
-    : HybridScheme(2 * model.num_coordinates(), model.num_slots()),
-      model_(model),
-      config_(config),
-      slots_(slots),
-      h_(config.adaptive.enabled ? std::clamp(dt, config.adaptive.dt_min, config.adaptive.dt_max)
-                                 : dt),
-      duration_(duration),
-      steps_(steps),
-      n_(model.num_coordinates()),
-      m_(model.num_slots()),
-      data_(model),
+    : OperatorSplittingScheme(model, config, slots, dt, duration, steps),
       rk4_(integrators::FindTableau("rk4"), 2 * model.num_coordinates()) {
-  for (int s = 0; s < m_; ++s) {
-    if (!std::isfinite(slots_.k0(s))) {
-      throw ConfigError(fmt::format("integrator.scheme = mr-os: slot {} has no initial stiffness "
-                                    "K0; give substructures.{}.initial_stiffness (N/m) or "
-                                    "`measure`", model.slots()[s].info.name,
-                                    model.slots()[s].info.name));
-    }
-  }
-  for (Eigen::VectorXd* v : {&rho_prev_, &rho_cur_, &rho_new_, &d_last_, &d_, &rho_, &r_, &r_sample_}) {
+  for (Eigen::VectorXd* v : {&rho_prev_, &rho_cur_, &rho_new_, &d_, &rho_, &r_, &r_sample_}) {
     v->setZero(m_);
   }
   for (Eigen::VectorXd* v : {&x_pred_, &x_corr_, &x_sub_}) v->setZero(2 * n_);
 }
 
 std::string MrOs::Describe() const {
-  return fmt::format("MR-OS (multi-rate operator splitting), RK4 substeps ≤ {} s, {}",
-                     config_.substep,
-                     config_.adaptive.enabled
-                         ? fmt::format("adaptive macro step {}–{} s, tolerance {} m",
-                                       config_.adaptive.dt_min, config_.adaptive.dt_max,
-                                       config_.adaptive.tolerance)
-                         : fmt::format("fixed macro step {} s", h_));
-}
-
-bool MrOs::finished() const {
-  if (!config_.adaptive.enabled) return point_.step >= steps_;
-  return point_.t >= duration_ * (1.0 - 1e-12);
+  return fmt::format("MR-OS (multi-rate operator splitting), RK4 substeps ≤ {} s, macro {}",
+                     config_.substep, StepDescription());
 }
 
 void MrOs::OnStart() {
@@ -112,14 +84,12 @@ void MrOs::Integrate(double h, bool with_new, Eigen::VectorXd& x_end,
 
 void MrOs::Step(SubstructureSeam& seam, RowSink& rows) {
   const long k = point_.step;
-  double h = config_.adaptive.enabled
-                 ? StepTowards(point_.t, duration_, h_, config_.adaptive.dt_min)
-                 : h_;
-  double t_next = static_cast<double>(k + 1) * h_;
+  double h = StepToTake();
+  double t_next = 0.0;
   // Predict (shortening the macro step, before anything moves, while the command would use
   // too much of a slot's increment limit).
   for (int attempt = 0;; ++attempt) {
-    if (config_.adaptive.enabled) t_next = point_.t + h;
+    t_next = StepEnd(h);
     Integrate(h, false, x_pred_, nullptr);
     multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_pred_.head(n_), d_);
     if (!config_.adaptive.enabled || attempt >= 20 || h <= config_.adaptive.dt_min ||
@@ -154,25 +124,22 @@ void MrOs::Step(SubstructureSeam& seam, RowSink& rows) {
 }
 
 nlohmann::json MrOs::SaveOwnState() const {
-  return {{"h", h_},
-          {"samples", samples_},
-          {"t_prev", t_prev_},
-          {"t_cur", t_cur_},
-          {"rho_prev", ToJson(rho_prev_)},
-          {"rho_cur", ToJson(rho_cur_)},
-          {"d_last", ToJson(d_last_)},
-          {"k0", ToJson(slots_.k0)}};
+  nlohmann::json state = {{"samples", samples_},
+                          {"t_prev", t_prev_},
+                          {"t_cur", t_cur_},
+                          {"rho_prev", ToJson(rho_prev_)},
+                          {"rho_cur", ToJson(rho_cur_)}};
+  SaveSplittingState(state);
+  return state;
 }
 
 void MrOs::RestoreOwnState(const nlohmann::json& state) {
-  h_ = state.at("h").get<double>();
+  RestoreSplittingState(state);
   samples_ = state.at("samples").get<int>();
   t_prev_ = state.at("t_prev").get<double>();
   t_cur_ = state.at("t_cur").get<double>();
   rho_prev_ = VectorFromJson(state.at("rho_prev"), m_, "mr-os rho_prev");
   rho_cur_ = VectorFromJson(state.at("rho_cur"), m_, "mr-os rho_cur");
-  d_last_ = VectorFromJson(state.at("d_last"), m_, "mr-os d_last");
-  slots_.k0 = VectorFromJson(state.at("k0"), m_, "mr-os k0");
 }
 
 }  // namespace hybridtest::schemes

@@ -28,12 +28,11 @@
 #include "hybridtest/integrators/explicit_runge_kutta.h"
 #include "hybridtest/multibody/data.h"
 #include "hybridtest/multibody/model.h"
-#include "hybridtest/schemes/hybrid_scheme.h"
-#include "hybridtest/schemes/scheme_config.h"
+#include "hybridtest/schemes/operator_splitting.h"
 
 namespace hybridtest::schemes {
 
-class MrOs final : public HybridScheme {
+class MrOs final : public OperatorSplittingScheme {
  public:
   // dt [s]: the macro step (fixed) or the first macro step (adaptive).
   MrOs(const multibody::Model& model, const SchemeConfig& config, const SlotInfo& slots,
@@ -41,10 +40,7 @@ class MrOs final : public HybridScheme {
 
   std::string name() const override { return "mr-os"; }
   std::string Describe() const override;
-  int evaluations_per_step() const override { return 1; }
   void Step(SubstructureSeam& seam, RowSink& rows) override;
-  bool finished() const override;
-  double next_step_size() const override { return h_; }
 
  protected:
   void OnStart() override;
@@ -58,20 +54,12 @@ class MrOs final : public HybridScheme {
   // substep rows (all but the last) if `rows` is given.
   void Integrate(double h, bool with_new, Eigen::VectorXd& x_end, RowSink* rows);
 
-  const multibody::Model& model_;
-  SchemeConfig config_;
-  SlotInfo slots_;
-  double h_;          // next macro step [s]
-  double duration_;   // [s]
-  long steps_;        // fixed macro steps
-  int n_, m_;
-  multibody::Data<double> data_;
   integrators::ExplicitRungeKutta rk4_;
-  // Memory (part of the run state): the last two samples' times and residuals (the older one
-  // is absent at the start), and the last command's slot displacements.
+  // Memory (part of the run state, with the base's): the last two samples' times and
+  // residuals (the older one is absent at the start).
   int samples_ = 0;   // 1 or 2 once started
   double t_prev_ = 0.0, t_cur_ = 0.0, t_new_ = 0.0;
-  Eigen::VectorXd rho_prev_, rho_cur_, rho_new_, d_last_;
+  Eigen::VectorXd rho_prev_, rho_cur_, rho_new_;
   // Workspaces.
   Eigen::VectorXd x_pred_, x_corr_, x_sub_, d_, rho_, r_, r_sample_;
 };

@@ -1,0 +1,72 @@
+// See operator_splitting.h.
+#include "hybridtest/schemes/operator_splitting.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/schemes/step_control.h"
+
+namespace hybridtest::schemes {
+
+OperatorSplittingScheme::OperatorSplittingScheme(const multibody::Model& model,
+                                                 const SchemeConfig& config, const SlotInfo& slots,
+                                                 double dt, double duration, long steps)
+    : HybridScheme(2 * model.num_coordinates(), model.num_slots()),
+      model_(model),
+      config_(config),
+      slots_(slots),
+      h_(config.adaptive.enabled ? std::clamp(dt, config.adaptive.dt_min, config.adaptive.dt_max)
+                                 : dt),
+      duration_(duration),
+      steps_(steps),
+      n_(model.num_coordinates()),
+      m_(model.num_slots()),
+      data_(model),
+      d_last_(Eigen::VectorXd::Zero(model.num_slots())) {
+  for (int s = 0; s < m_; ++s) {
+    if (!std::isfinite(slots_.k0(s))) {
+      const std::string& slot = model.slots()[s].info.name;
+      throw ConfigError(fmt::format("integrator.scheme = {}: slot {} has no initial stiffness K0; "
+                                    "give substructures.{}.initial_stiffness (N/m) or `measure`",
+                                    SchemeKindName(config.kind), slot, slot));
+    }
+  }
+}
+
+bool OperatorSplittingScheme::finished() const {
+  if (!config_.adaptive.enabled) return point_.step >= steps_;
+  return point_.t >= duration_ * (1.0 - 1e-12);
+}
+
+std::string OperatorSplittingScheme::StepDescription() const {
+  return config_.adaptive.enabled
+             ? fmt::format("adaptive step {}–{} s, tolerance {} m", config_.adaptive.dt_min,
+                           config_.adaptive.dt_max, config_.adaptive.tolerance)
+             : fmt::format("fixed step {} s", h_);
+}
+
+double OperatorSplittingScheme::StepToTake() const {
+  return config_.adaptive.enabled ? StepTowards(point_.t, duration_, h_, config_.adaptive.dt_min)
+                                  : h_;
+}
+
+double OperatorSplittingScheme::StepEnd(double h) const {
+  return config_.adaptive.enabled ? point_.t + h : static_cast<double>(point_.step + 1) * h_;
+}
+
+void OperatorSplittingScheme::SaveSplittingState(nlohmann::json& state) const {
+  state["h"] = h_;
+  state["k0"] = ToJson(slots_.k0);
+  state["d_last"] = ToJson(d_last_);
+}
+
+void OperatorSplittingScheme::RestoreSplittingState(const nlohmann::json& state) {
+  h_ = state.at("h").get<double>();
+  slots_.k0 = VectorFromJson(state.at("k0"), m_, "k0");
+  d_last_ = VectorFromJson(state.at("d_last"), m_, "d_last");
+}
+
+}  // namespace hybridtest::schemes
