@@ -8,7 +8,6 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <functional>
 #include <limits>
 #include <optional>
 
@@ -181,15 +180,6 @@ RunStatistics HybridTest::Run() {
   };
 
   // The seam: trials of every substructure at a state (and the stage record).
-  class Seam final : public schemes::SubstructureSeam {
-   public:
-    explicit Seam(std::function<void(long, int, double, const Eigen::VectorXd&,
-                                     Eigen::Ref<Eigen::VectorXd>)> f) : f_(std::move(f)) {}
-    void Trial(long step, int stage, double t, const Eigen::VectorXd& x,
-               Eigen::Ref<Eigen::VectorXd> r) override { f_(step, stage, t, x, r); }
-   private:
-    std::function<void(long, int, double, const Eigen::VectorXd&, Eigen::Ref<Eigen::VectorXd>)> f_;
-  };
   auto stage_row = [&](long step, int stage, double t) {
     if (!stages) return;
     Eigen::Index c = 0;
@@ -203,21 +193,14 @@ RunStatistics HybridTest::Run() {
     }
     stages->Append(std::span<const double>(stage_values.data(), stage_values.size()));
   };
-  Seam seam([&](long step, int stage, double t, const Eigen::VectorXd& xs,
-                Eigen::Ref<Eigen::VectorXd> r) {
+  schemes::SeamOf seam([&](long step, int stage, double t, const Eigen::VectorXd& xs,
+                           Eigen::Ref<Eigen::VectorXd> r) {
     multibody::CalcSlotDisplacements<double>(model, data, t, xs.head(n), d);
     for (int s = 0; s < m; ++s) r(s) = subs_[s]->Trial(d(s), {step, stage, t});
     stage_row(step, stage, t);
   });
-  class Rows final : public schemes::RowSink {
-   public:
-    explicit Rows(std::function<void(double, const Eigen::VectorXd&, const Eigen::VectorXd&)> f)
-        : f_(std::move(f)) {}
-    void Row(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& r) override { f_(t, x, r); }
-   private:
-    std::function<void(double, const Eigen::VectorXd&, const Eigen::VectorXd&)> f_;
-  };
-  Rows rows([&](double t, const Eigen::VectorXd& xs, const Eigen::VectorXd& rs) {
+  // A scheme's intermediate rows (no specimen sample belongs to them).
+  schemes::RowSinkOf rows([&](double t, const Eigen::VectorXd& xs, const Eigen::VectorXd& rs) {
     write_row(t, xs, rs, false);
   });
 

@@ -54,6 +54,29 @@ class RowSink {
   virtual void Row(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& r) = 0;
 };
 
+// A seam or a row sink made from a callable (the runner's lambdas; tests' fakes).
+template <class F>
+class SeamOf final : public SubstructureSeam {
+ public:
+  explicit SeamOf(F f) : f_(std::move(f)) {}
+  void Trial(long step, int stage, double t, const Eigen::VectorXd& x,
+             Eigen::Ref<Eigen::VectorXd> r) override {
+    f_(step, stage, t, x, r);
+  }
+
+ private:
+  F f_;
+};
+template <class F>
+class RowSinkOf final : public RowSink {
+ public:
+  explicit RowSinkOf(F f) : f_(std::move(f)) {}
+  void Row(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& r) override { f_(t, x, r); }
+
+ private:
+  F f_;
+};
+
 // A committed point of the run.
 struct CommittedPoint {
   long step = 0;        // steps committed since t0 (0 at the start)
