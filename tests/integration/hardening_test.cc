@@ -67,7 +67,8 @@ TEST(Hardening, RemoteExampleRunsWhileAnIdleConnectionIsOpen) {
   const std::string csv = (OutDir() / "remote.csv").string();
   const auto [status, out] =
       RunCommand(kExe + " run " + kSource + "/examples/rotor/remote.yaml --quiet --bench 127.0.0.1:" +
-                 std::to_string(bench.port()) + " --out " + csv);
+                 std::to_string(bench.port()) + " --out " + csv,
+                 600);  // a bound, not a timing: the run is 10,000 committed steps over TCP
   EXPECT_EQ(status, 0) << out;
   EXPECT_TRUE(fs::exists(csv));
 }
