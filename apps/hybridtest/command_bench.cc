@@ -53,6 +53,25 @@ extern "C" void StopOnSignal(int /*signal*/) {
   if (g_openfresco_server != nullptr) g_openfresco_server->Stop();
 }
 
+// Serves until SIGINT or SIGTERM: `registered` (one of the pointers above) names `server` to
+// the signal handlers while it serves, and is cleared when Serve() returns or throws.
+template <typename Server>
+void ServeUntilSignal(Server& server, Server*& registered) {
+  registered = &server;
+  struct sigaction action {};
+  action.sa_handler = StopOnSignal;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+  try {
+    server.Serve();
+  } catch (...) {
+    registered = nullptr;
+    throw;
+  }
+  registered = nullptr;
+}
+
 // --protocol openfresco: the same bench and options, served by the OpenFresco server.
 void ServeOpenFresco(const BenchArgs& args, const transfer::EmulatedBenchConfig& config,
                      transfer::TransferSystem& bench, const transfer::BenchServerOptions& options) {
@@ -66,19 +85,7 @@ void ServeOpenFresco(const BenchArgs& args, const transfer::EmulatedBenchConfig&
               server.address().c_str(), server.setup().dofs(), bench.Describe().c_str(),
               options.token.empty() ? "none" : "required");
   std::fflush(stdout);
-  g_openfresco_server = &server;
-  struct sigaction action {};
-  action.sa_handler = StopOnSignal;
-  sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
-  try {
-    server.Serve();
-  } catch (...) {
-    g_openfresco_server = nullptr;
-    throw;
-  }
-  g_openfresco_server = nullptr;
+  ServeUntilSignal(server, g_openfresco_server);
 }
 
 void RunBench(const BenchArgs& args) {
@@ -116,20 +123,7 @@ void RunBench(const BenchArgs& args) {
               bench->Describe().c_str(), options.token.empty() ? "none" : "required",
               faults.empty() ? "" : ("; TEST FAULTS INJECTED: " + faults).c_str());
   std::fflush(stdout);
-
-  g_server = &server;
-  struct sigaction action {};
-  action.sa_handler = StopOnSignal;
-  sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
-  try {
-    server.Serve();
-  } catch (...) {
-    g_server = nullptr;
-    throw;
-  }
-  g_server = nullptr;
+  ServeUntilSignal(server, g_server);
 }
 
 void AddBenchCommand(CLI::App& root) {

@@ -12,6 +12,21 @@
 namespace hybridtest::transfer {
 namespace {
 
+TEST(Auth, BindPolicyNeedsATokenOffLoopback) {
+  EXPECT_NO_THROW(CheckBindPolicy("127.0.0.1", 7471, "", "the bench"));
+  EXPECT_NO_THROW(CheckBindPolicy("::1", 7471, "", "the bench"));
+  EXPECT_NO_THROW(CheckBindPolicy("0.0.0.0", 7471, "s3cret", "the bench"));
+  try {
+    CheckBindPolicy("0.0.0.0", 8090, "", "the OpenFresco bench");
+    FAIL() << "a non-loopback address without a token was accepted";
+  } catch (const ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("the OpenFresco bench on 0.0.0.0:8090 without a token"),
+              std::string::npos) << what;
+    EXPECT_NE(what.find(kTokenEnvironmentVariable), std::string::npos) << what;
+  }
+}
+
 TEST(Auth, TokensEqualComparesEveryByteAndTheLength) {
   EXPECT_TRUE(TokensEqual("s3cret", "s3cret"));
   EXPECT_TRUE(TokensEqual("", ""));

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <ctime>
 #include <filesystem>
 #include <set>
 
@@ -15,18 +14,10 @@
 #include "hybridtest/common/version.h"
 #include "hybridtest/io/atomic_file.h"
 #include "hybridtest/io/csv.h"
+#include "hybridtest/io/utc_time.h"
 
 namespace hybridtest::io {
 namespace {
-
-std::string UtcNowIso8601() {
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char buffer[32];
-  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return buffer;
-}
 
 void ValidateChannels(const std::string& csv_path, const std::vector<Channel>& channels) {
   if (channels.empty()) {

@@ -2,25 +2,13 @@
 // run_state.h and docs/safety.md, "Resuming a run").
 #include <fmt/core.h>
 
-#include <ctime>
-
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/journal.h"
+#include "hybridtest/io/utc_time.h"
 #include "hybridtest/runner/hybrid_test.h"
 #include "hybridtest/substructures/physical_substructure.h"
 
 namespace hybridtest::runner {
-
-namespace {
-std::string UtcNow() {
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char buffer[32];
-  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return buffer;
-}
-}  // namespace
 
 RunState HybridTest::CaptureState(const schemes::HybridScheme& scheme, long rows,
                                   long stage_rows, const nlohmann::json& statistics) const {
@@ -72,7 +60,8 @@ void HybridTest::ResumeFrom(const RunState& state, schemes::HybridScheme& scheme
                               journal.rows(), state.rows - 1));
   }
   nlohmann::json record = options_.resume_record;
-  record.update({{"time", UtcNow()}, {"step", p.step}, {"t", p.t}, {"row", state.rows - 1},
+  record.update({{"time", io::UtcNowIso8601()}, {"step", p.step}, {"t", p.t},
+                 {"row", state.rows - 1},
                  {"rows_cut", rows_cut_},
                  {"row_rewritten_from_state", row_rewritten},
                  {"previous_status", journal.previous_status()}});

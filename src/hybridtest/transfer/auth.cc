@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/transfer/socket.h"
 
 namespace hybridtest::transfer {
 
@@ -49,6 +50,16 @@ std::string ReadTokenFile(const std::string& path, const std::string& where) {
 std::string TokenFromEnvironment() {
   const char* value = std::getenv(kTokenEnvironmentVariable);
   return value == nullptr ? std::string() : std::string(value);
+}
+
+void CheckBindPolicy(const std::string& host, std::uint16_t port, const std::string& token,
+                     const std::string& server) {
+  if (!token.empty() || IsLoopbackHost(host)) return;
+  throw ConfigError(fmt::format(
+      "refusing to serve {} on {}:{} without a token: a non-loopback address lets anyone on the "
+      "network move the actuator; set a shared token (--token-file or {}) or listen on "
+      "127.0.0.1 (and tunnel, e.g. ssh -L)",
+      server, host, port, kTokenEnvironmentVariable));
 }
 
 bool AuthThrottle::IsLocked(const std::string& peer, Clock::time_point now) const {

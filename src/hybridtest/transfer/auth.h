@@ -11,11 +11,14 @@
 //    kFailureWindow, that address is locked out for kLockout (every HELLO from it is refused
 //    without looking at its token). Other addresses are not affected, so a guesser cannot lock
 //    the real client out from another machine.
+//  - CheckBindPolicy(): a server binds a loopback address freely, any other only with a token.
+//    BenchServer (bench_server.h) and the OpenFresco server (openfresco/server.h) share it.
 //
 // The token proves the client knows the secret; the link itself is not encrypted (see
 // docs/protocol.md for SSH tunnels off loopback).
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <map>
 #include <string>
 #include <string_view>
@@ -35,6 +38,12 @@ std::string ReadTokenFile(const std::string& path, const std::string& where);
 
 // The token in HYBRIDTEST_BENCH_TOKEN, or empty.
 std::string TokenFromEnvironment();
+
+// The bind policy: returns if `host` is loopback or `token` is set; otherwise throws
+// ConfigError naming `server` (e.g. "the bench"), host:port and the two ways out (a token, or
+// 127.0.0.1 and a tunnel). Throws ConfigError too if `host` does not resolve.
+void CheckBindPolicy(const std::string& host, std::uint16_t port, const std::string& token,
+                     const std::string& server);
 
 class AuthThrottle {
  public:

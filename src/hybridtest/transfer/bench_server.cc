@@ -17,15 +17,9 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr int kPollIntervalMs = 100;
 
-// The bind policy: loopback freely, anything else only with a shared token.
-const std::string& CheckBindPolicy(const BenchServerOptions& options) {
-  if (options.token.empty() && !IsLoopbackHost(options.host)) {
-    throw ConfigError(fmt::format(
-        "refusing to serve the bench on {}:{} without a token: a non-loopback address lets "
-        "anyone on the network move the actuator; set a shared token (--token-file or "
-        "HYBRIDTEST_BENCH_TOKEN) or listen on 127.0.0.1",
-        options.host, options.port));
-  }
+// The bind policy (auth.h) and positive timeouts.
+const std::string& CheckOptions(const BenchServerOptions& options) {
+  CheckBindPolicy(options.host, options.port, options.token, "the bench");
   if (!(options.heartbeat_timeout > 0.0) || !(options.send_timeout > 0.0) ||
       !(options.handshake_timeout > 0.0)) {
     throw ConfigError(fmt::format(
@@ -54,17 +48,13 @@ BenchServer::BenchServer(TransferSystem& bench, BenchServerOptions options)
       options_(std::move(options)),
       units_(bench.bench_units()),
       monitor_(options_.limits),
-      listener_(CheckBindPolicy(options_), options_.port),
+      listener_(CheckOptions(options_), options_.port),
       handshakes_(options_.max_pending, options_.handshake_timeout) {
   if (options_.start_position) monitor_.SetStartPosition(*options_.start_position);
   if (options_.initial_stiffness) monitor_.SetInitialStiffness(*options_.initial_stiffness);
 }
 
-std::string BenchServer::address() const {
-  const bool v6 = listener_.host().find(':') != std::string::npos;
-  return v6 ? fmt::format("[{}]:{}", listener_.host(), port())
-            : fmt::format("{}:{}", listener_.host(), port());
-}
+std::string BenchServer::address() const { return listener_.address(); }
 
 void BenchServer::Log(const std::string& line) const {
   // Client-supplied text (names, error texts) may hold newlines: one event, one line.

@@ -220,6 +220,11 @@ Listener::Listener(const std::string& host, std::uint16_t port) : host_(host) {
       last_error));
 }
 
+std::string Listener::address() const {
+  return host_.find(':') != std::string::npos ? fmt::format("[{}]:{}", host_, port_)
+                                              : fmt::format("{}:{}", host_, port_);
+}
+
 Socket Listener::Accept(double timeout) {
   pollfd pfd{socket_.fd(), POLLIN, 0};
   const int ready = poll(&pfd, 1, static_cast<int>(std::lround(timeout * 1e3)));

@@ -51,6 +51,7 @@ class Listener {
   Listener(const std::string& host, std::uint16_t port);
   std::uint16_t port() const { return port_; }  // the bound port (resolved when 0 was asked)
   const std::string& host() const { return host_; }
+  std::string address() const;  // "HOST:PORT", an IPv6 host in brackets ("[::1]:7471")
   int fd() const { return socket_.fd(); }
 
   // Waits up to `timeout` [s] for a connection. Returns a closed Socket on timeout.

@@ -1,6 +1,7 @@
 // The OpenFresco server in-process on 127.0.0.1: the contract numbers with the ideal emulated
 // bench, a round trip with our own client, and the fault rules (peer vanishes, truncated
-// message, wrong dataSize, NaN trial, unknown action, busy, token, silence, safety refusal).
+// message, wrong dataSize, NaN trial, unknown action, busy, token, lockout, silence, safety
+// refusal).
 #include "hybridtest/transfer/openfresco/server.h"
 
 #include <gtest/gtest.h>
@@ -357,6 +358,28 @@ TEST(OpenFrescoServer, TokenRules) {
   client.Activate();
   EXPECT_EQ(client.Execute(1.0).force, 5.0);
   EXPECT_EQ(bench.commands(), std::vector<double>{1.0});
+}
+
+TEST(OpenFrescoServer, FiveWrongTokensLockTheAddressOut) {
+  FakeBench bench;
+  BenchServerOptions o;
+  o.token = "s3cret";
+  ServerThread server(bench, UnitSetup(), o);
+  ClientOptions co;
+  co.port = server.port();
+  co.token = "wrong";
+  for (int i = 0; i < AuthThrottle::kMaxFailures; ++i) {
+    Client client(co);
+    client.Activate();
+    EXPECT_THROW(client.Execute(1.0), TransferError);
+  }
+  EXPECT_TRUE(server.Logged("auth lockout"));
+  co.token = "s3cret";  // the right token, from the locked address: refused unread
+  Client client(co);
+  client.Activate();
+  EXPECT_THROW(client.Execute(1.0), TransferError);
+  EXPECT_TRUE(server.Logged("too many wrong tokens from 127.0.0.1"));
+  EXPECT_TRUE(bench.commands().empty());
 }
 
 TEST(OpenFrescoServer, ConfigurationErrors) {

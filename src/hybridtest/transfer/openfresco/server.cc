@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/transfer/handshake_queue.h"
 
 namespace hybridtest::transfer::openfresco {
 namespace {
@@ -16,15 +17,9 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr int kPollIntervalMs = 100;
 
-// The bind policy of BenchServer: loopback freely, anything else only with a shared token.
+// The bind policy of BenchServer (auth.h), positive timeouts, no test faults.
 BenchServerOptions CheckOptions(BenchServerOptions options) {
-  if (options.token.empty() && !IsLoopbackHost(options.host)) {
-    throw ConfigError(fmt::format(
-        "refusing to serve the OpenFresco bench on {}:{} without a token: a non-loopback "
-        "address lets anyone on the network move the actuator; listen on 127.0.0.1 (and tunnel, "
-        "e.g. ssh -L) or set a shared token (--token or HYBRIDTEST_BENCH_TOKEN)",
-        options.host, options.port));
-  }
+  CheckBindPolicy(options.host, options.port, options.token, "the OpenFresco bench");
   if (!(options.heartbeat_timeout > 0.0) || !(options.send_timeout > 0.0)) {
     throw ConfigError(fmt::format(
         "OpenFresco server: heartbeat_timeout = {} s, send_timeout = {} s: expected positive "
@@ -35,16 +30,6 @@ BenchServerOptions CheckOptions(BenchServerOptions options) {
                       "are not available with --protocol openfresco");
   }
   return options;
-}
-
-// Compares in time independent of where the tokens differ.
-bool TokensMatch(const std::string& given, const std::string& expected) {
-  unsigned diff = given.size() == expected.size() ? 0u : 1u;
-  for (std::size_t i = 0; i < given.size(); ++i) {
-    diff |= static_cast<unsigned char>(given[i]) ^
-            static_cast<unsigned char>(i < expected.size() ? expected[i] : 0);
-  }
-  return diff == 0;
 }
 
 std::int32_t Int32At(const std::vector<std::uint8_t>& bytes, std::size_t at) {
@@ -79,11 +64,7 @@ Server::Server(TransferSystem& bench, ExpSetup setup, BenchServerOptions options
   monitor_.SetInitialStiffness(options_.initial_stiffness.value_or(setup_.initial_stiffness));
 }
 
-std::string Server::address() const {
-  const bool v6 = listener_.host().find(':') != std::string::npos;
-  return v6 ? fmt::format("[{}]:{}", listener_.host(), port())
-            : fmt::format("{}:{}", listener_.host(), port());
-}
+std::string Server::address() const { return listener_.address(); }
 
 void Server::Log(const std::string& line) const {
   if (options_.log) options_.log(line);
@@ -184,13 +165,26 @@ bool Server::OpenSession(Session& session) {
       return false;
     }
   }
-  if (!TokensMatch(token, options_.token)) {
+  // The token rules of BenchServer (auth.h): constant-time comparison, lockout per address.
+  const std::string peer = PeerAddress(fd);
+  const auto now = Clock::now();
+  if (auth_.IsLocked(peer, now)) {
+    Log(fmt::format("ERROR: too many wrong tokens from {}: locked out for {} s after the last "
+                    "one", peer, AuthThrottle::kLockout.count()));
+    return false;
+  }
+  if (!TokensEqual(token, options_.token)) {
+    if (auth_.RecordFailure(peer, now)) {
+      Log(fmt::format("auth lockout: {} wrong tokens from {}; its sessions are refused for {} s",
+                      AuthThrottle::kMaxFailures, peer, AuthThrottle::kLockout.count()));
+    }
     Log(token.empty() ? "ERROR: this bench requires a token and the client sent none (the "
                         "hybridtest token preamble; see docs/openfresco.md)"
                       : "ERROR: wrong token: the client's token does not match the bench's "
                         "(--token / HYBRIDTEST_BENCH_TOKEN)");
     return false;
   }
+  auth_.RecordSuccess(peer);
   // The rest of the 11-int header.
   bytes.resize(kHeaderBytes);
   std::vector<std::uint8_t> rest(kHeaderBytes - 4);

@@ -19,7 +19,9 @@
 // Safety — the rules of BenchServer (bench_server.h), with the same SafetyMonitor:
 //  - binds 127.0.0.1 by default; a non-loopback address needs a shared token, which clients
 //    present in the token preamble; a preamble with another token (or one the server does not
-//    expect) is refused. OpenSees sends no preamble: reach a remote bench through a tunnel.
+//    expect) is refused (compared in constant time; five wrong or missing tokens from one
+//    address lock that address out for a minute, logged; see auth.h). OpenSees sends no
+//    preamble: reach a remote bench through a tunnel.
 //  - every trial command is checked (SafetyLimits, SI) before the bench moves, and every
 //    measurement after; a refusal holds the bench and ends the session. The OpenFresco
 //    protocol has no error message, so the client learns of it by the closed connection.
@@ -35,6 +37,7 @@
 #include <string>
 #include <vector>
 
+#include "hybridtest/transfer/auth.h"
 #include "hybridtest/transfer/bench_server.h"
 #include "hybridtest/transfer/openfresco/setup.h"
 #include "hybridtest/transfer/openfresco/wire.h"
@@ -89,6 +92,7 @@ class Server {
   std::atomic<bool> stop_{false};
   std::atomic<long> sessions_{0};
   std::atomic<long> trials_{0};
+  AuthThrottle auth_;
   bool bench_held_ = false;
 };
 
