@@ -90,11 +90,9 @@ TEST(ResumeAfterStop, BenchLostAndRestarted) {
   // The restarted bench comes up where the actuator held: the last command it executed.
   const io::RunData stages = io::LoadRun((dir / "lost.stages.csv").string());
   const double held = stages.Get("r1_command")(stages.num_rows() - 1);
-  std::ifstream in(kIdealBench);
-  std::stringstream text;
-  text << in.rdbuf() << fmt::format("  initial_position_mm: {:.17g}\n", held * 1e3);
   const fs::path restarted_config = dir / "bench-restarted.yaml";
-  std::ofstream(restarted_config) << text.str();
+  test_support::WriteText(restarted_config, ReadText(kIdealBench) + fmt::format(
+      "  initial_position_mm: {:.17g}\n", held * 1e3));
   BenchProcess restarted({"--config", restarted_config.string()});
   const auto [status, output] =
       Resume(csv, {"--bench", Address(restarted)}, dir / "resume.log");
