@@ -11,11 +11,10 @@
 // Counters: p50_us, p99_us, max_us over the iterations [µs].
 #include <benchmark/benchmark.h>
 
-#include <algorithm>
-#include <chrono>
-#include <vector>
+#include <cstddef>
 
 #include "hybridtest/transfer/modbus/modbus_transfer.h"
+#include "latency_samples.h"
 #include "transfer/modbus_server_process.h"
 
 namespace hybridtest::transfer::modbus {
@@ -28,27 +27,14 @@ void RoundTrips(benchmark::State& state, const ModbusServerProcess& server) {
   options.port = server.port();
   ModbusTransfer transfer(options);
   transfer.Activate();
-  std::vector<double> samples_us;
-  samples_us.reserve(1 << 16);
-  long i = 0;
-  for (auto _ : state) {
-    const double command = 0.5 * static_cast<double>(i++ % 8);  // [mm]
-    const auto start = std::chrono::steady_clock::now();
+  const std::size_t evaluations = bench_support::TimeRoundTrips(state, [&](long i) {
+    const double command = 0.5 * static_cast<double>(i % 8);  // [mm]
     benchmark::DoNotOptimize(transfer.Execute(command));
-    const auto stop = std::chrono::steady_clock::now();
-    samples_us.push_back(std::chrono::duration<double, std::micro>(stop - start).count());
-  }
+  });
   transfer.Deactivate();
-  std::sort(samples_us.begin(), samples_us.end());
-  const auto at = [&](double q) {
-    return samples_us[std::min(samples_us.size() - 1,
-                               static_cast<std::size_t>(q * static_cast<double>(samples_us.size())))];
-  };
-  state.counters["p50_us"] = at(0.50);
-  state.counters["p99_us"] = at(0.99);
-  state.counters["max_us"] = samples_us.back();
+  if (evaluations == 0) return;
   state.counters["requests_per_eval"] =
-      static_cast<double>(transfer.requests()) / static_cast<double>(samples_us.size());
+      static_cast<double>(transfer.requests()) / static_cast<double>(evaluations);
 }
 
 void BM_ModbusRoundTripLibmodbus(benchmark::State& state) {

@@ -8,13 +8,11 @@
 // between the two is the cost of the wire.
 #include <benchmark/benchmark.h>
 
-#include <algorithm>
-#include <chrono>
 #include <thread>
-#include <vector>
 
 #include "hybridtest/transfer/bench_client.h"
 #include "hybridtest/transfer/bench_server.h"
+#include "latency_samples.h"
 
 namespace hybridtest::transfer {
 namespace {
@@ -35,18 +33,6 @@ class TrivialBench final : public TransferSystem {
   double lab_time_ = 0.0;
 };
 
-void ReportPercentiles(benchmark::State& state, std::vector<double>& samples_us) {
-  if (samples_us.empty()) return;
-  std::sort(samples_us.begin(), samples_us.end());
-  const auto at = [&](double q) {
-    return samples_us[std::min(samples_us.size() - 1,
-                               static_cast<std::size_t>(q * static_cast<double>(samples_us.size())))];
-  };
-  state.counters["p50_us"] = at(0.50);
-  state.counters["p99_us"] = at(0.99);
-  state.counters["max_us"] = samples_us.back();
-}
-
 // A small back-and-forth inside the stroke and the increment limit. Unit: [mm].
 double CommandAt(long i) { return 0.5 * static_cast<double>(i % 8); }
 
@@ -62,17 +48,9 @@ void BM_LoopbackRoundTrip(benchmark::State& state) {
     client_options.port = server.port();
     BenchClient client(client_options);
     client.Activate();
-    std::vector<double> samples_us;
-    samples_us.reserve(1 << 16);
-    long i = 0;
-    for (auto _ : state) {
-      const auto start = std::chrono::steady_clock::now();
-      benchmark::DoNotOptimize(client.Execute(CommandAt(i++)));
-      const auto stop = std::chrono::steady_clock::now();
-      samples_us.push_back(std::chrono::duration<double, std::micro>(stop - start).count());
-    }
+    bench_support::TimeRoundTrips(
+        state, [&](long i) { benchmark::DoNotOptimize(client.Execute(CommandAt(i))); });
     client.Deactivate();
-    ReportPercentiles(state, samples_us);
   }
   server.Stop();
   serving.join();

@@ -7,23 +7,19 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <vector>
+
+#include "support/listening_process.h"
+#include "support/temp_dir.h"
 
 namespace hybridtest {
 
-inline std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using test_support::ReadText;
 
 // A child process with stdout and stderr going to a file. The destructor kills and reaps it.
 class Child {
@@ -52,27 +48,25 @@ class Child {
   Child(const Child&) = delete;
   Child& operator=(const Child&) = delete;
 
-  // Exit status, 128+signal, or -2 if still running after `timeout` seconds.
+  // Exit status, 128+signal, or -2 if still running after `timeout` seconds (see
+  // WaitExitBounded); once it has ended, the same status on every call.
   int WaitExit(double timeout) {
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(long(timeout * 1e3));
-    while (std::chrono::steady_clock::now() < deadline) {
-      int status = 0;
-      if (::waitpid(pid_, &status, WNOHANG) == pid_) {
-        exited_ = true;
-        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return -2;
+    if (exited_) return status_;
+    status_ = test_support::WaitExitBounded(pid_, timeout);
+    exited_ = status_ != -2;
+    return status_;
   }
   std::string output() const { return ReadText(output_); }
   // Sends `signal` (e.g. SIGKILL) to the child.
-  void Signal(int signal) const { ::kill(pid_, signal); }
+  void Signal(int signal) const {
+    if (!exited_) ::kill(pid_, signal);
+  }
 
  private:
   std::filesystem::path output_;
   pid_t pid_ = -1;
   bool exited_ = false;
+  int status_ = -2;
 };
 
 

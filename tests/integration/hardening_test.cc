@@ -14,6 +14,7 @@
 
 #include "integration/bench_process.h"
 #include "integration/child_process.h"
+#include "support/temp_dir.h"
 #include "hybridtest/transfer/socket.h"
 
 namespace hybridtest {
@@ -27,14 +28,9 @@ const std::string kSource = HYBRIDTEST_SOURCE_DIR;
 const std::string kExe = HYBRIDTEST_BINARY;
 const std::string kIdealBench = kSource + "/examples/rotor/bench-ideal.yaml";
 
+// One directory per test process, made on first use.
 fs::path OutDir() {
-  static const fs::path dir = [] {
-    const fs::path d = fs::temp_directory_path() / ("hybridtest_hardening_" +
-                                                    std::to_string(::getpid()));
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-  }();
+  static const fs::path dir = test_support::FreshTempDir("hardening");
   return dir;
 }
 

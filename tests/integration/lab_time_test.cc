@@ -19,6 +19,7 @@
 #include "hybridtest/io/run_reader.h"
 #include "hybridtest/runner/plan.h"
 #include "integration/bench_process.h"
+#include "support/temp_dir.h"
 
 namespace hybridtest {
 namespace {
@@ -29,13 +30,9 @@ using testing::RunCommand;
 const std::string kSource = HYBRIDTEST_SOURCE_DIR;
 const std::string kBinary = HYBRIDTEST_BINARY;
 
+// One directory per test process, made on first use.
 fs::path OutDir() {
-  static const fs::path dir = [] {
-    const fs::path d = fs::temp_directory_path() / fmt::format("hybridtest_labtime_{}", ::getpid());
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-  }();
+  static const fs::path dir = test_support::FreshTempDir("labtime");
   return dir;
 }
 

@@ -24,6 +24,8 @@
 
 #include "hybridtest/io/run_reader.h"
 #include "integration/bench_process.h"
+#include "support/temp_dir.h"
+#include "support/run_command.h"
 
 namespace hybridtest {
 namespace {
@@ -34,26 +36,15 @@ const std::string kSource = HYBRIDTEST_SOURCE_DIR;
 const std::string kBinary = HYBRIDTEST_BINARY;
 const std::vector<std::string> kState = {"q1", "q2", "q3", "q4", "u1", "u2", "u3", "u4"};
 
+// One directory per test process, made on first use.
 fs::path OutDir() {
-  static const fs::path dir = [] {
-    const fs::path d = fs::temp_directory_path() / fmt::format("hybridtest_ladder_{}", ::getpid());
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-  }();
+  static const fs::path dir = test_support::FreshTempDir("ladder");
   return dir;
 }
 
 // Runs `hybridtest ARGS`, bounded by `timeout` seconds; returns (exit status, stdout+stderr).
 std::pair<int, std::string> Hybridtest(const std::string& args, int timeout = 300) {
-  const std::string line = fmt::format("timeout {} {} {} 2>&1", timeout, kBinary, args);
-  FILE* pipe = popen(line.c_str(), "r");
-  if (pipe == nullptr) throw std::runtime_error("popen failed");
-  std::string output;
-  char buffer[512];
-  while (fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+  return testing::RunCommand(kBinary + " " + args, timeout);
 }
 
 // Runs once per test process; returns the CSV path.

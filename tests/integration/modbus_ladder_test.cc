@@ -21,6 +21,8 @@
 
 #include "hybridtest/io/run_reader.h"
 #include "transfer/modbus_server_process.h"
+#include "support/temp_dir.h"
+#include "support/run_command.h"
 
 namespace hybridtest {
 namespace {
@@ -31,13 +33,9 @@ using testing::ModbusServerProcess;
 const std::string kSource = HYBRIDTEST_SOURCE_DIR;
 const std::string kBinary = HYBRIDTEST_BINARY;
 
+// One directory per test process, made on first use.
 fs::path OutDir() {
-  static const fs::path dir = [] {
-    const fs::path d = fs::temp_directory_path() / fmt::format("hybridtest_modbus_{}", ::getpid());
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-  }();
+  static const fs::path dir = test_support::FreshTempDir("modbus");
   return dir;
 }
 
@@ -50,14 +48,8 @@ struct CliRun {
 CliRun Hybridtest(const std::string& name, const std::string& args) {
   CliRun r;
   r.csv = (OutDir() / (name + ".csv")).string();
-  const std::string line =
-      fmt::format("timeout 600 {} {} --quiet --out {} 2>&1", kBinary, args, r.csv);
-  FILE* pipe = popen(line.c_str(), "r");
-  if (pipe == nullptr) throw std::runtime_error("popen failed");
-  char buffer[512];
-  while (fgets(buffer, sizeof buffer, pipe) != nullptr) r.output += buffer;
-  const int status = pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::tie(r.status, r.output) =
+      testing::RunCommand(fmt::format("{} {} --quiet --out {}", kBinary, args, r.csv), 600);
   return r;
 }
 

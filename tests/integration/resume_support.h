@@ -1,8 +1,9 @@
 #pragma once
-// Support for the resume tests (run_resume_test.cc): runs killed at a chosen point, resumed,
-// and journals compared line by line and field by field.
+// Support for the resume tests (run_resume_test.cc, run_resume_stops_test.cc): runs killed at
+// a chosen point, resumed, and journals compared line by line and field by field.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <csignal>
 #include <filesystem>
@@ -17,6 +18,14 @@
 namespace hybridtest::testing {
 
 namespace fs = std::filesystem;
+
+inline const std::string kSource = HYBRIDTEST_SOURCE_DIR;
+
+// The sidecar (.meta.json) of the journal `csv`.
+inline nlohmann::json Sidecar(const fs::path& csv) {
+  std::ifstream in(fs::path(csv).replace_extension(".meta.json"));
+  return nlohmann::json::parse(in);
+}
 
 // In /dev/shm when there is one: these tests are about resuming, not about the disk, and a
 // physical run syncs every row (a tmpfs makes fsync free and the suite fast).
@@ -44,11 +53,24 @@ inline std::vector<std::string> SplitCsv(const std::string& line) {
   return fields;
 }
 
-// Runs `hybridtest <args>` to completion (≤ 120 s); returns its exit status.
-inline int RunToEnd(const std::vector<std::string>& args, const fs::path& log) {
+// The argv of `hybridtest <args>` (HYBRIDTEST_BINARY first).
+inline std::vector<std::string> HybridtestArgv(const std::vector<std::string>& args) {
   std::vector<std::string> argv{HYBRIDTEST_BINARY};
   argv.insert(argv.end(), args.begin(), args.end());
-  Child child(argv, log);
+  return argv;
+}
+
+// `run <config> --out <csv> --quiet`, with `--bench <bench>` when a bench address is given.
+inline std::vector<std::string> RunArgs(const std::string& config, const fs::path& csv,
+                                        const std::string& bench = "") {
+  std::vector<std::string> args{"run", config, "--out", csv.string(), "--quiet"};
+  if (!bench.empty()) args.insert(args.end(), {"--bench", bench});
+  return args;
+}
+
+// Runs `hybridtest <args>` to completion (≤ 120 s); returns its exit status.
+inline int RunToEnd(const std::vector<std::string>& args, const fs::path& log) {
+  Child child(HybridtestArgv(args), log);
   const int status = child.WaitExit(120.0);
   EXPECT_EQ(status, 0) << child.output();
   return status;
@@ -59,9 +81,7 @@ inline int RunToEnd(const std::vector<std::string>& args, const fs::path& log) {
 inline bool RunAndSignalAt(const std::vector<std::string>& args, const fs::path& csv,
                            std::uintmax_t bytes, int signal, const fs::path& log,
                            int expected_status) {
-  std::vector<std::string> argv{HYBRIDTEST_BINARY};
-  argv.insert(argv.end(), args.begin(), args.end());
-  Child child(argv, log);
+  Child child(HybridtestArgv(args), log);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
   for (;;) {
     std::error_code error;
@@ -81,9 +101,9 @@ inline bool RunAndSignalAt(const std::vector<std::string>& args, const fs::path&
 inline std::pair<int, std::string> Resume(const fs::path& csv,
                                           const std::vector<std::string>& extra,
                                           const fs::path& log) {
-  std::vector<std::string> argv{HYBRIDTEST_BINARY, "resume", csv.string()};
-  argv.insert(argv.end(), extra.begin(), extra.end());
-  Child child(argv, log);
+  std::vector<std::string> args{"resume", csv.string()};
+  args.insert(args.end(), extra.begin(), extra.end());
+  Child child(HybridtestArgv(args), log);
   const int status = child.WaitExit(120.0);
   return {status, child.output()};
 }

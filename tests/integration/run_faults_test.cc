@@ -22,6 +22,7 @@
 #include "hybridtest/io/run_reader.h"
 #include "integration/bench_process.h"
 #include "integration/child_process.h"
+#include "support/temp_dir.h"
 
 namespace hybridtest {
 namespace {
@@ -35,13 +36,9 @@ const std::string kFaultsConfig = kSource + "/tests/data/faults-remote.yaml";
 constexpr int kSafetyStatus = 3;
 constexpr int kTransferStatus = 4;
 
+// One directory per test process, made on first use.
 fs::path OutDir() {
-  static const fs::path dir = [] {
-    const fs::path d = fs::temp_directory_path() / fmt::format("hybridtest_faults_{}", ::getpid());
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-  }();
+  static const fs::path dir = test_support::FreshTempDir("faults");
   return dir;
 }
 

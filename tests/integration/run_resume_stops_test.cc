@@ -1,8 +1,6 @@
 // `hybridtest resume` after the other ways a run stops: Ctrl-C, a safety stop (refused without
 // --after-safety-stop, then resumed), a lost bench (the server killed and restarted where the
 // actuator held), and on the noisy cantilever bench (the same rows, values within the noise).
-#include <nlohmann/json.hpp>
-
 #include <cmath>
 
 #include "hybridtest/io/run_reader.h"
@@ -12,20 +10,27 @@
 namespace hybridtest::testing {
 namespace {
 
-const std::string kSource = HYBRIDTEST_SOURCE_DIR;
+const std::string kIdealBench = kSource + "/examples/rotor/bench-ideal.yaml";
 
-nlohmann::json Sidecar(const fs::path& csv) {
-  std::ifstream in(fs::path(csv).replace_extension(".meta.json"));
-  return nlohmann::json::parse(in);
+std::string Address(const BenchProcess& bench) {
+  return fmt::format("127.0.0.1:{}", bench.port());
+}
+
+// The uninterrupted reference run of `config` against a fresh ideal bench; returns its exit
+// status.
+int RunReferenceOnFreshBench(const std::string& config, const fs::path& reference,
+                             const fs::path& log) {
+  BenchProcess clean({"--config", kIdealBench});
+  return RunToEnd(RunArgs(config, reference, Address(clean)), log);
 }
 
 TEST(ResumeAfterStop, CtrlC) {
   const fs::path dir = ResumeTestDir("sigint");
   const std::string config = kSource + "/tests/data/resume-emulated-ideal.yaml";
   const fs::path reference = dir / "reference.csv";
-  ASSERT_EQ(RunToEnd({"run", config, "--out", reference.string(), "--quiet"}, dir / "ref.log"), 0);
+  ASSERT_EQ(RunToEnd(RunArgs(config, reference), dir / "ref.log"), 0);
   const fs::path csv = dir / "interrupted.csv";
-  ASSERT_TRUE(RunAndSignalAt({"run", config, "--out", csv.string(), "--quiet"}, csv,
+  ASSERT_TRUE(RunAndSignalAt(RunArgs(config, csv), csv,
                              fs::file_size(reference) / 3, SIGINT, dir / "run.log", 130));
   EXPECT_EQ(Sidecar(csv)["statistics"]["stop"]["kind"], "interrupted");
   const auto [status, output] = Resume(csv, {}, dir / "resume.log");
@@ -42,20 +47,14 @@ TEST(ResumeAfterStop, CtrlC) {
 TEST(ResumeAfterStop, SafetyStopNeedsTheOperatorsFlag) {
   const fs::path dir = ResumeTestDir("safety");
   const std::string config = kSource + "/tests/data/faults-remote-force.yaml";
-  const std::string bench_config = kSource + "/examples/rotor/bench-ideal.yaml";
   const fs::path reference = dir / "reference.csv";
-  {
-    BenchProcess clean({"--config", bench_config});
-    ASSERT_EQ(RunToEnd({"run", config, "--out", reference.string(), "--quiet", "--bench",
-                        fmt::format("127.0.0.1:{}", clean.port())}, dir / "ref.log"), 0);
-  }
+  ASSERT_EQ(RunReferenceOnFreshBench(config, reference, dir / "ref.log"), 0);
   // A force spike (a broken wire, say) on command 301 stops the run on force_hard.
-  BenchProcess bench({"--config", bench_config, "--inject", "spike@301"});
-  const std::string address = fmt::format("127.0.0.1:{}", bench.port());
+  BenchProcess bench({"--config", kIdealBench, "--inject", "spike@301"});
+  const std::string address = Address(bench);
   const fs::path csv = dir / "stopped.csv";
   {
-    Child run({HYBRIDTEST_BINARY, "run", config, "--out", csv.string(), "--quiet", "--bench",
-               address}, dir / "run.log");
+    Child run(HybridtestArgv(RunArgs(config, csv, address)), dir / "run.log");
     ASSERT_EQ(run.WaitExit(60.0), 3) << run.output();
   }
   auto [refused, message] = Resume(csv, {"--bench", address}, dir / "resume1.log");
@@ -75,18 +74,12 @@ TEST(ResumeAfterStop, SafetyStopNeedsTheOperatorsFlag) {
 TEST(ResumeAfterStop, BenchLostAndRestarted) {
   const fs::path dir = ResumeTestDir("benchloss");
   const std::string config = kSource + "/tests/data/ladder-remote.yaml";
-  const std::string bench_config = kSource + "/examples/rotor/bench-ideal.yaml";
   const fs::path reference = dir / "reference.csv";
-  {
-    BenchProcess clean({"--config", bench_config});
-    ASSERT_EQ(RunToEnd({"run", config, "--out", reference.string(), "--quiet", "--bench",
-                        fmt::format("127.0.0.1:{}", clean.port())}, dir / "ref.log"), 0);
-  }
+  ASSERT_EQ(RunReferenceOnFreshBench(config, reference, dir / "ref.log"), 0);
   const fs::path csv = dir / "lost.csv";
   {
-    BenchProcess lost({"--config", bench_config});
-    Child run({HYBRIDTEST_BINARY, "run", config, "--out", csv.string(), "--quiet", "--bench",
-               fmt::format("127.0.0.1:{}", lost.port())}, dir / "run.log");
+    BenchProcess lost({"--config", kIdealBench});
+    Child run(HybridtestArgv(RunArgs(config, csv, Address(lost))), dir / "run.log");
     while (fs::exists(csv) == false || fs::file_size(csv) < fs::file_size(reference) / 3) {
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
       if (run.WaitExit(0.0) != -2) break;
@@ -97,14 +90,12 @@ TEST(ResumeAfterStop, BenchLostAndRestarted) {
   // The restarted bench comes up where the actuator held: the last command it executed.
   const io::RunData stages = io::LoadRun((dir / "lost.stages.csv").string());
   const double held = stages.Get("r1_command")(stages.num_rows() - 1);
-  std::ifstream in(bench_config);
-  std::stringstream text;
-  text << in.rdbuf() << fmt::format("  initial_position_mm: {:.17g}\n", held * 1e3);
   const fs::path restarted_config = dir / "bench-restarted.yaml";
-  std::ofstream(restarted_config) << text.str();
+  test_support::WriteText(restarted_config, ReadText(kIdealBench) + fmt::format(
+      "  initial_position_mm: {:.17g}\n", held * 1e3));
   BenchProcess restarted({"--config", restarted_config.string()});
   const auto [status, output] =
-      Resume(csv, {"--bench", fmt::format("127.0.0.1:{}", restarted.port())}, dir / "resume.log");
+      Resume(csv, {"--bench", Address(restarted)}, dir / "resume.log");
   ASSERT_EQ(status, 0) << output;
   ExpectSameJournal(ReadLines(reference), ReadLines(csv), true);
   EXPECT_EQ(Sidecar(csv)["resumes"][0]["previous_stop"]["kind"], "transfer");
@@ -115,9 +106,9 @@ TEST(ResumeAfterSigkill, NoisyCantileverWithinTheNoise) {
   const fs::path dir = ResumeTestDir("cantilever");
   const std::string config = kSource + "/tests/data/resume-cantilever.yaml";
   const fs::path reference = dir / "reference.csv";
-  ASSERT_EQ(RunToEnd({"run", config, "--out", reference.string(), "--quiet"}, dir / "ref.log"), 0);
+  ASSERT_EQ(RunToEnd(RunArgs(config, reference), dir / "ref.log"), 0);
   const fs::path csv = dir / "killed.csv";
-  ASSERT_TRUE(RunAndSignalAt({"run", config, "--out", csv.string(), "--quiet"}, csv,
+  ASSERT_TRUE(RunAndSignalAt(RunArgs(config, csv), csv,
                              fs::file_size(reference) / 2, SIGKILL, dir / "run.log", 128 + SIGKILL));
   const auto [status, output] = Resume(csv, {}, dir / "resume.log");
   ASSERT_EQ(status, 0) << output;

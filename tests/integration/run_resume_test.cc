@@ -3,21 +3,12 @@
 // dummy and the MR-OS/Bouc–Wen and alpha-OS variants; in every channel but the bench's lab
 // time for the ideal emulated bench, in process and over TCP. The stage record shows the
 // committed commands once each and the single flagged re-imposition (stage −1).
-#include <nlohmann/json.hpp>
-
 #include "hybridtest/io/run_reader.h"
 #include "integration/bench_process.h"
 #include "integration/resume_support.h"
 
 namespace hybridtest::testing {
 namespace {
-
-const std::string kSource = HYBRIDTEST_SOURCE_DIR;
-
-nlohmann::json Sidecar(const fs::path& csv) {
-  std::ifstream in(fs::path(csv).replace_extension(".meta.json"));
-  return nlohmann::json::parse(in);
-}
 
 // Runs `config` once to the end as the reference, then `trials` times killed at a random
 // point and resumed; each resumed journal must equal the reference. `extra()` gives the

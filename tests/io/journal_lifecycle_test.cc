@@ -11,29 +11,18 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/journal.h"
+#include "support/temp_dir.h"
 
 namespace hybridtest::io {
 namespace {
 
 namespace fs = std::filesystem;
 
+using test_support::ReadText;
+using test_support::WriteText;
+
 std::string TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() /
-                       ("hybridtest_lifecycle_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
-}
-
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-void WriteText(const std::string& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary) << text;
+  return test_support::FreshTempDir("lifecycle_" + name).string();
 }
 
 nlohmann::json ReadJson(const std::string& path) { return nlohmann::json::parse(ReadText(path)); }

@@ -12,25 +12,17 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/version.h"
 #include "hybridtest/io/csv.h"
+#include "support/temp_dir.h"
 
 namespace hybridtest::io {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() /
-                       ("hybridtest_journal_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
-}
+using test_support::ReadText;
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+std::string TempDir(const std::string& name) {
+  return test_support::FreshTempDir("journal_" + name).string();
 }
 
 nlohmann::json ReadJson(const std::string& path) { return nlohmann::json::parse(ReadText(path)); }

@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "hybridtest/common/error.h"
+#include "support/temp_dir.h"
 
 namespace hybridtest::io {
 namespace {
@@ -15,11 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() /
-                       ("hybridtest_outputs_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return test_support::FreshTempDir("outputs_" + name);
 }
 
 std::string MessageOf(const std::string& csv, const std::vector<std::string>& inputs,

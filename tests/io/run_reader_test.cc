@@ -12,22 +12,17 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/journal.h"
+#include "support/temp_dir.h"
 
 namespace hybridtest::io {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() /
-                       ("hybridtest_reader_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
-}
+using test_support::WriteText;
 
-void WriteText(const std::string& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary) << text;
+std::string TempDir(const std::string& name) {
+  return test_support::FreshTempDir("reader_" + name).string();
 }
 
 std::string ErrorOf(const std::string& path) {

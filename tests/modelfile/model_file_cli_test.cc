@@ -14,6 +14,9 @@
 #include <random>
 #include <sstream>
 
+#include "support/run_command.h"
+#include "support/temp_dir.h"
+
 namespace hybridtest {
 namespace {
 
@@ -22,24 +25,12 @@ const std::string kSource = HYBRIDTEST_SOURCE_DIR;
 
 // Runs `hybridtest ARGS` (stdout only unless `merge`); returns (exit status, output).
 std::pair<int, std::string> Hybridtest(const std::string& args, bool merge = true) {
-  const std::string line =
-      fmt::format("timeout 300 {} {} {}", HYBRIDTEST_BINARY, args, merge ? "2>&1" : "2>/dev/null");
-  FILE* pipe = popen(line.c_str(), "r");
-  if (pipe == nullptr) throw std::runtime_error("popen failed");
-  std::string output;
-  char buffer[512];
-  while (fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+  return testing::RunCommand(std::string(HYBRIDTEST_BINARY) + " " + args, 300, merge);
 }
 
+// One directory per test process, made on first use.
 fs::path TempDir() {
-  static const fs::path dir = [] {
-    const fs::path d = fs::temp_directory_path() / fmt::format("hybridtest_modelfile_{}", ::getpid());
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-  }();
+  static const fs::path dir = test_support::FreshTempDir("modelfile");
   return dir;
 }
 

@@ -13,15 +13,8 @@ namespace hybridtest::transfer {
 namespace {
 
 using testing::FakeBench;
+using testing::ClientFor;
 using testing::ServerThread;
-
-BenchClientOptions ClientFor(const ServerThread& server, double reply_timeout = 5.0) {
-  BenchClientOptions o;
-  o.port = server.port();
-  o.reply_timeout = reply_timeout;
-  o.connect_timeout = 5.0;
-  return o;
-}
 
 BenchServerOptions WithFault(FaultKind kind, long at) {
   BenchServerOptions o;

@@ -1,14 +1,15 @@
 #pragma once
 // Test doubles for the bench server tests: a linear-spring TransferSystem that records what it
-// was asked to do (thread-safe: the server runs it in another thread), and a BenchServer
-// running in a background thread.
+// was asked to do (thread-safe: the server runs it in another thread), a BenchServer
+// running in a background thread, and the options of a client for it.
 #include <atomic>
 #include <mutex>
-#include <thread>
 #include <vector>
 
+#include "hybridtest/transfer/bench_client.h"
 #include "hybridtest/transfer/bench_server.h"
 #include "hybridtest/transfer/transfer_system.h"
+#include "transfer/serving_thread.h"
 
 namespace hybridtest::transfer::testing {
 
@@ -48,21 +49,10 @@ class FakeBench final : public TransferSystem {
 class ServerThread {
  public:
   ServerThread(TransferSystem& bench, BenchServerOptions options)
-      : server_(bench, WithLoopbackPort0(std::move(options))),
-        thread_([this] {
-          try {
-            server_.Serve();
-          } catch (...) {
-            failed_ = true;
-          }
-        }) {}
-  ~ServerThread() {
-    server_.Stop();
-    thread_.join();
-  }
+      : server_(bench, WithLoopbackPort0(std::move(options))) {}
   std::uint16_t port() const { return server_.port(); }
   BenchServer& server() { return server_; }
-  bool failed() const { return failed_.load(); }
+  bool failed() const { return serving_.failed(); }
 
  private:
   static BenchServerOptions WithLoopbackPort0(BenchServerOptions options) {
@@ -71,8 +61,15 @@ class ServerThread {
     return options;
   }
   BenchServer server_;
-  std::atomic<bool> failed_{false};
-  std::thread thread_;
+  ServingThread<BenchServer> serving_{server_};  // stops and joins before server_ goes
 };
+
+// Options for a BenchClient of `server`: waits at most `reply_timeout` [s] for a reply.
+inline BenchClientOptions ClientFor(const ServerThread& server, double reply_timeout = 5.0) {
+  BenchClientOptions o;
+  o.port = server.port();
+  o.reply_timeout = reply_timeout;
+  return o;
+}
 
 }  // namespace hybridtest::transfer::testing

@@ -23,12 +23,10 @@ namespace {
 using testing::FakeBench;
 using testing::ServerThread;
 
-BenchClientOptions ClientFor(const ServerThread& server) {
-  BenchClientOptions o;
-  o.port = server.port();
-  o.reply_timeout = 1.0;  // far below the heartbeat timeout a blocked server would wait
-  return o;
-}
+using testing::ClientFor;
+
+// The clients' reply timeout: far below the heartbeat timeout a blocked server would wait. [s]
+constexpr double kReplyTimeout = 1.0;
 
 // Collects the server's log lines (the server logs from its own thread).
 struct LogLines {
@@ -64,7 +62,7 @@ TEST(BenchServerHardening, IdleConnectionsDoNotDelayARealClient) {
   ServerThread server(bench, o);
   std::vector<Socket> idle;
   for (int i = 0; i < 3; ++i) idle.push_back(ConnectTcp("127.0.0.1", server.port(), 2.0));
-  BenchClient client(ClientFor(server));
+  BenchClient client(ClientFor(server, kReplyTimeout));
   client.Activate();
   EXPECT_EQ(client.Execute(1.0).force, 5.0);
 }
@@ -78,7 +76,7 @@ TEST(BenchServerHardening, PartialHelloDoesNotBlockOthers) {
   auto bytes = EncodeFrame(EncodeHello(1, HelloMessage{}));
   bytes.resize(10);  // half a header, then nothing
   ASSERT_TRUE(SendAll(slow.fd(), bytes, 2.0));
-  BenchClient client(ClientFor(server));
+  BenchClient client(ClientFor(server, kReplyTimeout));
   client.Activate();
   EXPECT_EQ(client.Execute(2.0).force, 10.0);
 }
@@ -93,7 +91,7 @@ TEST(BenchServerHardening, AFloodOfConnectionsEvictsTheOldestAndTheClientGetsThr
   ServerThread server(bench, o);
   std::vector<Socket> idle;
   for (int i = 0; i < 12; ++i) idle.push_back(ConnectTcp("127.0.0.1", server.port(), 2.0));
-  BenchClient client(ClientFor(server));
+  BenchClient client(ClientFor(server, kReplyTimeout));
   client.Activate();
   EXPECT_EQ(client.Execute(1.0).force, 5.0);
   bool evicted = false;
@@ -122,7 +120,7 @@ TEST(BenchServerHardening, APendingHelloCannotTakeOverASession) {
   o.handshake_timeout = 60.0;
   ServerThread server(bench, o);
   Socket early = ConnectTcp("127.0.0.1", server.port(), 2.0);  // pending before the session
-  BenchClient client(ClientFor(server));
+  BenchClient client(ClientFor(server, kReplyTimeout));
   client.Activate();
   // The pending connection was told BUSY when the session opened.
   Frame reply;

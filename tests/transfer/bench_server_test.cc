@@ -11,28 +11,16 @@
 #include "hybridtest/transfer/bench_client.h"
 #include "hybridtest/transfer/protocol.h"
 #include "transfer/bench_fake.h"
+#include "support/eventually.h"
 
 namespace hybridtest::transfer {
 namespace {
 
 using testing::FakeBench;
+using testing::ClientFor;
 using testing::ServerThread;
 
-BenchClientOptions ClientFor(const ServerThread& server) {
-  BenchClientOptions o;
-  o.port = server.port();
-  return o;
-}
-
-// Waits (bounded: at most 10 s) until `condition` holds; returns whether it did.
-template <typename Fn>
-bool Eventually(Fn&& condition) {
-  for (int i = 0; i < 1000; ++i) {
-    if (condition()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  return condition();
-}
+using test_support::Eventually;
 
 TEST(BenchServer, RefusesNonLoopbackWithoutToken) {
   FakeBench bench;

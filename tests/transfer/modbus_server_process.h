@@ -4,19 +4,12 @@
 // (bench/modbus/modbus_bench_server.cc, HYBRIDTEST_MODBUS_SERVER). Both listen on 127.0.0.1
 // port 0 and print "... listening on 127.0.0.1:PORT"; the constructor waits (≤ 30 s) for that
 // line. The destructor kills (SIGKILL) and reaps the child. Every wait is bounded.
-#include <fcntl.h>
-#include <poll.h>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <chrono>
 #include <cstdint>
 #include <cstdlib>
-#include <regex>
-#include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "support/listening_process.h"
 
 namespace hybridtest::testing {
 
@@ -43,71 +36,17 @@ class ModbusServerProcess {
     return ModbusServerProcess(args);
   }
 
-  explicit ModbusServerProcess(std::vector<std::string> args) {
-    int fds[2];
-    if (pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error("pipe failed");
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    pid_ = fork();
-    if (pid_ == 0) {
-      dup2(fds[1], STDOUT_FILENO);
-      execv(argv[0], argv.data());
-      _exit(127);
-    }
-    close(fds[1]);
-    stdout_fd_ = fds[0];
-    const std::string line = ReadLine(30.0);
-    std::smatch m;
-    if (!std::regex_search(line, m, std::regex("listening on 127\\.0\\.0\\.1:([0-9]+)"))) {
-      Kill();
-      close(stdout_fd_);
-      throw std::runtime_error("the Modbus server " + args[0] + " did not announce its port; "
-                               "got: '" + line + "'");
-    }
-    port_ = static_cast<std::uint16_t>(std::stoi(m[1].str()));
-  }
-  ModbusServerProcess(ModbusServerProcess&& o) noexcept
-      : pid_(o.pid_), stdout_fd_(o.stdout_fd_), port_(o.port_) {
-    o.pid_ = -1;
-    o.stdout_fd_ = -1;
-  }
-  ModbusServerProcess(const ModbusServerProcess&) = delete;
-  ModbusServerProcess& operator=(const ModbusServerProcess&) = delete;
-  ~ModbusServerProcess() {
-    Kill();
-    if (stdout_fd_ >= 0) close(stdout_fd_);
-  }
+  explicit ModbusServerProcess(std::vector<std::string> args)
+      : process_(args, test_support::CurrentEnvironment(),
+                 "listening on 127\\.0\\.0\\.1:([0-9]+)", "the Modbus server " + args[0]) {}
 
-  std::uint16_t port() const { return port_; }
-  std::string address() const { return "127.0.0.1:" + std::to_string(port_); }
+  std::uint16_t port() const { return process_.port(); }
+  std::string address() const { return "127.0.0.1:" + std::to_string(port()); }
   // SIGKILL and reap (idempotent): the controller disappears mid-test.
-  void Kill() {
-    if (pid_ <= 0) return;
-    kill(pid_, SIGKILL);
-    waitpid(pid_, nullptr, 0);
-    pid_ = -1;
-  }
+  void Kill() { process_.Kill(); }
 
  private:
-  std::string ReadLine(double timeout) {
-    std::string line;
-    const auto deadline =
-        std::chrono::steady_clock::now() + std::chrono::milliseconds(long(timeout * 1e3));
-    while (std::chrono::steady_clock::now() < deadline) {
-      pollfd pfd{stdout_fd_, POLLIN, 0};
-      if (poll(&pfd, 1, 100) <= 0) continue;
-      char c = 0;
-      if (read(stdout_fd_, &c, 1) != 1) break;
-      if (c == '\n') return line;
-      line += c;
-    }
-    return line;
-  }
-
-  pid_t pid_ = -1;
-  int stdout_fd_ = -1;
-  std::uint16_t port_ = 0;
+  test_support::ListeningProcess process_;
 };
 
 }  // namespace hybridtest::testing

@@ -17,6 +17,7 @@
 #include "hybridtest/transfer/openfresco/client.h"
 #include "transfer/bench_fake.h"
 #include "transfer/openfresco/raw_peer.h"
+#include "support/eventually.h"
 
 namespace hybridtest::transfer::openfresco {
 namespace {
@@ -24,31 +25,13 @@ namespace {
 using hybridtest::testing::RawPeer;
 using transfer::testing::FakeBench;
 
-template <typename Fn>
-bool Eventually(Fn&& condition) {  // bounded: at most 10 s
-  for (int i = 0; i < 1000; ++i) {
-    if (condition()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  return condition();
-}
+using test_support::Eventually;
 
 // A Server on 127.0.0.1:0 in a background thread; its log lines are kept.
 class ServerThread {
  public:
   ServerThread(TransferSystem& bench, ExpSetup setup, BenchServerOptions options = {})
-      : server_(bench, std::move(setup), Prepare(std::move(options))),
-        thread_([this] {
-          try {
-            server_.Serve();
-          } catch (...) {
-            failed_ = true;
-          }
-        }) {}
-  ~ServerThread() {
-    server_.Stop();
-    thread_.join();
-  }
+      : server_(bench, std::move(setup), Prepare(std::move(options))) {}
   std::uint16_t port() const { return server_.port(); }
   Server& server() { return server_; }
   bool Logged(const std::string& text) {
@@ -74,8 +57,7 @@ class ServerThread {
   std::mutex mutex_;
   std::vector<std::string> log_;
   Server server_;
-  std::atomic<bool> failed_{false};
-  std::thread thread_;
+  transfer::testing::ServingThread<Server> serving_{server_};  // stops, joins before server_ goes
 };
 
 ExpSetup ContractSetup() {

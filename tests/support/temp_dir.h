@@ -1,0 +1,35 @@
+#pragma once
+// Scratch files for tests: a fresh directory per test process, and whole-file text I/O.
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace hybridtest::test_support {
+
+// <temp>/hybridtest_<name>_<pid>, emptied if it was left over, then created. The pid keeps
+// the test processes that CTest runs in parallel apart.
+inline std::filesystem::path FreshTempDir(const std::string& name) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                    ("hybridtest_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+// The whole file, bytes as they are ("" if it cannot be opened).
+inline std::string ReadText(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Writes `text` as the whole file, bytes as they are.
+inline void WriteText(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+}  // namespace hybridtest::test_support
