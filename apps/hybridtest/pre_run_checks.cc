@@ -3,6 +3,7 @@
 
 #include <fmt/core.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <complex>
@@ -14,6 +15,7 @@
 #include "hybridtest/integrators/stability.h"
 #include "hybridtest/multibody/data.h"
 #include "hybridtest/multibody/kane.h"
+#include "hybridtest/schemes/step_control.h"
 
 namespace hybridtest::app {
 
@@ -56,26 +58,16 @@ double CheckStepStability(const io::SimulationConfig& cfg) {
   Eigen::VectorXd r0 = displacements(q0);
   for (int i = 0; i < m; ++i) r0(i) *= k[i];
 
-  // J, then ∂f/∂r column by column (f is affine in r), then ∂d/∂q by central differences.
+  // J, then ∂f/∂r = [0; M⁻¹ B] (B the exact coupling matrix), then ∂d/∂q (the schemes' slot
+  // Jacobian, central differences).
   Eigen::MatrixXd jacobian = multibody::CalcStateJacobian(model, 0.0, x0, r0);
   if (m > 0) {
-    Eigen::VectorXd f0(2 * n), f1(2 * n);
-    multibody::CalcStateDerivative<double>(model, data, 0.0, x0, r0, f0);
-    Eigen::MatrixXd f_r(2 * n, m);
-    for (int j = 0; j < m; ++j) {
-      Eigen::VectorXd r = r0;
-      r(j) += 1.0;
-      multibody::CalcStateDerivative<double>(model, data, 0.0, x0, r, f1);
-      f_r.col(j) = f1 - f0;
-    }
-    Eigen::MatrixXd d_q(m, n);
-    for (int j = 0; j < n; ++j) {
-      const double h = 1e-6 * std::max(1.0, std::abs(q0(j)));
-      Eigen::VectorXd qp = q0, qm = q0;
-      qp(j) += h;
-      qm(j) -= h;
-      d_q.col(j) = (displacements(qp) - displacements(qm)) / (2.0 * h);
-    }
+    Eigen::VectorXd xdot(2 * n), q_scratch(n), d_plus(m), d_minus(m);
+    multibody::CalcStateDerivative<double>(model, data, 0.0, x0, r0, xdot);  // fills data.M
+    Eigen::MatrixXd f_r = Eigen::MatrixXd::Zero(2 * n, m);
+    f_r.bottomRows(n) = data.M.llt().solve(multibody::CalcCouplingMatrix(model, 0.0, x0));
+    Eigen::MatrixXd d_q;
+    schemes::CalcSlotJacobian(model, data, 0.0, q0, d_q, q_scratch, d_plus, d_minus);
     const Eigen::VectorXd kv = Eigen::Map<const Eigen::VectorXd>(k.data(), m);
     jacobian.leftCols(n) += f_r * kv.asDiagonal() * d_q;
   }
