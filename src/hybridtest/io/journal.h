@@ -2,7 +2,7 @@
 // Journal: the crash-safe record of a run. Every committed step is appended as it happens to a
 // CSV file whose first line holds the channel names; a JSON sidecar beside it holds the
 // metadata (see docs/results-format.md). The CSV is the record of truth: a crash, a SIGKILL or
-// a safety stop must lose no committed row, and no later run may destroy it (decision 0006:
+// a safety stop must lose no committed row, and no later run may destroy it (decision 0008:
 // a new journal is staged until its first row; rows are written whole).
 //
 //   results/run.csv         t,q1,...,u1,...,r1,...[,r1_command,r1_position,r1_force,r1_lab_time]

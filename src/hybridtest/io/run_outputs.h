@@ -1,6 +1,6 @@
 #pragma once
 // Results are never destroyed: the checks `run` and `simulate` make before a run writes
-// anything (docs/results-format.md, "Never destroyed"; docs/decisions/0006).
+// anything (docs/results-format.md, "Never destroyed"; docs/decisions/0008-results-never-destroyed.md).
 //
 // A run writes up to four files: the journal <run>.csv, its sidecar <run>.meta.json, and for
 // a hybrid test the stage record <run>.stages.csv with <run>.stages.meta.json. None of them may

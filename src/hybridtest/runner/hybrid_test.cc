@@ -275,7 +275,7 @@ RunStatistics HybridTest::Run() {
       }
     }
     // Nothing committed (the run could not start): no row, so the journal is never published
-    // and an earlier run at this path survives (decision 0006).
+    // and an earlier run at this path survives (decision 0008).
     update_stats(t_now);
     progress.Finish();
     nlohmann::json statistics = ToJson(stats_);
