@@ -248,7 +248,6 @@ RunStatistics HybridTest::Run() {
       save_state(scheme->finished(), journal.rows() + 1);
       write_row(p.t, p.x, p.r, true);
       t_now = p.t;
-      stats_.steps = p.step;
       update_stats(p.t);
       progress.Update({p.step, p.step + scheme->EstimatedStepsLeft(cfg_.duration), p.t,
                        cfg_.duration, stats_.physical_evaluations, stats_.lab_time,
