@@ -97,6 +97,31 @@ TEST(WritePlots, NoRedWhenEveryBladeIsNumerical) {
   EXPECT_EQ(files.size(), 4u);  // displacements and hub speed, PNG and SVG
 }
 
+TEST(MakeRunFigures, MarksEveryResumeOnTheTimeAxes) {
+  const testing::ScratchDir dir("plot-resumed");
+  testing::RotorRunSpec spec;
+  spec.name = "resumed";
+  io::RunData run = io::LoadRun(testing::WriteRotorRun(dir.path(), spec));
+  run.metadata["resumes"] = nlohmann::json::array({{{"t", 0.125}, {"step", 125}}});
+  const std::vector<PlotFigure> figures = MakeRunFigures(run);
+  long time_panels = 0;
+  for (const auto& figure : figures) {
+    for (const auto& panel : figure.panels) {
+      if (!panel.x_is_time) {
+        EXPECT_TRUE(panel.marks.empty()) << figure.stem;  // force–displacement: no time axis
+        continue;
+      }
+      ++time_panels;
+      ASSERT_EQ(panel.marks.size(), 1u) << figure.stem;
+      EXPECT_EQ(panel.marks[0].first, 0.125);
+    }
+  }
+  EXPECT_GT(time_panels, 0);
+  const std::string script = MakeGnuplotScript(figures, dir / "fig").text;
+  EXPECT_NE(script.find("set arrow from 0.125, graph 0 to 0.125, graph 1"), std::string::npos);
+  EXPECT_NE(script.find("\"resumed\""), std::string::npos);
+}
+
 TEST(WritePlots, WithoutSidecarDrawsPlainCoordinatesAndSpeeds) {
   const testing::ScratchDir dir("plot-plain");
   testing::RotorRunSpec spec;

@@ -36,6 +36,12 @@ void AppendPanel(const PlotPanel& panel, const std::string& title, int first_blo
   out += "set title " + QuoteGnuplot(title) + "\n";
   out += "set xlabel " + QuoteGnuplot(panel.x_label) + "\n";
   out += "set ylabel " + QuoteGnuplot(panel.y_label) + "\n";
+  for (const auto& [x, label] : panel.marks) {
+    out += fmt::format("set arrow from {0:.10g}, graph 0 to {0:.10g}, graph 1 nohead dt 3 "
+                       "lc rgb '#555555'\n", x);
+    out += fmt::format("set label {} at {:.10g}, graph 0.97 left offset 0.5, 0 font ',9' "
+                       "tc rgb '#555555'\n", QuoteGnuplot(label), x);
+  }
   std::string plot = "plot ";
   for (std::size_t s = 0; s < panel.series.size(); ++s) {
     const PlotSeries& series = panel.series[s];
@@ -45,6 +51,7 @@ void AppendPanel(const PlotPanel& panel, const std::string& title, int first_blo
                         series.line_width, series.dashed ? 2 : 1, QuoteGnuplot(series.label));
   }
   out += plot + "\n";
+  if (!panel.marks.empty()) out += "unset arrow\nunset label\n";
 }
 
 // The commands that draw one figure on the current terminal.

@@ -158,6 +158,18 @@ std::vector<PlotFigure> MakeRunFigures(const io::RunData& run) {
     AddGroupedFigures(run, layout, t, layout.speeds, "speeds", "Generalized speeds", figures);
   }
   AddPhysicalFigures(run, layout, t, figures);
+  // Where the run was resumed (hybridtest resume), on every time axis.
+  const nlohmann::json& meta = run.metadata;
+  if (meta.is_object() && meta.contains("resumes") && meta["resumes"].is_array()) {
+    for (const auto& r : meta["resumes"]) {
+      if (!r.is_object() || !r.contains("t") || !r["t"].is_number()) continue;
+      for (auto& figure : figures) {
+        for (auto& panel : figure.panels) {
+          if (panel.x_is_time) panel.marks.emplace_back(r["t"].get<double>(), "resumed");
+        }
+      }
+    }
+  }
   return figures;
 }
 

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hybridtest::report {
@@ -26,6 +27,9 @@ struct PlotPanel {
   std::string y_label;  // e.g. "blade-tip displacement [m]"
   bool x_is_time = true;  // x axis spans exactly the data (time); else a small margin is added
   std::vector<PlotSeries> series;
+  // Vertical marks on a time axis (e.g. where a run was resumed): x in the panel's x unit
+  // and a short label.
+  std::vector<std::pair<double, std::string>> marks;
 };
 
 // One figure, written as <stem>.png and <stem>.svg.
