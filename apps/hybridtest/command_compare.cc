@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "cli_values.h"
 #include "command.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/run_reader.h"
@@ -38,7 +39,7 @@ void AddCompareCommand(CLI::App& root) {
   command->add_option("--transient", options->transient,
                       "Initial transient excluded from means and amplitudes, in seconds "
                       "(default: 30 % of A's duration)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegativeFiniteNumber());
   command->callback([options] {
     const io::RunData a = io::LoadRun(options->run_a);
     const io::RunData b = io::LoadRun(options->run_b);

@@ -88,7 +88,7 @@ void AddEomCommand(CLI::App& root) {
   CLI::App* cmd = root.add_subcommand(
       "eom", "Evaluate the equations of motion M u̇ = forcing once, at a given time and state");
   cmd->add_option("config", opt->config, "run configuration (YAML)")->required();
-  cmd->add_option("--time", opt->time, "time t [s]")->required();
+  cmd->add_option("--time", opt->time, "time t [s]")->required()->check(FiniteNumber());
   cmd->add_option("--state", opt->state, "x = [q; u], 2n comma-separated SI values")->required();
   cmd->add_option("--restoring", opt->restoring,
                   "static restoring forces r^s [N], one per slot (default: computed by the "

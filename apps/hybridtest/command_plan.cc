@@ -6,6 +6,7 @@
 
 #include <cstdio>
 
+#include "cli_values.h"
 #include "command.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/config.h"
@@ -79,7 +80,8 @@ void AddPlanCommand(CLI::App& root) {
   cmd->add_option("config", opt->config, "run configuration (YAML)")->required();
   cmd->add_option("--tolerance", opt->tolerance,
                   "largest acceptable error, relative to the specimen's peak-to-peak (default "
-                  "0.01 = 1 %)");
+                  "0.01 = 1 %)")
+      ->check(PositiveFiniteNumber());
   cmd->add_option("--emulate", opt->emulate,
                   "emulated bench config that stands in for physical slots on other transfer "
                   "systems (remote, modbus, ...)");

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "cli_values.h"
 #include "command.h"
 #include "hybridtest/io/run_reader.h"
 #include "hybridtest/report/html_report.h"
@@ -36,7 +37,7 @@ void AddReportCommand(CLI::App& root) {
   command->add_option("--transient", options->transient,
                       "With --against: initial transient excluded from means and amplitudes, in "
                       "seconds (default: 30 % of the run's duration)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegativeFiniteNumber());
   command->callback([options] {
     const io::RunData run = io::LoadRun(options->run_csv);
     for (const auto& w : run.warnings) fmt::print(stderr, "warning: {}\n", w);

@@ -5,6 +5,7 @@
 // command is re-imposed first and the force checked (docs/safety.md, "Resuming a run").
 // Exit 0 when the run completes; 2 if it cannot be resumed; 3 if the force check refuses.
 #include "command.h"
+#include "cli_values.h"
 #include "run_commands.h"
 
 namespace hybridtest::app {
@@ -21,7 +22,14 @@ void AddResumeCommand(CLI::App& root) {
   cmd->add_flag("--quiet", opt->quiet, "no progress output and no summary");
   cmd->add_option("--force-tolerance", opt->force_tolerance,
                   "largest |measured - committed force| [N] accepted after re-imposing the last "
-                  "committed command (default: resume.force_tolerance, else 1 % of force_hard)");
+                  "committed command (default: resume.force_tolerance, else the smaller of 1 % of "
+                  "force_hard and K0 times the position tolerance)")
+      ->check(PositiveFiniteNumber());
+  cmd->add_option("--position-tolerance", opt->position_tolerance,
+                  "largest |measured - committed position| [m] accepted after re-imposing the "
+                  "last committed command (default: resume.position_tolerance, else a quarter "
+                  "of max_increment)")
+      ->check(PositiveFiniteNumber());
   cmd->add_flag("--after-safety-stop", opt->after_safety_stop,
                 "resume a run that stopped on a safety limit, once its cause is fixed");
   cmd->callback([opt] { ExecuteResume(*opt); });

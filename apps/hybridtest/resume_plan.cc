@@ -7,14 +7,37 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/journal.h"
+#include "hybridtest/io/run_inputs.h"
 
 namespace hybridtest::app {
+
+namespace {
+
+// A journal publishes by renaming its staged CSV, then its staged sidecar (journal.h): a crash
+// between the two renames leaves the CSV beside "<sidecar>.partial". Resume (which holds the
+// run's lock) completes that rename: both files belong to the same run.
+void CompleteInterruptedPublish(const std::string& csv) {
+  const std::string sidecar = io::SidecarPath(csv);
+  const std::string staged = io::StagedPath(sidecar);
+  std::error_code ec;
+  if (std::filesystem::exists(sidecar, ec) || !std::filesystem::is_regular_file(staged, ec)) return;
+  std::filesystem::rename(staged, sidecar, ec);
+  if (ec) {
+    throw IoError(fmt::format("{}: the run's sidecar is still staged as {} and cannot be "
+                              "renamed: {}", csv, staged, ec.message()));
+  }
+  fmt::print(stderr, "hybridtest resume: {}: the run was stopped while publishing its sidecar; "
+             "{} completed from {}\n", csv, sidecar, staged);
+}
+
+}  // namespace
 
 ResumePlan PlanResume(const ResumeCommandOptions& options) {
   if (!std::filesystem::exists(options.csv)) {
     throw ConfigError(fmt::format("{}: no such journal: give the CSV of the run to resume",
                                   options.csv));
   }
+  CompleteInterruptedPublish(options.csv);
   const nlohmann::json sidecar = io::ReadSidecar(options.csv);
   const std::string status = sidecar.value("status", "");
   if (status == "completed") {
@@ -26,7 +49,9 @@ ResumePlan PlanResume(const ResumeCommandOptions& options) {
     const auto& stop = sidecar["statistics"]["stop"];
     stop_kind = stop.value("kind", "");
     // A refused resume (force check) may be retried without the flag: nothing new happened.
-    if (stop_kind == "safety" && stop.value("limit", "") != "resume_force_tolerance" &&
+    const std::string limit = stop.value("limit", "");
+    if (stop_kind == "safety" && limit != "resume_force_tolerance" &&
+        limit != "resume_position_tolerance" &&
         !options.after_safety_stop) {
       throw ConfigError(fmt::format(
           "{}: the run stopped on a safety limit ({}: {}). Resume retries the step that was "
@@ -42,21 +67,30 @@ ResumePlan PlanResume(const ResumeCommandOptions& options) {
                                   "start it again with hybridtest run --overwrite",
                                   options.csv, state_path));
   }
+  // The state cannot lie: its checksum (LoadRunState), then its agreement with the journal,
+  // before anything is cut or moved.
   runner::RunState state = runner::LoadRunState(state_path);
-  const std::string config_path = sidecar.value("config_path", "");
+  runner::VerifyRunStateAgainstJournal(state, options.csv);
   const std::string command = sidecar.value("command", "run");
   if (command != "run" && command != "simulate") {
     throw ConfigError(fmt::format("{}: made by `hybridtest {}`; only run and simulate can be "
                                   "resumed", options.csv, command));
   }
+  // The run's own files, found from the run's directory (never the current one) and checked
+  // against the digests recorded when it started.
+  const std::string config_path = io::RecordedConfigPath(state.inputs, options.csv);
   io::SimulationConfig cfg = io::ParseSimulationConfig(YamlInput::FromText(
       sidecar.value("config", ""), config_path, "keys such as model:, integrator:, duration:"));
+  io::CheckRunInputs(state.inputs, cfg, options.csv);
   ResumePlan plan{.cfg = std::move(cfg), .command = command, .state = std::move(state),
                   .step = 0, .t = 0.0, .previous_status = status, .record = {}};
   plan.step = plan.state.scheme.value("step", 0L);
   plan.t = plan.state.scheme.value("t", 0.0);
   plan.record = nlohmann::json::object();
   if (options.force_tolerance) plan.record["force_tolerance_option_N"] = *options.force_tolerance;
+  if (options.position_tolerance) {
+    plan.record["position_tolerance_option_m"] = *options.position_tolerance;
+  }
   if (options.after_safety_stop) plan.record["after_safety_stop"] = true;
   return plan;
 }

@@ -8,7 +8,10 @@
 #include <filesystem>
 
 #include "resume_plan.h"
+#include "hybridtest/common/error.h"
 #include "hybridtest/io/config.h"
+#include "hybridtest/io/run_inputs.h"
+#include "hybridtest/io/run_lock.h"
 #include "hybridtest/io/run_outputs.h"
 #include "hybridtest/io/output_budget.h"
 #include "hybridtest/io/substructure_config.h"
@@ -87,6 +90,10 @@ void ExecuteRun(const RunCommandOptions& options) {
   runner::RunOptions run;
   run.csv_path = runner::ResolveOutputPath(cfg, options.out);
   run.command = options.command;
+  // One master per run: the lock is taken before any file of the run is looked at or touched.
+  const auto parent = std::filesystem::path(run.csv_path).parent_path();
+  if (!parent.empty()) std::filesystem::create_directories(parent);
+  const io::RunLock lock = io::RunLock::Acquire(run.csv_path, options.command);
   // Pre-run check: the journal and stage record must fit on the disk.
   const bool physical = std::any_of(subs.begin(), subs.end(),
                                     [](const auto& s) { return s->is_physical(); });
@@ -98,12 +105,17 @@ void ExecuteRun(const RunCommandOptions& options) {
           physical ? static_cast<int>(runner::StageChannels(cfg, subs).size()) : 0));
   // Results are never destroyed: an earlier run needs --overwrite, an input is never an output.
   io::CheckRunOutputs(run.csv_path, io::RunInputFiles(cfg), options.overwrite);
-  const auto parent = std::filesystem::path(run.csv_path).parent_path();
-  if (!parent.empty()) std::filesystem::create_directories(parent);
+  run.inputs = io::RecordRunInputs(cfg, run.csv_path);
   RunAndReport(cfg, std::move(subs), std::move(run), options.quiet);
 }
 
 void ExecuteResume(const ResumeCommandOptions& options) {
+  if (!std::filesystem::is_regular_file(options.csv)) {
+    throw ConfigError(fmt::format("{}: no such journal: give the CSV of the run to resume",
+                                  options.csv));
+  }
+  // One master per run: nothing of the run is read before the lock is held.
+  const io::RunLock lock = io::RunLock::Acquire(options.csv, "resume");
   const ResumePlan plan = PlanResume(options);
   runner::RunOptions run;
   run.csv_path = options.csv;
@@ -112,6 +124,9 @@ void ExecuteResume(const ResumeCommandOptions& options) {
   run.resume_force_tolerance =
       options.force_tolerance.value_or(plan.cfg.resume_force_tolerance.value_or(0.0));
   run.resume_record = plan.record;
+  run.resume_position_tolerance =
+      options.position_tolerance.value_or(plan.cfg.resume_position_tolerance.value_or(0.0));
+  run.inputs = plan.state.inputs;
   auto subs = io::MakeSubstructures(
       plan.cfg, {options.bench, plan.command != "simulate",
                  "`simulate` is numerical only: use `hybridtest run` for a hybrid test"});

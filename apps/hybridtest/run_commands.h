@@ -25,6 +25,7 @@ struct ResumeCommandOptions {
   std::optional<std::string> bench;       // --bench HOST:PORT
   bool quiet = false;
   std::optional<double> force_tolerance;  // --force-tolerance [N], else resume.force_tolerance
+  std::optional<double> position_tolerance;  // --position-tolerance [m], else resume.position_tolerance
   bool after_safety_stop = false;         // --after-safety-stop: the operator fixed the cause
 };
 

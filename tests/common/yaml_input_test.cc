@@ -3,6 +3,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
 #include <fstream>
 
 #include "hybridtest/common/error.h"
@@ -111,6 +115,54 @@ TEST(YamlInput, DocumentErrors) {
 TEST(YamlInput, JoinKeyPath) {
   EXPECT_EQ(JoinKeyPath("", "dt"), "dt");
   EXPECT_EQ(JoinKeyPath("integrator", "dt"), "integrator.dt");
+}
+
+}  // namespace
+}  // namespace hybridtest
+
+namespace hybridtest {
+namespace {
+
+TEST(YamlInputGuards, DuplicateKeysAreRefusedWithBothLines) {
+  const std::string text = "safety:\n  force_hard: 60\n  stroke_max: 0.1\n  force_hard: 10000\n";
+  EXPECT_THAT(ErrorOf([&] { YamlInput::FromText(text, "run.yaml"); }),
+              AllOf(HasSubstr("run.yaml:4"), HasSubstr("'force_hard' appears twice"),
+                    HasSubstr("lines 2 and 4")));
+  // At the top level and inside a list of mappings too.
+  EXPECT_THAT(ErrorOf([] { YamlInput::FromText("a: 1\nb: 2\na: 3\n", "t.yaml"); }),
+              HasSubstr("lines 1 and 3"));
+  EXPECT_THAT(ErrorOf([] { YamlInput::FromText("l:\n  - {x: 1, x: 2}\n", "t.yaml"); }),
+              HasSubstr("'x' appears twice"));
+  // The same key in two different mappings is fine.
+  EXPECT_EQ(ErrorOf([] { YamlInput::FromText("a: {x: 1}\nb: {x: 2}\n", "t.yaml"); }),
+            "(no error)");
+}
+
+TEST(YamlInputGuards, AliasBombsAreRefusedNotExpanded) {
+  std::string text = "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n";
+  for (int i = 1; i < 9; ++i) {
+    text += "a" + std::to_string(i) + ": &a" + std::to_string(i) + " [";
+    for (int k = 0; k < 10; ++k) text += std::string(k ? ", " : "") + "*a" + std::to_string(i - 1);
+    text += "]\n";
+  }
+  EXPECT_THAT(ErrorOf([&] { YamlInput::FromText(text, "bomb.yaml"); }),
+              HasSubstr("YAML nodes once aliases"));
+}
+
+TEST(YamlInputGuards, OnlyRegularFilesAreRead) {
+  const std::string dir = "/tmp/hybridtest_yaml_guard_" + std::to_string(::getpid());
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string fifo = dir + "/config.yaml";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  // A FIFO with no writer would block a plain open for ever: it is refused at once.
+  EXPECT_THAT(ErrorOf([&] { YamlInput::FromFile(fifo); }),
+              AllOf(HasSubstr(fifo), HasSubstr("not a regular file (a FIFO)")));
+  EXPECT_THAT(ErrorOf([&] { YamlInput::FromFile(dir); }), HasSubstr("(a directory)"));
+  EXPECT_THAT(ErrorOf([&] { YamlInput::FromFile("/dev/zero"); }), HasSubstr("(a device)"));
+  EXPECT_THAT(ErrorOf([&] { YamlInput::FromFile(dir + "/missing.yaml"); }),
+              HasSubstr("cannot open this YAML file"));
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

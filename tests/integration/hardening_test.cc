@@ -78,7 +78,7 @@ TEST(Hardening, BadInputExitsTwoNamingTheKey) {
   const std::pair<std::string, std::string> cases[] = {
       {physical + "    safety: 5\n", "safety"},
       {physical + "    safety: [1, 2]\n", "safety"},
-      {physical + "    setup: 5\n", "setup"},
+      {physical + "    safety: defaults\n    setup: 5\n", "setup"},
       {rotor + "integrator: {tableau: heun, dt: 1}\nduration: 1e19\n", "duration"},
       {"model: {name: rotor, blades: 1e9}\n" + heun + "duration: 1\n", "model.blades"},
       {rotor + heun + "duration: 0.01\n# caf\xE9\n", "UTF-8"},

@@ -55,7 +55,19 @@ TEST(ConfigLimits, ScalarWhereAMappingBelongsNamesTheKey) {
   EXPECT_THAT(ErrorOf(head + "    safety: 5\n"),
               AllOf(HasSubstr("substructures.r1.safety"), HasSubstr("a mapping")));
   EXPECT_THAT(ErrorOf(head + "    safety: [1, 2]\n"), HasSubstr("substructures.r1.safety"));
-  EXPECT_THAT(ErrorOf(head + "    setup: 5\n"), HasSubstr("substructures.r1.setup"));
+  EXPECT_THAT(ErrorOf(head + "    safety: defaults\n    setup: 5\n"),
+              HasSubstr("substructures.r1.setup"));
+}
+
+TEST(ConfigLimits, APhysicalSlotStatesItsLimitsOrAcknowledgesTheDefaults) {
+  const std::string head = kRotor + "integrator: {tableau: heun, dt: 0.001}\nduration: 0.01\n" +
+                           "substructures:\n  r1:\n    type: physical\n"
+                           "    transfer: {type: loopback, law: {type: linear, stiffness: 1}}\n";
+  EXPECT_THAT(ErrorOf(head), AllOf(HasSubstr("substructures.r1.safety: missing"),
+                                   HasSubstr("safety: defaults"), HasSubstr("10000 N")));
+  EXPECT_EQ(ErrorOf(head + "    safety: defaults\n"), "(no error)");
+  EXPECT_THAT(ErrorOf(head + "    safety: default\n"),
+              AllOf(HasSubstr("substructures.r1.safety"), HasSubstr("`defaults`")));
 }
 
 TEST(ConfigLimits, NonScalarKeysAreConfigErrorsNamingTheSection) {
@@ -69,7 +81,8 @@ TEST(ConfigLimits, NonScalarKeysAreConfigErrorsNamingTheSection) {
 TEST(ConfigLimits, ATokenInTheRunConfigIsRefused) {
   const std::string text = kRotor + "integrator: {tableau: heun, dt: 0.001}\nduration: 0.01\n" +
                            "substructures:\n  r1:\n    type: physical\n"
-                           "    transfer: {type: remote, address: 127.0.0.1:1, token: s3cret}\n";
+                           "    transfer: {type: remote, address: 127.0.0.1:1, token: s3cret}\n"
+                           "    safety: defaults\n";
   EXPECT_THAT(ErrorOf(text), AllOf(HasSubstr("substructures.r1.transfer.token"),
                                    HasSubstr("token_file"), HasSubstr(".meta.json")));
 }

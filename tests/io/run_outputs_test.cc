@@ -2,6 +2,7 @@
 #include "hybridtest/io/run_outputs.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -89,6 +90,44 @@ substructures:
       ParseSimulationConfig(YamlInput::FromText(text, (dir / "c.yaml").string()));
   EXPECT_EQ(RunInputFiles(cfg),
             (std::vector<std::string>{(dir / "c.yaml").string(), (dir / "bench.yaml").string()}));
+}
+
+TEST(RunOutputs, DevicesFifosDirectoriesAndSymlinksAreNeverReplaced) {
+  const fs::path dir = TempDir("kinds");
+  const std::string message = MessageOf("/dev/null", {}, true);
+  EXPECT_NE(message.find("/dev/null: is a device"), std::string::npos) << message;
+  ASSERT_EQ(::mkfifo((dir / "f.csv").c_str(), 0600), 0);
+  EXPECT_NE(MessageOf((dir / "f.csv").string(), {}, true).find("is a FIFO"), std::string::npos);
+  fs::create_directories(dir / "d.meta.json");
+  EXPECT_NE(MessageOf((dir / "d.csv").string(), {}, true).find("is a directory"),
+            std::string::npos);
+  std::ofstream(dir / "target.txt") << "x";
+  fs::create_symlink(dir / "target.txt", dir / "s.csv");
+  EXPECT_NE(MessageOf((dir / "s.csv").string(), {}, true).find("is a symbolic link"),
+            std::string::npos);
+  // The run state is an output too.
+  std::ofstream(dir / "k.state.json") << "{}";
+  EXPECT_NE(MessageOf((dir / "k.csv").string(), {}, false).find("k.state.json: exists already"),
+            std::string::npos);
+}
+
+TEST(RunOutputs, InputsIncludeTheModelFileAndTokenFiles) {
+  const fs::path dir = TempDir("model_token");
+  const std::string text = R"(model: {name: rotor, blades: 3}
+integrator: {tableau: heun, dt: 0.001}
+duration: 0.01
+substructures:
+  r1:
+    type: physical
+    transfer: {type: remote, address: "127.0.0.1:1", token_file: secret/token.txt}
+    safety: defaults
+)";
+  const SimulationConfig cfg =
+      ParseSimulationConfig(YamlInput::FromText(text, (dir / "c.yaml").string()));
+  const auto inputs = RunInputs(cfg);
+  ASSERT_EQ(inputs.size(), 2u);
+  EXPECT_EQ(inputs[1].role, "token");
+  EXPECT_EQ(inputs[1].path, (dir / "secret/token.txt").string());
 }
 
 }  // namespace

@@ -3,8 +3,15 @@
 
 #include <fmt/format.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
-#include <fstream>
+#include <cstring>
+#include <map>
+#include <vector>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/text.h"
@@ -28,6 +35,53 @@ std::string AllowedList(std::initializer_list<std::string_view> allowed) {
   return list;
 }
 
+// "a FIFO", "a directory", ... for messages about a path that is not a regular file.
+std::string FileKind(mode_t mode) {
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISCHR(mode) || S_ISBLK(mode)) return "a device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+// Refuses a mapping that names the same key twice (yaml-cpp keeps both and a lookup finds the
+// first, so `force_hard: 60` then `force_hard: 10000` would silently mean 60). Iterative: the
+// depth of a document is bounded by its size, not by the stack.
+void CheckNoDuplicateKeys(const YAML::Node& root, const std::string& path) {
+  // Aliases share nodes, so a small hostile file can name billions of them: bound the walk.
+  constexpr long kMaxNodes = 4'000'000;
+  long visited = 0;
+  std::vector<YAML::Node> pending{root};
+  while (!pending.empty()) {
+    if (++visited > kMaxNodes) {
+      throw ConfigError(fmt::format("{}: more than {} YAML nodes once aliases (*name) are "
+                                    "expanded; a configuration has a few hundred: remove the "
+                                    "aliases", path, kMaxNodes));
+    }
+    const YAML::Node node = pending.back();
+    pending.pop_back();
+    if (node.IsSequence()) {
+      for (const auto& item : node) pending.push_back(item);
+      continue;
+    }
+    if (!node.IsMap()) continue;
+    std::map<std::string, int> lines;
+    for (const auto& kv : node) {
+      if (kv.first.IsScalar()) {
+        const int line = kv.first.Mark().line + 1;
+        const auto [it, inserted] = lines.emplace(kv.first.Scalar(), line);
+        if (!inserted) {
+          throw ConfigError(fmt::format(
+              "{}:{}: the key '{}' appears twice in one mapping (lines {} and {}); a YAML "
+              "mapping holds each key once: delete one of them", path, line, kv.first.Scalar(),
+              it->second, line));
+        }
+      }
+      pending.push_back(kv.second);
+    }
+  }
+}
+
 }  // namespace
 
 std::string JoinKeyPath(std::string_view parent, std::string_view key) {
@@ -40,14 +94,35 @@ YamlInput YamlInput::FromFile(const std::string& path, std::string_view top_leve
     throw ConfigError(fmt::format("{}: the file name is not valid UTF-8 (at {}); rename the file "
                                   "with UTF-8 characters only", Printable(path), bad));
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw ConfigError(fmt::format("{}: cannot open this YAML file; check that it exists "
-                                  "(relative paths start at the current directory)", path));
+  // Opened without blocking and checked to be a regular file before anything is read: a FIFO,
+  // a device or a directory given by mistake must not hang or feed the parser.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    throw ConfigError(fmt::format("{}: cannot open this YAML file ({}); check that it exists "
+                                  "(relative paths start at the current directory)", path,
+                                  std::strerror(errno)));
+  }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    throw ConfigError(fmt::format("{}: not a regular file ({}); give the path of a YAML file",
+                                  path, FileKind(st.st_mode)));
   }
   std::string text(kMaxConfigBytes + 1, '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<std::size_t>(in.gcount()));
+  std::size_t got = 0;
+  while (got < text.size()) {
+    const ssize_t n = ::read(fd, text.data() + got, text.size() - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      const std::string error = std::strerror(errno);
+      ::close(fd);
+      throw ConfigError(fmt::format("{}: cannot read this YAML file: {}", path, error));
+    }
+    if (n == 0) break;
+    got += static_cast<std::size_t>(n);
+  }
+  ::close(fd);
+  text.resize(got);
   if (text.size() > kMaxConfigBytes) {
     throw ConfigError(fmt::format("{}: larger than {} MiB; a configuration is a few kilobytes: "
                                   "check that this is the right file", path,
@@ -73,6 +148,7 @@ YamlInput YamlInput::FromText(const std::string& text, const std::string& path,
                                   "indentation, a missing ':' or an unclosed bracket or quote)",
                                   path, e.mark.line + 1, e.mark.column + 1, e.msg));
   }
+  CheckNoDuplicateKeys(input.root_, path);
   if (!input.root_.IsMap()) {
     throw ConfigError(fmt::format("{}: expected a YAML mapping at the top level ({}), got '{}'",
                                   path, top_level_hint, Given(input.root_)));

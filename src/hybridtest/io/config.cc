@@ -206,7 +206,8 @@ SimulationConfig ParseSimulationConfig(const YamlInput& in) {
   models::BuiltModel model = ParseModel(in, in.Mapping(root, "model", "model", true), &blades);
   SimulationConfig cfg{.input = in, .model = std::move(model), .blades = blades, .x0 = {},
                        .tableau = {}, .scheme = {}, .dt = 0.0, .duration = 0.0, .steps = 0, .output_csv = {},
-                       .quiet = false, .resume_force_tolerance = std::nullopt};
+                       .quiet = false, .resume_force_tolerance = std::nullopt,
+                       .resume_position_tolerance = std::nullopt};
   const int n = cfg.model.model.num_coordinates();
 
   // Initial state: zero unless given (the paper states none; see PAPER-NOTES).
@@ -279,7 +280,12 @@ SimulationConfig ParseSimulationConfig(const YamlInput& in) {
   }
   const YAML::Node resume = in.Mapping(root, "resume", "resume", false);
   if (resume.IsDefined()) {
-    in.CheckKeys(resume, "resume", {"force_tolerance"});
+    in.CheckKeys(resume, "resume", {"force_tolerance", "position_tolerance"});
+    if (resume["position_tolerance"]) {
+      cfg.resume_position_tolerance = in.PositiveNumber(
+          resume["position_tolerance"], "resume.position_tolerance",
+          "a positive distance in m (largest |measured - committed position| on resume)");
+    }
     if (resume["force_tolerance"]) {
       cfg.resume_force_tolerance = in.PositiveNumber(
           resume["force_tolerance"], "resume.force_tolerance",

@@ -53,6 +53,9 @@ struct SimulationConfig {
   // re-imposes the last committed command on a physical slot. Unit: [N]. Unset: 1 % of the
   // slot's force_hard (docs/safety.md, "Resuming a run").
   std::optional<double> resume_force_tolerance;
+  // resume.position_tolerance: largest |measured − committed position| accepted when `resume`
+  // re-imposes the last committed command. Unit: [m]. Default: a quarter of max_increment.
+  std::optional<double> resume_position_tolerance;
 };
 
 // Loads and validates a config file. Throws ConfigError.

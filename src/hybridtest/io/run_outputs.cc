@@ -18,22 +18,38 @@ std::vector<std::string> RunOutputFiles(const std::string& csv_path) {
   return {csv_path, SidecarPath(csv_path), stages, SidecarPath(stages)};
 }
 
-std::vector<std::string> RunInputFiles(const SimulationConfig& cfg) {
-  std::vector<std::string> inputs{cfg.input.path()};
+std::vector<RunInput> RunInputs(const SimulationConfig& cfg) {
+  const fs::path dir = fs::path(cfg.input.path()).parent_path();
+  auto resolve = [&](const YAML::Node& node) {
+    fs::path file = node.as<std::string>();
+    if (file.is_relative()) file = dir / file;
+    return file.string();
+  };
+  auto is_string = [](const YAML::Node& node) { return node && node.IsScalar(); };
+  std::vector<RunInput> inputs{{"config", cfg.input.path()}};
+  const YAML::Node model = cfg.input.root()["model"];
+  if (model && model.IsMap() && is_string(model["file"])) {
+    inputs.push_back({"model", resolve(model["file"])});
+  }
   const YAML::Node subs = cfg.input.root()["substructures"];
   if (!subs || !subs.IsMap()) return inputs;
-  // The same rule as MakeSubstructures: a bench file is relative to the config's directory.
+  // The same rule as MakeSubstructures: a bench or token file is relative to the config.
   for (const auto& slot : subs) {
     if (!slot.second.IsMap()) continue;
     const YAML::Node transfer = slot.second["transfer"];
-    if (!transfer || !transfer.IsMap() || !transfer["config"] || !transfer["config"].IsScalar()) {
-      continue;
+    if (!transfer || !transfer.IsMap()) continue;
+    if (is_string(transfer["config"])) inputs.push_back({"bench", resolve(transfer["config"])});
+    if (is_string(transfer["token_file"])) {
+      inputs.push_back({"token", resolve(transfer["token_file"])});
     }
-    fs::path file = transfer["config"].as<std::string>();
-    if (file.is_relative()) file = fs::path(cfg.input.path()).parent_path() / file;
-    inputs.push_back(file.string());
   }
   return inputs;
+}
+
+std::vector<std::string> RunInputFiles(const SimulationConfig& cfg) {
+  std::vector<std::string> paths;
+  for (const RunInput& input : RunInputs(cfg)) paths.push_back(input.path);
+  return paths;
 }
 
 bool SameFile(const std::string& a, const std::string& b) {
@@ -47,7 +63,10 @@ bool SameFile(const std::string& a, const std::string& b) {
 
 void CheckRunOutputs(const std::string& csv_path, const std::vector<std::string>& inputs,
                      bool overwrite) {
-  for (const std::string& out : RunOutputFiles(csv_path)) {
+  std::vector<std::string> outputs = RunOutputFiles(csv_path);
+  const fs::path p(csv_path);
+  outputs.push_back((p.parent_path() / (p.stem().string() + ".state.json")).string());
+  for (const std::string& out : outputs) {
     for (const std::string& in : inputs) {
       if (!SameFile(out, in)) continue;
       const std::string what =
@@ -58,8 +77,24 @@ void CheckRunOutputs(const std::string& csv_path, const std::vector<std::string>
                                     csv_path, what));
     }
   }
+  // Only regular files are ever replaced: a device node, a FIFO, a directory or a symlink at
+  // an output's name is refused even with --overwrite (as root, replacing /dev/null would
+  // break the machine; a symlink would write through to whatever it names).
+  for (const std::string& out : outputs) {
+    std::error_code ec;
+    const fs::file_status st = fs::symlink_status(out, ec);
+    if (ec || !fs::exists(st) || fs::is_regular_file(st)) continue;
+    const char* kind = fs::is_symlink(st)     ? "a symbolic link"
+                       : fs::is_directory(st) ? "a directory"
+                       : fs::is_fifo(st)      ? "a FIFO"
+                       : (fs::is_character_file(st) || fs::is_block_file(st)) ? "a device"
+                                                                                : "not a regular file";
+    throw ConfigError(fmt::format("{}: is {}; a run writes only regular files and never "
+                                  "replaces anything else (--overwrite does not allow this): "
+                                  "choose another --out", out, kind));
+  }
   if (overwrite) return;
-  for (const std::string& out : RunOutputFiles(csv_path)) {
+  for (const std::string& out : outputs) {
     std::error_code ec;
     if (fs::exists(fs::symlink_status(out, ec)) && !ec) {
       throw ConfigError(fmt::format(

@@ -16,16 +16,29 @@ namespace hybridtest::io {
 // The files a run to csv_path may write, journal first.
 std::vector<std::string> RunOutputFiles(const std::string& csv_path);
 
-// The files a run of `cfg` reads: the config itself and every `transfer.config` bench file of
-// its substructures (relative to the config's directory).
+// One file a run reads. `role`: "config", "model" (`model: {file: ...}`), "bench" (a
+// `transfer.config` bench file) or "token" (a `token_file`: a secret, never hashed).
+struct RunInput {
+  std::string role;
+  std::string path;  // as the config resolves it (relative to the config's directory)
+};
+
+// The files a run of `cfg` reads, the config first; paths relative to the config's directory
+// resolve from there. Keys that are absent or not strings are skipped (the config's own
+// validation reports them).
+std::vector<RunInput> RunInputs(const SimulationConfig& cfg);
+// Their paths only.
 std::vector<std::string> RunInputFiles(const SimulationConfig& cfg);
 
 // True if a and b name the same file: the same path once made absolute and normalized (./,
 // .., symlinks of existing parts), or the same inode.
 bool SameFile(const std::string& a, const std::string& b);
 
-// Throws ConfigError if an output of a run to csv_path is one of `inputs` (always), or exists
-// already and `overwrite` is false. The message names the file and how to fix it.
+// Throws ConfigError if an output of a run to csv_path is one of `inputs` (always), is
+// anything but a regular file where it exists (a device, a FIFO, a directory, a symlink:
+// always, --overwrite never replaces those), or exists already and `overwrite` is false. The
+// outputs checked are RunOutputFiles and the run state "<run>.state.json". The message names
+// the file and how to fix it.
 void CheckRunOutputs(const std::string& csv_path, const std::vector<std::string>& inputs,
                      bool overwrite);
 

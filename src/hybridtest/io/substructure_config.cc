@@ -133,8 +133,21 @@ substructures::SetupTransform ParseSetup(const YamlInput& in, const YAML::Node& 
 transfer::SafetyLimits ParseSafety(const YamlInput& in, const YAML::Node& node,
                                    const std::string& kp) {
   transfer::SafetyLimits l;
-  if (!node.IsDefined()) return l;
-  in.RequireMapping(node, kp);
+  // A physical slot states its limits, or acknowledges the actuator's defaults in so many
+  // words: a forgotten block must not run a specimen on 10 kN limits without anyone knowing.
+  if (!node.IsDefined() || node.IsNull()) {
+    throw ConfigError(fmt::format(
+        "{}: missing; a physical slot needs the limits of its bench: `safety:` with "
+        "stroke_min, stroke_max, max_increment [m], force_soft, force_hard [N] and timeout [s] "
+        "(docs/safety.md), or `safety: defaults` to accept the defaults (stroke ±{} m, "
+        "max_increment {} m, force_soft {} N, force_hard {} N, timeout {} s)",
+        in.Where(node, kp), l.stroke_max, l.max_increment, l.force_soft, l.force_hard,
+        l.timeout));
+  }
+  if (node.IsScalar() && node.Scalar() == "defaults") return l;
+  if (!node.IsMap()) {
+    in.ThrowValue(node, kp, "a mapping of limits (stroke_min: -0.15, ...) or `defaults`");
+  }
   in.CheckKeys(node, kp, {"stroke_min", "stroke_max", "max_increment", "force_soft",
                           "force_hard", "timeout", "initial_stiffness"});
   l.stroke_min = in.ReadNumber(node, kp, "stroke_min", "the lowest actuator position in m",
@@ -232,9 +245,9 @@ std::vector<std::unique_ptr<Substructure>> MakeSubstructures(const SimulationCon
         const transfer::SafetyLimits limits = ParseSafety(in, node["safety"], kp + ".safety");
         auto physical = std::make_unique<substructures::PhysicalSubstructure>(
             slot_name, MakeTransfer(in, tr, kp + ".transfer", options, limits.timeout,
-                                    node["safety"] ? &limits : nullptr),
+                                    node["safety"].IsMap() ? &limits : nullptr),
             ParseSetup(in, node["setup"], kp + ".setup"), limits,
-            node["safety"] && node["safety"]["initial_stiffness"]
+            node["safety"].IsMap() && node["safety"]["initial_stiffness"]
                 ? std::optional<double>(in.PositiveNumber(node["safety"]["initial_stiffness"],
                                                           kp + ".safety.initial_stiffness",
                                                           "the specimen's expected stiffness in N/m"))

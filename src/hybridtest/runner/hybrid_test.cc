@@ -118,8 +118,9 @@ RunStatistics HybridTest::Run() {
     rows_cut_ = CutJournalToRows(options_.csv_path, resume->rows);
     journal_storage.emplace(io::kReopenForAppend, options_.csv_path, policy);
   } else {
-    journal_storage.emplace(options_.csv_path, channels,
-                            JournalMetadataFor(cfg_, subs_, options_.command), policy);
+    io::JournalMetadata metadata = JournalMetadataFor(cfg_, subs_, options_.command);
+    metadata.extra["inputs"] = options_.inputs;
+    journal_storage.emplace(options_.csv_path, channels, std::move(metadata), policy);
   }
   io::Journal& journal = *journal_storage;
   std::optional<io::Journal> stages;
@@ -159,9 +160,14 @@ RunStatistics HybridTest::Run() {
     stats_.slowdown = t > 0.0 && physical ? stats_.lab_time / t : 0.0;
     stats_.wall_slowdown = t > 0.0 ? stats_.wall_time / t : 0.0;
   };
+  // The values of the journal's last row (the run state records them: resume checks that the
+  // journal still holds them).
+  Eigen::VectorXd last_row(row.size());
+  long last_row_index = -1;
   // Journal row of a committed state xs with restoring forces rs; `measured`: the physical
   // channels hold the last exchange (else NaN: no specimen sample belongs to this row).
-  auto write_row = [&](double t, const Eigen::VectorXd& xs, const Eigen::VectorXd& rs, bool measured) {
+  auto fill_row = [&](double t, const Eigen::VectorXd& xs, const Eigen::VectorXd& rs,
+                      bool measured) {
     Eigen::Index c = 0;
     row(c++) = t;
     row.segment(c, 2 * n) = xs;
@@ -175,8 +181,18 @@ RunStatistics HybridTest::Run() {
         row(c++) = measured ? v : std::numeric_limits<double>::quiet_NaN();
       }
     }
+  };
+  // Appends `row` as it is.
+  auto append_row = [&](bool measured) {
     journal.Append(std::span<const double>(row.data(), row.size()), measured);
     stats_.rows = journal.rows();
+    last_row = row;
+    last_row_index = journal.rows() - 1;
+  };
+  auto write_row = [&](double t, const Eigen::VectorXd& xs, const Eigen::VectorXd& rs,
+                       bool measured) {
+    fill_row(t, xs, rs, measured);
+    append_row(measured);
   };
 
   // The seam: trials of every substructure at a state (and the stage record).
@@ -208,11 +224,21 @@ RunStatistics HybridTest::Run() {
   double t_now = 0.0;
   // The run state goes to disk before its committed row (resume writes a lost row from it):
   // at every commit with a physical slot, else at the journal's batch syncs and at the end.
+  // `row` holds the committed row's values.
   auto save_state = [&](bool always, long rows_after) {
     if (!options_.save_state) return;
     if (!always && !physical && rows_after / 1000 == state_rows / 1000) return;
-    SaveRunState(state_path, CaptureState(*scheme, rows_after, stages ? stages->rows() : 0,
-                                          ToJson(stats_)));
+    RunState state = CaptureState(*scheme, rows_after, stages ? stages->rows() : 0,
+                                  ToJson(stats_));
+    state.row.assign(row.data(), row.data() + row.size());
+    state.journal_rows = journal.rows();
+    if (last_row_index >= 0 && last_row_index == journal.rows() - 1) {
+      state.journal_last_row = std::vector<double>(last_row.data(), last_row.data() + last_row.size());
+    } else if (journal.rows() > 0) {
+      // Reopened by a resume that has not written yet: the journal's own last row.
+      state.journal_last_row = journal.last_row();
+    }
+    SaveRunState(state_path, state);
     state_rows = rows_after;
   };
   try {
@@ -238,15 +264,16 @@ RunStatistics HybridTest::Run() {
       // Row 0 first: it publishes the journal; the state of a run that never published stays
       // that of the earlier run at the same path.
       write_row(0.0, cfg_.x0, r0, true);
-      save_state(true, journal.rows());
+      save_state(true, journal.rows());  // `row` still holds row 0
     }
     while (!scheme->finished()) {
       scheme->Step(seam, rows);
       const schemes::CommittedPoint& p = scheme->committed();
       for (auto& s : subs_) s->Commit();
       stats_.steps = p.step;
+      fill_row(p.t, p.x, p.r, true);
       save_state(scheme->finished(), journal.rows() + 1);
-      write_row(p.t, p.x, p.r, true);
+      append_row(true);
       t_now = p.t;
       update_stats(p.t);
       progress.Update({p.step, p.step + scheme->EstimatedStepsLeft(cfg_.duration), p.t,

@@ -45,6 +45,10 @@ struct RunOptions {
   const RunState* resume_from = nullptr;
   double resume_force_tolerance = 0.0;  // [N]; <= 0: 1 % of each physical slot's force_hard
   nlohmann::json resume_record = nlohmann::json::object();  // e.g. time, previous stop
+  double resume_position_tolerance = 0.0;  // [m]; <= 0: derived per slot (physical_substructure.h)
+  // The files the run reads, [{role, path (relative to the journal's directory), sha256}]:
+  // recorded in the sidecar and in every run state; resume checks them (docs/safety.md).
+  nlohmann::json inputs = nlohmann::json::array();
 };
 
 struct RunStatistics {

@@ -22,6 +22,7 @@ RunState HybridTest::CaptureState(const schemes::HybridScheme& scheme, long rows
   }
   state.statistics = statistics;
   state.stiffness = stiffness_record_;
+  state.inputs = options_.inputs;
   return state;
 }
 
@@ -80,12 +81,14 @@ void HybridTest::ResumeFrom(const RunState& state, schemes::HybridScheme& scheme
     auto* physical = dynamic_cast<substructures::PhysicalSubstructure*>(subs_[s].get());
     if (physical == nullptr) continue;
     const auto check = physical->ReimposeCommitted(
-        options_.resume_force_tolerance, p.step,
+        options_.resume_force_tolerance, options_.resume_position_tolerance, p.step,
         [&](bool reimposition) { stage_row(p.step, reimposition ? -1 : -2, p.t); });
     nlohmann::json c = {{"slot", slots[s].info.name},     {"command_m", check.command},
                         {"committed_force_N", check.committed_force},
                         {"ramp_moves", check.ramp_moves}, {"position_m", check.position},
-                        {"force_N", check.force},         {"tolerance_N", check.tolerance}};
+                        {"force_N", check.force},         {"tolerance_N", check.tolerance},
+                        {"committed_position_m", check.committed_position},
+                        {"position_tolerance_m", check.position_tolerance}};
     c["read_position_m"] = check.read_position ? nlohmann::json(*check.read_position) : nullptr;
     c["read_force_N"] = check.read_force ? nlohmann::json(*check.read_force) : nullptr;
     checks.push_back(c);

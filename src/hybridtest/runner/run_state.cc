@@ -4,7 +4,14 @@
 #include <fmt/core.h>
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
 
 #include <cstdint>
 #include <filesystem>
@@ -13,13 +20,91 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/atomic_file.h"
+#include "hybridtest/io/digest.h"
 
 namespace hybridtest::runner {
 
 namespace {
 constexpr const char* kFormat = "hybridtest-run-state";
-constexpr int kVersion = 1;
+constexpr int kVersion = 2;
+
+// Journal values in JSON: NaN (a slot without a sample) as null, every other value exactly
+// (nlohmann prints the shortest text that reads back to the same double).
+nlohmann::json RowToJson(const std::vector<double>& row) {
+  nlohmann::json a = nlohmann::json::array();
+  for (double v : row) a.push_back(std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v));
+  return a;
+}
+std::vector<double> RowFromJson(const nlohmann::json& a) {
+  std::vector<double> row;
+  if (!a.is_array()) throw ConfigError("a row is not an array of numbers");
+  for (const auto& v : a) {
+    if (!v.is_null() && !v.is_number()) throw ConfigError("a row value is not a number");
+    row.push_back(v.is_null() ? std::numeric_limits<double>::quiet_NaN() : v.get<double>());
+  }
+  return row;
+}
+
+
+// Two journal values are the same if their bits are, NaN matching NaN.
+bool SameValues(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (std::isnan(a[i]) && std::isnan(b[i])) continue;
+    if (std::memcmp(&a[i], &b[i], sizeof(double)) != 0) return false;
+  }
+  return true;
+}
+
+std::string Describe(const std::vector<double>& row) {
+  std::string text;
+  for (std::size_t i = 0; i < row.size() && i < 6; ++i) {
+    text += fmt::format("{}{}", i == 0 ? "" : ",", row[i]);
+  }
+  return text + (row.size() > 6 ? ",..." : "");
+}
+
+// The committed point the scheme and the physical slots will be restored to must be the row
+// the state records (which the journal is checked against): t, x and r of the scheme's state,
+// then command, position, force and lab time of every physical slot's last exchange. A state
+// whose parts disagree would move the actuator to a command that was never committed.
+void CheckStateAgreesWithItsRow(const RunState& s) {
+  std::vector<double> expected;
+  auto number = [](const nlohmann::json& v) {
+    if (v.is_null()) return std::numeric_limits<double>::quiet_NaN();
+    if (!v.is_number()) throw ConfigError("a value of the committed point is not a number");
+    return v.get<double>();
+  };
+  expected.push_back(number(s.scheme.at("t")));
+  for (const char* key : {"x", "r"}) {
+    const auto& a = s.scheme.at(key);
+    if (!a.is_array()) throw ConfigError(fmt::format("scheme.{} is not an array", key));
+    for (const auto& v : a) expected.push_back(number(v));
+  }
+  for (const auto& entry : s.substructures) {
+    if (!entry.is_object() || !entry.contains("state") || !entry["state"].is_object() ||
+        !entry["state"].contains("last")) {
+      continue;  // a numerical slot has no exchange
+    }
+    const auto& last = entry["state"]["last"];
+    for (const char* key : {"command_m", "position_m", "force_N", "lab_time_s"}) {
+      expected.push_back(number(last.at(key)));
+    }
+  }
+  if (!SameValues(expected, s.row)) {
+    throw ConfigError(fmt::format("its committed point ({}) is not its row ({}): the parts of the "
+                                  "state disagree", Describe(expected), Describe(s.row)));
+  }
+}
+
 }  // namespace
+
+std::string RunStateChecksum(const nlohmann::json& j) {
+  if (!j.is_object()) return {};
+  nlohmann::json copy = j;
+  copy.erase("checksum");
+  return io::Sha256Hex(copy.dump());
+}
 
 std::string RunStatePath(const std::string& csv_path) {
   const std::filesystem::path p(csv_path);
@@ -27,33 +112,125 @@ std::string RunStatePath(const std::string& csv_path) {
 }
 
 nlohmann::json ToJson(const RunState& s) {
-  return {{"format", kFormat},         {"version", kVersion},
-          {"rows", s.rows},            {"stage_rows", s.stage_rows},
-          {"scheme", s.scheme},        {"substructures", s.substructures},
-          {"statistics", s.statistics}, {"stiffness", s.stiffness}};
+  nlohmann::json j = {{"format", kFormat},         {"version", kVersion},
+                      {"rows", s.rows},            {"stage_rows", s.stage_rows},
+                      {"scheme", s.scheme},        {"substructures", s.substructures},
+                      {"statistics", s.statistics}, {"stiffness", s.stiffness},
+                      {"row", RowToJson(s.row)},
+                      {"journal", {{"rows", s.journal_rows},
+                                   {"last_row", s.journal_last_row
+                                                    ? RowToJson(*s.journal_last_row)
+                                                    : nlohmann::json(nullptr)}}},
+                      {"inputs", s.inputs}};
+  j["checksum"] = RunStateChecksum(j);
+  return j;
 }
 
 RunState RunStateFromJson(const nlohmann::json& j, const std::string& where) {
   if (!j.is_object() || j.value("format", "") != kFormat) {
-    throw IoError(fmt::format("{}: not a hybridtest run state (expected \"format\": \"{}\")",
-                              where, kFormat));
+    throw ConfigError(fmt::format("{}: not a hybridtest run state (expected \"format\": \"{}\")",
+                                  where, kFormat));
   }
-  if (j.value("version", 0) != kVersion) {
-    throw IoError(fmt::format("{}: run state version {}; this hybridtest reads version {}",
-                              where, j.value("version", 0), kVersion));
+  const auto version = j.find("version");
+  if (version == j.end() || !version->is_number_integer() || version->get<long>() != kVersion) {
+    throw ConfigError(fmt::format(
+        "{}: run state version {}; this hybridtest reads version {} (a run started by an older "
+        "hybridtest cannot be verified: finish it with that version, or start it again)",
+        where, version == j.end() ? "(none)" : version->dump(), kVersion));
   }
+  const auto checksum = j.find("checksum");
+  if (checksum == j.end() || !checksum->is_string() ||
+      checksum->get<std::string>() != RunStateChecksum(j)) {
+    throw ConfigError(fmt::format(
+        "{}: the run state's checksum does not match its contents: the file was edited or "
+        "damaged, and resume will not trust it. Restore the file the run wrote; a run state is "
+        "never edited by hand", where));
+  }
+  // A count: an integer in JSON (a float such as 1e300 would not fit a long).
+  auto count = [](const nlohmann::json& v) {
+    if (!v.is_number_integer()) throw ConfigError("a count is not an integer");
+    return v.get<long>();
+  };
   try {
     RunState s;
-    s.rows = j.at("rows").get<long>();
-    s.stage_rows = j.at("stage_rows").get<long>();
+    s.rows = count(j.at("rows"));
+    s.stage_rows = count(j.at("stage_rows"));
     s.scheme = j.at("scheme");
     s.substructures = j.at("substructures");
     s.statistics = j.at("statistics");
     s.stiffness = j.at("stiffness");
-    if (s.rows < 1 || !s.substructures.is_array()) throw IoError("rows < 1 or no slots");
+    s.row = RowFromJson(j.at("row"));
+    s.journal_rows = count(j.at("journal").at("rows"));
+    if (!j.at("journal").at("last_row").is_null()) {
+      s.journal_last_row = RowFromJson(j.at("journal").at("last_row"));
+    }
+    s.inputs = j.at("inputs");
+    if (s.rows < 1 || !s.substructures.is_array() || !s.inputs.is_array() || s.row.empty() ||
+        s.journal_rows < 0 || s.journal_rows > s.rows ||
+        (s.journal_rows > 0) != s.journal_last_row.has_value()) {
+      throw ConfigError("inconsistent counts (rows, journal.rows, row)");
+    }
+    CheckStateAgreesWithItsRow(s);
     return s;
   } catch (const std::exception& e) {
-    throw IoError(fmt::format("{}: damaged run state: {}", where, e.what()));
+    throw ConfigError(fmt::format("{}: damaged run state: {}", where, e.what()));
+  }
+}
+
+JournalRows ReadJournalRows(const std::string& csv_path, const std::vector<long>& indices) {
+  std::ifstream in(csv_path, std::ios::binary);
+  if (!in) throw IoError(fmt::format("{}: cannot read the journal: {}", csv_path, io::OsError()));
+  JournalRows result;
+  std::string line;
+  long index = -1;  // the header is line −1
+  while (std::getline(in, line)) {
+    if (in.eof()) break;  // no newline: a partial last line, not a row
+    if (index >= 0 && std::find(indices.begin(), indices.end(), index) != indices.end()) {
+      std::vector<double> values;
+      const char* p = line.c_str();
+      const char* end = p + line.size();
+      while (p <= end) {
+        const char* comma = std::find(p, end, ',');
+        values.push_back(std::strtod(std::string(p, comma).c_str(), nullptr));
+        p = comma + 1;
+      }
+      result.rows.emplace(index, std::move(values));
+    }
+    ++index;
+  }
+  result.complete = std::max(index, 0L);
+  return result;
+}
+
+void VerifyRunStateAgainstJournal(const RunState& state, const std::string& csv_path) {
+  const std::string state_path = RunStatePath(csv_path);
+  const JournalRows j = ReadJournalRows(csv_path, {state.journal_rows - 1, state.rows - 1});
+  auto refuse = [&](const std::string& what) {
+    throw ConfigError(fmt::format(
+        "{}: the run state {} does not belong to this journal: {}. Resume refuses, and nothing "
+        "was changed: restore the journal and the state the run wrote together (a journal or a "
+        "state copied from another run, edited, or cut cannot be continued)",
+        csv_path, state_path, what));
+  };
+  if (j.complete < state.journal_rows) {
+    refuse(fmt::format("the journal has {} rows, but held {} when the state was saved",
+                       j.complete, state.journal_rows));
+  }
+  if (state.journal_last_row) {
+    const auto& row = j.rows.at(state.journal_rows - 1);
+    if (!SameValues(row, *state.journal_last_row)) {
+      refuse(fmt::format("its row {} is {} but was {} when the state was saved",
+                         state.journal_rows - 1, Describe(row), Describe(*state.journal_last_row)));
+    }
+  }
+  if (const auto it = j.rows.find(state.rows - 1); it != j.rows.end()) {
+    if (!SameValues(it->second, state.row)) {
+      refuse(fmt::format("the committed row {} is {} in the journal but {} in the state",
+                         state.rows - 1, Describe(it->second), Describe(state.row)));
+    }
+  } else if (j.complete != state.rows - 1) {
+    refuse(fmt::format("the journal has {} rows; the state's committed row is row {}",
+                       j.complete, state.rows - 1));
   }
 }
 
@@ -89,19 +266,26 @@ void SaveRunState(const std::string& path, const RunState& state) {
 }
 
 RunState LoadRunState(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) {
-    throw IoError(fmt::format("{}: cannot read the run state: {}; a run writes it beside its "
-                              "journal (hybridtest 0.x runs before resume existed have none)",
-                              path, io::OsError()));
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  struct stat st {};
+  if (fd < 0 || ::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size > (64 << 20)) {
+    const std::string error = fd < 0 ? io::OsError() : "not a regular file of at most 64 MiB";
+    if (fd >= 0) ::close(fd);
+    throw ConfigError(fmt::format("{}: cannot read the run state: {}; a run writes it beside its "
+                                  "journal", path, error));
   }
-  std::stringstream text;
-  text << in.rdbuf();
+  std::string text(static_cast<std::size_t>(st.st_size), '\0');
+  const ssize_t n = ::pread(fd, text.data(), text.size(), 0);
+  ::close(fd);
+  if (n != static_cast<ssize_t>(text.size())) {
+    throw ConfigError(fmt::format("{}: cannot read the run state: {}", path, io::OsError()));
+  }
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(text.str());
+    j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
-    throw IoError(fmt::format("{}: the run state is not valid JSON: {}", path, e.what()));
+    throw ConfigError(fmt::format("{}: the run state is not valid JSON (truncated or damaged): "
+                                  "{}; restore the file the run wrote", path, e.what()));
   }
   return RunStateFromJson(j, path);
 }

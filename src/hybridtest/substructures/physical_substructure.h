@@ -72,25 +72,35 @@ class PhysicalSubstructure final : public Substructure {
   // What a resume did on this slot (see ReimposeCommitted).
   struct ResumeCheck {
     double command = 0.0;            // the last committed command [m]
+    double committed_position = 0.0; // its measured position in the journal [m]
     double committed_force = 0.0;    // its force in the journal [N]
     std::optional<double> read_position;  // bench position read before moving [m]
     std::optional<double> read_force;     // bench force read before moving [N]
     int ramp_moves = 0;              // moves before the re-imposition (bench had moved)
     double position = 0.0;           // measured after the re-imposition [m]
     double force = 0.0;              // measured after the re-imposition [N]
+    double position_tolerance = 0.0; // accepted |position − committed_position| [m]
     double tolerance = 0.0;          // accepted |force − committed_force| [N]
   };
   // After RestoreState on an activated substructure, at the start of a resumed run: reads the
-  // bench if it can be read without moving; if it is more than max_increment from the last
-  // committed command, ramps to it in equal moves of at most max_increment; then re-imposes
-  // the last committed command (every move checked by the safety monitor: nothing outside the
-  // limits is sent) and compares the measured force with the committed one. `on_move` is
-  // called after every exchange (last_exchange() holds it) with false for a ramp move and
-  // true for the re-imposition. force_tolerance [N] ≤ 0: 1 % of
-  // force_hard. Throws SafetyStop (limit "resume_force_tolerance", both forces named) if they
-  // differ by more, after putting the bench on hold; SafetyStop/TransferError from the moves.
-  ResumeCheck ReimposeCommitted(double force_tolerance, long step,
+  // bench if it can be read without moving, and from then on checks every move against the
+  // MEASURED position; if it is more than max_increment from the last committed command, ramps
+  // to it in equal moves strictly within max_increment; then re-imposes the last committed
+  // command (every move checked by the safety monitor: nothing outside the limits is sent) and
+  // compares the measured position and force with the committed ones. `on_move` is called
+  // after every exchange (last_exchange() holds it) with false for a ramp move and true for
+  // the re-imposition.
+  // position_tolerance [m] ≤ 0: DefaultResumePositionTolerance(); force_tolerance [N] ≤ 0:
+  // DefaultResumeForceTolerance(). Throws SafetyStop (limit "resume_position_tolerance" or
+  // "resume_force_tolerance", both values named) if either differs by more, after putting the
+  // bench on hold; SafetyStop/TransferError from the moves.
+  ResumeCheck ReimposeCommitted(double force_tolerance, double position_tolerance, long step,
                                 const std::function<void(bool reimposition)>& on_move);
+  // A quarter of max_increment [m].
+  double DefaultResumePositionTolerance() const;
+  // The smaller of 1 % of force_hard and K0 × position_tolerance (K0 of this slot, if known)
+  // [N]: a force check never accepts what the position check would refuse.
+  double DefaultResumeForceTolerance(double position_tolerance) const;
 
  private:
   std::string name_;

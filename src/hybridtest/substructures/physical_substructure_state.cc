@@ -2,6 +2,7 @@
 // physical_substructure.h and docs/safety.md, "Resuming a run").
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "hybridtest/common/error.h"
@@ -32,13 +33,32 @@ void PhysicalSubstructure::RestoreState(const nlohmann::json& state) {
   }
 }
 
+double PhysicalSubstructure::DefaultResumePositionTolerance() const {
+  return 0.25 * safety_.limits().max_increment;
+}
+
+double PhysicalSubstructure::DefaultResumeForceTolerance(double position_tolerance) const {
+  const double by_limit = 0.01 * safety_.limits().force_hard;
+  // A force tolerance wider than the stiffness times the position tolerance would accept a
+  // position error the position check refuses (100 N on a 7.2 N/mm specimen is 13.9 mm).
+  if (const auto k0 = initial_stiffness(); k0 && std::isfinite(*k0) && *k0 > 0.0) {
+    return std::min(by_limit, *k0 * position_tolerance);
+  }
+  return by_limit;
+}
+
 PhysicalSubstructure::ResumeCheck PhysicalSubstructure::ReimposeCommitted(
-    double force_tolerance, long step, const std::function<void(bool)>& on_move) {
+    double force_tolerance, double position_tolerance, long step,
+    const std::function<void(bool)>& on_move) {
   const transfer::BenchUnits units = transfer_->bench_units();
   ResumeCheck check;
   check.command = last_.command;
+  check.committed_position = last_.position;
   check.committed_force = last_.force;
-  check.tolerance = force_tolerance > 0.0 ? force_tolerance : 0.01 * safety_.limits().force_hard;
+  check.position_tolerance =
+      position_tolerance > 0.0 ? position_tolerance : DefaultResumePositionTolerance();
+  check.tolerance = force_tolerance > 0.0 ? force_tolerance
+                                          : DefaultResumeForceTolerance(check.position_tolerance);
   // One move: checked before it is sent and after it is measured, like a trial (stage −1:
   // not a stage of the scheme).
   auto move = [&](double command, bool reimposition) {
@@ -59,15 +79,18 @@ PhysicalSubstructure::ResumeCheck PhysicalSubstructure::ReimposeCommitted(
   if (const auto read = transfer_->Read()) {
     check.read_position = setup_.PositionMetres(read->position, units);
     check.read_force = setup_.ForceNewtons(read->force, units);
-    const double gap = check.command - *check.read_position;
+    // Every move from here is checked against where the actuator IS, not where the state says
+    // it was: the increment limit then holds for the first move too.
+    const double measured_command = *check.read_position;  // commands are actuator positions [m]
+    safety_.SetStartPosition(measured_command);
+    const double gap = check.command - measured_command;
     const double limit = safety_.limits().max_increment;
     if (std::abs(gap) > limit) {
-      // The bench has moved since the commit: walk back in equal moves within the limit,
-      // starting from where it is.
-      const int moves = static_cast<int>(std::ceil(std::abs(gap) / limit));
-      safety_.SetStartPosition(*check.read_position);
+      // The bench has moved since the commit: walk back in equal moves strictly within the
+      // limit (a gap of exactly k limits takes k + 1 moves: rounding must not push one over).
+      const int moves = static_cast<int>(std::floor(std::abs(gap) / limit)) + 1;
       for (int k = 1; k < moves; ++k) {
-        move(*check.read_position + gap * static_cast<double>(k) / moves, false);
+        move(measured_command + gap * static_cast<double>(k) / moves, false);
         ++check.ramp_moves;
       }
     }
@@ -75,18 +98,25 @@ PhysicalSubstructure::ResumeCheck PhysicalSubstructure::ReimposeCommitted(
   move(check.command, true);
   check.position = last_.position;
   check.force = last_.force;
+  const double position_difference = std::abs(check.position - check.committed_position);
   const double difference = std::abs(check.force - check.committed_force);
-  if (!(difference <= check.tolerance)) {
+  if (!(position_difference <= check.position_tolerance) || !(difference <= check.tolerance)) {
     Hold();
+    const bool position_bad = !(position_difference <= check.position_tolerance);
     throw transfer::SafetyStop(
-        "resume_force_tolerance", difference, check.tolerance, step, -1, safety_.history(),
+        position_bad ? "resume_position_tolerance" : "resume_force_tolerance",
+        position_bad ? position_difference : difference,
+        position_bad ? check.position_tolerance : check.tolerance, step, -1, safety_.history(),
         fmt::format("{}: resume refused: the last committed command {} m was re-imposed and the "
-                    "bench measured {} N, but the journal's committed force is {} N (difference "
-                    "{} N > resume.force_tolerance {} N). The bench holds there. To proceed: "
-                    "check the specimen and the load cell; if the difference is understood, "
-                    "resume with --force-tolerance N or set resume.force_tolerance",
-                    name_, check.command, check.force, check.committed_force, difference,
-                    check.tolerance));
+                    "bench measured position {} m and force {} N, but the journal's committed "
+                    "position is {} m and force {} N (differences {} m and {} N; accepted {} m "
+                    "and {} N). The bench holds there. To proceed: check the specimen, the "
+                    "actuator and the load cell; if the difference is understood, resume with "
+                    "--position-tolerance M / --force-tolerance N (or resume.position_tolerance, "
+                    "resume.force_tolerance)",
+                    name_, check.command, check.position, check.force, check.committed_position,
+                    check.committed_force, position_difference, difference,
+                    check.position_tolerance, check.tolerance));
   }
   return check;
 }

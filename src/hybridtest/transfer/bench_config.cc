@@ -271,7 +271,32 @@ void ValidateEmulatedBenchConfig(const EmulatedBenchConfig& c) {
     fail(fmt::format("actuator.velocity_limit_mm_per_s = {}: expected > 0",
                      c.velocity_limit / kMillimetre));
   }
-  if (!(c.internal_step > 0.0)) fail("timing.internal_step_ms: expected > 0");
+  // Every timing key is bounded: the emulated bench simulates each command in internal
+  // steps, so a tiny step or a huge window would run for hours and ignore Ctrl-C.
+  if (!(c.internal_step >= 1e-6 && c.internal_step <= 0.1)) {
+    fail(fmt::format("timing.internal_step_ms = {}: expected 0.001 to 100 ms (1 ms is usual)",
+                     c.internal_step / kMillisecond));
+  }
+  auto bounded = [&](double value, double max_s, const char* key) {
+    if (!(value >= 0.0 && value <= max_s)) {
+      fail(fmt::format("{} = {}: expected 0 to {} ms", key, value / kMillisecond,
+                       max_s / kMillisecond));
+    }
+  };
+  bounded(c.delay, 10.0, "actuator.delay_ms");
+  bounded(c.settle_dwell, 60.0, "settling.dwell_ms");
+  bounded(c.sampling_window, 60.0, "sampling.window_ms");
+  bounded(c.overhead, 3600.0, "timing.overhead_ms");
+  if ((c.delay + c.settle_dwell + c.sampling_window) / c.internal_step > 1e7) {
+    fail(fmt::format("actuator.delay_ms + settling.dwell_ms + sampling.window_ms = {} ms is "
+                     "more than 10 million internal steps of {} ms per command; lengthen "
+                     "timing.internal_step_ms or shorten the windows",
+                     (c.delay + c.settle_dwell + c.sampling_window) / kMillisecond,
+                     c.internal_step / kMillisecond));
+  }
+  if (c.lag.type == ServoLag::Type::kFirstOrder && c.lag.time_constant > 10.0) {
+    fail("actuator.lag.time_constant_ms: expected at most 10000 ms");
+  }
   if (c.delay < 0.0) fail("actuator.delay_ms: expected >= 0");
   if (c.noise_std < 0.0) fail("load_cell.noise_std_N: expected >= 0");
   if (c.resolution < 0.0) fail("load_cell.resolution_N: expected >= 0 (0 disables quantisation)");
