@@ -232,6 +232,27 @@ TEST(AStateThatCannotLie, ResumeUsesTheRunsOwnFilesNeverTheCurrentDirectorys) {
   fs::remove_all(dir);
 }
 
+// Killed between the journal's two publishing renames, a run has its CSV but its sidecar is
+// still "<run>.meta.json.partial": resume completes the rename and continues.
+TEST(AStateThatCannotLie, ASidecarLeftStagedIsPublishedByResume) {
+  const fs::path dir = ResumeTestDir("staged_sidecar");
+  const std::string numerical = kSource + "/examples/rotor/numerical.yaml";
+  const fs::path reference = dir / "reference.csv";
+  ASSERT_EQ(RunToEnd({"simulate", numerical, "--out", reference.string(), "--quiet"},
+                     dir / "reference.log"), 0);
+  const fs::path csv = dir / "k.csv";
+  ASSERT_TRUE(RunAndSignalAt({"simulate", numerical, "--out", csv.string(), "--quiet"}, csv,
+                             fs::file_size(reference) / 2, SIGKILL, dir / "run.log",
+                             128 + SIGKILL));
+  fs::rename(dir / "k.meta.json", dir / "k.meta.json.partial");
+  const auto [status, output] = Resume(csv, {}, dir / "resume.log");
+  ASSERT_EQ(status, 0) << output;
+  EXPECT_NE(output.find("completed from"), std::string::npos) << output;
+  EXPECT_FALSE(fs::exists(dir / "k.meta.json.partial"));
+  ExpectSameJournal(ReadLines(reference), ReadLines(csv), /*skip_lab_time=*/false);
+  fs::remove_all(dir);
+}
+
 TEST(OutputsGuarded, OntoTheModelTheTokenOrADeviceIsRefused) {
   const fs::path dir = ResumeTestDir("out_guard");
   fs::copy_file(kSource + "/examples/models/rotor.yaml", dir / "rotor.yaml");

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "hybridtest/substructures/physical_substructure.h"
@@ -19,18 +20,19 @@ namespace {
 const std::string kIdeal = std::string(HYBRIDTEST_SOURCE_DIR) + "/examples/rotor/bench-ideal.yaml";
 const transfer::SafetyLimits kLimits{-0.15, 0.15, 0.005, 8000.0, 10000.0, 5.0};
 
-std::unique_ptr<PhysicalSubstructure> MakeIdealSlot() {
+std::unique_ptr<PhysicalSubstructure> MakeIdealSlot(std::optional<double> k0 = std::nullopt) {
   SetupTransform setup;
   setup.p0 = 0.020;  // [m], the bench's p0_mm
   return std::make_unique<PhysicalSubstructure>(
-      "r1", transfer::MakeEmulatedBench(transfer::LoadEmulatedBenchConfig(kIdeal)), setup, kLimits);
+      "r1", transfer::MakeEmulatedBench(transfer::LoadEmulatedBenchConfig(kIdeal)), setup, kLimits,
+      k0);
 }
 
-// A slot that has made a few trials up to d = 12 mm, and its saved state.
-nlohmann::json StateAfterTrials() {
+// A slot that has made a few trials up to d = 4 × increment (12 mm), and its saved state.
+nlohmann::json StateAfterTrials(double increment = 0.003) {
   auto slot = MakeIdealSlot();
   slot->Activate();
-  for (int k = 1; k <= 4; ++k) slot->Trial(0.003 * k, {k, 0, 0.001 * k});
+  for (int k = 1; k <= 4; ++k) slot->Trial(increment * k, {k, 0, 0.001 * k});
   slot->Commit();
   return nlohmann::json::parse(slot->SaveState().dump());
 }
@@ -41,7 +43,7 @@ TEST(PhysicalResume, ReimposesTheCommittedCommandOnce) {
   slot->Activate();
   slot->RestoreState(state);  // the in-process bench comes back where it was
   std::vector<bool> moves;
-  const auto check = slot->ReimposeCommitted(0.0, 4, [&](bool r) { moves.push_back(r); });
+  const auto check = slot->ReimposeCommitted(0.0, 0.0, 4, [&](bool r) { moves.push_back(r); });
   EXPECT_EQ(moves, std::vector<bool>{true});
   EXPECT_NEAR(check.command, 0.032, 1e-12);
   ASSERT_TRUE(check.read_position.has_value());
@@ -59,7 +61,7 @@ TEST(PhysicalResume, RampsBackWithinTheIncrementLimit) {
   slot->RestoreState(state);
   std::vector<double> commands;
   const auto check = slot->ReimposeCommitted(
-      0.0, 4, [&](bool) { commands.push_back(slot->last_exchange().command); });
+      0.0, 0.0, 4, [&](bool) { commands.push_back(slot->last_exchange().command); });
   EXPECT_NEAR(*check.read_position, 0.020, 1e-12);
   EXPECT_EQ(check.ramp_moves, 2);  // 12 mm in moves of at most 5 mm: 3 moves
   ASSERT_EQ(commands.size(), 3u);
@@ -80,7 +82,7 @@ TEST(PhysicalResume, RefusesAForceThatDisagreesWithTheJournal) {
   slot->Activate();
   slot->RestoreState(state);
   try {
-    slot->ReimposeCommitted(0.0, 4, {});
+    slot->ReimposeCommitted(0.0, 0.0, 4, {});
     FAIL() << "no SafetyStop";
   } catch (const transfer::SafetyStop& e) {
     EXPECT_EQ(e.limit(), "resume_force_tolerance");
@@ -94,7 +96,56 @@ TEST(PhysicalResume, RefusesAForceThatDisagreesWithTheJournal) {
   auto again = MakeIdealSlot();
   again->Activate();
   again->RestoreState(state);
-  EXPECT_NO_THROW(again->ReimposeCommitted(200.0, 4, {}));
+  EXPECT_NO_THROW(again->ReimposeCommitted(200.0, 0.0, 4, {}));
+}
+
+TEST(PhysicalResume, AGapOfExactlyTwoIncrementsIsRampedStrictlyWithinTheLimit) {
+  auto state = StateAfterTrials(0.0025);  // committed command 30 mm; the bench starts at 20 mm
+  state["transfer"] = nullptr;
+  auto slot = MakeIdealSlot();
+  slot->Activate();
+  slot->RestoreState(state);
+  std::vector<double> commands;
+  const auto check = slot->ReimposeCommitted(
+      0.0, 0.0, 4, [&](bool) { commands.push_back(slot->last_exchange().command); });
+  EXPECT_EQ(check.ramp_moves, 2);  // 10 mm = 2 × 5 mm: three moves, none at the limit
+  double previous = 0.020;
+  for (double c : commands) {
+    EXPECT_LT(std::abs(c - previous), kLimits.max_increment);
+    previous = c;
+  }
+  EXPECT_NEAR(commands.back(), 0.030, 1e-12);
+}
+
+TEST(PhysicalResume, RefusesAPositionThatDisagreesWithTheJournal) {
+  auto state = StateAfterTrials();
+  // The journal says the actuator stood 2 mm elsewhere (a slipped clamp, a re-zeroed encoder):
+  // the force alone would not tell on a soft specimen.
+  state["last"]["position_m"] = state["last"]["position_m"].get<double>() + 0.002;
+  auto slot = MakeIdealSlot();
+  slot->Activate();
+  slot->RestoreState(state);
+  try {
+    slot->ReimposeCommitted(0.0, 0.0, 4, {});
+    FAIL() << "no SafetyStop";
+  } catch (const transfer::SafetyStop& e) {
+    EXPECT_EQ(e.limit(), "resume_position_tolerance");
+    EXPECT_NEAR(e.value(), 0.002, 1e-12);
+    EXPECT_DOUBLE_EQ(e.limit_value(), 0.25 * kLimits.max_increment);
+    EXPECT_NE(std::string(e.what()).find("--position-tolerance"), std::string::npos);
+  }
+  auto again = MakeIdealSlot();
+  again->Activate();
+  again->RestoreState(state);
+  EXPECT_NO_THROW(again->ReimposeCommitted(0.0, 0.003, 4, {}));
+}
+
+TEST(PhysicalResume, TheDefaultForceToleranceFollowsK0AndThePositionTolerance) {
+  auto slot = MakeIdealSlot(7200.0);  // [N/m], the paper's blade
+  // 1 % of 10 kN is 100 N, which is 13.9 mm on this specimen; K0 × 1.25 mm is 9 N.
+  EXPECT_DOUBLE_EQ(slot->DefaultResumePositionTolerance(), 0.00125);
+  EXPECT_DOUBLE_EQ(slot->DefaultResumeForceTolerance(0.00125), 9.0);
+  EXPECT_DOUBLE_EQ(MakeIdealSlot()->DefaultResumeForceTolerance(0.00125), 100.0);
 }
 
 }  // namespace

@@ -52,10 +52,10 @@ RunLock RunLock::Acquire(const std::string& csv_path, const std::string& command
       throw IoError(fmt::format("{}: cannot lock the run: {}", path, std::strerror(error)));
     }
     throw ConfigError(fmt::format(
-        "{}: the run is in use by another hybridtest process ({}); one process at a time may "
-        "drive a run. Wait for it to finish, or stop it (Ctrl-C, or kill PID on that host) and "
-        "then run hybridtest resume {}", csv_path, who.empty() ? "holder unknown" : who,
-        csv_path));
+        "{}: the run is in use by another hybridtest process ({}), which holds its lock {}; "
+        "one process at a time may drive a run. Wait for it to finish, or stop it (Ctrl-C, or "
+        "kill PID on that host) and then run hybridtest resume {}", csv_path,
+        who.empty() ? "holder unknown" : who, path, csv_path));
   }
   // The holder's line, for the message of a refused second process.
   std::array<char, 256> host{};

@@ -86,9 +86,10 @@ PhysicalSubstructure::ResumeCheck PhysicalSubstructure::ReimposeCommitted(
     const double gap = check.command - measured_command;
     const double limit = safety_.limits().max_increment;
     if (std::abs(gap) > limit) {
-      // The bench has moved since the commit: walk back in equal moves strictly within the
-      // limit (a gap of exactly k limits takes k + 1 moves: rounding must not push one over).
-      const int moves = static_cast<int>(std::floor(std::abs(gap) / limit)) + 1;
+      // The bench has moved since the commit: walk back in equal moves of at most 99.9 % of
+      // the limit, so that rounding never pushes a move over it (a gap of exactly k limits
+      // takes k + 1 moves).
+      const int moves = static_cast<int>(std::ceil(std::abs(gap) / (0.999 * limit)));
       for (int k = 1; k < moves; ++k) {
         move(measured_command + gap * static_cast<double>(k) / moves, false);
         ++check.ramp_moves;
