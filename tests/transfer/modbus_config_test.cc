@@ -82,7 +82,7 @@ TEST(ModbusConfig, FollowingErrorMustBePositiveAndShorterThanTheStroke) {
             std::string::npos);
   // 400 mm on a ±150 mm stroke: probably meant in another unit; it could never trip.
   const std::string error = Error("transfer: {type: modbus, host: h, following_error: 400}");
-  EXPECT_NE(error.find("run.yaml:1: transfer.following_error = 400 mm is longer than the whole "
+  EXPECT_NE(error.find("run.yaml:1: transfer.following_error: 400 mm is longer than the whole "
                        "stroke"), std::string::npos) << error;
   EXPECT_NE(error.find("max_increment 5 mm"), std::string::npos) << error;
 }

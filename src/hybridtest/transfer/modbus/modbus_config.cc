@@ -79,7 +79,7 @@ ModbusOptions ParseModbusOptions(const YamlInput& in, const YAML::Node& node,
     o.following_error = in.PositiveNumber(node["following_error"], kp + ".following_error", what);
     if (*o.following_error * metres > l.stroke_max - l.stroke_min) {
       throw ConfigError(fmt::format(
-          "{}: following_error = {} {} is longer than the whole stroke ({} m to {} m), so it "
+          "{}: {} {} is longer than the whole stroke ({} m to {} m), so it "
           "could never stop anything: give it in {} (the map's length unit), e.g. the slot's "
           "max_increment {} {}", in.Where(node["following_error"], kp + ".following_error"),
           *o.following_error, o.map.units.length_name, l.stroke_min, l.stroke_max,
