@@ -63,8 +63,8 @@ TEST(ModbusResume, ControllerRestartedElsewhereIsRampedBackWithinMaxIncrement) {
 
   // The resume read where the actuator was and ramped from there.
   const auto check = Sidecar(csv)["resumes"][0]["checks"][0];
-  ASSERT_FALSE(check["read_position_m"].is_null()) << check.dump();
-  EXPECT_EQ(check["read_position_m"].get<double>(), 0.0);
+  EXPECT_FALSE(check["read_position_m"].is_null()) << "the position was not read: " << check.dump();
+  if (!check["read_position_m"].is_null()) EXPECT_EQ(check["read_position_m"].get<double>(), 0.0);
   const double committed_mm = check["command_m"].get<double>() * 1e3;
   ASSERT_GT(committed_mm, 10.0 * kMaxIncrementMm) << "the restart should be far from the commit";
   const long ramp_moves = check["ramp_moves"].get<long>();
@@ -80,6 +80,7 @@ TEST(ModbusResume, ControllerRestartedElsewhereIsRampedBackWithinMaxIncrement) {
   // a 20 mm command by at most 1e-6 mm.
   const std::vector<double> commands = ReceivedCommands(log);
   ASSERT_GT(commands.size(), static_cast<std::size_t>(ramp_moves + 1));
+  ASSERT_GE(ramp_moves, 0);
   double previous = 0.0, largest = 0.0;
   for (std::size_t i = 0; i < commands.size(); ++i) {
     const double step = std::abs(commands[i] - previous);
