@@ -1,6 +1,6 @@
 // `hybridtest resume` over Modbus/TCP (issue 15, the Modbus contract): a run against the
 // pymodbus controller is killed (SIGKILL) mid-way, the controller restarts with the actuator
-// somewhere else (0 mm, about 20 mm from the last committed command), and the resume
+// somewhere else (0 mm, 20 to 30 mm from the last committed command), and the resume
 //   - reads the controller's position without moving (ModbusTransfer::Read),
 //   - ramps back from that measured position in moves of at most max_increment (2 mm): no
 //     command the controller receives differs from the previous one (or from where it
