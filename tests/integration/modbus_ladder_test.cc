@@ -2,7 +2,9 @@
 //   - ladder rung: the ideal bench played by the pymodbus controller equals the in-process
 //     ideal emulated bench (ladder-emulated-ideal.yaml) within float32 resolution;
 //   - a controller fault ends the run with exit status 4, a message naming the controller,
-//     and every committed step in the journal;
+//     and every committed step in the journal; so does a controller that reports holding
+//     mid-run; a measured position 50 mm off the command is a following-error safety stop
+//     (exit status 3);
 //   - the contract of issue 11: examples/rotor/modbus.yaml against a controller with the
 //     default profile (ideal actuator, 5.25 N/mm, zero force at 0 mm) gives 10,001 rows with
 //     q1..q3 within 1e-6 m of `simulate` with blade1.k_b = 5250. The 20,000 round trips run
@@ -109,6 +111,38 @@ TEST(ModbusLadder, ControllerFaultStopsTheRunWithExitStatus4) {
   const io::RunData data = io::LoadRun(run.csv);
   EXPECT_EQ(data.num_rows(), 51);
   EXPECT_EQ(data.metadata.at("status").get<std::string>().rfind("stopped", 0), 0u);
+}
+
+TEST(ModbusLadder, ControllerReportingHoldingMidRunStopsTheRunWithExitStatus4) {
+  if (!testing::PymodbusAvailable()) GTEST_SKIP() << testing::kPymodbusMissing;
+  // The controller acknowledges command 101 but reports holding from then on.
+  auto server = ModbusServerProcess::Pymodbus({"--p0-mm", "20", "--fault", "holding@101"});
+  const CliRun run = Hybridtest(
+      "holding_bit",
+      fmt::format("run {}/tests/data/faults-modbus.yaml --bench {}", kSource, server.address()));
+  EXPECT_EQ(run.status, 4) << run.output;
+  EXPECT_NE(run.output.find("reports holding (status bit 2)"), std::string::npos) << run.output;
+  const io::RunData data = io::LoadRun(run.csv);
+  EXPECT_EQ(data.num_rows(), 51);  // as for the fault bit: the step of command 101 is not kept
+  EXPECT_EQ(data.metadata.at("status").get<std::string>().rfind("stopped", 0), 0u);
+}
+
+TEST(ModbusLadder, MeasuredPosition50MmOffTheCommandIsAFollowingErrorSafetyStop) {
+  if (!testing::PymodbusAvailable()) GTEST_SKIP() << testing::kPymodbusMissing;
+  auto server = ModbusServerProcess::Pymodbus(
+      {"--p0-mm", "20", "--fault", "offset@101", "--offset-mm", "50"});
+  const CliRun run = Hybridtest(
+      "following_error",
+      fmt::format("run {}/tests/data/faults-modbus.yaml --bench {}", kSource, server.address()));
+  EXPECT_EQ(run.status, 3) << run.output;  // a safety stop
+  // The default limit is the slot's max_increment, 5 mm; the message names both positions.
+  EXPECT_NE(run.output.find("following_error violated"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("> following_error 5 mm"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("measured position 7"), std::string::npos) << run.output;  // ~70 mm
+  const io::RunData data = io::LoadRun(run.csv);
+  EXPECT_EQ(data.num_rows(), 51);
+  EXPECT_NE(data.metadata.at("status").get<std::string>().find("following_error"),
+            std::string::npos) << data.metadata.at("status");
 }
 
 TEST(ModbusLadder, ContractExampleEqualsTheSimulationWithTheSpecimenStiffness) {

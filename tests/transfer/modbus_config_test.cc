@@ -55,5 +55,37 @@ TEST(ModbusConfig, ErrorsNameTheKeyAndTheFix) {
             std::string::npos);
 }
 
+TEST(ModbusConfig, FollowingErrorDefaultsToTheSlotsMaxIncrementInTheMapsUnits) {
+  const std::string text = "transfer: {type: modbus, host: h}";
+  const YamlInput in = YamlInput::FromText(text, "run.yaml");
+  SafetyLimits limits;
+  limits.max_increment = 0.002;  // [m]
+  EXPECT_DOUBLE_EQ(*ParseModbusOptions(in, in.root()["transfer"], "transfer", {}, 3.0, &limits)
+                        .following_error, 2.0);  // [mm], the default profile's unit
+  // Without the slot's limits: SafetyLimits' default max_increment (5 mm).
+  EXPECT_DOUBLE_EQ(*Parse(text).following_error, 5.0);
+  // A map in metres gets it in metres.
+  const YamlInput m = YamlInput::FromText(
+      "transfer: {type: modbus, host: h, map: {units: {length: m}}}", "run.yaml");
+  EXPECT_DOUBLE_EQ(*ParseModbusOptions(m, m.root()["transfer"], "transfer", {}, 3.0, &limits)
+                        .following_error, 0.002);
+  // Given: taken as it is, in the map's unit.
+  EXPECT_EQ(*Parse("transfer: {type: modbus, host: h, following_error: 0.5}").following_error, 0.5);
+}
+
+TEST(ModbusConfig, FollowingErrorMustBePositiveAndShorterThanTheStroke) {
+  EXPECT_NE(Error("transfer: {type: modbus, host: h, following_error: -1}")
+                .find("transfer.following_error"),
+            std::string::npos);
+  EXPECT_NE(Error("transfer: {type: modbus, host: h, following_error: 0}")
+                .find("transfer.following_error"),
+            std::string::npos);
+  // 400 mm on a ±150 mm stroke: probably meant in another unit; it could never trip.
+  const std::string error = Error("transfer: {type: modbus, host: h, following_error: 400}");
+  EXPECT_NE(error.find("run.yaml:1: transfer.following_error: 400 mm is longer than the whole "
+                       "stroke"), std::string::npos) << error;
+  EXPECT_NE(error.find("max_increment 5 mm"), std::string::npos) << error;
+}
+
 }  // namespace
 }  // namespace hybridtest::transfer::modbus

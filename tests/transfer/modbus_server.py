@@ -22,7 +22,14 @@ Usage (by hand, for a dry run; Ctrl-C stops it):
 
 Test faults (N counts commands from 1): --fault silent@N (never acks command N and later),
 fault@N (sets the fault bit instead of acking N), exception@N (answers the write of N with
-Modbus exception 4), mute@N (stops answering anything from command N on).
+Modbus exception 4), mute@N (stops answering anything from command N on), holding@N (acks N
+but reports holding from then on, as a controller that holds on its own), disabled@N (acks N
+but clears the enabled bit), offset@N (from N on, the measured position is --offset-mm off the
+position the actuator reached: a following error or a position sensor fault).
+
+--log-commands FILE appends one line "SEQUENCE COMMAND_MM" for every command received (before
+it is checked), so a test can assert the largest step between consecutive commands. A
+restarted controller (--start-mm MM) comes up where the actuator is.
 
 Prints "modbus_server: listening on HOST:PORT (...)" once it accepts connections.
 """
@@ -47,6 +54,7 @@ CMD, SEQ = 0, 2                  # holding registers
 POS, FORCE, ACK, STATUS, LAB = 0, 2, 4, 5, 6   # input registers
 ENABLE, HOLD = 0, 1              # coils
 ENABLED, FAULT, HOLDING = 1, 2, 4  # status bits
+KINDS = ("silent", "fault", "exception", "mute", "holding", "disabled", "offset")
 
 
 class Controller(ModbusSlaveContext):
@@ -61,15 +69,19 @@ class Controller(ModbusSlaveContext):
         self.faults = {}
         for spec in args.fault:
             kind, _, at = spec.partition("@")
-            if kind not in ("silent", "fault", "exception", "mute") or not at.isdigit():
+            if kind not in KINDS or not at.isdigit():
                 raise SystemExit(f"modbus_server: --fault {spec}: expected KIND@N with KIND "
-                                 "silent, fault, exception or mute")
+                                 f"one of {', '.join(KINDS)}")
             self.faults[kind] = int(at)
         self.position = args.start_mm if args.start_mm is not None else args.p0_mm  # [mm]
         self.lab_time = 0.0          # [s]
         self.commands = 0
         self.last_sequence = 0
         self.status = 0
+        self.forced_holding = False  # holding@N: reports holding whatever the coil says
+        self.forced_disabled = False  # disabled@N: reports not enabled whatever the coil says
+        self.offset_mm = 0.0         # offset@N: measured position minus actual position [mm]
+        self.log = open(args.log_commands, "a", encoding="utf-8") if args.log_commands else None
         self.publish(self.position, 0)
 
     # -- encoding ----------------------------------------------------------------------------
@@ -87,15 +99,18 @@ class Controller(ModbusSlaveContext):
 
     def publish(self, position, ack):
         force = self.args.stiffness * (position - self.args.p0_mm)  # [N]
-        self.set_input(POS, self.words("f", position) + self.words("f", force) + [ack])
+        measured = position + self.offset_mm
+        self.set_input(POS, self.words("f", measured) + self.words("f", force) + [ack])
         if self.args.lab_time:
             self.set_input(LAB, self.words("I", int(round(self.lab_time * 1e3)) % 2**32))
         self.set_status()
 
     def set_status(self):
         coils = super().getValues(1, ENABLE, 2)
-        self.status = (self.status & FAULT) | (ENABLED if coils[0] else 0) | \
-            (HOLDING if coils[1] else 0)
+        enabled = coils[0] and not self.forced_disabled
+        holding = coils[1] or self.forced_holding
+        self.status = (self.status & FAULT) | (ENABLED if enabled else 0) | \
+            (HOLDING if holding else 0)
         self.set_input(STATUS, [self.status])
 
     # -- the actuator -------------------------------------------------------------------------
@@ -115,6 +130,9 @@ class Controller(ModbusSlaveContext):
     def command(self, target, sequence):
         self.commands += 1
         n, faults = self.commands, self.faults
+        if self.log:
+            self.log.write(f"{sequence} {target!r}\n")
+            self.log.flush()
         if faults.get("mute", 0) and n >= faults["mute"]:
             while True:          # stop answering: the client's response timeout must fire
                 time.sleep(3600)
@@ -131,6 +149,10 @@ class Controller(ModbusSlaveContext):
             self.set_input(STATUS, [self.status])
             return
         self.position = self.move(target)
+        self.forced_holding |= faults.get("holding", 0) == n
+        self.forced_disabled |= faults.get("disabled", 0) == n
+        if faults.get("offset", 0) and n >= faults["offset"]:
+            self.offset_mm = self.args.offset_mm
         if self.args.ack_delay_ms > 0:
             asyncio.get_event_loop().call_later(self.args.ack_delay_ms * 1e-3, self.publish,
                                                 self.position, sequence)
@@ -181,7 +203,12 @@ def main():
     p.add_argument("--ack-delay-ms", type=float, default=0.0, help="wall delay of the ack")
     p.add_argument("--word-order", choices=("high_first", "low_first"), default="high_first")
     p.add_argument("--lab-time", action="store_true", help="lab time at input 6-7 (uint32 ms)")
-    p.add_argument("--fault", action="append", default=[], metavar="KIND@N")
+    p.add_argument("--fault", action="append", default=[], metavar="KIND@N",
+                   help=f"test fault at command N; KIND: {', '.join(KINDS)}")
+    p.add_argument("--offset-mm", type=float, default=50.0,
+                   help="offset@N: measured minus actual position [mm] (default 50)")
+    p.add_argument("--log-commands", metavar="FILE",
+                   help="append 'SEQUENCE COMMAND_MM' for every command received")
     p.add_argument("--verbose", action="store_true", help="pymodbus log on stderr")
     args = p.parse_args()
     logging.basicConfig(level=logging.INFO if args.verbose else logging.CRITICAL)

@@ -34,7 +34,8 @@ std::unique_ptr<transfer::TransferSystem> MakeTransfer(const YamlInput& in, cons
     return transfer::MakeEmulatedBench(transfer::LoadEmulatedBenchConfig(*options.emulate_bench));
   }
   if (node["type"] && node["type"].IsScalar() && node["type"].Scalar() == "modbus") {
-    return transfer::modbus::MakeModbusTransfer(in, node, kp, options.bench_address, reply_timeout);
+    return transfer::modbus::MakeModbusTransfer(in, node, kp, options.bench_address, reply_timeout,
+                                                limits);
   }
   if (node["type"] && node["type"].IsScalar() && node["type"].Scalar() == "openfresco") {
     return transfer::openfresco::MakeClientTransfer(in, node, kp, options.bench_address,

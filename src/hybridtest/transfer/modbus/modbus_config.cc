@@ -11,10 +11,10 @@ namespace hybridtest::transfer::modbus {
 ModbusOptions ParseModbusOptions(const YamlInput& in, const YAML::Node& node,
                                  const std::string& kp,
                                  const std::optional<std::string>& bench_address,
-                                 double default_timeout) {
+                                 double default_timeout, const SafetyLimits* limits) {
   in.CheckKeys(node, kp, {"type", "host", "port", "unit_id", "timeout", "response_timeout",
                           "connect_timeout", "hold_timeout", "poll_interval", "plausibility",
-                          "map"});
+                          "following_error", "map"});
   ModbusOptions o;
   if (bench_address && !bench_address->empty()) {
     const HostPort hp = ParseHostPort(*bench_address, "--bench");
@@ -69,15 +69,35 @@ ModbusOptions ParseModbusOptions(const YamlInput& in, const YAML::Node& node,
     }
   }
   o.map = ParseRegisterMap(in, node["map"], kp + ".map");
+  // The following error, in the map's length unit; by default the slot's max_increment.
+  const SafetyLimits l = limits != nullptr ? *limits : SafetyLimits{};
+  const double metres = o.map.units.metres_per_length_unit;
+  if (node["following_error"]) {
+    const std::string what = fmt::format(
+        "the largest |command − measured position| after a move, in the map's length unit ({})",
+        o.map.units.length_name);
+    o.following_error = in.PositiveNumber(node["following_error"], kp + ".following_error", what);
+    if (*o.following_error * metres > l.stroke_max - l.stroke_min) {
+      throw ConfigError(fmt::format(
+          "{}: {} {} is longer than the whole stroke ({} m to {} m), so it "
+          "could never stop anything: give it in {} (the map's length unit), e.g. the slot's "
+          "max_increment {} {}", in.Where(node["following_error"], kp + ".following_error"),
+          *o.following_error, o.map.units.length_name, l.stroke_min, l.stroke_max,
+          o.map.units.length_name, l.max_increment / metres, o.map.units.length_name));
+    }
+  } else {
+    o.following_error = l.max_increment / metres;
+  }
   return o;
 }
 
 std::unique_ptr<TransferSystem> MakeModbusTransfer(const YamlInput& in, const YAML::Node& node,
                                                    const std::string& kp,
                                                    const std::optional<std::string>& bench_address,
-                                                   double default_timeout) {
+                                                   double default_timeout,
+                                                   const SafetyLimits* limits) {
   return std::make_unique<ModbusTransfer>(
-      ParseModbusOptions(in, node, kp, bench_address, default_timeout));
+      ParseModbusOptions(in, node, kp, bench_address, default_timeout, limits));
 }
 
 }  // namespace hybridtest::transfer::modbus

@@ -14,6 +14,10 @@
 //     poll_interval: 0          # [s] pause between two reads while waiting for the ack
 //     plausibility: {position_tolerance: 1, force: 1e6}   # first exchange, bench units
 //                               #   (default: 1 mm and 1 MN in the map's units)
+//     following_error: 2        # every exchange: largest |command − measured position| once
+//                               #   the ack is in, in the map's length unit (default: the
+//                               #   slot's safety.max_increment; refused if longer than the
+//                               #   stroke). Beyond it: SafetyStop "following_error".
 //     map: {...}                # register map (register_map.h); default profile if absent
 #include <memory>
 #include <optional>
@@ -23,20 +27,24 @@
 
 #include "hybridtest/common/yaml_input.h"
 #include "hybridtest/transfer/modbus/modbus_transfer.h"
+#include "hybridtest/transfer/safety.h"
 
 namespace hybridtest::transfer::modbus {
 
 // Reads the section at key path `kp`. `bench_address` (--bench HOST:PORT) overrides host and
-// port; `default_timeout` [s] is the ack timeout unless `timeout` is given. Throws ConfigError.
+// port; `default_timeout` [s] is the ack timeout unless `timeout` is given. `limits` are the
+// slot's safety limits (SI; null: SafetyLimits' defaults): following_error defaults to their
+// max_increment and may not exceed their stroke. Throws ConfigError.
 ModbusOptions ParseModbusOptions(const YamlInput& in, const YAML::Node& node,
                                  const std::string& kp,
                                  const std::optional<std::string>& bench_address,
-                                 double default_timeout);
+                                 double default_timeout, const SafetyLimits* limits = nullptr);
 
 // The transfer system for the section (not connected).
 std::unique_ptr<TransferSystem> MakeModbusTransfer(const YamlInput& in, const YAML::Node& node,
                                                    const std::string& kp,
                                                    const std::optional<std::string>& bench_address,
-                                                   double default_timeout);
+                                                   double default_timeout,
+                                                   const SafetyLimits* limits = nullptr);
 
 }  // namespace hybridtest::transfer::modbus

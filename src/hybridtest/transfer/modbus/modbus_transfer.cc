@@ -5,10 +5,12 @@
 #include <fmt/core.h>
 #include <modbus.h>
 
+#include <array>
 #include <cmath>
 #include <thread>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/transfer/safety.h"
 
 namespace hybridtest::transfer::modbus {
 namespace {
@@ -44,11 +46,19 @@ ModbusTransfer::ModbusTransfer(ModbusOptions options) : options_(std::move(optio
   if (!options_.force_plausible) {
     options_.force_plausible = 1e6 / o.map.units.newtons_per_force_unit;  // 1 MN
   }
+  if (!options_.following_error) {
+    options_.following_error = SafetyLimits{}.max_increment / o.map.units.metres_per_length_unit;
+  }
   if (!(o.poll_interval >= 0.0) || !(*o.position_tolerance > 0.0) || !(*o.force_plausible > 0.0)) {
     throw ConfigError(fmt::format(
         "modbus transfer: poll_interval = {} s, position_tolerance = {}, force_plausible = {}: "
         "expected a non-negative interval and positive plausibility bounds",
         o.poll_interval, *o.position_tolerance, *o.force_plausible));
+  }
+  if (!(*o.following_error > 0.0) || !std::isfinite(*o.following_error)) {
+    throw ConfigError(fmt::format("modbus transfer: following_error = {} {}: expected a positive "
+                                  "distance in the map's length unit",
+                                  *o.following_error, o.map.units.length_name));
   }
   if (o.unit_id < 0 || o.unit_id > 255) {
     throw ConfigError(fmt::format("modbus transfer: unit_id = {}: expected 0..255 (usually 1; "
@@ -104,8 +114,9 @@ void ModbusTransfer::Fail(const std::string& message, bool close) {
   throw TransferError(message);
 }
 
-void ModbusTransfer::FailRequest(const std::string& what) {
-  const int error = errno;
+void ModbusTransfer::FailRequest(const std::string& what) { FailRequest(what, errno); }
+
+void ModbusTransfer::FailRequest(const std::string& what, int error) {
   const bool exception = IsModbusException(error);
   const std::string hint =
       error == ETIMEDOUT
@@ -150,37 +161,96 @@ void ModbusTransfer::WriteCoil(int address, bool value, const std::string& why) 
   }
 }
 
-ModbusTransfer::Readout ModbusTransfer::Read(const std::string& why) {
+int ModbusTransfer::ReadBlocks(Readout& r, std::string& failed) const {
   const RegisterMap& m = options_.map;
-  // Registers by table, indexed from each block's start.
-  std::vector<RegisterBlock> blocks = ReadoutBlocks(m);
-  buffer_.resize(256);
-  std::uint16_t* input = buffer_.data();
-  std::uint16_t* holding = buffer_.data() + 128;
+  if (ctx_ == nullptr) {
+    failed = "the readout registers (not connected)";
+    return ENOTCONN;
+  }
+  // Registers by table, indexed from each block's start (a block is at most 125 registers).
+  std::array<std::uint16_t, 128> input{}, holding{};
   int input_start = 0, holding_start = 0;
-  for (const RegisterBlock& b : blocks) {
+  for (const RegisterBlock& b : ReadoutBlocks(m)) {
     ++requests_;
     const bool is_input = b.table == Table::kInput;
-    std::uint16_t* dest = is_input ? input : holding;
+    std::uint16_t* dest = is_input ? input.data() : holding.data();
     const int got = is_input ? modbus_read_input_registers(ctx_, b.start, b.count, dest)
                              : modbus_read_registers(ctx_, b.start, b.count, dest);
     if (got != b.count) {
-      FailRequest(fmt::format("to read {} registers {}–{} ({})", is_input ? "input" : "holding",
-                              b.start, b.start + b.count - 1, why));
+      const int error = errno != 0 ? errno : EIO;
+      failed = fmt::format("to read {} registers {}–{}", is_input ? "input" : "holding", b.start,
+                           b.start + b.count - 1);
+      return error;
     }
     (is_input ? input_start : holding_start) = b.start;
   }
   const auto at = [&](const RegisterField& f) {
-    return f.table == Table::kInput ? input + (f.address - input_start)
-                                    : holding + (f.address - holding_start);
+    return f.table == Table::kInput ? input.data() + (f.address - input_start)
+                                    : holding.data() + (f.address - holding_start);
   };
-  Readout r;
   r.position = DecodeValue(m, m.position, at(m.position));
   r.force = DecodeValue(m, m.force, at(m.force));
   r.ack = static_cast<std::uint64_t>(DecodeValue(m, m.ack, at(m.ack)));
   if (m.status) r.status = static_cast<int>(DecodeValue(m, *m.status, at(*m.status)));
   if (m.lab_time) r.lab_time = DecodeValue(m, *m.lab_time, at(*m.lab_time));
+  return 0;
+}
+
+ModbusTransfer::Readout ModbusTransfer::ReadRegisters(const std::string& why) {
+  Readout r;
+  std::string failed;
+  if (const int error = ReadBlocks(r, failed); error != 0) {
+    FailRequest(fmt::format("{} ({})", failed, why), error);
+  }
   return r;
+}
+
+std::string ModbusTransfer::StatusProblem(const Readout& r) const {
+  const StatusBits& b = options_.map.status_bits;
+  if (!options_.map.status) return "";
+  if (Bit(r, b.fault)) return fmt::format("reports a fault (status bit {})", b.fault);
+  if (b.enabled >= 0 && !Bit(r, b.enabled)) {
+    return fmt::format("does not report the drive enabled (status bit {})", b.enabled);
+  }
+  if (Bit(r, b.holding)) return fmt::format("reports holding (status bit {})", b.holding);
+  return "";
+}
+
+std::optional<Measurement> ModbusTransfer::Read() const {
+  try {
+    Readout r;
+    std::string failed;
+    if (const int error = ReadBlocks(r, failed); error != 0) {
+      read_failure_ = fmt::format("the Modbus controller at {} failed {}: {}", Endpoint(), failed,
+                                  error == ENOTCONN ? "call Activate() first"
+                                                    : ModbusErrorText(error));
+      return std::nullopt;
+    }
+    if (const std::string problem = StatusProblem(r); !problem.empty()) {
+      read_failure_ = fmt::format("the Modbus controller at {} {}: {}", Endpoint(), problem,
+                                  Describe(r));
+      return std::nullopt;
+    }
+    if (!std::isfinite(r.position) || !std::isfinite(r.force)) {
+      read_failure_ = fmt::format("the Modbus controller at {} reports a position or force that "
+                                  "is not a number: {}; check the map's type, word_order and "
+                                  "byte_order", Endpoint(), Describe(r));
+      return std::nullopt;
+    }
+    read_failure_.clear();
+    const double lab_time = options_.map.lab_time ? r.lab_time - lab_time_origin_
+                            : clock_started_      ? WallSinceActivate()
+                                                  : 0.0;
+    return Measurement{r.position, r.force, lab_time};
+  } catch (const std::exception& e) {
+    try {
+      read_failure_ = e.what();
+    } catch (...) {
+    }
+  } catch (...) {
+  }
+  if (read_failure_.empty()) read_failure_ = "the position could not be read";
+  return std::nullopt;
 }
 
 void ModbusTransfer::CheckFault(const Readout& r, const std::string& during) {
@@ -197,7 +267,7 @@ double ModbusTransfer::WallSinceActivate() const { return Seconds(Clock::now() -
 void ModbusTransfer::Activate() {
   if (ctx_ == nullptr) Connect();
   const RegisterMap& m = options_.map;
-  Readout r = Read("the state before enabling");
+  Readout r = ReadRegisters("the state before enabling");
   CheckFault(r, "before the test starts");
   if (m.hold_coil) WriteCoil(*m.hold_coil, false, "release the hold");
   if (m.enable_coil) WriteCoil(*m.enable_coil, true, "enable the drive");
@@ -205,7 +275,7 @@ void ModbusTransfer::Activate() {
   const auto deadline = Clock::now() + std::chrono::duration<double>(options_.ack_timeout);
   const int enabled = m.status_bits.enabled, holding = m.status_bits.holding;
   for (;;) {
-    r = Read("the status after enabling");
+    r = ReadRegisters("the status after enabling");
     CheckFault(r, "while enabling");
     const bool ready = (enabled < 0 || Bit(r, enabled)) && !Bit(r, holding);
     if (ready || !m.status) break;
@@ -229,6 +299,7 @@ void ModbusTransfer::Activate() {
     lab_time_origin_ = r.lab_time;
   }
   first_exchange_ = true;
+  read_failure_.clear();
   active_ = true;
 }
 
@@ -239,6 +310,13 @@ Measurement ModbusTransfer::Execute(double command) {
         "the Modbus controller at {} is not active (not activated, holding, or the connection "
         "was lost): command {} {} not sent; call Activate() first",
         Endpoint(), command, m.units.length_name));
+  }
+  if (!read_failure_.empty()) {
+    throw TransferError(fmt::format(
+        "command {} {} not sent: the actuator's position could not be read before moving ({}); "
+        "hybridtest does not move an actuator it cannot see. Check the link and the controller, "
+        "then start again (Activate; `hybridtest resume` again)",
+        command, m.units.length_name, read_failure_));
   }
   const std::uint64_t sequence = (last_ack_ + 1) % m.sequence_modulus();
   // 1. Command and sequence in one write (function 16).
@@ -258,11 +336,17 @@ Measurement ModbusTransfer::Execute(double command) {
   const auto deadline = Clock::now() + std::chrono::duration<double>(options_.ack_timeout);
   Readout r;
   for (;;) {
-    r = Read(waiting);
+    r = ReadRegisters(waiting);
     CheckFault(r, waiting);
     if (m.status && m.status_bits.enabled >= 0 && !Bit(r, m.status_bits.enabled)) {
       Fail(fmt::format("the Modbus controller at {} dropped the enable (status bit {}) {}: {}",
                        Endpoint(), m.status_bits.enabled, waiting, Describe(r)), false);
+    }
+    if (Bit(r, m.status_bits.holding)) {
+      Fail(fmt::format("the Modbus controller at {} reports holding (status bit {}) {}: {}; it "
+                       "holds on its own (an operator, an interlock or its watchdog) and the test "
+                       "stops. Find out why it holds, then `hybridtest resume`",
+                       Endpoint(), m.status_bits.holding, waiting, Describe(r)), false);
     }
     if (r.ack == sequence) break;
     // The link works but the controller does not do what it should: hold, then stop.
@@ -298,6 +382,24 @@ Measurement ModbusTransfer::Execute(double command) {
                        *options_.force_plausible, m.units.force_name), false);
     }
     first_exchange_ = false;
+  }
+  // 4. Every exchange: the settled actuator must be where it was sent.
+  const double following = std::abs(command - r.position);
+  if (!(following <= *options_.following_error)) {
+    Hold();
+    const double metres = m.units.metres_per_length_unit;
+    throw SafetyStop(
+        "following_error", following * metres, *options_.following_error * metres, -1, -1, {},
+        fmt::format("The Modbus controller at {} acknowledged command {} {} (sequence {}) but "
+                    "measured position {} {}: |command − position| = {} {} > following_error {} "
+                    "{} ({}). The actuator is not where it was sent (blocked or slipping, a drive "
+                    "that ignores commands, a position sensor fault); the hold coil was set. To "
+                    "proceed: find the cause at the controller; the limit is "
+                    "transfer.following_error (the map's length unit; default the slot's "
+                    "safety.max_increment)",
+                    Endpoint(), command, m.units.length_name, sequence, r.position,
+                    m.units.length_name, following, m.units.length_name,
+                    *options_.following_error, m.units.length_name, Describe(r)));
   }
   const double lab_time = m.lab_time ? r.lab_time - lab_time_origin_ : WallSinceActivate();
   return Measurement{r.position, r.force, lab_time};

@@ -12,8 +12,18 @@
 //   3. the measurement: position and force (bench units), lab time (the bench clock's
 //      register minus its value at Activate, or else the wall time since Activate) [s].
 // It raises TransferError naming host:port, the register and the last values read on: an ack
-// timeout, any other ack, a fault bit, a drive that is no longer enabled, a Modbus exception,
-// a lost connection or a libmodbus response timeout. When the link itself still works (ack
+// timeout, any other ack, a fault bit, a drive that is no longer enabled, a controller that
+// reports holding, a Modbus exception, a lost connection or a libmodbus response timeout. The
+// status bits (fault, enabled, holding) are checked on every read of every exchange, the last
+// one included: a controller that faults, drops the enable or holds on its own mid-run stops
+// the run even if it still acknowledges.
+//
+// Following error: once the ack is in, |command − measured position| must not exceed
+// `following_error` (bench length unit; default: the slot's safety.max_increment, see
+// modbus_config.h). Beyond it Execute() sets the hold coil and throws SafetyStop (limit
+// "following_error", value and limit in [m]) naming the command and the measured position:
+// an actuator that is not where it was sent means the specimen's force belongs to another
+// displacement, and every later increment check starts from a wrong place. When the link itself still works (ack
 // timeout, unexpected ack) it sets the hold coil first. After a communication failure
 // (response timeout, lost connection, garbled answer) the connection is closed: its state is
 // unknown, and the controller must hold when its client goes away. After a Modbus exception,
@@ -24,6 +34,13 @@
 // lie within `position_tolerance` of the command (default 1 mm) and the force be finite and
 // within `force_plausible` (default 1 MN). A wrong word or byte order in the map turns a settled position into an
 // absurd number (±1e±30, NaN), which this catches before the test goes on.
+//
+// Read() reads the readout registers once (no write, so no move) and returns the position and
+// force in bench units; it never throws. It returns nullopt when it cannot read, when a value
+// is not finite, or when the status shows a fault, no enable or holding; it then remembers why,
+// and the next Execute() refuses to move (TransferError) until the next Activate(). That is
+// the choice for resume: a resume that cannot see where the actuator is must not re-impose the
+// last command blind in one move (docs/modbus.md, "Resuming a run").
 //
 // Lifecycle: Activate() connects (bounded by connect_timeout), reads the current ack and
 // status (a fault bit refuses to start), clears the hold coil, sets the enable coil and waits
@@ -58,6 +75,10 @@ struct ModbusOptions {
   // force units. Unset: 1 mm and 1 MN, converted to the map's units.
   std::optional<double> position_tolerance;
   std::optional<double> force_plausible;
+  // Every exchange: the largest |command − measured position| once the ack is in. Unit: bench
+  // length unit. Unset: 5 mm (SafetyLimits' default max_increment) in the map's units;
+  // ParseModbusOptions sets it from the slot's safety.max_increment.
+  std::optional<double> following_error;
 };
 
 class ModbusTransfer final : public TransferSystem {
@@ -74,6 +95,10 @@ class ModbusTransfer final : public TransferSystem {
   void Deactivate() override;
   BenchUnits bench_units() const override { return options_.map.units; }
   std::string Describe() const override;
+  // The position and force now (bench units), and the lab time [s], read without writing a
+  // command. nullopt (and the next Execute() refuses) if not connected, the read fails, a value
+  // is not finite, or the status shows fault, no enable or holding. Never throws.
+  std::optional<Measurement> Read() const override;
 
   const ModbusOptions& options() const { return options_; }
   bool is_connected() const { return ctx_ != nullptr; }
@@ -94,12 +119,19 @@ class ModbusTransfer final : public TransferSystem {
   void Close() noexcept;
   void SetResponseTimeout(double seconds) noexcept;
   // Throws TransferError "<what>: <libmodbus error>"; closes unless it was a Modbus exception.
-  [[noreturn]] void FailRequest(const std::string& what);
+  [[noreturn]] void FailRequest(const std::string& what);  // errno
+  [[noreturn]] void FailRequest(const std::string& what, int error);
   [[noreturn]] void Fail(const std::string& message, bool close);
   void WriteCoil(int address, bool value, const std::string& why);
-  Readout Read(const std::string& why);
+  // One read of the readout blocks into `r`: 0, or the errno of the failed request (`failed`
+  // names it). Never closes the connection.
+  int ReadBlocks(Readout& r, std::string& failed) const;
+  // ReadBlocks, or FailRequest.
+  Readout ReadRegisters(const std::string& why);
   bool Bit(const Readout& r, int bit) const { return bit >= 0 && r.status >= 0 && (r.status >> bit) & 1; }
   void CheckFault(const Readout& r, const std::string& during);
+  // "" if the status is fit to move (no fault, enabled, not holding); else what is wrong.
+  std::string StatusProblem(const Readout& r) const;
   double WallSinceActivate() const;
 
   ModbusOptions options_;
@@ -110,8 +142,9 @@ class ModbusTransfer final : public TransferSystem {
   double lab_time_origin_ = 0.0;     // bench clock at Activate [s]
   std::chrono::steady_clock::time_point activated_at_{};
   bool clock_started_ = false;
-  long requests_ = 0;
-  std::vector<std::uint16_t> buffer_;
+  mutable long requests_ = 0;        // Read() counts its request too
+  // Why the last Read() gave nothing; Execute() refuses while it is set (until Activate()).
+  mutable std::string read_failure_;
 };
 
 }  // namespace hybridtest::transfer::modbus
