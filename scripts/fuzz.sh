@@ -15,7 +15,7 @@ cd "$root"
 seconds=${1:-${HYBRIDTEST_FUZZ_SECONDS:-600}}
 shift || true
 targets=("$@")
-((${#targets[@]})) || targets=(frame_decoder run_config bench_config)
+((${#targets[@]})) || targets=(frame_decoder run_config bench_config openfresco_wire)
 
 if ! command -v clang++ >/dev/null; then
   echo "hybridtest fuzz: clang++ is not installed (scripts/install-deps.sh installs it)" >&2
