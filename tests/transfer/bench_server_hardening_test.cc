@@ -220,11 +220,11 @@ TEST(BenchServerHardening, ShortOrWhitespaceTokenIsRefusedOffLoopback) {
   o.host = "0.0.0.0";
   o.port = 0;
   o.token = " ";
-  EXPECT_THROW(BenchServer{bench, o}, ConfigError);
+  EXPECT_THROW((BenchServer{bench, o}), ConfigError);
   o.token = "fifteen-bytes!!";
-  EXPECT_THROW(BenchServer{bench, o}, ConfigError);
+  EXPECT_THROW((BenchServer{bench, o}), ConfigError);
   o.token = "sixteen-bytes!!!";
-  EXPECT_NO_THROW(BenchServer{bench, o});
+  EXPECT_NO_THROW((BenchServer{bench, o}));
 }
 
 TEST(BenchServerHardening, ClientNameCannotForgeALogLine) {

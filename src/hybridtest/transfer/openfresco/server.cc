@@ -222,8 +222,8 @@ bool Server::OpenSession(Session& session, const std::vector<std::uint8_t>& byte
                       AddressBlock(session.peer), session.peer, AuthThrottle::kLockout.count()));
     }
     Log(opening.token.empty()
-            ? fmt::format("ERROR: this bench requires a token and the client at {} sent none "
-                          "(the hybridtest token preamble; see docs/openfresco.md)",
+            ? fmt::format("ERROR: this bench requires a token and the client sent none (from "
+                          "{}; the hybridtest token preamble; see docs/openfresco.md)",
                           session.peer)
             : fmt::format("ERROR: wrong token from {}: the client's token does not match the "
                           "bench's (--token-file / HYBRIDTEST_BENCH_TOKEN)", session.peer));
