@@ -200,8 +200,8 @@ TEST(OpenFrescoBenchProcess, IdleClientDoesNotHoldTheServer) {
   EXPECT_EQ(status, 0) << out;
   const double total_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("[ measured ] session with an idle client connected: %.3f s; with the run: %.3f s "
-              "(heartbeat timeout 60 s)\n", session_s, total_s);
+  std::printf("[ measured ] session with an idle client connected: %.1f ms; with the run: %.3f s "
+              "(heartbeat timeout 60 s)\n", 1e3 * session_s, total_s);
   bench.Signal(SIGTERM);
   EXPECT_EQ(bench.WaitExit(10.0), 0);
   fs::remove_all(dir);

@@ -511,6 +511,7 @@ TEST(OpenFrescoServer, StaleTrialOfAClientThatLeftIsNeverExecuted) {
   EXPECT_TRUE(server.Logged("trial 2 not executed: the client at 127.0.0.1 has closed"));
   EXPECT_TRUE(server.Logged("holding: client left before its trial was executed"));
   EXPECT_EQ(bench.commands(), std::vector<double>{1.0});
+  EXPECT_EQ(server.server().trials_executed(), 1);
 }
 
 // Issue 15: rotating source addresses gave 5,200-8,100 guesses/s. From rotating 127.0.0.x

@@ -295,6 +295,14 @@ bool Server::HandleMessage(Session& session, const std::vector<double>& message)
 
 bool Server::HandleTrial(Session& session, const std::vector<double>& message) {
   const auto& size = session.header.size_ctrl;
+  // A trial whose client is gone (it gave up waiting, or vanished) is stale: never executed.
+  if (PeerHasLeft(session.client.fd())) {
+    Log(fmt::format("ERROR: trial {} not executed: the client at {} has closed its connection "
+                    "(a trial whose client is gone never moves the bench)", trials_.load() + 1,
+                    session.peer));
+    HoldBench("client left before its trial was executed");
+    return false;
+  }
   const long count = ++trials_;
   // [3 | d | v | a | force | time]: every value must be finite.
   const std::size_t used = 1 + static_cast<std::size_t>(size[0] + size[1] + size[2] + size[3] +
@@ -317,14 +325,6 @@ bool Server::HandleTrial(Session& session, const std::vector<double>& message) {
   const std::vector<double> d = block(kDisp);
   session.trial_vel = size[kVel] == size[kDisp] ? block(kVel) : std::vector<double>();
   session.trial_accel = size[kAccel] == size[kDisp] ? block(kAccel) : std::vector<double>();
-  // A trial whose client is gone (it gave up waiting, or vanished) is stale: never executed.
-  if (PeerHasLeft(session.client.fd())) {
-    Log(fmt::format("ERROR: trial {} not executed: the client at {} has closed its connection "
-                    "(a trial whose client is gone never moves the bench)", count,
-                    session.peer));
-    HoldBench("client left before its trial was executed");
-    return false;
-  }
   // Check, move, check, as BenchServer does; a refusal or a bench failure ends the session.
   const double command = ActuatorCommand(setup_, d);  // [m]
   const double m_per_unit = bench_units_.metres_per_length_unit;
