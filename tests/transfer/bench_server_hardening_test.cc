@@ -205,12 +205,9 @@ TEST(BenchServerHardening, RotatingSourceAddressesAreLockedOutByBlockAndRateLimi
     EXPECT_EQ(error.code, ErrorCode::kAuth);
     limited += error.text.find("auth rate limit") != std::string::npos ? 1 : 0;
   }
-  EXPECT_GT(limited, AuthThrottle::kGlobalBurst);  // most were refused without comparing
-  {  // another block, the right token: refused too while the budget is spent
-    Socket raw = testing::ConnectFrom("127.200.0.1", server.port());
-    const ErrorMessage error = DecodeError(RawHello(raw, "right"));
-    EXPECT_NE(error.text.find("auth rate limit"), std::string::npos) << error.text;
-  }
+  // Most were refused without comparing (the budget refills at one per second; that the
+  // right token is refused too while it is spent is tested with a fixed clock in auth_test).
+  EXPECT_GT(limited, AuthThrottle::kGlobalBurst);
   EXPECT_TRUE(bench.commands().empty());
 }
 
