@@ -5,7 +5,7 @@
 #   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]
 #
 # SECONDS_PER_TARGET defaults to $HYBRIDTEST_FUZZ_SECONDS or 600. TARGETs default to all:
-# frame_decoder run_config bench_config run_state. New inputs that reach new code are written to
+# frame_decoder run_config bench_config run_state openfresco_wire. New inputs that reach new code are written to
 # build/fuzz/corpus/<target>/ (the seed corpus in the repo is only read); crashes go to
 # build/fuzz/findings/<target>/ and make the script fail. Targets run one at a time, at low
 # priority (nice), with one worker each.
@@ -15,7 +15,7 @@ cd "$root"
 seconds=${1:-${HYBRIDTEST_FUZZ_SECONDS:-600}}
 shift || true
 targets=("$@")
-((${#targets[@]})) || targets=(frame_decoder run_config bench_config run_state)
+((${#targets[@]})) || targets=(frame_decoder run_config bench_config run_state openfresco_wire)
 
 if ! command -v clang++ >/dev/null; then
   echo "hybridtest fuzz: clang++ is not installed (scripts/install-deps.sh installs it)" >&2

@@ -1,6 +1,7 @@
 // Token handling (auth.h): constant-time comparison, token files, the per-address throttle.
 #include "hybridtest/transfer/auth.h"
 
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -15,7 +16,7 @@ namespace {
 TEST(Auth, BindPolicyNeedsATokenOffLoopback) {
   EXPECT_NO_THROW(CheckBindPolicy("127.0.0.1", 7471, "", "the bench"));
   EXPECT_NO_THROW(CheckBindPolicy("::1", 7471, "", "the bench"));
-  EXPECT_NO_THROW(CheckBindPolicy("0.0.0.0", 7471, "s3cret", "the bench"));
+  EXPECT_NO_THROW(CheckBindPolicy("0.0.0.0", 7471, "0123456789abcdef", "the bench"));
   try {
     CheckBindPolicy("0.0.0.0", 8090, "", "the OpenFresco bench");
     FAIL() << "a non-loopback address without a token was accepted";
@@ -25,6 +26,29 @@ TEST(Auth, BindPolicyNeedsATokenOffLoopback) {
               std::string::npos) << what;
     EXPECT_NE(what.find(kTokenEnvironmentVariable), std::string::npos) << what;
   }
+}
+
+// Issue 15: a token of one space, or a short one, passed the off-loopback bind policy.
+TEST(Auth, BindPolicyRefusesShortAndWhitespaceTokensOffLoopback) {
+  const auto error = [](const std::string& host, const std::string& token) -> std::string {
+    try {
+      CheckBindPolicy(host, 7471, token, "the bench");
+    } catch (const ConfigError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  EXPECT_NE(error("0.0.0.0", " ").find("only whitespace"), std::string::npos);
+  EXPECT_NE(error("0.0.0.0", std::string(20, ' ')).find("only whitespace"), std::string::npos);
+  EXPECT_NE(error("0.0.0.0", "\t \t").find("only whitespace"), std::string::npos);
+  EXPECT_NE(error("127.0.0.1", " ").find("only whitespace"), std::string::npos);  // anywhere
+  const std::string short_token = error("0.0.0.0", "s3cret");
+  EXPECT_NE(short_token.find("a token of 6 bytes"), std::string::npos) << short_token;
+  EXPECT_NE(short_token.find("at least 16 bytes"), std::string::npos) << short_token;
+  EXPECT_NE(error("0.0.0.0", std::string(15, 'x')).find("15 bytes"), std::string::npos);
+  EXPECT_EQ(error("0.0.0.0", std::string(16, 'x')), "accepted");
+  EXPECT_EQ(error("127.0.0.1", "s3cret"), "accepted");  // loopback: any real token
+  EXPECT_EQ(error("::1", ""), "accepted");
 }
 
 TEST(Auth, TokensEqualComparesEveryByteAndTheLength) {
@@ -78,6 +102,76 @@ TEST(Auth, FailuresOutsideTheWindowDoNotAddUp) {
     t += AuthThrottle::kFailureWindow / (AuthThrottle::kMaxFailures - 1) +
          std::chrono::seconds(1);
   }
+}
+
+TEST(Auth, AddressBlocksAreIpv4Slash24AndIpv6Slash64) {
+  EXPECT_EQ(AddressBlock("127.0.0.1"), "127.0.0.0/24");
+  EXPECT_EQ(AddressBlock("127.0.0.254"), "127.0.0.0/24");
+  EXPECT_EQ(AddressBlock("10.1.2.3"), "10.1.2.0/24");
+  EXPECT_NE(AddressBlock("10.1.3.3"), AddressBlock("10.1.2.3"));
+  EXPECT_EQ(AddressBlock("::ffff:10.1.2.3"), "10.1.2.0/24");  // IPv4-mapped: its IPv4 block
+  EXPECT_EQ(AddressBlock("2001:db8:0:1::5"), "2001:db8:0:1::/64");
+  EXPECT_EQ(AddressBlock("2001:db8:0:1:ffff:1:2:3"), "2001:db8:0:1::/64");
+  EXPECT_NE(AddressBlock("2001:db8:0:2::5"), AddressBlock("2001:db8:0:1::5"));
+  EXPECT_EQ(AddressBlock("::1"), "::/64");
+  EXPECT_EQ(AddressBlock("unknown"), "unknown");
+}
+
+// Issue 15: rotating 127.0.0.x source addresses gave thousands of guesses per second.
+TEST(Auth, RotatingAddressesInOneBlockAreLockedOutTogether) {
+  AuthThrottle throttle;
+  const auto t0 = AuthThrottle::Clock::time_point{} + std::chrono::hours(1);
+  for (int i = 1; i < AuthThrottle::kMaxFailures; ++i) {
+    EXPECT_FALSE(throttle.RecordFailure(fmt::format("127.0.0.{}", i), t0));
+  }
+  EXPECT_TRUE(throttle.RecordFailure("127.0.0.99", t0));
+  EXPECT_TRUE(throttle.IsLocked("127.0.0.200", t0));  // a fresh address of the same /24
+  EXPECT_EQ(throttle.Check("127.0.0.7", t0), AuthThrottle::Verdict::kBlockLocked);
+  EXPECT_FALSE(throttle.IsLocked("127.0.1.1", t0));   // another /24
+  for (int i = 1; i < AuthThrottle::kMaxFailures; ++i) {
+    EXPECT_FALSE(throttle.RecordFailure(fmt::format("2001:db8::{:x}", i), t0));
+  }
+  EXPECT_TRUE(throttle.RecordFailure("2001:db8::ffff:1", t0));
+  EXPECT_TRUE(throttle.IsLocked("2001:db8::1234:5678:9abc", t0));  // the same /64
+  EXPECT_FALSE(throttle.IsLocked("2001:db8:0:1::1", t0));
+  const std::string text =
+      AuthThrottle::RefusalText(AuthThrottle::Verdict::kBlockLocked, "127.0.0.7");
+  EXPECT_NE(text.find("127.0.0.0/24"), std::string::npos) << text;
+}
+
+TEST(Auth, GlobalBudgetBoundsGuessesSpreadOverManyBlocks) {
+  AuthThrottle throttle;
+  auto t = AuthThrottle::Clock::time_point{} + std::chrono::hours(1);
+  // Every guess from a fresh /24: no block ever locks, the global budget still runs out.
+  int allowed = 0;
+  for (int i = 0; i < 1000; ++i) {
+    const std::string peer = fmt::format("10.{}.{}.1", i / 256, i % 256);
+    if (throttle.Check(peer, t) != AuthThrottle::Verdict::kAllowed) continue;
+    ++allowed;
+    EXPECT_FALSE(throttle.RecordFailure(peer, t));
+  }
+  EXPECT_EQ(allowed, AuthThrottle::kGlobalBurst);
+  EXPECT_TRUE(throttle.IsRateLimited(t));
+  EXPECT_EQ(throttle.Check("192.168.7.7", t), AuthThrottle::Verdict::kRateLimited);
+  EXPECT_NE(AuthThrottle::RefusalText(AuthThrottle::Verdict::kRateLimited, "x")
+                .find("rate limit"),
+            std::string::npos);
+  // It refills at one failure per kGlobalRefill: a guesser gets about one guess per second.
+  t += AuthThrottle::kGlobalRefill;
+  EXPECT_EQ(throttle.Check("192.168.7.7", t), AuthThrottle::Verdict::kAllowed);
+  throttle.RecordFailure("192.168.7.7", t);
+  EXPECT_EQ(throttle.Check("192.168.7.8", t), AuthThrottle::Verdict::kRateLimited);
+  // A full refill after kGlobalBurst × kGlobalRefill.
+  t += AuthThrottle::kGlobalBurst * AuthThrottle::kGlobalRefill;
+  allowed = 0;
+  for (int i = 0; i < 100; ++i) {
+    const std::string peer = fmt::format("172.16.{}.1", i);
+    if (throttle.Check(peer, t) != AuthThrottle::Verdict::kAllowed) break;
+    ++allowed;
+    throttle.RecordFailure(peer, t);
+  }
+  EXPECT_EQ(allowed, AuthThrottle::kGlobalBurst);
+  EXPECT_EQ(throttle.failures(), 2 * AuthThrottle::kGlobalBurst + 1);
 }
 
 }  // namespace

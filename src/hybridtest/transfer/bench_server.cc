@@ -228,16 +228,17 @@ bool BenchServer::Handshake(Session& session, const Frame& frame) {
       return false;
     }
     const auto now = Clock::now();
-    if (auth_.IsLocked(session.peer, now)) {
+    if (const auto verdict = auth_.Check(session.peer, now);
+        verdict != AuthThrottle::Verdict::kAllowed) {
       SendError(session, frame.sequence, auth, "", 0, 0,
-                fmt::format("too many wrong tokens from {}: locked out for {} s after the last "
-                            "one", session.peer, AuthThrottle::kLockout.count()));
+                AuthThrottle::RefusalText(verdict, session.peer));
       return false;
     }
     if (!TokensEqual(hello.token, options_.token)) {
       if (auth_.RecordFailure(session.peer, now)) {
-        Log(fmt::format("auth lockout: {} wrong tokens from {}; its HELLOs are refused for {} s",
-                        AuthThrottle::kMaxFailures, session.peer,
+        Log(fmt::format("auth lockout: {} wrong tokens from block {} (last from {}); its HELLOs "
+                        "are refused for {} s", AuthThrottle::kMaxFailures,
+                        AddressBlock(session.peer), session.peer,
                         AuthThrottle::kLockout.count()));
       }
       SendError(session, frame.sequence, auth, "", 0, 0,

@@ -4,9 +4,10 @@
 //
 // Safety rules, in the order they are applied:
 //  - It binds 127.0.0.1 by default and refuses to bind any non-loopback address unless a
-//    shared token is configured; with a token, a HELLO carrying another token is refused
-//    (compared in constant time; five wrong tokens from one address lock that address out
-//    for a minute, logged; see auth.h).
+//    shared token of at least 16 bytes (not only whitespace) is configured; with a token, a
+//    HELLO carrying another token is refused (compared in constant time; five wrong tokens
+//    from one address block — IPv4 /24, IPv6 /64 — lock that block out for a minute, logged,
+//    and a global budget bounds wrong tokens from all addresses together; see auth.h).
 //  - Connections are authenticated concurrently (HandshakeQueue): every accepted connection has
 //    handshake_timeout to deliver its HELLO, read without blocking, so an idle or slow peer
 //    never delays a real client. Once a session is open, every other connection is answered

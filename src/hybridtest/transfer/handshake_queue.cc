@@ -30,10 +30,27 @@ std::string PeerAddress(int fd) {
   return text;
 }
 
-HandshakeQueue::HandshakeQueue(std::size_t capacity, double timeout)
+namespace {
+
+// The opening of the bench protocol: one frame, its payload at most kMaxHandshakePayload.
+std::size_t MeasureFrame(std::span<const std::uint8_t> bytes) {
+  if (bytes.size() < kFrameHeaderSize) return kFrameHeaderSize;
+  const FrameHeader header = DecodeFrameHeader(bytes.first(kFrameHeaderSize));
+  if (header.payload_length > kMaxHandshakePayload) {
+    throw TransferError(fmt::format("the first frame declares a payload of {} bytes; a HELLO "
+                                    "has at most {}", header.payload_length,
+                                    kMaxHandshakePayload));
+  }
+  return kFrameHeaderSize + header.payload_length + kFrameTrailerSize;
+}
+
+}  // namespace
+
+HandshakeQueue::HandshakeQueue(std::size_t capacity, double timeout, Measure measure)
     : capacity_(capacity < 1 ? 1 : capacity),
       timeout_(std::chrono::duration_cast<Clock::duration>(
-          std::chrono::duration<double>(timeout > 0.0 ? timeout : 1.0))) {}
+          std::chrono::duration<double>(timeout > 0.0 ? timeout : 1.0))),
+      measure_(measure ? std::move(measure) : Measure(MeasureFrame)) {}
 
 std::string HandshakeQueue::Add(Socket socket, Clock::time_point now) {
   std::string evicted;
@@ -50,20 +67,19 @@ std::string HandshakeQueue::Add(Socket socket, Clock::time_point now) {
 }
 
 HandshakeQueue::Progress HandshakeQueue::Read(std::size_t i, Frame& frame) {
+  std::vector<std::uint8_t> bytes;
+  const Progress progress = ReadOpening(i, bytes);
+  if (progress == Progress::kFrame) frame = DecodeFrame(bytes);
+  return progress;
+}
+
+HandshakeQueue::Progress HandshakeQueue::ReadOpening(std::size_t i,
+                                                     std::vector<std::uint8_t>& bytes) {
   Pending& p = entries_[i];
-  // How many bytes the first frame needs: the header, then the declared payload and the CRC.
-  std::size_t needed = kFrameHeaderSize;
-  if (p.bytes.size() >= kFrameHeaderSize) {
-    const FrameHeader header =
-        DecodeFrameHeader(std::span<const std::uint8_t>(p.bytes.data(), kFrameHeaderSize));
-    if (header.payload_length > kMaxHandshakePayload) {
-      throw TransferError(fmt::format("the first frame declares a payload of {} bytes; a HELLO "
-                                      "has at most {}", header.payload_length,
-                                      kMaxHandshakePayload));
-    }
-    needed = kFrameHeaderSize + header.payload_length + kFrameTrailerSize;
-  }
-  if (p.bytes.size() < needed) {
+  // Read up to what the opening needs so far; the measure may grow as its bytes arrive.
+  for (;;) {
+    const std::size_t needed = measure_(p.bytes);
+    if (p.bytes.size() >= needed) break;
     const std::size_t have = p.bytes.size();
     p.bytes.resize(needed);
     const ssize_t r = ::recv(p.socket.fd(), p.bytes.data() + have, needed - have, MSG_DONTWAIT);
@@ -74,11 +90,9 @@ HandshakeQueue::Progress HandshakeQueue::Read(std::size_t i, Frame& frame) {
                                                                         : Progress::kClosed;
     }
     p.bytes.resize(have + static_cast<std::size_t>(r));
-    // The header may just have completed: validate it (and learn the length) at once.
-    if (have < kFrameHeaderSize && p.bytes.size() >= kFrameHeaderSize) return Read(i, frame);
+    if (p.bytes.size() < needed) return Progress::kWaiting;
   }
-  if (p.bytes.size() < kFrameHeaderSize || p.bytes.size() < needed) return Progress::kWaiting;
-  frame = DecodeFrame(p.bytes);
+  bytes = p.bytes;
   return Progress::kFrame;
 }
 

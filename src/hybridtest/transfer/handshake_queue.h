@@ -10,9 +10,13 @@
 //  - at most `capacity` connections wait at once; a new one beyond that evicts the oldest;
 //  - the first frame may not exceed kMaxHandshakePayload bytes of payload (a HELLO is a
 //    version, a token and a name), so a peer cannot make the server buffer 64 KiB per socket.
+// The opening need not be a frame: a queue built with a Measure function reads whatever that
+// function says the opening is (the OpenFresco server's token preamble and 44-byte header).
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -37,9 +41,13 @@ class HandshakeQueue {
     std::vector<std::uint8_t> bytes; // received so far (at most one frame)
   };
   enum class Progress { kWaiting, kFrame, kClosed };
+  // Given the bytes of an opening received so far, the total number of bytes the opening has
+  // (at least bytes.size() + 1 while more are needed; it may grow as the bytes tell more).
+  // Throws TransferError for bytes that cannot begin a valid opening. It must bound the total.
+  using Measure = std::function<std::size_t(std::span<const std::uint8_t> bytes)>;
 
-  // `timeout` [s] > 0, `capacity` ≥ 1.
-  HandshakeQueue(std::size_t capacity, double timeout);
+  // `timeout` [s] > 0, `capacity` ≥ 1. Without `measure`, the opening is one frame (HELLO).
+  HandshakeQueue(std::size_t capacity, double timeout, Measure measure = {});
 
   // Queues a just-accepted connection. Returns the peer of the connection evicted to make room,
   // or an empty string.
@@ -53,6 +61,9 @@ class HandshakeQueue {
   // TransferError for bytes that are not a valid frame (or a payload above
   // kMaxHandshakePayload).
   Progress Read(std::size_t i, Frame& frame);
+  // The same for any opening: kFrame when `bytes` holds the complete opening (as measured).
+  // Throws what the Measure function throws.
+  Progress ReadOpening(std::size_t i, std::vector<std::uint8_t>& bytes);
 
   // Removes and returns entry i / the expired entries / all entries.
   Pending Take(std::size_t i);
@@ -62,6 +73,7 @@ class HandshakeQueue {
  private:
   std::size_t capacity_;
   Clock::duration timeout_;
+  Measure measure_;
   std::vector<Pending> entries_;  // oldest first
 };
 

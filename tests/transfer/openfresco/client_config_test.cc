@@ -3,9 +3,15 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/transfer/auth.h"
 #include "hybridtest/transfer/openfresco/client.h"
 
 namespace hybridtest::transfer::openfresco {
@@ -58,6 +64,54 @@ TEST(OpenFrescoClientConfig, ErrorsNameTheKey) {
   EXPECT_NE(ErrorOf("transfer: {type: openfresco, host: h, port: 1, timeout: -1}")
                 .find("substructures.r1.transfer.timeout"),
             std::string::npos);
+}
+
+// Issue 15: an inline token was copied into the sidecars, report.html and the HDF5 export.
+TEST(OpenFrescoClientConfig, InlineTokenIsRefusedNamingTheKeyAndTheFix) {
+  const std::string what =
+      ErrorOf("transfer: {type: openfresco, host: h, port: 1, token: s3cret-s3cret-s3cret}");
+  EXPECT_NE(what.find("substructures.r1.transfer.token"), std::string::npos) << what;
+  EXPECT_NE(what.find("token_file: PATH"), std::string::npos) << what;
+  EXPECT_NE(what.find(kTokenEnvironmentVariable), std::string::npos) << what;
+  EXPECT_EQ(what.find("s3cret"), std::string::npos) << "the error repeats the secret: " << what;
+}
+
+TEST(OpenFrescoClientConfig, TokenComesFromTheFileOrTheEnvironment) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("hybridtest_of_token_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto file = dir / "bench.token";
+  std::ofstream(file) << "from-the-file-0123456\n";
+  {
+    auto t = Make("transfer: {type: openfresco, host: h, port: 1, token_file: " +
+                  file.string() + "}");
+    EXPECT_EQ(dynamic_cast<const Client&>(*t).options().token, "from-the-file-0123456");
+  }
+  // Relative to the run config.
+  {
+    const YamlInput in = YamlInput::FromText(
+        "transfer: {type: openfresco, host: h, port: 1, token_file: bench.token}",
+        (dir / "run.yaml").string());
+    auto t = MakeClientTransfer(in, in.root()["transfer"], "substructures.r1.transfer",
+                                std::nullopt, 3.0);
+    EXPECT_EQ(dynamic_cast<const Client&>(*t).options().token, "from-the-file-0123456");
+  }
+  EXPECT_NE(ErrorOf("transfer: {type: openfresco, host: h, port: 1, token_file: " +
+                    (dir / "missing").string() + "}")
+                .find("substructures.r1.transfer.token_file"),
+            std::string::npos);
+  // Without token_file: the environment.
+  ::setenv(kTokenEnvironmentVariable, "from-the-environment", 1);
+  {
+    auto t = Make("transfer: {type: openfresco, host: h, port: 1}");
+    EXPECT_EQ(dynamic_cast<const Client&>(*t).options().token, "from-the-environment");
+  }
+  ::unsetenv(kTokenEnvironmentVariable);
+  {
+    auto t = Make("transfer: {type: openfresco, host: h, port: 1}");
+    EXPECT_EQ(dynamic_cast<const Client&>(*t).options().token, "");
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

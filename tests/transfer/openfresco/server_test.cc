@@ -4,9 +4,12 @@
 // refusal).
 #include "hybridtest/transfer/openfresco/server.h"
 
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <condition_variable>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -17,6 +20,7 @@
 #include "hybridtest/transfer/openfresco/client.h"
 #include "transfer/bench_fake.h"
 #include "transfer/openfresco/raw_peer.h"
+#include "transfer/source_address.h"
 #include "support/eventually.h"
 
 namespace hybridtest::transfer::openfresco {
@@ -218,7 +222,7 @@ TEST(OpenFrescoServer, TruncatedMessageTimesOutAndHolds) {
 TEST(OpenFrescoServer, TruncatedHeaderIsRefused) {
   FakeBench bench;
   BenchServerOptions o;
-  o.heartbeat_timeout = 0.3;
+  o.handshake_timeout = 0.3;
   ServerThread server(bench, UnitSetup(), o);
   RawPeer peer(server.port());
   ASSERT_TRUE(peer.SendInts({1, 1, 1}));
@@ -374,9 +378,175 @@ TEST(OpenFrescoServer, ConfigurationErrors) {
   o.faults.push_back(Fault{});
   EXPECT_THROW(Server(bench, UnitSetup(), o), ConfigError);  // test faults
   o.faults.clear();
+  o.host = "0.0.0.0";
+  o.token = " ";  // issue 15: a token of one space passed the bind policy
+  EXPECT_THROW(Server(bench, UnitSetup(), o), ConfigError);
+  o.token = "short-token";  // 11 bytes < 16 off loopback
+  EXPECT_THROW(Server(bench, UnitSetup(), o), ConfigError);
+  o.host = "127.0.0.1";
+  o.token.clear();
+  o.handshake_timeout = 0.0;
+  EXPECT_THROW(Server(bench, UnitSetup(), o), ConfigError);
+  o.handshake_timeout = 2.0;
   ExpSetup bad = UnitSetup();
   bad.transform = {0.0};
   EXPECT_THROW(Server(bench, bad, o), ConfigError);
+}
+
+// ---- Issue 15: the bench server's hardening ----
+
+// Issue 15: one idle socket made a legitimate client wait a heartbeat timeout (~10 s) per read.
+// The idle connection is opened first and kept open; the real client's session must complete
+// within its own reply timeout (5 s), far below the 30 s a server blocked on the idle socket
+// would have waited.
+TEST(OpenFrescoServer, IdleConnectionDoesNotDelayARealClient) {
+  FakeBench bench;
+  BenchServerOptions o;
+  o.heartbeat_timeout = 30.0;
+  o.handshake_timeout = 30.0;
+  ServerThread server(bench, UnitSetup(), o);
+  RawPeer idle(server.port());      // connects and sends nothing
+  RawPeer half(server.port());      // sends half a header and stops
+  ASSERT_TRUE(half.SendInts({1, 1, 1}));
+  ClientOptions co;
+  co.port = server.port();
+  co.reply_timeout = 5.0;
+  Client client(co);
+  client.Activate();
+  EXPECT_EQ(client.Execute(1.0).force, 5.0);
+  EXPECT_EQ(client.Execute(2.0).force, 10.0);
+  client.Deactivate();
+  EXPECT_TRUE(server.Logged("client ended the session (99)"));
+  EXPECT_EQ(bench.commands(), (std::vector<double>{1.0, 2.0}));
+  // One session at a time: the connections that waited were closed when it opened.
+  EXPECT_TRUE(idle.ClosedByPeer());
+  EXPECT_TRUE(half.ClosedByPeer());
+  EXPECT_TRUE(server.Logged("refused a waiting connection from 127.0.0.1"));
+}
+
+TEST(OpenFrescoServer, SilentConnectionIsDroppedAtTheHandshakeDeadline) {
+  FakeBench bench;
+  BenchServerOptions o;
+  o.heartbeat_timeout = 30.0;
+  o.handshake_timeout = 0.3;
+  ServerThread server(bench, UnitSetup(), o);
+  RawPeer idle(server.port());
+  EXPECT_TRUE(idle.ClosedByPeer(10.0));  // dropped by the 0.3 s deadline, not the 30 s one
+  EXPECT_TRUE(server.Logged("incomplete header from 127.0.0.1: 0 bytes"));
+  EXPECT_TRUE(bench.commands().empty());
+}
+
+TEST(OpenFrescoServer, PendingConnectionsAreBounded) {
+  FakeBench bench;
+  BenchServerOptions o;
+  o.handshake_timeout = 30.0;
+  o.max_pending = 2;
+  ServerThread server(bench, UnitSetup(), o);
+  RawPeer first(server.port());
+  RawPeer second(server.port());
+  RawPeer third(server.port());
+  EXPECT_TRUE(first.ClosedByPeer());  // the oldest makes room
+  EXPECT_TRUE(server.Logged("2 connections await their header: dropped the oldest"));
+  ClientOptions co;
+  co.port = server.port();
+  Client client(co);
+  client.Activate();
+  EXPECT_EQ(client.Execute(1.0).force, 5.0);
+}
+
+// A bench whose first Execute() waits until released: the server is busy moving while the
+// client sends its next trial and gives up.
+class GatedBench final : public TransferSystem {
+ public:
+  void Activate() override {}
+  Measurement Execute(double command) override {
+    {
+      std::unique_lock lock(mutex_);
+      ++entered_;
+      entered_cv_.notify_all();
+      released_cv_.wait(lock, [&] { return released_ || entered_ > 1; });
+    }
+    return inner_.Execute(command);
+  }
+  void Hold() noexcept override { inner_.Hold(); }
+  void Deactivate() override {}
+  BenchUnits bench_units() const override { return inner_.bench_units(); }
+  std::string Describe() const override { return "gated fake bench"; }
+
+  bool WaitEntered() {
+    std::unique_lock lock(mutex_);
+    return entered_cv_.wait_for(lock, std::chrono::seconds(10), [&] { return entered_ > 0; });
+  }
+  void Release() {
+    std::lock_guard lock(mutex_);
+    released_ = true;
+    released_cv_.notify_all();
+  }
+  std::vector<double> commands() const { return inner_.commands(); }
+
+ private:
+  FakeBench inner_;
+  std::mutex mutex_;
+  std::condition_variable entered_cv_;
+  std::condition_variable released_cv_;
+  int entered_ = 0;
+  bool released_ = false;
+};
+
+// Issue 15: after a client gave up, the server executed its stale +4 mm trial. Here the
+// client's second trial is in the server's socket buffer when the client leaves (the server is
+// busy executing the first): it must never reach the bench.
+TEST(OpenFrescoServer, StaleTrialOfAClientThatLeftIsNeverExecuted) {
+  GatedBench bench;
+  ServerThread server(bench, UnitSetup());
+  {
+    RawPeer peer(server.port());
+    ASSERT_TRUE(peer.SendInts(kHeader1));
+    ASSERT_TRUE(peer.SendDoubles({3, 1.0}, 256));
+    ASSERT_TRUE(bench.WaitEntered());                // the server is moving to 1 mm
+    ASSERT_TRUE(peer.SendDoubles({3, 4.0}, 256));    // the next trial, +4 mm ...
+    ASSERT_TRUE(peer.SendDoubles({10}, 256));
+  }                                                  // ... and the client gives up
+  bench.Release();
+  EXPECT_TRUE(server.Logged("trial 2 not executed: the client at 127.0.0.1 has closed"));
+  EXPECT_TRUE(server.Logged("holding: client left before its trial was executed"));
+  EXPECT_EQ(bench.commands(), std::vector<double>{1.0});
+  EXPECT_EQ(server.server().trials_executed(), 1);
+}
+
+// Issue 15: rotating source addresses gave 5,200-8,100 guesses/s. From rotating 127.0.0.x
+// addresses (one /24) the sixth guess is refused unread; spread over many /24 blocks, the
+// global budget refuses the rest.
+TEST(OpenFrescoServer, RotatingSourceAddressesAreThrottled) {
+  FakeBench bench;
+  BenchServerOptions o;
+  o.token = "the-right-token-0123";
+  ServerThread server(bench, UnitSetup(), o);
+  const auto guess = [&](const std::string& source) {
+    Socket s = transfer::testing::ConnectFrom(source, server.port());
+    std::vector<std::uint8_t> bytes = EncodeTokenPreamble("a-wrong-guess");
+    const std::vector<std::uint8_t> header = EncodeHeader(PlainHeader(1));
+    bytes.insert(bytes.end(), header.begin(), header.end());
+    ASSERT_TRUE(SendAll(s.fd(), bytes, 2.0));
+    std::vector<std::uint8_t> one(1);
+    EXPECT_EQ(ReadBytes(s.fd(), 5.0, one), ReadStatus::kClosed) << source;
+  };
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 1; i <= AuthThrottle::kMaxFailures + 3; ++i) guess(fmt::format("127.0.0.{}", i));
+  EXPECT_TRUE(server.Logged("too many wrong tokens from 127.0.0.6 (address block 127.0.0.0/24)"));
+  for (int i = 1; i <= 3 * AuthThrottle::kGlobalBurst; ++i) guess(fmt::format("127.{}.0.1", i));
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_TRUE(server.Logged("auth rate limit"));
+  // Wrong tokens compared: 5 from 127.0.0.x, then what remains of the budget plus its refill
+  // (one per second since the first guess).
+  const long compared = server.server().auth_failures();
+  EXPECT_LE(compared, AuthThrottle::kGlobalBurst + 1 +
+                          static_cast<long>(elapsed / AuthThrottle::kGlobalRefill.count()))
+      << "in " << elapsed << " s";
+  std::printf("[ measured ] %d guesses from rotating addresses in %.3f s: %ld tokens compared\n",
+              AuthThrottle::kMaxFailures + 3 + 3 * AuthThrottle::kGlobalBurst, elapsed, compared);
+  EXPECT_TRUE(bench.commands().empty());
 }
 
 }  // namespace

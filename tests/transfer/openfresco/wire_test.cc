@@ -152,5 +152,35 @@ TEST(OpenFrescoWire, TokenPreambleMatchesGoldenBytes) {
   EXPECT_GT(kTokenMagic, kMaxDofs);
 }
 
+// The opening as the server's non-blocking handshake measures it, byte by byte.
+TEST(OpenFrescoWire, OpeningSizeGrowsAsTheBytesTellMore) {
+  const std::vector<std::uint8_t> header = EncodeHeader(PlainHeader(1));
+  std::vector<std::uint8_t> opening = EncodeTokenPreamble("abc");
+  opening.insert(opening.end(), header.begin(), header.end());
+  const std::span<const std::uint8_t> with_token(opening);
+  EXPECT_EQ(OpeningSize(with_token.first(0)), 4u);
+  EXPECT_EQ(OpeningSize(with_token.first(4)), 8u);   // the magic word: a preamble follows
+  EXPECT_EQ(OpeningSize(with_token.first(8)), 8u + 3u + kHeaderBytes);
+  EXPECT_EQ(OpeningSize(with_token), opening.size());
+  const Opening decoded = DecodeOpening(with_token);
+  EXPECT_TRUE(decoded.has_token);
+  EXPECT_EQ(decoded.token, "abc");
+  EXPECT_EQ(decoded.header, PlainHeader(1));
+  // Without a preamble: the 44-byte header alone.
+  EXPECT_EQ(OpeningSize(std::span<const std::uint8_t>(header).first(4)), kHeaderBytes);
+  const Opening plain = DecodeOpening(header);
+  EXPECT_FALSE(plain.has_token);
+  EXPECT_EQ(plain.header, PlainHeader(1));
+  // A preamble length outside 1..kMaxTokenBytes is refused as soon as it is known.
+  EXPECT_THROW(OpeningSize(Hex("48544f4b" "00000000")), TransferError);
+  EXPECT_THROW(OpeningSize(Hex("48544f4b" "ffffffff")), TransferError);
+  EXPECT_THROW(OpeningSize(Hex("48544f4b" "01100000")), TransferError);  // 4097
+  // An incomplete or over-long opening does not decode.
+  EXPECT_THROW(DecodeOpening(with_token.first(20)), TransferError);
+  std::vector<std::uint8_t> longer = opening;
+  longer.push_back(0);
+  EXPECT_THROW(DecodeOpening(longer), TransferError);
+}
+
 }  // namespace
 }  // namespace hybridtest::transfer::openfresco

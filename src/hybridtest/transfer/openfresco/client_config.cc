@@ -3,7 +3,10 @@
 
 #include <fmt/core.h>
 
+#include <filesystem>
+
 #include "hybridtest/common/error.h"
+#include "hybridtest/transfer/auth.h"
 #include "hybridtest/transfer/bench_config.h"
 #include "hybridtest/transfer/openfresco/client.h"
 #include "hybridtest/transfer/socket.h"
@@ -14,7 +17,7 @@ std::unique_ptr<TransferSystem> MakeClientTransfer(const YamlInput& in, const YA
                                                    const std::string& kp,
                                                    const std::optional<std::string>& bench_address,
                                                    double reply_timeout) {
-  in.CheckKeys(node, kp, {"type", "host", "port", "units", "timeout", "token"});
+  in.CheckKeys(node, kp, {"type", "host", "port", "units", "timeout", "token", "token_file"});
   ClientOptions client;
   if (bench_address && !bench_address->empty()) {
     const HostPort hp = ParseHostPort(*bench_address, "--bench");
@@ -36,8 +39,22 @@ std::unique_ptr<TransferSystem> MakeClientTransfer(const YamlInput& in, const YA
   if (node["units"]) {
     client.units = ParseBenchUnits(node["units"], in.Where(node["units"], kp + ".units"));
   }
+  // The token is a secret: never in the run config, whose text is copied into the results
+  // (the sidecar, report.html, the HDF5 export).
   if (node["token"]) {
-    client.token = in.String(node["token"], kp + ".token", "the bench's shared token");
+    throw ConfigError(fmt::format(
+        "{}: a token written in the run config would be copied into the results (.meta.json, "
+        "report.html, HDF5 export); remove `token:`, put the token in a file and give "
+        "`token_file: PATH` (relative to the run config), or set {}",
+        in.Where(node["token"], kp + ".token"), kTokenEnvironmentVariable));
+  }
+  if (node["token_file"]) {
+    std::filesystem::path file =
+        in.String(node["token_file"], kp + ".token_file", "the path of a file with the token");
+    if (file.is_relative()) file = std::filesystem::path(in.path()).parent_path() / file;
+    client.token = ReadTokenFile(file.string(), in.Where(node["token_file"], kp + ".token_file"));
+  } else {
+    client.token = TokenFromEnvironment();
   }
   client.reply_timeout = node["timeout"]
                              ? in.PositiveNumber(node["timeout"], kp + ".timeout", "seconds")

@@ -7,7 +7,11 @@
 //     port: 8090
 //     units: {length: mm, force: N}  # units of the numbers on the wire (default mm, N)
 //     timeout: 5                     # longest wait for one reply [s] (default: safety.timeout)
-//     token: ...                     # only for a hybridtest server that has a token
+//     token_file: bench.token        # only for a hybridtest server that has a token: a file
+//                                    # (relative to the run config) whose first line is the
+//                                    # token; without it, HYBRIDTEST_BENCH_TOKEN if set.
+//                                    # An inline `token:` is refused (ConfigError): the config
+//                                    # text is copied into the results.
 #include <memory>
 #include <optional>
 #include <string>

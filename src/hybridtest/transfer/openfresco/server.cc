@@ -20,10 +20,12 @@ constexpr int kPollIntervalMs = 100;
 // The bind policy of BenchServer (auth.h), positive timeouts, no test faults.
 BenchServerOptions CheckOptions(BenchServerOptions options) {
   CheckBindPolicy(options.host, options.port, options.token, "the OpenFresco bench");
-  if (!(options.heartbeat_timeout > 0.0) || !(options.send_timeout > 0.0)) {
+  if (!(options.heartbeat_timeout > 0.0) || !(options.send_timeout > 0.0) ||
+      !(options.handshake_timeout > 0.0)) {
     throw ConfigError(fmt::format(
-        "OpenFresco server: heartbeat_timeout = {} s, send_timeout = {} s: expected positive "
-        "times", options.heartbeat_timeout, options.send_timeout));
+        "OpenFresco server: heartbeat_timeout = {} s, send_timeout = {} s, handshake_timeout = "
+        "{} s: expected positive times", options.heartbeat_timeout, options.send_timeout,
+        options.handshake_timeout));
   }
   if (!options.faults.empty()) {
     throw ConfigError("--inject: test faults are a facility of the hybridtest protocol; they "
@@ -32,17 +34,20 @@ BenchServerOptions CheckOptions(BenchServerOptions options) {
   return options;
 }
 
-std::int32_t Int32At(const std::vector<std::uint8_t>& bytes, std::size_t at) {
-  std::int32_t v = 0;
-  std::memcpy(&v, bytes.data() + at, 4);
-  return v;
+// True if the peer of `fd` has closed or reset its end, even with bytes still unread.
+bool PeerHasLeft(int fd) {
+  pollfd p{fd, POLLRDHUP, 0};
+  if (poll(&p, 1, 0) < 0) return false;
+  return (p.revents & (POLLRDHUP | POLLHUP | POLLERR)) != 0;
 }
 
 }  // namespace
 
 struct Server::Session {
-  explicit Session(Socket socket) : client(std::move(socket)) {}
+  Session(Socket socket, std::string peer_address)
+      : client(std::move(socket)), peer(std::move(peer_address)) {}
   Socket client;
+  std::string peer;                  // the client's address (auth throttle, logs)
   Header header;
   std::vector<double> trial_vel;     // last trial velocities (wire units), n or empty
   std::vector<double> trial_accel;   // last trial accelerations (wire units), n or empty
@@ -58,7 +63,8 @@ Server::Server(TransferSystem& bench, ExpSetup setup, BenchServerOptions options
       options_(CheckOptions(std::move(options))),
       bench_units_(bench.bench_units()),
       monitor_(options_.limits),
-      listener_(options_.host, options_.port) {
+      listener_(options_.host, options_.port),
+      handshakes_(options_.max_pending, options_.handshake_timeout, OpeningSize) {
   ValidateSetup(setup_);
   if (options_.start_position) monitor_.SetStartPosition(*options_.start_position);
   monitor_.SetInitialStiffness(options_.initial_stiffness.value_or(setup_.initial_stiffness));
@@ -81,17 +87,81 @@ void Server::Serve() {
   Log(fmt::format("serving {} to OpenFresco clients on {} (n = {})", bench_.Describe(),
                   address(), setup_.dofs()));
   while (!stop_.load()) {
-    Socket client = listener_.Accept(kPollIntervalMs * 1e-3);
-    if (client.is_open()) ServeClient(std::move(client));
+    // Wait for a new connection or bytes from a pending one; never block on one peer.
+    std::vector<pollfd> fds = {{listener_.fd(), POLLIN, 0}};
+    for (std::size_t i = 0; i < handshakes_.size(); ++i) {
+      fds.push_back({handshakes_.at(i).socket.fd(), POLLIN, 0});
+    }
+    poll(fds.data(), fds.size(), kPollIntervalMs);
+    // Pending openings, last first so that removing one keeps the others' indices.
+    for (std::size_t k = fds.size(); k-- > 1;) {
+      if ((fds[k].revents & (POLLIN | POLLHUP | POLLERR)) != 0 && AdvanceHandshake(k - 1)) break;
+    }
+    DropExpiredHandshakes();
+    if ((fds[0].revents & POLLIN) != 0 && !stop_.load()) {
+      Socket client = listener_.Accept(0.0);
+      if (client.is_open()) {
+        const std::string evicted = handshakes_.Add(std::move(client), Clock::now());
+        if (!evicted.empty()) {
+          Log(fmt::format("{} connections await their header: dropped the oldest, from {}",
+                          options_.max_pending, evicted));
+        }
+      }
+    }
   }
+  handshakes_.TakeAll();
   HoldBench("server stopping");
   bench_.Deactivate();
   Log("stopped");
 }
 
+bool Server::AdvanceHandshake(std::size_t i) {
+  std::vector<std::uint8_t> opening;
+  HandshakeQueue::Progress progress = HandshakeQueue::Progress::kWaiting;
+  try {
+    progress = handshakes_.ReadOpening(i, opening);
+  } catch (const TransferError& e) {
+    const HandshakeQueue::Pending p = handshakes_.Take(i);
+    Log(fmt::format("ERROR: {} (from {})", e.what(), p.peer));
+    HoldBench("session not opened");
+    return false;
+  }
+  if (progress == HandshakeQueue::Progress::kWaiting) return false;
+  HandshakeQueue::Pending p = handshakes_.Take(i);
+  if (progress == HandshakeQueue::Progress::kClosed) {
+    Log(fmt::format("a connection from {} left before its header was complete ({} bytes)",
+                    p.peer, p.bytes.size()));
+    return false;
+  }
+  Session session(std::move(p.socket), p.peer);
+  if (!OpenSession(session, opening)) {
+    HoldBench("session not opened");
+    return false;
+  }
+  // One session at a time: whoever else is waiting is closed.
+  for (const HandshakeQueue::Pending& other : handshakes_.TakeAll()) {
+    Log(fmt::format("refused a waiting connection from {}: one OpenFresco session at a time",
+                    other.peer));
+  }
+  ++sessions_;
+  ServeClient(session);
+  return true;
+}
+
+void Server::DropExpiredHandshakes() {
+  for (const HandshakeQueue::Pending& p : handshakes_.TakeExpired(Clock::now())) {
+    Log(fmt::format("ERROR: incomplete header from {}: {} bytes of the opening arrived within "
+                    "{} s of connecting (handshake timeout); closed",
+                    p.peer, p.bytes.size(), options_.handshake_timeout));
+  }
+}
+
 void Server::RefuseBusyClient() {
   Socket other = listener_.Accept(0.0);
-  if (other.is_open()) Log("refused a second client: one OpenFresco session at a time");
+  if (other.is_open()) {
+    Log(fmt::format("refused a second client from {}: one OpenFresco session at a time",
+                    PeerAddress(other.fd())));
+  }
 }
 
 bool Server::Reply(Session& session, const std::vector<double>& values) {
@@ -99,10 +169,7 @@ bool Server::Reply(Session& session, const std::vector<double>& values) {
                  options_.send_timeout);
 }
 
-void Server::ServeClient(Socket client) {
-  Session session(std::move(client));
-  ++sessions_;
-  if (!OpenSession(session)) return HoldBench("session not opened");
+void Server::ServeClient(Session& session) {
   const double timeout = options_.heartbeat_timeout;
   const std::size_t message_bytes = static_cast<std::size_t>(session.header.data_size) * 8;
   auto last_message = Clock::now();
@@ -131,71 +198,40 @@ void Server::ServeClient(Socket client) {
   HoldBench("server stopping");
 }
 
-bool Server::OpenSession(Session& session) {
-  const int fd = session.client.fd();
-  const double timeout = options_.heartbeat_timeout;
-  // The first word tells the token preamble from the header.
-  std::vector<std::uint8_t> bytes(4);
-  if (ReadBytes(fd, timeout, bytes) != ReadStatus::kFrame) {
-    Log("ERROR: the client left or stayed silent before sending its header");
-    return false;
-  }
-  std::string token;
-  if (Int32At(bytes, 0) == kTokenMagic) {
-    std::vector<std::uint8_t> length(4);
-    if (ReadBytes(fd, timeout, length) != ReadStatus::kFrame) {
-      Log("ERROR: incomplete token preamble");
-      return false;
-    }
-    const std::int32_t n = Int32At(length, 0);
-    if (n < 1 || n > kMaxTokenBytes) {
-      Log(fmt::format("ERROR: token preamble announces {} bytes; expected 1 to {}", n,
-                      kMaxTokenBytes));
-      return false;
-    }
-    std::vector<std::uint8_t> text(static_cast<std::size_t>(n));
-    if (ReadBytes(fd, timeout, text) != ReadStatus::kFrame) {
-      Log("ERROR: incomplete token preamble");
-      return false;
-    }
-    token.assign(text.begin(), text.end());
-    bytes.assign(4, 0);
-    if (ReadBytes(fd, timeout, bytes) != ReadStatus::kFrame) {
-      Log("ERROR: the client left or stayed silent before sending its header");
-      return false;
-    }
-  }
-  // The token rules of BenchServer (auth.h): constant-time comparison, lockout per address.
-  const std::string peer = PeerAddress(fd);
-  const auto now = Clock::now();
-  if (auth_.IsLocked(peer, now)) {
-    Log(fmt::format("ERROR: too many wrong tokens from {}: locked out for {} s after the last "
-                    "one", peer, AuthThrottle::kLockout.count()));
-    return false;
-  }
-  if (!TokensEqual(token, options_.token)) {
-    if (auth_.RecordFailure(peer, now)) {
-      Log(fmt::format("auth lockout: {} wrong tokens from {}; its sessions are refused for {} s",
-                      AuthThrottle::kMaxFailures, peer, AuthThrottle::kLockout.count()));
-    }
-    Log(token.empty() ? "ERROR: this bench requires a token and the client sent none (the "
-                        "hybridtest token preamble; see docs/openfresco.md)"
-                      : "ERROR: wrong token: the client's token does not match the bench's "
-                        "(--token / HYBRIDTEST_BENCH_TOKEN)");
-    return false;
-  }
-  auth_.RecordSuccess(peer);
-  // The rest of the 11-int header.
-  bytes.resize(kHeaderBytes);
-  std::vector<std::uint8_t> rest(kHeaderBytes - 4);
-  if (ReadBytes(fd, timeout, rest) != ReadStatus::kFrame) {
-    Log(fmt::format("ERROR: incomplete header: the 44 bytes did not arrive within {} s",
-                    timeout));
-    return false;
-  }
-  std::copy(rest.begin(), rest.end(), bytes.begin() + 4);
+bool Server::OpenSession(Session& session, const std::vector<std::uint8_t>& bytes) {
+  Opening opening;
   try {
-    session.header = DecodeHeader(bytes);
+    opening = DecodeOpening(bytes);
+  } catch (const TransferError& e) {
+    Log(fmt::format("ERROR: {} (from {})", e.what(), session.peer));
+    return false;
+  }
+  // The token rules of BenchServer (auth.h): constant-time comparison, lockout per address
+  // block, a global budget of wrong tokens.
+  const auto now = Clock::now();
+  if (const auto verdict = auth_.Check(session.peer, now);
+      verdict != AuthThrottle::Verdict::kAllowed) {
+    Log("ERROR: " + AuthThrottle::RefusalText(verdict, session.peer));
+    return false;
+  }
+  if (!TokensEqual(opening.token, options_.token)) {
+    ++auth_failures_;
+    if (auth_.RecordFailure(session.peer, now)) {
+      Log(fmt::format("auth lockout: {} wrong tokens from block {} (last from {}); its sessions "
+                      "are refused for {} s", AuthThrottle::kMaxFailures,
+                      AddressBlock(session.peer), session.peer, AuthThrottle::kLockout.count()));
+    }
+    Log(opening.token.empty()
+            ? fmt::format("ERROR: this bench requires a token and the client sent none (from "
+                          "{}; the hybridtest token preamble; see docs/openfresco.md)",
+                          session.peer)
+            : fmt::format("ERROR: wrong token from {}: the client's token does not match the "
+                          "bench's (--token-file / HYBRIDTEST_BENCH_TOKEN)", session.peer));
+    return false;
+  }
+  auth_.RecordSuccess(session.peer);
+  session.header = opening.header;
+  try {
     ValidateHeader(session.header);
   } catch (const TransferError& e) {
     Log(fmt::format("ERROR: {}", e.what()));
@@ -207,8 +243,8 @@ bool Server::OpenSession(Session& session) {
                     session.header.dofs(), setup_.dofs()));
     return false;
   }
-  Log(fmt::format("OpenFresco client connected: n = {}, dataSize = {}", setup_.dofs(),
-                  session.header.data_size));
+  Log(fmt::format("OpenFresco client connected from {}: n = {}, dataSize = {}", session.peer,
+                  setup_.dofs(), session.header.data_size));
   return true;
 }
 
@@ -259,6 +295,14 @@ bool Server::HandleMessage(Session& session, const std::vector<double>& message)
 
 bool Server::HandleTrial(Session& session, const std::vector<double>& message) {
   const auto& size = session.header.size_ctrl;
+  // A trial whose client is gone (it gave up waiting, or vanished) is stale: never executed.
+  if (PeerHasLeft(session.client.fd())) {
+    Log(fmt::format("ERROR: trial {} not executed: the client at {} has closed its connection "
+                    "(a trial whose client is gone never moves the bench)", trials_.load() + 1,
+                    session.peer));
+    HoldBench("client left before its trial was executed");
+    return false;
+  }
   const long count = ++trials_;
   // [3 | d | v | a | force | time]: every value must be finite.
   const std::size_t used = 1 + static_cast<std::size_t>(size[0] + size[1] + size[2] + size[3] +

@@ -17,19 +17,28 @@
 // Before the first trial of a session, getDisp/getForce/getDaqResponse report zeros.
 //
 // Safety — the rules of BenchServer (bench_server.h), with the same SafetyMonitor:
-//  - binds 127.0.0.1 by default; a non-loopback address needs a shared token, which clients
-//    present in the token preamble; a preamble with another token (or one the server does not
-//    expect) is refused (compared in constant time; five wrong or missing tokens from one
-//    address lock that address out for a minute, logged; see auth.h). OpenSees sends no
-//    preamble: reach a remote bench through a tunnel.
+//  - binds 127.0.0.1 by default; a non-loopback address needs a shared token of at least 16
+//    bytes (auth.h), which clients present in the token preamble; a preamble with another
+//    token (or one the server does not expect) is refused (compared in constant time; five
+//    wrong or missing tokens from one address block — IPv4 /24, IPv6 /64 — lock that block out
+//    for a minute, and a global budget bounds wrong tokens from all addresses together; see
+//    auth.h). OpenSees sends no preamble: reach a remote bench through a tunnel.
+//  - openings are read concurrently and without blocking (HandshakeQueue): every accepted
+//    connection has handshake_timeout [s] to deliver its preamble and header, so an idle or
+//    slow peer never delays another client; at most max_pending wait at once (the oldest is
+//    dropped). When one opening completes and is accepted, its session starts and every other
+//    waiting connection is closed: one session at a time; a connection during a session is
+//    logged and closed at once.
+//  - a trial is executed only while its client is still connected: a trial read after the
+//    client has closed or reset its end (it gave up waiting, or vanished) is logged, never
+//    executed, and puts the bench in Hold().
 //  - every trial command is checked (SafetyLimits, SI) before the bench moves, and every
 //    measurement after; a refusal holds the bench and ends the session. The OpenFresco
 //    protocol has no error message, so the client learns of it by the closed connection.
-//  - a malformed header, an unknown action, a non-finite trial value, a message not complete
+//  - a malformed opening, an unknown action, a non-finite trial value, a message not complete
 //    within heartbeat_timeout, a client silent for heartbeat_timeout, or a disconnect is
 //    logged and puts the bench in Hold() (it never moves to a new position by itself); the
-//    session ends and the server waits for the next client. A second client while a session
-//    is open is logged and closed at once.
+//    session ends and the server waits for the next client.
 // After a hold, the next trial resumes the bench with Activate() before Execute().
 #include <atomic>
 #include <cstdint>
@@ -39,6 +48,7 @@
 
 #include "hybridtest/transfer/auth.h"
 #include "hybridtest/transfer/bench_server.h"
+#include "hybridtest/transfer/handshake_queue.h"
 #include "hybridtest/transfer/openfresco/setup.h"
 #include "hybridtest/transfer/openfresco/wire.h"
 #include "hybridtest/transfer/safety.h"
@@ -49,8 +59,8 @@ namespace hybridtest::transfer::openfresco {
 
 class Server {
  public:
-  // Binds and listens. Uses host, port, token, heartbeat_timeout, send_timeout, limits,
-  // start_position and log of `options` (initial_stiffness defaults to the setup's K0).
+  // Binds and listens. Uses host, port, token, heartbeat_timeout, handshake_timeout,
+  // max_pending, send_timeout, limits, start_position and log of `options` (initial_stiffness defaults to the setup's K0).
   // Throws ConfigError for a non-loopback host without a token, an invalid setup, inconsistent
   // limits or test faults (they belong to the hybridtest protocol); TransferError if the
   // address cannot be bound. `bench` must outlive the server.
@@ -70,11 +80,16 @@ class Server {
 
   long sessions_served() const { return sessions_.load(); }      // lifetime count
   long trials_executed() const { return trials_.load(); }        // lifetime count
+  long auth_failures() const { return auth_failures_.load(); }   // wrong tokens compared
 
  private:
   struct Session;
-  void ServeClient(Socket client);
-  bool OpenSession(Session& session);                    // preamble, token, header
+  // Reads pending connection i; runs its session if its opening is accepted. Returns true if
+  // a session ran (the queue was emptied).
+  bool AdvanceHandshake(std::size_t i);
+  void DropExpiredHandshakes();
+  void ServeClient(Session& session);
+  bool OpenSession(Session& session, const std::vector<std::uint8_t>& opening);  // token, header
   bool HandleMessage(Session& session, const std::vector<double>& message);
   bool HandleTrial(Session& session, const std::vector<double>& message);
   bool Reply(Session& session, const std::vector<double>& values);
@@ -92,6 +107,8 @@ class Server {
   std::atomic<bool> stop_{false};
   std::atomic<long> sessions_{0};
   std::atomic<long> trials_{0};
+  std::atomic<long> auth_failures_{0};
+  HandshakeQueue handshakes_;
   AuthThrottle auth_;
   bool bench_held_ = false;
 };

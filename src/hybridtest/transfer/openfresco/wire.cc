@@ -148,4 +148,45 @@ std::vector<std::uint8_t> EncodeTokenPreamble(const std::string& token) {
   return out;
 }
 
+namespace {
+
+std::int32_t IntAt(std::span<const std::uint8_t> bytes, std::size_t at) {
+  std::int32_t v = 0;
+  std::memcpy(&v, bytes.data() + at, 4);
+  return v;
+}
+
+}  // namespace
+
+std::size_t OpeningSize(std::span<const std::uint8_t> bytes) {
+  if (bytes.size() < 4) return 4;
+  if (IntAt(bytes, 0) != kTokenMagic) return kHeaderBytes;
+  if (bytes.size() < 8) return 8;
+  const std::int32_t n = IntAt(bytes, 4);
+  if (n < 1 || n > kMaxTokenBytes) {
+    throw TransferError(fmt::format("OpenFresco token preamble announces {} bytes; expected 1 "
+                                    "to {}", n, kMaxTokenBytes));
+  }
+  return 8 + static_cast<std::size_t>(n) + kHeaderBytes;
+}
+
+Opening DecodeOpening(std::span<const std::uint8_t> bytes) {
+  const std::size_t size = OpeningSize(bytes);
+  if (bytes.size() != size) {
+    throw TransferError(fmt::format("OpenFresco opening: {} bytes; the first bytes announce {} "
+                                    "(token preamble, then the 44-byte header)", bytes.size(),
+                                    size));
+  }
+  Opening opening;
+  std::size_t at = 0;
+  if (IntAt(bytes, 0) == kTokenMagic) {
+    const auto n = static_cast<std::size_t>(IntAt(bytes, 4));
+    opening.has_token = true;
+    opening.token.assign(reinterpret_cast<const char*>(bytes.data() + 8), n);
+    at = 8 + n;
+  }
+  opening.header = DecodeHeader(bytes.subspan(at, kHeaderBytes));
+  return opening;
+}
+
 }  // namespace hybridtest::transfer::openfresco

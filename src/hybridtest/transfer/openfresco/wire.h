@@ -104,4 +104,21 @@ int ActionOf(std::span<const double> message);
 // empty token or one longer than kMaxTokenBytes.
 std::vector<std::uint8_t> EncodeTokenPreamble(const std::string& token);
 
+// A client's opening: the optional token preamble, then the 44-byte header.
+struct Opening {
+  bool has_token = false;  // a token preamble came first
+  std::string token;       // its token (empty without a preamble)
+  Header header;           // not yet validated (ValidateHeader)
+};
+
+// The total number of bytes of the opening that begins with `bytes` (which may be incomplete):
+// 4 until the first word is known, then 44 (no preamble) or 8 + L + 44 once L is known. A
+// server reads that many bytes without blocking (HandshakeQueue::Measure). Throws
+// TransferError for a preamble length outside 1..kMaxTokenBytes.
+std::size_t OpeningSize(std::span<const std::uint8_t> bytes);
+
+// Decodes a complete opening: OpeningSize(bytes) == bytes.size(). Throws TransferError
+// otherwise (and for a bad preamble length). The header is not validated.
+Opening DecodeOpening(std::span<const std::uint8_t> bytes);
+
 }  // namespace hybridtest::transfer::openfresco
