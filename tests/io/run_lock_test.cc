@@ -36,10 +36,18 @@ TEST(RunLock, ASecondHolderIsRefusedWithTheFirstsPidAndHost) {
                              HasSubstr("pid " + std::to_string(::getpid())),
                              HasSubstr(std::string("host ") + host), HasSubstr("hybridtest run"),
                              HasSubstr("hybridtest resume " + csv)));
-  // Released with its holder; the file stays (deleting it would break the exclusion).
+  // Released with its holder, which removes the file.
   first.reset();
-  EXPECT_TRUE(std::filesystem::exists(dir / "k.lock"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "k.lock"));
   EXPECT_NO_THROW(RunLock::Acquire(csv, "resume"));
+}
+
+TEST(RunLock, AStaleLockFileLeftByAKilledHolderDoesNotBlock) {
+  const auto dir = test_support::FreshTempDir("run_lock_stale");
+  test_support::WriteText(dir / "k.lock", "pid 1 on host gone, hybridtest run, since then\n");
+  const RunLock lock = RunLock::Acquire((dir / "k.csv").string(), "resume");
+  EXPECT_THAT(test_support::ReadText(dir / "k.lock"),
+              HasSubstr("pid " + std::to_string(::getpid())));
 }
 
 TEST(RunLock, ASymlinkAtTheLocksNameIsNeverFollowed) {

@@ -26,22 +26,37 @@ std::string RunLockPath(const std::string& csv_path) {
 
 RunLock RunLock::Acquire(const std::string& csv_path, const std::string& command) {
   const std::string path = RunLockPath(csv_path);
-  // O_NOFOLLOW: a symlink planted at the lock's name is refused, never followed.
-  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
-  if (fd < 0) {
-    throw IoError(fmt::format("{}: cannot create the run's lock file: {}; the lock file must be "
-                              "a regular file in a writable directory", path, OsError()));
+  // The holder removes the file when it releases the lock, so the file locked may have been
+  // removed (or replaced) between open() and flock(): then it is opened again.
+  int fd = -1;
+  for (int attempt = 0;; ++attempt) {
+    // O_NOFOLLOW: a symlink planted at the lock's name is refused, never followed.
+    fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd < 0) {
+      throw IoError(fmt::format("{}: cannot create the run's lock file: {}; the lock file must "
+                                "be a regular file in a writable directory", path, OsError()));
+    }
+    struct stat st {};
+    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+      ::close(fd);
+      throw IoError(fmt::format("{}: the run's lock file is not a regular file; remove it", path));
+    }
+    int rc = 0;
+    do {
+      rc = ::flock(fd, LOCK_EX | LOCK_NB);
+    } while (rc != 0 && errno == EINTR);
+    if (rc != 0) break;  // held by another process: reported below
+    struct stat now {};
+    if (::lstat(path.c_str(), &now) == 0 && now.st_ino == st.st_ino && now.st_dev == st.st_dev) {
+      return Locked(fd, path, command);
+    }
+    ::close(fd);  // locked a file its holder had just removed: try the new one
+    if (attempt == 100) {
+      throw IoError(fmt::format("{}: the run's lock file keeps being replaced; is another "
+                                "program removing it?", path));
+    }
   }
-  struct stat st {};
-  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-    ::close(fd);
-    throw IoError(fmt::format("{}: the run's lock file is not a regular file; remove it", path));
-  }
-  int rc = 0;
-  do {
-    rc = ::flock(fd, LOCK_EX | LOCK_NB);
-  } while (rc != 0 && errno == EINTR);
-  if (rc != 0) {
+  {
     const int error = errno;
     std::array<char, 512> holder{};
     const ssize_t n = ::pread(fd, holder.data(), holder.size() - 1, 0);
@@ -57,6 +72,9 @@ RunLock RunLock::Acquire(const std::string& csv_path, const std::string& command
         "kill PID on that host) and then run hybridtest resume {}", csv_path,
         who.empty() ? "holder unknown" : who, path, csv_path));
   }
+}
+
+RunLock RunLock::Locked(int fd, const std::string& path, const std::string& command) {
   // The holder's line, for the message of a refused second process.
   std::array<char, 256> host{};
   if (::gethostname(host.data(), host.size() - 1) != 0) host[0] = '\0';
@@ -70,7 +88,11 @@ RunLock RunLock::Acquire(const std::string& csv_path, const std::string& command
 }
 
 RunLock::~RunLock() {
-  if (fd_ >= 0) ::close(fd_);  // closing the last descriptor releases the flock
+  if (fd_ < 0) return;
+  // Removed while still held (a process waiting on the old file sees it gone and retries),
+  // then released by closing the last descriptor.
+  ::unlink(path_.c_str());
+  ::close(fd_);
 }
 
 }  // namespace hybridtest::io

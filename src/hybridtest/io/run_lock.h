@@ -6,9 +6,11 @@
 // of a live run, a run with --overwrite over it) is refused with the holder's PID and host.
 //
 // The kernel releases the lock when the holder exits, however it exits (kill -9 included), so
-// a stale lock never blocks a resume. The lock file holds one line naming the holder and is
-// never deleted: deleting it would let a third process lock a new file while the second
-// still holds the old one. flock is local to one machine: two hosts that share the results
+// a stale lock never blocks a resume. The lock file holds one line naming the holder. Its
+// holder removes it before releasing it; a process that locks a file which is no longer the
+// one at the lock's name (removed or replaced in between) opens the new one and tries again,
+// so removing it never lets two processes hold the run. A process killed by a signal leaves
+// the file behind, unlocked. flock is local to one machine: two hosts that share the results
 // directory over NFS are not serialised by it (documented in docs/safety.md).
 #include <string>
 
@@ -31,11 +33,12 @@ class RunLock {
   RunLock& operator=(RunLock&&) = delete;
   RunLock(const RunLock&) = delete;
   RunLock& operator=(const RunLock&) = delete;
-  ~RunLock();  // releases the lock (closes the file); the file stays
+  ~RunLock();  // removes the lock file and releases the lock
 
   const std::string& path() const { return path_; }
 
  private:
+  static RunLock Locked(int fd, const std::string& path, const std::string& command);
   RunLock(int fd, std::string path) : fd_(fd), path_(std::move(path)) {}
   int fd_ = -1;
   std::string path_;
