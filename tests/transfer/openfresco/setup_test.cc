@@ -85,6 +85,14 @@ TEST(OpenFrescoSetup, InvalidSetupsAreConfigErrors) {
   EXPECT_THROW(ValidateSetup(s), ConfigError);
   s.transform = {1.0, NAN};
   EXPECT_THROW(ValidateSetup(s), ConfigError);
+  // |t|² of 1e-400 underflows to 0: refused before it can put inf or NaN on the wire.
+  s.transform = {1e-200};
+  EXPECT_THROW(ValidateSetup(s), ConfigError);
+  s.transform = {1e200, 1.0};
+  EXPECT_THROW(ValidateSetup(s), ConfigError);
+  s.transform = {1e-3};  // a small but sane scale still passes, and its outputs are finite
+  EXPECT_NO_THROW(ValidateSetup(s));
+  for (double v : ElementDisplacement(s, 0.001)) EXPECT_TRUE(std::isfinite(v));
   s = ContractSetup();
   s.initial_stiffness = -1.0;
   EXPECT_THROW(ValidateSetup(s), ConfigError);

@@ -32,6 +32,15 @@ void ValidateSetup(const ExpSetup& s) {
     any = any || s.transform[i] != 0.0;
   }
   if (!any) throw ConfigError("openfresco.transform: all zero; the actuator would never move");
+  // The element forces, stiffness and displacements divide by |t|²: a row of 1e-200 would
+  // underflow to 0 and send inf/NaN on the wire. A transform row is a set of direction
+  // cosines and scales of order 1.
+  const double norm = std::sqrt(Dot(s.transform, s.transform));
+  if (!(norm >= 1e-6 && norm <= 1e6)) {
+    throw ConfigError(fmt::format("openfresco.transform: |t| = {}: expected a row of direction "
+                                  "cosines and scales with a length from 1e-6 to 1e6 (e.g. "
+                                  "[[1.0]] or [[0.0, 1.0]])", norm));
+  }
   if (!std::isfinite(s.initial_stiffness) || s.initial_stiffness < 0.0) {
     throw ConfigError(fmt::format("openfresco.initial_stiffness = {} N/m: expected a finite "
                                   "value >= 0", s.initial_stiffness));
