@@ -253,6 +253,30 @@ TEST(AStateThatCannotLie, ASidecarLeftStagedIsPublishedByResume) {
   fs::remove_all(dir);
 }
 
+// An emulated bench's test fault fires once: a run stopped by it is resumed past it, and the
+// fault does not fire again at the same command.
+TEST(AStateThatCannotLie, ATestFaultThatStoppedTheRunDoesNotFireAgainOnResume) {
+  const fs::path dir = ResumeTestDir("fault_once");
+  std::string bench = FileText(kSource + "/examples/rotor/bench-ideal.yaml");
+  bench += "  faults: [{at: 60, kind: nan}]\n";
+  std::ofstream(dir / "bench.yaml") << bench;
+  std::ofstream(dir / "run.yaml")
+      << "model: {name: rotor, blades: 3}\nintegrator: {tableau: heun, dt: 0.001}\n"
+         "duration: 0.1\nsubstructures:\n  r1:\n    type: physical\n"
+         "    transfer: {type: emulated, config: bench.yaml}\n    setup: {p0: 0.020}\n"
+         "    safety: {stroke_min: -0.15, stroke_max: 0.15, max_increment: 0.005, "
+         "force_soft: 8000, force_hard: 10000, timeout: 5}\n";
+  const fs::path csv = dir / "k.csv";
+  Child run(HybridtestArgv({"run", (dir / "run.yaml").string(), "--out", csv.string(), "--quiet"}),
+            dir / "run.log");
+  ASSERT_EQ(run.WaitExit(60.0), 3) << run.output();  // the NaN force: a safety stop
+  EXPECT_EQ(Sidecar(csv)["statistics"]["stop"]["commands_received"][0], 60);
+  const auto [status, output] = Resume(csv, {"--after-safety-stop", "--quiet"}, dir / "r.log");
+  EXPECT_EQ(status, 0) << output;
+  EXPECT_EQ(Sidecar(csv)["status"], "completed");
+  fs::remove_all(dir);
+}
+
 TEST(OutputsGuarded, OntoTheModelTheTokenOrADeviceIsRefused) {
   const fs::path dir = ResumeTestDir("out_guard");
   fs::copy_file(kSource + "/examples/models/rotor.yaml", dir / "rotor.yaml");

@@ -307,6 +307,15 @@ RunStatistics HybridTest::Run() {
     nlohmann::json statistics = ToJson(stats_);
     statistics["initial_stiffness"] = stiffness_record_;
     statistics["stop"] = StopDetails(e);
+    // How many commands each in-process bench had received: a resume tells it, so that a
+    // test fault that stopped the run does not fire again.
+    nlohmann::json received = nlohmann::json::array();
+    for (const auto& s : subs_) {
+      const auto* p = dynamic_cast<const substructures::PhysicalSubstructure*>(s.get());
+      const auto count = p != nullptr ? p->transfer().commands_received() : std::nullopt;
+      received.push_back(count ? nlohmann::json(*count) : nlohmann::json(nullptr));
+    }
+    statistics["stop"]["commands_received"] = received;
     try {
       journal.Finish(statistics, std::string("stopped: ") + e.what());
       if (stages) stages->Finish(statistics, std::string("stopped: ") + e.what());

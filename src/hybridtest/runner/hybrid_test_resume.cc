@@ -2,6 +2,8 @@
 // run_state.h and docs/safety.md, "Resuming a run").
 #include <fmt/core.h>
 
+#include <optional>
+
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/journal.h"
 #include "hybridtest/io/utc_time.h"
@@ -9,6 +11,21 @@
 #include "hybridtest/substructures/physical_substructure.h"
 
 namespace hybridtest::runner {
+namespace {
+// The commands slot `s`'s bench had received when the previous session stopped, if recorded.
+std::optional<long> CommandsReceivedAtStop(const nlohmann::json& sidecar, std::size_t s) {
+  const auto stats = sidecar.find("statistics");
+  if (stats == sidecar.end() || !stats->is_object()) return std::nullopt;
+  const auto stop = stats->find("stop");
+  if (stop == stats->end() || !stop->is_object()) return std::nullopt;
+  const auto received = stop->find("commands_received");
+  if (received == stop->end() || !received->is_array() || s >= received->size() ||
+      !(*received)[s].is_number_integer()) {
+    return std::nullopt;
+  }
+  return (*received)[s].get<long>();
+}
+}  // namespace
 
 RunState HybridTest::CaptureState(const schemes::HybridScheme& scheme, long rows,
                                   long stage_rows, const nlohmann::json& statistics) const {
@@ -80,6 +97,9 @@ void HybridTest::ResumeFrom(const RunState& state, schemes::HybridScheme& scheme
   for (std::size_t s = 0; s < subs_.size(); ++s) {
     auto* physical = dynamic_cast<substructures::PhysicalSubstructure*>(subs_[s].get());
     if (physical == nullptr) continue;
+    if (const auto count = CommandsReceivedAtStop(journal.sidecar(), s)) {
+      physical->NoteCommandsBeforeResume(*count);
+    }
     const auto check = physical->ReimposeCommitted(
         options_.resume_force_tolerance, options_.resume_position_tolerance, p.step,
         [&](bool reimposition) { stage_row(p.step, reimposition ? -1 : -2, p.t); });

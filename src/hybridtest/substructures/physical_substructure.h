@@ -39,6 +39,8 @@ class PhysicalSubstructure final : public Substructure {
   std::string Describe() const override;
   const transfer::SafetyMonitor& safety() const { return safety_; }
   const transfer::TransferSystem& transfer() const { return *transfer_; }
+  // Resume: see TransferSystem::NoteCommandsBeforeResume.
+  void NoteCommandsBeforeResume(long count) { transfer_->NoteCommandsBeforeResume(count); }
   const SetupTransform& setup() const { return setup_; }
 
   // K0 = dr/dd of the slot [N/m]: set from the config, or measured by

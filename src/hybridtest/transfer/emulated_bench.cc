@@ -60,7 +60,9 @@ Measurement EmulatedBench::Execute(double command) {
         state_ == State::kHolding ? "holding" : "not active"));
   }
   const long index = command_count_++;  // 0-based, the safety monitor's step
-  const long fault_index = index + 1;    // 1-based, the fault injector's convention
+  // 1-based, the fault injector's convention; 0 (no fault) for a command whose faults fired
+  // before a resume.
+  const long fault_index = index + 1 > faults_fired_through_ ? index + 1 : 0;
   const double target = command * config_.units.metres_per_length_unit;  // [m]
   const double dt = actuator_->step();
 

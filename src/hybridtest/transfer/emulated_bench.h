@@ -20,6 +20,7 @@
 //
 // The bench's safety monitor counts steps as commands (step = command index, stage = 0): the
 // bench does not know the runner's Runge–Kutta stages.
+#include <algorithm>
 #include <memory>
 #include <string>
 
@@ -52,6 +53,10 @@ class EmulatedBench final : public TransferSystem {
   double actuator_position() const;
   // Number of Execute calls so far (including refused ones).
   long command_count() const { return command_count_; }
+  std::optional<long> commands_received() const override { return command_count_; }
+  void NoteCommandsBeforeResume(long count) override {
+    faults_fired_through_ = std::max(faults_fired_through_, count);
+  }
   bool holding() const { return state_ == State::kHolding; }
   const EmulatedBenchConfig& config() const { return config_; }
   const SafetyMonitor& safety() const { return safety_; }
@@ -75,6 +80,7 @@ class EmulatedBench final : public TransferSystem {
   std::unique_ptr<LabClock> clock_;
   State state_ = State::kConfigured;
   long command_count_ = 0;
+  long faults_fired_through_ = 0;  // faults at commands 1..this fired before a resume
 };
 
 // The factory the bench server calls. Throws ConfigError.

@@ -56,6 +56,7 @@ void LabClock::Restore(double lab_time) {
 nlohmann::json EmulatedBench::SaveState() const {
   return {{"kind", "emulated"},
           {"command_count", command_count_},
+          {"faults_fired_through", faults_fired_through_},
           {"lab_time_s", clock_->lab_time()},
           {"actuator", actuator_->SaveState()},
           {"specimen", specimen_->SaveState()},
@@ -74,6 +75,7 @@ void EmulatedBench::RestoreState(const nlohmann::json& state) {
     safety_.RestoreState(state.at("safety"));
     clock_->Restore(state.at("lab_time_s").get<double>());
     command_count_ = state.at("command_count").get<long>();
+    faults_fired_through_ = state.value("faults_fired_through", 0L);
   } catch (const nlohmann::json::exception& e) {
     throw Error(fmt::format("emulated bench: cannot restore its state: {}", e.what()));
   }

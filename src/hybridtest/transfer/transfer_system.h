@@ -61,6 +61,13 @@ class TransferSystem {
   // bench's state lives outside this process (a remote bench keeps its own and is not
   // restored). Throws hybridtest::Error on a state that does not fit.
   virtual nlohmann::json SaveState() const { return nullptr; }
+  // Commands received over the bench's (restored) lifetime, if this transfer system counts
+  // them (an in-process bench); the runner records it when a run stops.
+  virtual std::optional<long> commands_received() const { return std::nullopt; }
+  // Resume: `count` commands had been received when the run stopped (more than the restored
+  // state knows: the commands of the interrupted step). A test fault (bench_faults.h) at one
+  // of them has fired already and does not fire again.
+  virtual void NoteCommandsBeforeResume(long /*count*/) {}
   virtual void RestoreState(const nlohmann::json& /*state*/) {}
 };
 
