@@ -9,7 +9,8 @@ convention M u' = forcing, the engine's too) at the states given in a JSON file:
 
     [{"t": 0.3, "q": [...], "u": [...], "r": [...]}, ...]
 
-and prints one JSON object {"M": [n x n per state], "g": [n per state]} on stdout.
+and prints one JSON object {"M": [n x n per state], "g": [n per state], "qdot": [n per state]}
+(q̇ = W(q) u) on stdout. Any failure: a message on stderr and exit status 3.
 
 Usage: check_model_sympy.py MODEL.yaml STATES.json
 The file is assumed valid (the C++ reader checked it first); parameters take their values
@@ -17,6 +18,7 @@ from the file.
 """
 
 import json
+import re
 import sys
 
 import sympy as sp
@@ -26,9 +28,47 @@ from sympy.parsing.sympy_parser import (convert_xor, parse_expr,
 from sympy.physics import mechanics as me
 
 TRANSFORMS = standard_transformations + (convert_xor,)
+
+
+def _if(cond, a, b):
+    return sp.Piecewise((a, cond), (b, True))
+
+
 FUNCTIONS = {'sin': sp.sin, 'cos': sp.cos, 'tan': sp.tan, 'exp': sp.exp, 'log': sp.log,
              'sqrt': sp.sqrt, 'abs': sp.Abs, 'pow': sp.Pow, 'min': sp.Min, 'max': sp.Max,
-             'pi': sp.pi}
+             'atan2': sp.atan2, 'tanh': sp.tanh, 'asin': sp.asin, 'acos': sp.acos,
+             'atan': sp.atan, 'sign': sp.sign, 'if_': _if, 'pi': sp.pi}
+
+# Units to SI, written out here again (not read from the C++ table): factor of each unit name.
+UNIT = {'m': 1, 'mm': sp.Rational(1, 1000), 'cm': sp.Rational(1, 100), 'km': 1000,
+        'µm': sp.Rational(1, 10**6), 'um': sp.Rational(1, 10**6),
+        'kg': 1, 'g': sp.Rational(1, 1000), 't': 1000,
+        's': 1, 'ms': sp.Rational(1, 1000), 'min': 60, 'h': 3600,
+        'N': 1, 'mN': sp.Rational(1, 1000), 'kN': 1000, 'MN': 10**6,
+        'Pa': 1, 'kPa': 1000, 'MPa': 10**6, 'GPa': 10**9, 'bar': 10**5,
+        'J': 1, 'kJ': 1000, 'W': 1, 'kW': 1000, 'MW': 10**6, 'Hz': 1,
+        'rad': 1, 'deg': sp.pi / 180, '°': sp.pi / 180, 'rev': 2 * sp.pi,
+        'rpm': 2 * sp.pi / 60, '1': 1, '-': 1}
+SUFFIX = re.compile(r'(?<![\w.])(\d+\.?\d*(?:[eE][-+]?\d+)?|\.\d+(?:[eE][-+]?\d+)?)\s*(' +
+                    '|'.join(sorted((re.escape(u) for u in UNIT if u not in ('1', '-')),
+                                    key=len, reverse=True)) + r')(?![\w(])')
+
+
+def unit_factor(text):
+    """SI factor of a unit such as 'N·m/rad', 'kN/mm', 'kg·m²', 'm/s^2'."""
+    num, _, den = str(text).partition('/')
+    factor = sp.Integer(1)
+    for part, sign in ((num, 1), (den, -1)):
+        for f in re.split(r'[·*. ]+', part):
+            if not f:
+                continue
+            power = 1
+            m = re.fullmatch(r'(.+?)(²|³|\^-?\d+)', f)
+            if m:
+                f, p = m.group(1), m.group(2)
+                power = 2 if p == '²' else 3 if p == '³' else int(p[1:])
+            factor *= sp.sympify(UNIT[f]) ** (sign * power)
+    return factor
 
 
 class Reader:
@@ -39,7 +79,9 @@ class Reader:
         self.names['t'] = self.t
         for name, p in (doc.get('parameters') or {}).items():
             value = p['value'] if isinstance(p, dict) else p
-            self.names[name] = sp.Float(float(value))
+            unit = p.get('unit') if isinstance(p, dict) else None
+            factor = unit_factor(unit) if unit else 1
+            self.names[name] = sp.Float(float(value) * float(factor))
         coords = doc['coordinates']
         n = len(coords)
         self.q = list(me.dynamicsymbols(f'qq0:{n}')) if n > 1 else [me.dynamicsymbols('qq0')]
@@ -57,7 +99,10 @@ class Reader:
             self.names[name] = self.expr(text)
 
     def expr(self, text):
-        return parse_expr(str(text), local_dict=dict(self.names), transformations=TRANSFORMS)
+        text = str(text)
+        text = SUFFIX.sub(lambda m: f'({m.group(1)}*{UNIT[m.group(2)]})', text)
+        text = re.sub(r'\bif\s*\(', 'if_(', text)
+        return parse_expr(text, local_dict=dict(self.names), transformations=TRANSFORMS)
 
     def vector(self, frame, components):
         units = (frame.x, frame.y, frame.z)
@@ -108,7 +153,7 @@ class Reader:
             I = [[self.expr(c) for c in row] for row in I]
             dyadic = me.inertia(frame, I[0][0], I[1][1], I[2][2], I[0][1], I[1][2], I[2][0])
             center = points[b['mass_center']]
-            bodies.append(me.RigidBody(b['name'], center, frame, self.expr(b.get('mass', 0)),
+            bodies.append(me.RigidBody(b['name'], center, frame, self.expr(b['mass']),
                                        (dyadic, center)))
         loads = []
         for f in doc.get('forces') or []:
@@ -129,13 +174,25 @@ class Reader:
         kane.kanes_equations(bodies, loads)
         # q' may remain in the forcing: eliminate it through the kinematical equations.
         kdd = kane.kindiffdict()
-        return kane.mass_matrix.subs(kdd), kane.forcing.subs(kdd)
+        self.qdot = W * sp.Matrix(self.u)
+        # sign(x)' = 2 δ(x): zero wherever it is evaluated (the engine's derivative of sign).
+        def no_delta(e):
+            return e.replace(sp.DiracDelta, lambda *a: sp.S.Zero)
+        return no_delta(kane.mass_matrix.subs(kdd)), no_delta(kane.forcing.subs(kdd))
 
 
 def main():
     if len(sys.argv) != 3:
         print(__doc__, file=sys.stderr)
         return 2
+    try:
+        return run()
+    except Exception as e:  # reported to check-model with its type, exit status 3
+        print(f'check_model_sympy.py: {type(e).__name__}: {e}', file=sys.stderr)
+        return 3
+
+
+def run():
     with open(sys.argv[1], encoding='utf-8') as f:
         doc = yaml.safe_load(f)
     with open(sys.argv[2], encoding='utf-8') as f:
@@ -151,11 +208,13 @@ def main():
     args = [reader.t, *Q, *U, *reader.r]
     fM = sp.lambdify(args, M.tolist(), 'math')
     fF = sp.lambdify(args, list(F), 'math')
-    out = {'M': [], 'g': []}
+    fQ = sp.lambdify(args, list(me.msubs(reader.qdot, plain)), 'math')
+    out = {'M': [], 'g': [], 'qdot': []}
     for s in states:
         values = [s['t'], *s['q'], *s['u'], *s['r']]
         out['M'].append([[float(v) for v in row] for row in fM(*values)])
         out['g'].append([float(v) for v in fF(*values)])
+        out['qdot'].append([float(v) for v in fQ(*values)])
     print(json.dumps(out))
     return 0
 

@@ -10,7 +10,11 @@
 //   unary   := ('-' | '+') unary | power
 //   power   := primary (('^' | '**') unary)?
 //   primary := number | name | name '(' expr (',' expr)* ')' | '(' expr ')'
-// Functions: sin cos tan exp log sqrt abs (one argument), pow min max (two). Constant: pi.
+//   cond    := expr ('<' | '<=' | '>' | '>=') expr        (only as the first argument of if)
+// A number may carry a unit: `30 deg`, `600 mm` (converted to SI at parse time; units.h).
+// Functions: sin cos tan exp log sqrt abs tanh asin acos atan sign (one argument), pow min max
+// atan2 (two), if(cond, a, b) (the branch selected by value; its derivative is the branch's).
+// Constant: pi.
 // Names resolve through a SymbolTable: time t [s], coordinates q_k, speeds u_k, slots r_k,
 // time functions, and parameters (replaced by their SI value at parse time). Sub-trees
 // without variables are folded into constants.
@@ -24,6 +28,9 @@ enum class Op {
   kConst, kTime, kCoordinate, kSpeed, kSlot, kTimeFunction,
   kNeg, kAdd, kSub, kMul, kDiv, kPow,
   kSin, kCos, kTan, kExp, kLog, kSqrt, kAbs, kMin, kMax,
+  kAtan2, kTanh, kAsin, kAcos, kAtan, kSign,
+  kLt, kLe, kGt, kGe,  // comparisons: 1 or 0 (the condition of an `if`)
+  kIf,                 // if(a, b, c): b where a ≠ 0, else c
 };
 
 struct Node {
@@ -32,7 +39,13 @@ struct Node {
   int index = -1;      // kCoordinate, kSpeed, kSlot, kTimeFunction: 0-based index
   int a = -1;          // first operand (node index)
   int b = -1;          // second operand
+  int c = -1;          // third operand (kIf)
 };
+
+// Expressions nest at most this deep (parentheses, calls and chains of operators): deeper ones
+// are refused at parse time, so that parsing and evaluation (both recursive) cannot overflow the
+// stack. A formula this deep is better split into parameters or time functions.
+inline constexpr int kMaxExpressionDepth = 200;
 
 // What a name means in an expression.
 struct Symbol {

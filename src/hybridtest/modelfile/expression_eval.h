@@ -28,6 +28,68 @@ inline double Value(const multibody::AutoDiff& x) { return x.value(); }
 template <typename T>
 double Value(const multibody::Jet<T>& x) { return Value(x.v); }
 
+// The functions the engine's scalars do not all provide (atan, asin, acos, tanh): on double
+// directly, on AutoDiff by the chain rule, on Jet<T> by jet_detail::Chain with the first and
+// second derivatives computed in T (so Jet<AutoDiff> stays exact too).
+inline multibody::AutoDiff ChainAD(const multibody::AutoDiff& x, double f, double df) {
+  return multibody::AutoDiff(f, x.derivatives() * df);
+}
+inline double Atan(double x) { return std::atan(x); }
+inline double Asin(double x) { return std::asin(x); }
+inline double Acos(double x) { return std::acos(x); }
+inline double Tanh(double x) { return std::tanh(x); }
+inline multibody::AutoDiff Atan(const multibody::AutoDiff& x) {
+  const double v = x.value();
+  return ChainAD(x, std::atan(v), 1.0 / (1.0 + v * v));
+}
+inline multibody::AutoDiff Asin(const multibody::AutoDiff& x) {
+  const double v = x.value();
+  return ChainAD(x, std::asin(v), 1.0 / std::sqrt(1.0 - v * v));
+}
+inline multibody::AutoDiff Acos(const multibody::AutoDiff& x) {
+  const double v = x.value();
+  return ChainAD(x, std::acos(v), -1.0 / std::sqrt(1.0 - v * v));
+}
+inline multibody::AutoDiff Tanh(const multibody::AutoDiff& x) {
+  const double th = std::tanh(x.value());
+  return ChainAD(x, th, 1.0 - th * th);
+}
+template <typename T>
+multibody::Jet<T> Atan(const multibody::Jet<T>& a) {
+  const T x = a.v;
+  const T d1 = T(1.0) / T(T(1.0) + T(x * x));
+  return multibody::jet_detail::Chain(a, Atan(x), d1, T(-2.0 * x * d1 * d1));
+}
+template <typename T>
+multibody::Jet<T> Asin(const multibody::Jet<T>& a) {
+  using std::sqrt;
+  const T x = a.v;
+  const T d1 = T(1.0) / T(sqrt(T(T(1.0) - T(x * x))));
+  return multibody::jet_detail::Chain(a, Asin(x), d1, T(x * d1 * d1 * d1));
+}
+template <typename T>
+multibody::Jet<T> Acos(const multibody::Jet<T>& a) {
+  using std::sqrt;
+  const T x = a.v;
+  const T d1 = T(1.0) / T(sqrt(T(T(1.0) - T(x * x))));
+  return multibody::jet_detail::Chain(a, Acos(x), T(-d1), T(-x * d1 * d1 * d1));
+}
+template <typename T>
+multibody::Jet<T> Tanh(const multibody::Jet<T>& a) {
+  const T th = Tanh(a.v);
+  const T d1 = T(T(1.0) - T(th * th));
+  return multibody::jet_detail::Chain(a, th, d1, T(-2.0 * th * d1));
+}
+// atan2(y, x): the derivatives of atan(y/x) (or of −atan(x/y) where |y| > |x|, so that the
+// quotient stays bounded), which differ from atan2 by a constant, and atan2's value.
+inline double Atan2(double y, double x) { return std::atan2(y, x); }
+template <typename S>
+S Atan2(const S& y, const S& x) {
+  const double yv = Value(y), xv = Value(x);
+  const S r = std::abs(xv) >= std::abs(yv) ? S(Atan(S(y / x))) : S(-Atan(S(x / y)));
+  return S(r + (std::atan2(yv, xv) - Value(r)));
+}
+
 template <typename S>
 S PowConstant(const S& a, double p) {
   using std::pow;
@@ -78,6 +140,23 @@ S Eval(const Node* nodes, int i, const Variables<S>& v) {
       const bool a_less = Value(a) < Value(b);
       return (n.op == Op::kMin) == a_less ? a : b;
     }
+    case Op::kAtan2: return Atan2(Eval(nodes, n.a, v), Eval(nodes, n.b, v));
+    case Op::kTanh: return S(Tanh(Eval(nodes, n.a, v)));
+    case Op::kAsin: return S(Asin(Eval(nodes, n.a, v)));
+    case Op::kAcos: return S(Acos(Eval(nodes, n.a, v)));
+    case Op::kAtan: return S(Atan(Eval(nodes, n.a, v)));
+    case Op::kSign: {
+      const double a = Value(Eval(nodes, n.a, v));
+      return S(a > 0.0 ? 1.0 : a < 0.0 ? -1.0 : 0.0);
+    }
+    case Op::kLt: case Op::kLe: case Op::kGt: case Op::kGe: {
+      const double a = Value(Eval(nodes, n.a, v)), b = Value(Eval(nodes, n.b, v));
+      const bool yes = n.op == Op::kLt ? a < b : n.op == Op::kLe ? a <= b
+                     : n.op == Op::kGt ? a > b : a >= b;
+      return S(yes ? 1.0 : 0.0);
+    }
+    case Op::kIf:
+      return Value(Eval(nodes, n.a, v)) != 0.0 ? Eval(nodes, n.b, v) : Eval(nodes, n.c, v);
   }
   return S(0.0);
 }

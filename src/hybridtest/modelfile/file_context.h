@@ -4,6 +4,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "hybridtest/common/yaml_input.h"
 #include "hybridtest/modelfile/expression.h"
@@ -18,11 +19,22 @@ struct FileContext {
   std::map<std::string, multibody::PointId> points;
   multibody::ModelBuilder* builder = nullptr;
   int num_coordinates = 0;
+  // Slot names, known before the slots are read, so that a slot used outside a load is named
+  // as such instead of "unknown name".
+  std::vector<std::string> slot_names;
 
   // "file:line: key_path".
   std::string Where(const YAML::Node& node, const std::string& key_path) const {
     return in.Where(node, key_path);
   }
+  // parent[key], which must be present: otherwise a ConfigError at the parent's line,
+  // "file:line: kp.key: missing; expected <expected>; add `key: ...` to kp".
+  YAML::Node Require(const YAML::Node& parent, const std::string& key, const std::string& kp,
+                     const std::string& expected) const;
+  // The elements of a 3-vector `node` at `kp` ([x, y, z]); refused with `expected` otherwise,
+  // with a hint when a formula with a comma was not quoted (`pow(L, 2)` splits in YAML).
+  void RequireVector3(const YAML::Node& node, const std::string& kp,
+                      const std::string& expected) const;
   // The expression written at `node` (a number or a formula). Throws ConfigError naming the
   // place, the token and the fix.
   Expression Parse(const YAML::Node& node, const std::string& key_path) const;

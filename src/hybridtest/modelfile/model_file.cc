@@ -4,17 +4,51 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <set>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/modelfile/compiled_scalar.h"
 #include "hybridtest/modelfile/file_context.h"
+#include "hybridtest/modelfile/units.h"
 
 namespace hybridtest::modelfile {
 
 namespace {
+// A coordinate's or speed's unit: the engine's state is SI, so only SI units are accepted (a
+// coordinate in m, rad or 1; its speed per second); a lab unit is refused with the fix.
+void CheckStateUnit(const YamlInput& in, const YAML::Node& node, const std::string& kp,
+                    const std::string& text, bool coordinate) {
+  std::string why;
+  const std::optional<Unit> unit = ParseUnit(text, &why);
+  if (!unit) throw ConfigError(fmt::format("{} = '{}': {}", in.Where(node, kp), text, why));
+  const auto& d = unit->dim;
+  const bool length = d == std::array<int, 4>{1, 0, 0, 0};
+  const bool angle = d == std::array<int, 4>{0, 0, 0, 1};
+  const bool plain = d == std::array<int, 4>{0, 0, 0, 0};
+  const int s = coordinate ? 0 : -1;
+  const bool kind_ok = coordinate ? (length || angle || plain)
+                                  : (d[0] + d[3] <= 1 && d[1] == 0 && d[2] == s);
+  if (unit->to_si != 1.0) {
+    throw ConfigError(fmt::format(
+        "{} = '{}': the engine's state is in SI, so a {} is in {} ({:g} {} = 1 {}); write "
+        "`unit: {}` and give initial conditions in SI. Parameters may keep lab units: "
+        "`L: {{value: 600, unit: mm}}` is read as 0.6 m", in.Where(node, kp), text,
+        coordinate ? "coordinate" : "speed", coordinate ? "m or rad" : "m/s or rad/s",
+        1.0 / unit->to_si, text, unit->si, unit->si));
+  }
+  if (!kind_ok) {
+    throw ConfigError(fmt::format("{} = '{}': a {} is {}; write one of those", in.Where(node, kp),
+                                  text, coordinate ? "coordinate" : "speed",
+                                  coordinate ? "a length (m), an angle (rad) or a number (1)"
+                                             : "a rate per second (m/s, rad/s or 1/s)"));
+  }
+}
+
 // Quantities (coordinates or speeds) as a list of {name, unit, description}.
 std::vector<multibody::QuantityInfo> ReadQuantities(const YamlInput& in, const YAML::Node& root,
                                                     const std::string& key) {
@@ -24,8 +58,10 @@ std::vector<multibody::QuantityInfo> ReadQuantities(const YamlInput& in, const Y
     const std::string kp = fmt::format("{}[{}]", key, i);
     in.RequireMapping(items[i], kp);
     in.CheckKeys(items[i], kp, {"name", "unit", "description"});
-    out.push_back({in.String(items[i]["name"], kp + ".name", "a name such as q1 or theta"),
-                   in.String(items[i]["unit"], kp + ".unit", "an SI unit such as m or rad"),
+    const std::string unit = in.String(items[i]["unit"], kp + ".unit",
+                                       key == "coordinates" ? "m or rad" : "m/s or rad/s");
+    CheckStateUnit(in, items[i]["unit"], kp + ".unit", unit, key == "coordinates");
+    out.push_back({in.String(items[i]["name"], kp + ".name", "a name such as q1 or theta"), unit,
                    in.ReadString(items[i], kp, "description", "")});
   }
   return out;
@@ -53,9 +89,27 @@ ModelFile ParseModelFile(YamlInput input) {
       }
       in.RequireMapping(kv.second, kp);
       in.CheckKeys(kv.second, kp, {"value", "unit", "description"});
-      f.parameters.Add(name, in.ReadNumber(kv.second, kp, "value", "a number in SI units"),
-                       in.ReadString(kv.second, kp, "unit", ""),
-                       in.ReadString(kv.second, kp, "description", ""));
+      const double value = in.ReadNumber(kv.second, kp, "value", "a number in its `unit`");
+      const std::string unit_text = in.ReadString(kv.second, kp, "unit", "");
+      std::string description = in.ReadString(kv.second, kp, "description", "");
+      if (unit_text.empty()) {
+        f.parameters.Add(name, value, "", description);
+        continue;
+      }
+      // Converted to SI here, once: the engine and the run config's overrides are SI.
+      std::string why;
+      const std::optional<Unit> unit = ParseUnit(unit_text, &why);
+      if (!unit) {
+        throw ConfigError(fmt::format("{} = '{}': {}; or leave `unit:` out and give the value "
+                                      "in SI", in.Where(kv.second["unit"], kp + ".unit"),
+                                      unit_text, why));
+      }
+      if (unit->to_si != 1.0) {
+        description += fmt::format("{}(given as {:g} {})", description.empty() ? "" : " ", value,
+                                   unit_text);
+      }
+      f.parameters.Add(name, value * unit->to_si, unit->to_si == 1.0 ? unit_text : unit->si,
+                       description);
     }
   }
   return f;
@@ -81,7 +135,10 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
                                   in.Where(root["speeds"], "speeds"), speeds.size(),
                                   coordinates.size()));
   }
-  internal::FileContext c{in, {}, {}, {}, nullptr, static_cast<int>(coordinates.size())};
+  internal::FileContext c{in, {}, {}, {}, nullptr, static_cast<int>(coordinates.size()), {}};
+  for (const YAML::Node& s : internal::ListItems(in, root["slots"], "slots")) {
+    if (s.IsMap() && s["name"] && s["name"].IsScalar()) c.slot_names.push_back(s["name"].Scalar());
+  }
   // Names: t, coordinates, speeds, parameters; each declared once.
   std::set<std::string> seen{"t", "pi", "N", "O"};
   auto declare = [&](const std::string& name, Op kind, int index, double value,
@@ -129,6 +186,11 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
             std::move(stiffness)};
   } catch (const ModelError& e) {
     throw ConfigError(fmt::format("{}: {}", in.path(), e.what()));
+  } catch (const YAML::Exception& e) {
+    // A reader that touched a missing key: should not happen (every required key is checked
+    // with its place), but never let yaml-cpp's "line 0, column 0" reach the user alone.
+    throw ConfigError(fmt::format("{}: {} (a required key is missing or has the wrong kind; "
+                                  "compare with docs/model-files.md)", in.path(), e.what()));
   }
 }
 
@@ -146,6 +208,37 @@ std::vector<YAML::Node> ListItems(const YamlInput& in, const YAML::Node& node,
   return out;
 }
 
+YAML::Node FileContext::Require(const YAML::Node& parent, const std::string& key,
+                               const std::string& kp, const std::string& expected) const {
+  YAML::Node node = parent[key];
+  if (!node.IsDefined() || node.IsNull()) {
+    throw ConfigError(fmt::format("{}.{}: missing; expected {}; add `{}: ...` to {}",
+                                  Where(parent, kp), key, expected, key, kp));
+  }
+  return node;
+}
+
+void FileContext::RequireVector3(const YAML::Node& node, const std::string& kp,
+                                 const std::string& expected) const {
+  if (node.IsSequence() && node.size() == 3) return;
+  std::string hint;
+  if (node.IsSequence()) {
+    bool unbalanced = false;  // an item with unbalanced parentheses: split at a comma
+    for (const auto& item : node) {
+      if (!item.IsScalar()) continue;
+      int open = 0;
+      for (char ch : item.Scalar()) open += ch == '(' ? 1 : ch == ')' ? -1 : 0;
+      unbalanced = unbalanced || open != 0;
+    }
+    if (unbalanced) {
+      hint = "; a formula with a comma inside [...] must be quoted, e.g. [\"pow(L, 2)\", 0, 0], "
+             "or YAML splits it at the comma";
+    }
+  }
+  if (!node.IsDefined() || node.IsNull()) in.ThrowValue(node, kp, expected);
+  throw ConfigError(fmt::format("{}: expected {}{}", Where(node, kp), expected, hint));
+}
+
 Expression FileContext::Parse(const YAML::Node& node, const std::string& key_path) const {
   if (!node.IsDefined() || node.IsNull() || !node.IsScalar()) {
     in.ThrowValue(node, key_path, "a number or a formula such as `l * cos(q1)`");
@@ -154,8 +247,15 @@ Expression FileContext::Parse(const YAML::Node& node, const std::string& key_pat
   try {
     return Expression::Parse(text, symbols);
   } catch (const ExpressionError& e) {
+    std::string message = e.message;
+    if (std::find(slot_names.begin(), slot_names.end(), e.token) != slot_names.end()) {
+      message = fmt::format("'{}' is a slot (a restoring force); slots may appear only in forces "
+                            "and torques; angles, positions and displacements use t, the "
+                            "coordinates and parameters", e.token);
+    }
+    const std::string shown = text.size() > 120 ? text.substr(0, 100) + " …" : text;
     throw ConfigError(fmt::format("{} = '{}': at '{}' (column {}): {}", Where(node, key_path),
-                                  text, e.token, e.column + 1, e.message));
+                                  shown, e.token.substr(0, 40), e.column + 1, message));
   }
 }
 

@@ -2,8 +2,11 @@
 // model_file.h and docs/model-files.md.
 #include <fmt/core.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/modelfile/expression_eval.h"
@@ -57,6 +60,45 @@ Eigen::Matrix3d Matrix(const FileContext& c, const YAML::Node& node, const std::
   }
   return m;
 }
+// A constant angle of more than a turn is almost always degrees written as radians: refused
+// with the fix (`30 deg`). Angles are in rad; `deg` after a number converts.
+void CheckAngle(const FileContext& c, const YAML::Node& node, const std::string& kp) {
+  const Expression e = c.ParseKinematic(node, kp);
+  if (e.is_constant() && std::abs(e.constant_value()) > 2.0 * std::numbers::pi + 1e-9) {
+    throw ConfigError(fmt::format("{} = '{}': a constant angle of {:g} rad is more than a turn; "
+                                  "angles are in rad: if you meant degrees, write `{} deg`",
+                                  c.Where(node, kp), node.Scalar(), e.constant_value(),
+                                  node.Scalar()));
+  }
+}
+
+// An inertia about the mass centre must be physical: symmetric, principal moments
+// non-negative, each at most the sum of the other two (triangle inequality).
+void CheckInertia(const FileContext& c, const YAML::Node& node, const std::string& kp,
+                  const Eigen::Matrix3d& I) {
+  const double scale = std::max(1e-300, I.cwiseAbs().maxCoeff());
+  const double tol = 1e-9 * scale;
+  if ((I - I.transpose()).cwiseAbs().maxCoeff() > tol) {
+    throw ConfigError(fmt::format("{}: not symmetric; an inertia matrix has I_xy = I_yx, "
+                                  "I_xz = I_zx, I_yz = I_zy", c.Where(node, kp)));
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(I);
+  const Eigen::Vector3d l = eig.eigenvalues();  // ascending
+  if (l(0) < -tol) {
+    throw ConfigError(fmt::format("{}: not a physical inertia: a principal moment is negative "
+                                  "({:.6g}, {:.6g}, {:.6g} kg·m²); check the signs (products of "
+                                  "inertia are entered as I_xy = −∫xy dm)", c.Where(node, kp),
+                                  l(0), l(1), l(2)));
+  }
+  if (l(0) + l(1) < l(2) - tol) {
+    throw ConfigError(fmt::format(
+        "{}: not a physical inertia: principal moments {:.6g}, {:.6g}, {:.6g} kg·m² break the "
+        "triangle inequality (each must be at most the sum of the other two, equality for a "
+        "flat body); for a planar model where only I_zz matters, write [I_zz/2, I_zz/2, I_zz] "
+        "(a thin disc), which changes nothing in planar motion", c.Where(node, kp), l(0), l(1),
+        l(2)));
+  }
+}
 }  // namespace
 
 void ReadKinematicalEquations(FileContext& c, const YAML::Node& node) {
@@ -105,6 +147,7 @@ void ReadFrames(FileContext& c, const YAML::Node& root_frames) {
     if (f["angle"]) {
       const Eigen::Vector3d axis = f["axis"] ? Axis(c, f["axis"], kp + ".axis")
                                              : Eigen::Vector3d::UnitZ();
+      CheckAngle(c, f["angle"], kp + ".angle");
       multibody::ScalarField angle = c.Field(f["angle"], kp + ".angle");
       id = AtPlace(where, [&] { return c.builder->AddFrameAboutAxis(name, parent, axis, angle); });
     } else if (f["euler"]) {
@@ -125,6 +168,7 @@ void ReadFrames(FileContext& c, const YAML::Node& root_frames) {
       FrameId prev = parent;
       for (int k = 0; k < 3; ++k) {
         const Eigen::Vector3d axis = Eigen::Vector3d::Unit(std::toupper(seq[k]) - 'X');
+        CheckAngle(c, angles[k], fmt::format("{}.euler.angles[{}]", kp, k));
         multibody::ScalarField angle = c.Field(angles[k], fmt::format("{}.euler.angles[{}]", kp, k));
         const std::string part = k == 2 ? name : fmt::format("{}.{}", name, k + 1);
         prev = AtPlace(where, [&] { return c.builder->AddFrameAboutAxis(part, prev, axis, angle); });
@@ -165,10 +209,8 @@ void ReadPoints(FileContext& c, const YAML::Node& node) {
     }
     const PointId from = p["from"] ? c.Point(p["from"], kp + ".from") : PointId{0};
     const FrameId frame = p["frame"] ? c.Frame(p["frame"], kp + ".frame") : FrameId{0};
-    const YAML::Node pos = p["position"];
-    if (!pos.IsSequence() || pos.size() != 3) {
-      c.in.ThrowValue(pos, kp + ".position", "three components [x, y, z] in `frame`, in m");
-    }
+    const YAML::Node pos = c.Require(p, "position", kp, "three components [x, y, z] in `frame`, in m");
+    c.RequireVector3(pos, kp + ".position", "three components [x, y, z] in `frame`, in m");
     std::array<multibody::ScalarField, 3> position;
     for (int k = 0; k < 3; ++k) position[k] = c.Field(pos[k], fmt::format("{}.position[{}]", kp, k));
     c.points[name] = AtPlace(c.Where(p, kp), [&] {
@@ -185,7 +227,8 @@ void ReadMasses(FileContext& c, const YAML::Node& particles, const YAML::Node& b
     c.in.CheckKeys(ps[i], kp, {"name", "point", "mass"});
     const std::string name = c.in.String(ps[i]["name"], kp + ".name", "a name");
     const PointId point = c.Point(ps[i]["point"], kp + ".point");
-    const double mass = c.Constant(ps[i]["mass"], kp + ".mass", "a positive mass in kg");
+    const double mass = c.Constant(c.Require(ps[i], "mass", kp, "a positive mass in kg"),
+                                   kp + ".mass", "a positive mass in kg");
     AtPlace(c.Where(ps[i]["mass"], kp + ".mass"),
             [&] { c.builder->AddParticle(name, point, mass); return 0; });
   }
@@ -197,9 +240,13 @@ void ReadMasses(FileContext& c, const YAML::Node& particles, const YAML::Node& b
     const std::string name = c.in.String(bs[i]["name"], kp + ".name", "a name");
     const FrameId frame = c.Frame(bs[i]["frame"], kp + ".frame");
     const PointId center = c.Point(bs[i]["mass_center"], kp + ".mass_center");
-    const double mass = bs[i]["mass"] ? c.Constant(bs[i]["mass"], kp + ".mass",
-                                                   "a non-negative mass in kg") : 0.0;
-    const YAML::Node in = bs[i]["inertia"];
+    // Mass and inertia are required: a forgotten `mass:` must not make a body massless.
+    const double mass = c.Constant(
+        c.Require(bs[i], "mass", kp, "a non-negative mass in kg (write `mass: 0` for none)"),
+        kp + ".mass", "a non-negative mass in kg");
+    const YAML::Node in = c.Require(bs[i], "inertia", kp,
+                                    "the inertia about the mass centre in `frame`, [Ixx, Iyy, "
+                                    "Izz] or three rows, in kg·m² (write [0, 0, 0] for none)");
     Eigen::Matrix3d I;
     if (in.IsSequence() && in.size() == 3 && in[0].IsScalar()) {
       I.setZero();
@@ -209,6 +256,7 @@ void ReadMasses(FileContext& c, const YAML::Node& particles, const YAML::Node& b
     } else {
       I = Matrix(c, in, kp + ".inertia", "an inertia entry in kg·m²");
     }
+    CheckInertia(c, in, kp + ".inertia", I);
     AtPlace(c.Where(in, kp + ".inertia"),
             [&] { c.builder->AddRigidBody(name, frame, center, mass, I); return 0; });
   }

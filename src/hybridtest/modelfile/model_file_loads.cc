@@ -31,7 +31,12 @@ SlotUse SlotUsage(const std::vector<Node>& nodes, int i) {
   if (n.op == Op::kSlot) return {true, true};
   if (n.a < 0) return {false, true};
   const SlotUse a = SlotUsage(nodes, n.a);
-  const SlotUse b = n.b >= 0 ? SlotUsage(nodes, n.b) : SlotUse{};
+  SlotUse b = n.b >= 0 ? SlotUsage(nodes, n.b) : SlotUse{};
+  if (n.c >= 0) {
+    // if(cond, x, y): linear in the slots only if no operand reads one.
+    const SlotUse c3 = SlotUsage(nodes, n.c);
+    b = {b.uses || c3.uses, b.linear && c3.linear};
+  }
   const bool both_linear = a.linear && b.linear;
   switch (n.op) {
     case Op::kNeg: case Op::kAdd: case Op::kSub:
@@ -80,10 +85,12 @@ std::vector<double> ReadSlots(FileContext& c, const YAML::Node& node) {
                                                "moment, displacement in rad)");
     }
     multibody::ScalarField d = c.Field(s["displacement"], kp + ".displacement");
-    stiffness.push_back(s["stiffness"]
-                            ? c.Constant(s["stiffness"], kp + ".stiffness",
-                                         unit == "N" ? "a stiffness in N/m" : "a stiffness in N·m/rad")
-                            : 0.0);
+    // Required: a forgotten stiffness must not silently remove the default numerical spring.
+    const std::string expected = unit == "N" ? "a stiffness in N/m" : "a stiffness in N·m/rad";
+    stiffness.push_back(c.Constant(
+        c.Require(s, "stiffness", kp, expected + " for the default numerical substructure "
+                                      "(write `stiffness: 0` for none)"),
+        kp + ".stiffness", expected));
     try {
       const int index = c.builder->AddRestoringForceSlot(
           name, c.in.ReadString(s, kp, "description", ""), std::move(d), unit);
@@ -110,11 +117,10 @@ void ReadLoadList(FileContext& c, const YAML::Node& node, const std::string& key
     const std::string name = c.in.String(l["name"], kp + ".name", "a name");
     const multibody::FrameId in =
         l["expressed_in"] ? c.Frame(l["expressed_in"], kp + ".expressed_in") : multibody::FrameId{0};
-    const YAML::Node value = l["value"];
-    if (!value.IsSequence() || value.size() != 3) {
-      c.in.ThrowValue(value, kp + ".value", fmt::format("three components [x, y, z] in "
-                                                        "`expressed_in`, in {}", force ? "N" : "N·m"));
-    }
+    const std::string expected = fmt::format("three components [x, y, z] in `expressed_in`, in {}",
+                                             force ? "N" : "N·m");
+    const YAML::Node value = c.Require(l, "value", kp, expected);
+    c.RequireVector3(value, kp + ".value", expected);
     std::vector<CompiledScalar> parts;
     for (int k = 0; k < 3; ++k) {
       const std::string vkp = fmt::format("{}.value[{}]", kp, k);

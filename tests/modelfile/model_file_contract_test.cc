@@ -1,0 +1,178 @@
+// Issue 19's contract for model files: units are converted to SI or refused, required keys are
+// required (with file:line), inertias are physical, constant angles beyond a turn are refused
+// as probable degrees, and the places of errors that used to be lost are named.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <numbers>
+#include <random>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/modelfile/model_file.h"
+#include "hybridtest/multibody/kane.h"
+
+namespace hybridtest::modelfile {
+namespace {
+
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+// A pendulum of length L with a bob and a rod body; `L_line` replaces line 3.
+std::string Pendulum(const std::string& L_line, const std::string& rest = "") {
+  return "name: p\n"                                                    // 1
+         "parameters:\n"                                                // 2
+         + L_line + "\n" +                                              // 3
+         "coordinates:\n"                                               // 4
+         "  - {name: th, unit: rad}\n"                                  // 5
+         "  - {name: x, unit: m}\n"                                     // 6
+         "frames:\n"                                                    // 7
+         "  - {name: A, parent: N, axis: z, angle: th}\n"               // 8
+         "points:\n"                                                    // 9
+         "  - {name: C, from: O, frame: N, position: [0, x, 0]}\n"      // 10
+         "  - {name: P, from: C, frame: A, position: [L, 0, 0]}\n"      // 11
+         "particles:\n"                                                 // 12
+         "  - {name: bob, point: P, mass: 0.8}\n"                       // 13
+         "bodies:\n"                                                    // 14
+         "  - {name: cart, frame: A, mass_center: C, mass: 3, inertia: [0.1, 0.1, 0.2]}\n"  // 15
+         + rest;
+}
+
+models::BuiltModel Build(const std::string& text) {
+  const ModelFile f = ParseModelFile(YamlInput::FromText(text, "m.yaml"));
+  return BuildModelFile(f, f.parameters);
+}
+
+std::string ErrorOf(const std::string& text) {
+  try {
+    Build(text);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+Eigen::MatrixXd MassMatrix(const models::BuiltModel& b, const Eigen::VectorXd& x) {
+  multibody::Data<double> data(b.model);
+  multibody::CalcKinematics<double>(b.model, data, 0.0, x);
+  multibody::CalcMassMatrix<double>(b.model, data);
+  return data.M;
+}
+
+TEST(ModelFileContractTest, LabUnitsGiveTheSameModelAsSI) {
+  const models::BuiltModel si = Build(Pendulum("  L: 0.6"));
+  const models::BuiltModel mm = Build(Pendulum("  L: {value: 600, unit: mm, description: rod}"));
+  const models::BuiltModel cm = Build(Pendulum("  L: {value: 60, unit: cm}"));
+  EXPECT_DOUBLE_EQ(mm.parameters.Get("L"), 0.6);
+  EXPECT_EQ(mm.parameters.all()[0].unit, "m");
+  EXPECT_THAT(mm.parameters.all()[0].description, HasSubstr("given as 600 mm"));
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> d(-2, 2);
+  for (int i = 0; i < 5; ++i) {
+    Eigen::VectorXd x(4);
+    x << d(rng), d(rng), d(rng), d(rng);
+    const Eigen::MatrixXd M = MassMatrix(si, x);
+    EXPECT_LT((MassMatrix(mm, x) - M).cwiseAbs().maxCoeff(), 1e-14 * M.cwiseAbs().maxCoeff());
+    EXPECT_LT((MassMatrix(cm, x) - M).cwiseAbs().maxCoeff(), 1e-14 * M.cwiseAbs().maxCoeff());
+  }
+  // The bob's M entry: m L² = 0.8 · 0.36 (not 0.8 · 600²).
+  EXPECT_NEAR(MassMatrix(mm, Eigen::VectorXd::Zero(4))(0, 0), 0.8 * 0.36 + 0.2, 1e-14);
+}
+
+TEST(ModelFileContractTest, UnknownAndLabStateUnitsAreRefusedWithTheFix) {
+  EXPECT_THAT(ErrorOf(Pendulum("  L: {value: 600, unit: milimetre}")),
+              AllOf(HasSubstr("m.yaml:3: parameters.L.unit"), HasSubstr("'milimetre'"),
+                    HasSubstr("known:")));
+  std::string coordinate_mm = Pendulum("  L: 0.6");
+  coordinate_mm.replace(coordinate_mm.find("{name: x, unit: m}"), 18, "{name: x, unit: mm}");
+  EXPECT_THAT(ErrorOf(coordinate_mm), AllOf(HasSubstr("m.yaml:6: coordinates[1].unit"),
+                                            HasSubstr("write `unit: m`")));
+  std::string coordinate_deg = Pendulum("  L: 0.6");
+  coordinate_deg.replace(coordinate_deg.find("{name: th, unit: rad}"), 21, "{name: th, unit: deg}");
+  EXPECT_THAT(ErrorOf(coordinate_deg), AllOf(HasSubstr("coordinates[0].unit"), HasSubstr("rad")));
+  std::string coordinate_force = Pendulum("  L: 0.6");
+  coordinate_force.replace(coordinate_force.find("{name: x, unit: m}"), 18, "{name: x, unit: N}");
+  EXPECT_THAT(ErrorOf(coordinate_force), HasSubstr("a length (m), an angle (rad)"));
+}
+
+TEST(ModelFileContractTest, AnglesInDegreesAreExplicit) {
+  std::string deg = Pendulum("  L: 0.6", "frames2: 1\n");
+  EXPECT_THAT(ErrorOf(deg), HasSubstr("frames2"));
+  std::string thirty = Pendulum("  L: 0.6");
+  thirty.replace(thirty.find("angle: th}"), 10, "angle: 30}");
+  EXPECT_THAT(ErrorOf(thirty), AllOf(HasSubstr("m.yaml:8: frames[0].angle"),
+                                     HasSubstr("write `30 deg`")));
+  std::string explicit_deg = Pendulum("  L: 0.6");
+  explicit_deg.replace(explicit_deg.find("angle: th}"), 10, "angle: th + 30 deg}");
+  std::string radians = Pendulum("  L: 0.6");
+  radians.replace(radians.find("angle: th}"), 10, "angle: th + pi / 6}");
+  Eigen::VectorXd x(4);
+  x << 0.3, 0.1, 0.5, -0.2;
+  EXPECT_LT((MassMatrix(Build(explicit_deg), x) - MassMatrix(Build(radians), x)).cwiseAbs().maxCoeff(),
+            1e-14);
+}
+
+TEST(ModelFileContractTest, RequiredKeysAreRequiredWithFileAndLine) {
+  std::string no_mass = Pendulum("  L: 0.6");
+  no_mass.replace(no_mass.find("mass: 3, "), 9, "");
+  EXPECT_THAT(ErrorOf(no_mass), AllOf(HasSubstr("m.yaml:15: bodies[0].mass: missing"),
+                                      HasSubstr("add `mass: ...`")));
+  std::string no_inertia = Pendulum("  L: 0.6");
+  no_inertia.replace(no_inertia.find(", inertia: [0.1, 0.1, 0.2]"), 26, "");
+  EXPECT_THAT(ErrorOf(no_inertia), AllOf(HasSubstr("m.yaml:15: bodies[0].inertia: missing"),
+                                         HasSubstr("[0, 0, 0] for none")));
+  std::string no_particle_mass = Pendulum("  L: 0.6");
+  no_particle_mass.replace(no_particle_mass.find(", mass: 0.8"), 11, "");
+  EXPECT_THAT(ErrorOf(no_particle_mass), HasSubstr("m.yaml:13: particles[0].mass: missing"));
+  std::string no_position = Pendulum("  L: 0.6");
+  no_position.replace(no_position.find(", position: [L, 0, 0]"), 21, "");
+  EXPECT_THAT(ErrorOf(no_position), HasSubstr("m.yaml:11: points[1].position: missing"));
+  EXPECT_THAT(ErrorOf(Pendulum("  L: 0.6", "forces:\n  - {name: f, point: P}\n")),
+              HasSubstr("m.yaml:17: forces[0].value: missing"));
+  EXPECT_THAT(ErrorOf(Pendulum("  L: 0.6", "slots:\n  - {name: r1, unit: N, displacement: x}\n")),
+              AllOf(HasSubstr("m.yaml:17: slots[0].stiffness: missing"),
+                    HasSubstr("`stiffness: 0` for none")));
+  // Written as 0, a zero stiffness is accepted.
+  const models::BuiltModel zero = Build(
+      Pendulum("  L: 0.6", "slots:\n  - {name: r1, unit: N, displacement: x, stiffness: 0}\n"));
+  EXPECT_EQ(zero.slot_stiffness.at(0), 0.0);
+  // An unquoted formula with a comma inside [...] is split by YAML: say so.
+  std::string pow = Pendulum("  L: 0.6");
+  pow.replace(pow.find("[L, 0, 0]"), 9, "[pow(L, 2), 0, 0]");
+  EXPECT_THAT(ErrorOf(pow), AllOf(HasSubstr("points[1].position"), HasSubstr("must be quoted")));
+  std::string quoted = Pendulum("  L: 0.6");
+  quoted.replace(quoted.find("[L, 0, 0]"), 9, "[\"pow(L, 2)\", 0, 0]");
+  EXPECT_EQ(ErrorOf(quoted), "no error");
+}
+
+TEST(ModelFileContractTest, InertiasMustBePhysical) {
+  auto with = [](const std::string& inertia) {
+    std::string s = Pendulum("  L: 0.6");
+    s.replace(s.find("[0.1, 0.1, 0.2]"), 15, inertia);
+    return ErrorOf(s);
+  };
+  EXPECT_THAT(with("[0, 0, 1]"), AllOf(HasSubstr("m.yaml:15: bodies[0].inertia"),
+                                       HasSubstr("triangle inequality"),
+                                       HasSubstr("[I_zz/2, I_zz/2, I_zz]")));
+  EXPECT_THAT(with("[0.1, -0.1, 0.1]"), HasSubstr("negative"));
+  EXPECT_THAT(with("[[1, 0.1, 0], [0, 1, 0], [0, 0, 1]]"), HasSubstr("not symmetric"));
+  EXPECT_EQ(with("[0, 0, 0]"), "no error");       // a point mass
+  EXPECT_EQ(with("[0, 0.5, 0.5]"), "no error");   // a slender rod: equality
+  EXPECT_EQ(with("[0.25, 0.25, 0.5]"), "no error");  // a thin disc: equality
+  EXPECT_EQ(with("[[2, 0.5, 0], [0.5, 2, 0], [0, 0, 3]]"), "no error");
+}
+
+TEST(ModelFileContractTest, SlotInAPositionSaysWhereSlotsGo) {
+  std::string s = Pendulum("  L: 0.6", "slots:\n  - {name: r1, unit: N, displacement: x, stiffness: 5}\n");
+  s.replace(s.find("[L, 0, 0]"), 9, "[L + r1, 0, 0]");
+  EXPECT_THAT(ErrorOf(s), AllOf(HasSubstr("points[1].position[0]"), HasSubstr("'r1' is a slot")));
+}
+
+TEST(ModelFileContractTest, DeepExpressionsAreRefusedWithThePlace) {
+  std::string s = Pendulum("  L: 0.6");
+  s.replace(s.find("[L, 0, 0]"), 9, "[\"" + std::string(30000, '(') + "L" + std::string(30000, ')') + "\", 0, 0]");
+  EXPECT_THAT(ErrorOf(s), AllOf(HasSubstr("m.yaml:11: points[1].position[0]"),
+                                HasSubstr("nests deeper than")));
+}
+
+}  // namespace
+}  // namespace hybridtest::modelfile
