@@ -95,8 +95,24 @@ class Reader:
         self.r = [sp.Symbol(f'rr{k}') for k in range(len(slots))]
         for k, s in enumerate(slots):
             self.names[s['name']] = self.r[k]
+        for name, table in (doc.get('tables') or {}).items():
+            xs = [self.expr(v) for v in table['x']]
+            ys = [self.expr(v) for v in table['y']]
+            self.names[name] = self.table(xs, ys)
         for name, text in (doc.get('time_functions') or {}).items():
             self.names[name] = self.expr(text)
+
+    @staticmethod
+    def table(xs, ys):
+        """Piecewise-linear y(x), constant beyond the ends."""
+        def lookup(a):
+            pieces = [(ys[0], a < xs[0])]
+            for k in range(len(xs) - 1):
+                slope = (ys[k + 1] - ys[k]) / (xs[k + 1] - xs[k])
+                pieces.append((ys[k] + slope * (a - xs[k]), a < xs[k + 1]))
+            pieces.append((ys[-1], True))
+            return sp.Piecewise(*pieces)
+        return lookup
 
     def expr(self, text):
         text = str(text)

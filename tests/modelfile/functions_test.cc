@@ -168,6 +168,53 @@ TEST(FunctionsTest, DerivativesAreExactOnAutoDiffAndJets) {
   CheckDerivatives("if(q1 < q2, sin(q1) * q2, q1 ^ 3)", 0.7, 0.5);
 }
 
+SymbolTable WithTable() {
+  SymbolTable s = Symbols();
+  s.AddTable("Cp", Table{{0.0, 1.0, 3.0}, {0.0, 2.0, 1.0}});
+  return s;
+}
+
+TEST(TableTest, InterpolatesLinearlyAndIsConstantBeyondTheEnds) {
+  const SymbolTable s = WithTable();
+  auto at = [&](double q1) {
+    const Expression e = Expression::Parse("Cp(q1)", s);
+    const double q[2] = {q1, 0.0};
+    return Evaluate(e, Variables<double>{0.0, q, {}, {}, {}});
+  };
+  EXPECT_DOUBLE_EQ(at(-1.0), 0.0);
+  EXPECT_DOUBLE_EQ(at(0.0), 0.0);
+  EXPECT_DOUBLE_EQ(at(0.25), 0.5);
+  EXPECT_DOUBLE_EQ(at(1.0), 2.0);
+  EXPECT_DOUBLE_EQ(at(2.0), 1.5);
+  EXPECT_DOUBLE_EQ(at(3.0), 1.0);
+  EXPECT_DOUBLE_EQ(at(7.0), 1.0);
+  // A table at a constant folds; derivatives are the segment's slope (0 beyond the ends).
+  EXPECT_TRUE(Expression::Parse("Cp(0.5) * 2", s).is_constant());
+  const Expression e = Expression::Parse("Cp(2 * q1)", s);
+  for (const auto& [q1, slope] : {std::pair{0.25, 4.0}, {1.0, -1.0}, {-0.1, 0.0}, {2.0, 0.0}}) {  // d/dq1 = 2 · slope
+    const AutoDiff aq[2] = {AutoDiff(q1, Derivatives::Unit(2, 0)), AutoDiff(0.0, Derivatives::Unit(2, 1))};
+    const AutoDiff a = Evaluate(e, Variables<AutoDiff>{AutoDiff(0.0), aq, {}, {}, {}});
+    EXPECT_DOUBLE_EQ(a.derivatives().size() ? a.derivatives()(0) : 0.0, slope) << q1;
+    Jet<double> jq[2];
+    jq[0].v = q1;
+    jq[0].d1 = 0.7;
+    jq[0].d2 = 0.3;
+    jq[0].n = 2;
+    jq[0].dq[0] = 1.0;
+    const Jet<double> j = Evaluate(e, Variables<Jet<double>>{Jet<double>(0.0), jq, {}, {}, {}});
+    EXPECT_DOUBLE_EQ(j.dq[0], slope) << q1;
+    EXPECT_DOUBLE_EQ(j.d1, slope * 0.7) << q1;
+    EXPECT_DOUBLE_EQ(j.d2, slope * 0.3) << q1;
+  }
+  std::string why;
+  try {
+    Expression::Parse("Cp * 2", s);
+  } catch (const ExpressionError& err) {
+    why = err.message;
+  }
+  EXPECT_NE(why.find("Cp(x)"), std::string::npos) << why;
+}
+
 TEST(UnitsTest, ParsedAndConvertedOrRefused) {
   std::string why;
   const auto check = [&](const char* text, double to_si, const char* si) {

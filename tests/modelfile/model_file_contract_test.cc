@@ -167,6 +167,19 @@ TEST(ModelFileContractTest, SlotInAPositionSaysWhereSlotsGo) {
   EXPECT_THAT(ErrorOf(s), AllOf(HasSubstr("points[1].position[0]"), HasSubstr("'r1' is a slot")));
 }
 
+TEST(ModelFileContractTest, TablesAreCheckedWhereTheyAreDeclared) {
+  auto with = [](const std::string& tables) { return ErrorOf(Pendulum("  L: 0.6", tables)); };
+  EXPECT_EQ(with("tables:\n  f: {x: [0, 1 m], y: [0, L]}\nforces:\n  - {name: a, point: P, value: [f(x), 0, 0]}\n"),
+            "no error");
+  EXPECT_THAT(with("tables:\n  f: {x: [0, 2, 1], y: [0, 1, 2]}\n"),
+              AllOf(HasSubstr("m.yaml:17: tables.f.x[2]"), HasSubstr("increase strictly")));
+  EXPECT_THAT(with("tables:\n  f: {x: [0, 1, 2], y: [0, 1]}\n"), HasSubstr("as many y as x"));
+  EXPECT_THAT(with("tables:\n  f: {x: [0, 1]}\n"), HasSubstr("m.yaml:17: tables.f.y: missing"));
+  EXPECT_THAT(with("tables:\n  sin: {x: [0, 1], y: [0, 1]}\n"), HasSubstr("built-in function"));
+  EXPECT_THAT(with("tables:\n  L: {x: [0, 1], y: [0, 1]}\n"), HasSubstr("already used"));
+  EXPECT_THAT(with("tables:\n  f: {x: [0, th], y: [0, 1]}\n"), HasSubstr("a constant"));
+}
+
 TEST(ModelFileContractTest, DeepExpressionsAreRefusedWithThePlace) {
   std::string s = Pendulum("  L: 0.6");
   s.replace(s.find("[L, 0, 0]"), 9, "[\"" + std::string(30000, '(') + "L" + std::string(30000, ')') + "\", 0, 0]");

@@ -17,6 +17,28 @@ namespace hybridtest::modelfile {
 
 void SymbolTable::Add(Symbol symbol) { symbols_.push_back(std::move(symbol)); }
 
+void SymbolTable::AddTable(std::string name, Table table) {
+  tables_->push_back(std::move(table));
+  Add({std::move(name), Op::kTable, static_cast<int>(tables_->size()) - 1, 0.0});
+}
+
+void Table::Segment(double at, double* intercept, double* slope) const {
+  if (!(at > x.front())) {  // also NaN: the first value
+    *intercept = y.front();
+    *slope = 0.0;
+    return;
+  }
+  if (at >= x.back()) {
+    *intercept = y.back();
+    *slope = 0.0;
+    return;
+  }
+  const std::size_t k =
+      static_cast<std::size_t>(std::upper_bound(x.begin(), x.end(), at) - x.begin()) - 1;
+  *slope = (y[k + 1] - y[k]) / (x[k + 1] - x[k]);
+  *intercept = y[k] - *slope * x[k];
+}
+
 const Symbol* SymbolTable::Find(std::string_view name) const {
   for (const Symbol& s : symbols_) {
     if (s.name == name) return &s;
@@ -73,6 +95,16 @@ constexpr char kFunctionList[] =
     "sin cos tan exp log sqrt abs tanh asin acos atan sign (one argument), pow min max atan2 "
     "(two), if(cond, a, b)";
 
+}  // namespace
+
+bool IsFunctionName(std::string_view name) {
+  for (const FunctionInfo& f : kFunctions) {
+    if (name == f.name) return true;
+  }
+  return false;
+}
+
+namespace {
 bool IsNameStart(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
 bool IsNameChar(char c) {
   return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
@@ -323,11 +355,31 @@ class Parser {
         }
         return Push({f.op, 0, -1, a, b, c3});
       }
+      if (const Symbol* table = symbols_.Find(name); table != nullptr && table->kind == Op::kTable) {
+        const DepthGuard guard(*this);
+        ++pos_;
+        const int a = ParseExpr();
+        if (!Accept(")")) {
+          token_start_ = name_start;
+          Fail(name, fmt::format("the table {0} takes one argument: {0}(x); close it with ')'", name));
+        }
+        if (e_.nodes_[a].op == Op::kConst) {  // folded: a table at a constant
+          double intercept = 0.0, slope = 0.0;
+          const Table& t = (*symbols_.tables())[static_cast<std::size_t>(table->index)];
+          t.Segment(e_.nodes_[a].value, &intercept, &slope);
+          return Push({Op::kConst, intercept + slope * e_.nodes_[a].value, -1, -1, -1, -1});
+        }
+        return Push({Op::kTable, 0, table->index, a, -1, -1});
+      }
       token_start_ = name_start;
-      Fail(name, fmt::format("unknown function; known: {}", kFunctionList));
+      Fail(name, fmt::format("unknown function; known: {} and the file's tables", kFunctionList));
     }
     if (name == "pi") return Push({Op::kConst, std::numbers::pi, -1, -1, -1, -1});
     const Symbol* s = symbols_.Find(name);
+    if (s != nullptr && s->kind == Op::kTable) {
+      token_start_ = name_start;
+      Fail(name, fmt::format("{0} is a table; call it with its argument: {0}(x)", name));
+    }
     if (s == nullptr) {
       token_start_ = name_start;
       std::string hint;
@@ -364,6 +416,7 @@ Expression Expression::Parse(std::string_view text, const SymbolTable& symbols) 
     return map[i] = static_cast<int>(out.nodes_.size()) - 1;
   };
   out.root_ = copy(copy, e.root_);
+  if (out.Uses(Op::kTable)) out.tables_ = symbols.tables();
   return out;
 }
 

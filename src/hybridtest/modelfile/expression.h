@@ -14,10 +14,11 @@
 // A number may carry a unit: `30 deg`, `600 mm` (converted to SI at parse time; units.h).
 // Functions: sin cos tan exp log sqrt abs tanh asin acos atan sign (one argument), pow min max
 // atan2 (two), if(cond, a, b) (the branch selected by value; its derivative is the branch's).
-// Constant: pi.
+// Constant: pi. A table declared in the file is called like a function: Cp(lambda).
 // Names resolve through a SymbolTable: time t [s], coordinates q_k, speeds u_k, slots r_k,
 // time functions, and parameters (replaced by their SI value at parse time). Sub-trees
 // without variables are folded into constants.
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -31,7 +32,20 @@ enum class Op {
   kAtan2, kTanh, kAsin, kAcos, kAtan, kSign,
   kLt, kLe, kGt, kGe,  // comparisons: 1 or 0 (the condition of an `if`)
   kIf,                 // if(a, b, c): b where a ≠ 0, else c
+  kTable,              // table `index` at a: piecewise-linear interpolation
 };
+
+// A 1-D table y(x) from a model file: piecewise-linear between the points (x strictly
+// increasing, at least two), constant beyond the ends (the end values, slope 0).
+struct Table {
+  std::vector<double> x, y;
+  // The segment's value and slope at `at`: y = value + slope · (at − x0) is the caller's job;
+  // here value0 + slope · at.
+  void Segment(double at, double* intercept, double* slope) const;
+};
+
+// Whether `name` is one of the built-in functions (sin, atan2, if, ...).
+bool IsFunctionName(std::string_view name);
 
 struct Node {
   Op op = Op::kConst;
@@ -58,12 +72,16 @@ struct Symbol {
 class SymbolTable {
  public:
   void Add(Symbol symbol);
+  // Declares a table, called as NAME(x) in expressions.
+  void AddTable(std::string name, Table table);
+  const std::shared_ptr<std::vector<Table>>& tables() const { return tables_; }
   const Symbol* Find(std::string_view name) const;
   // Up to three known names closest to `name` (edit distance), for "did you mean" hints.
   std::vector<std::string> Closest(std::string_view name) const;
 
  private:
   std::vector<Symbol> symbols_;
+  std::shared_ptr<std::vector<Table>> tables_ = std::make_shared<std::vector<Table>>();
 };
 
 // A parse error: `column` (0-based) and the offending `token` in the expression text.
@@ -85,11 +103,14 @@ class Expression {
   double constant_value() const { return nodes_[root_].value; }
   // True if any node is of kind `op` (e.g. kSpeed: the expression reads a speed).
   bool Uses(Op op) const;
+  // The tables kTable nodes index (shared with the symbol table it was parsed against).
+  const Table* tables() const { return tables_ ? tables_->data() : nullptr; }
 
  private:
   friend class Parser;
   std::vector<Node> nodes_;
   int root_ = 0;
+  std::shared_ptr<const std::vector<Table>> tables_;
 };
 
 // An expression as c0 + Σ c_i v_i over variables (t, q_k, u_k, r_k, time functions), if it

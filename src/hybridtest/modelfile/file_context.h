@@ -56,6 +56,7 @@ void ReadKinematicalEquations(FileContext& c, const YAML::Node& node);
 void ReadFrames(FileContext& c, const YAML::Node& node);
 void ReadPoints(FileContext& c, const YAML::Node& node);
 void ReadMasses(FileContext& c, const YAML::Node& particles, const YAML::Node& bodies);
+void ReadTables(FileContext& c, const YAML::Node& node);
 void ReadTimeFunctions(FileContext& c, const YAML::Node& node);
 // Slots: declares them in the builder; returns each slot's default stiffness.
 std::vector<double> ReadSlots(FileContext& c, const YAML::Node& node);

@@ -73,7 +73,7 @@ ModelFile ParseModelFile(YamlInput input) {
   const YamlInput& in = f.input;
   const YAML::Node& root = in.root();
   in.CheckKeys(root, "", {"name", "description", "parameters", "coordinates", "speeds",
-                          "kinematical_equations", "time_functions", "frames", "points",
+                          "kinematical_equations", "tables", "time_functions", "frames", "points",
                           "particles", "bodies", "slots", "forces", "torques"});
   f.name = in.ReadString(root, "", "name",
                          std::filesystem::path(in.path()).stem().string());
@@ -175,6 +175,7 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
     c.builder = &builder;
     c.frames["N"] = builder.newtonian();
     c.points["O"] = builder.origin();
+    internal::ReadTables(c, root["tables"]);
     internal::ReadKinematicalEquations(c, root["kinematical_equations"]);
     internal::ReadTimeFunctions(c, root["time_functions"]);
     internal::ReadFrames(c, root["frames"]);

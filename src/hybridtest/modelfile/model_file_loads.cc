@@ -48,6 +48,48 @@ SlotUse SlotUsage(const std::vector<Node>& nodes, int i) {
 }
 }  // namespace
 
+void ReadTables(FileContext& c, const YAML::Node& node) {
+  if (!node.IsDefined() || node.IsNull()) return;
+  c.in.RequireMapping(node, "tables");
+  for (const auto& kv : node) {
+    const std::string name = kv.first.as<std::string>();
+    const std::string kp = "tables." + name;
+    const std::string where = c.Where(kv.first, kp);
+    if (IsFunctionName(name)) {
+      throw ConfigError(fmt::format("{}: '{}' is a built-in function; give the table another "
+                                    "name", where, name));
+    }
+    c.in.RequireMapping(kv.second, kp);
+    c.in.CheckKeys(kv.second, kp, {"x", "y", "description"});
+    Table table;
+    for (const char* axis : {"x", "y"}) {
+      const YAML::Node list = c.Require(kv.second, axis, kp, "a list of numbers [a, b, ...]");
+      if (!list.IsSequence()) c.in.ThrowValue(list, kp + "." + axis, "a list of numbers [a, b, ...]");
+      std::vector<double>& out = std::string(axis) == "x" ? table.x : table.y;
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        out.push_back(c.Constant(list[i], fmt::format("{}.{}[{}]", kp, axis, i),
+                                 "a number (numbers, units and parameters)"));
+      }
+    }
+    if (table.x.size() < 2 || table.x.size() != table.y.size()) {
+      throw ConfigError(fmt::format("{}: {} x and {} y values; give at least two points and as "
+                                    "many y as x", c.Where(kv.second, kp), table.x.size(),
+                                    table.y.size()));
+    }
+    for (std::size_t i = 1; i < table.x.size(); ++i) {
+      if (!(table.x[i] > table.x[i - 1])) {
+        throw ConfigError(fmt::format("{}: x must increase strictly; x[{}] = {:g} follows {:g}",
+                                      c.Where(kv.second["x"][i], fmt::format("{}.x[{}]", kp, i)),
+                                      i, table.x[i], table.x[i - 1]));
+      }
+    }
+    if (c.symbols.Find(name) != nullptr) {
+      throw ConfigError(fmt::format("{}: the name '{}' is already used; rename it", where, name));
+    }
+    c.symbols.AddTable(name, std::move(table));
+  }
+}
+
 void ReadTimeFunctions(FileContext& c, const YAML::Node& node) {
   if (!node.IsDefined() || node.IsNull()) return;
   c.in.RequireMapping(node, "time_functions");
