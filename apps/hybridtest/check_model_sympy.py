@@ -49,9 +49,23 @@ UNIT = {'m': 1, 'mm': sp.Rational(1, 1000), 'cm': sp.Rational(1, 100), 'km': 100
         'J': 1, 'kJ': 1000, 'W': 1, 'kW': 1000, 'MW': 10**6, 'Hz': 1,
         'rad': 1, 'deg': sp.pi / 180, '°': sp.pi / 180, 'rev': 2 * sp.pi,
         'rpm': 2 * sp.pi / 60, '1': 1, '-': 1}
-SUFFIX = re.compile(r'(?<![\w.])(\d+\.?\d*(?:[eE][-+]?\d+)?|\.\d+(?:[eE][-+]?\d+)?)\s*(' +
-                    '|'.join(sorted((re.escape(u) for u in UNIT if u not in ('1', '-')),
-                                    key=len, reverse=True)) + r')(?![\w(])')
+# A number followed by a unit: the longest run without spaces that is a unit, else its first
+# word if that is one (the C++ reader's rule).
+WORD = r'(?:[^\W\d]|[°µ])[\w°µ²³]*'
+SUFFIX = re.compile(r'(?<![\w.])(\d+\.?\d*(?:[eE][-+]?\d+)?|\.\d+(?:[eE][-+]?\d+)?)(\s*)(' +
+                    WORD + r'(?:[/*·^\-\w°µ²³]*))')
+
+
+def _suffix(m):
+    number, space, run = m.group(1), m.group(2), m.group(3)
+    first = re.match(WORD, run).group(0)
+    for unit in (run, first):
+        try:
+            factor = unit_factor(unit)
+        except (KeyError, ValueError):
+            continue
+        return f'({number}*({factor}))' + run[len(unit):]
+    return number + space + run
 
 
 def unit_factor(text):
@@ -116,7 +130,7 @@ class Reader:
 
     def expr(self, text):
         text = str(text)
-        text = SUFFIX.sub(lambda m: f'({m.group(1)}*{UNIT[m.group(2)]})', text)
+        text = SUFFIX.sub(_suffix, text)
         text = re.sub(r'\bif\s*\(', 'if_(', text)
         return parse_expr(text, local_dict=dict(self.names), transformations=TRANSFORMS)
 

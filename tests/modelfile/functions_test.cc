@@ -64,6 +64,10 @@ TEST(FunctionsTest, ValuesEqualCmath) {
   EXPECT_DOUBLE_EQ(Eval("30 deg", 0, 0), std::numbers::pi / 6);
   EXPECT_DOUBLE_EQ(Eval("600 mm + 1 km", 0, 0), 1000.6);
   EXPECT_DOUBLE_EQ(Eval("2kN * q1", 0.5, 0), 1000.0);
+  EXPECT_DOUBLE_EQ(Eval("36 km/h", 0, 0), 10.0);       // a compound unit, no spaces
+  EXPECT_DOUBLE_EQ(Eval("2 kN·mm/deg", 0, 0), 2.0 * 180.0 / std::numbers::pi);
+  EXPECT_DOUBLE_EQ(Eval("3 mm*q1", 0.5, 0), 0.0015);   // mm*q1 is no unit: 3 mm times q1
+  EXPECT_DOUBLE_EQ(Eval("30°", 0, 0), std::numbers::pi / 6);
 }
 
 TEST(FunctionsTest, ErrorsNameTheFix) {
@@ -74,6 +78,7 @@ TEST(FunctionsTest, ErrorsNameTheFix) {
   EXPECT_NE(ErrorOf("sinh(q1)").find("atan2"), std::string::npos);  // the list is complete
   EXPECT_NE(ErrorOf("2 m").find("ambiguous"), std::string::npos);   // m is a parameter here
   EXPECT_NE(ErrorOf("2 t").find("ambiguous"), std::string::npos);   // t is time
+  EXPECT_NE(ErrorOf("2 kg/m").find("ambiguous"), std::string::npos);  // m inside a compound
 }
 
 TEST(FunctionsTest, DepthLimitRefusesInsteadOfCrashing) {

@@ -299,21 +299,46 @@ class Parser {
     const double v = std::strtod(rest.c_str(), &end);
     if (end == rest.c_str()) Fail(rest.substr(0, 1), "expected a number");
     pos_ += static_cast<std::size_t>(end - rest.c_str());
-    // A unit after the number (`30 deg`, `600 mm`): converted to SI here.
+    // A unit after the number (`30 deg`, `600 mm`, `8 m/s`, `50 kN·m/rad`): converted to SI
+    // here. The unit is the longest run without spaces that is a unit (units.h), else its first
+    // word if that is one; `2 m*x` is 2 m times x.
     std::size_t p = pos_;
     while (p < text_.size() && text_[p] == ' ') ++p;
-    std::size_t q = p;
-    while (q < text_.size() && (IsNameChar(text_[q]) || static_cast<unsigned char>(text_[q]) >= 0x80)) ++q;
-    if (q > p) {
-      const std::string_view unit = text_.substr(p, q - p);
-      if (const std::optional<double> to_si = UnitSuffix(unit)) {
-        if (symbols_.Find(unit) != nullptr) {
-          token_start_ = p;
-          Fail(std::string(unit), fmt::format("ambiguous: '{0}' is both a unit and a declared name; "
-                                              "write `* {0}` for the name", unit));
+    auto unit_char = [&](std::size_t k) {
+      return IsNameChar(text_[k]) || static_cast<unsigned char>(text_[k]) >= 0x80;
+    };
+    if (p < text_.size() && unit_char(p) && !std::isdigit(static_cast<unsigned char>(text_[p]))) {
+      std::size_t word = p;
+      while (word < text_.size() && unit_char(word)) ++word;
+      std::size_t run = word;
+      while (run < text_.size() && (unit_char(run) || text_[run] == '/' || text_[run] == '*' ||
+                                    text_[run] == '^' || (text_[run] == '-' && text_[run - 1] == '^'))) {
+        ++run;
+      }
+      std::string why;
+      std::optional<Unit> unit;
+      std::size_t unit_end = run;
+      if (run > word) unit = ParseUnit(text_.substr(p, run - p), &why);
+      if (!unit) {
+        unit_end = word;
+        unit = ParseUnit(text_.substr(p, word - p), &why);
+      }
+      if (unit) {
+        // Each word of the unit must not also be a declared name (`2 m` with a mass m).
+        std::size_t k = p;
+        while (k < unit_end) {
+          std::size_t w = k;
+          while (w < unit_end && IsNameChar(text_[w])) ++w;
+          if (w > k && symbols_.Find(text_.substr(k, w - k)) != nullptr) {
+            token_start_ = k;
+            Fail(std::string(text_.substr(k, w - k)),
+                 fmt::format("ambiguous: '{0}' is both a unit and a declared name; write `* {0}` "
+                             "for the name", text_.substr(k, w - k)));
+          }
+          k = w == k ? k + 1 : w;
         }
-        pos_ = q;
-        return Push({Op::kConst, v * *to_si, -1, -1, -1, -1});
+        pos_ = unit_end;
+        return Push({Op::kConst, v * unit->to_si, -1, -1, -1, -1});
       }
     }
     return Push({Op::kConst, v, -1, -1, -1, -1});
