@@ -85,6 +85,41 @@ def unit_factor(text):
     return factor
 
 
+LIST_SECTIONS = ('coordinates', 'speeds', 'frames', 'points', 'particles', 'bodies', 'slots',
+                 'forces', 'torques')
+
+
+def substitute(node, var, value):
+    """$var and ${var} replaced by value in every string under node."""
+    if isinstance(node, str):
+        return re.sub(r'\$\{' + re.escape(var) + r'\}|\$' + re.escape(var) + r'(?!\w)',
+                      lambda m: value, node)
+    if isinstance(node, list):
+        return [substitute(v, var, value) for v in node]
+    if isinstance(node, dict):
+        return {k: substitute(v, var, value) for k, v in node.items()}
+    return node
+
+
+def expand_repeats(doc):
+    """The file with every `repeat: {var: [values]}, items: [...]` block expanded in place."""
+    for key in LIST_SECTIONS:
+        items = doc.get(key)
+        if not isinstance(items, list):
+            continue
+        out = []
+        for item in items:
+            if isinstance(item, dict) and 'repeat' in item:
+                (var, values), = item['repeat'].items()
+                for v in values:
+                    text = v if isinstance(v, str) else yaml.safe_dump(v).split('\n')[0]
+                    out.extend(substitute(e, var, text) for e in item['items'])
+            else:
+                out.append(item)
+        doc[key] = out
+    return doc
+
+
 class Reader:
     def __init__(self, doc):
         self.doc = doc
@@ -227,7 +262,7 @@ def run():
         doc = yaml.safe_load(f)
     with open(sys.argv[2], encoding='utf-8') as f:
         states = json.load(f)
-    reader = Reader(doc)
+    reader = Reader(expand_repeats(doc))
     M, F = reader.build()
     n = len(reader.q)
     Q = sp.symbols(f'Q0:{n}')

@@ -180,6 +180,46 @@ TEST(ModelFileContractTest, TablesAreCheckedWhereTheyAreDeclared) {
   EXPECT_THAT(with("tables:\n  f: {x: [0, th], y: [0, 1]}\n"), HasSubstr("a constant"));
 }
 
+TEST(ModelFileContractTest, RepeatExpandsToTheSameModelAsTheCopies) {
+  const ModelFile copies = LoadModelFile(HYBRIDTEST_SOURCE_DIR "/examples/models/rotor.yaml");
+  const ModelFile repeat = LoadModelFile(HYBRIDTEST_SOURCE_DIR "/tests/modelfile/data/rotor_repeat.yaml");
+  const models::BuiltModel a = BuildModelFile(copies, copies.parameters);
+  const models::BuiltModel b = BuildModelFile(repeat, repeat.parameters);
+  ASSERT_EQ(b.model.num_slots(), 3);
+  EXPECT_EQ(b.model.slots()[2].info.name, "r3");
+  EXPECT_EQ(b.model.slots()[1].info.description, "static restoring force of blade 2");
+  EXPECT_EQ(b.model.loads().size(), a.model.loads().size());
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> d(-1, 1);
+  for (int i = 0; i < 5; ++i) {
+    Eigen::VectorXd x(8), r(3);
+    for (int k = 0; k < 8; ++k) x(k) = d(rng);
+    for (int k = 0; k < 3; ++k) r(k) = 100 * d(rng);
+    multibody::Data<double> da(a.model), db(b.model);
+    Eigen::VectorXd xa(8), xb(8);
+    multibody::CalcStateDerivative<double>(a.model, da, 0.3, x, r, xa);
+    multibody::CalcStateDerivative<double>(b.model, db, 0.3, x, r, xb);
+    EXPECT_EQ(xa, xb);  // the same model, bit for bit
+  }
+}
+
+TEST(ModelFileContractTest, RepeatErrorsNameTheExpandedElement) {
+  const std::string rest =
+      "slots:\n"                                                              // 16
+      "  - repeat: {i: [1, 2]}\n"                                             // 17
+      "    items:\n"                                                          // 18
+      "      - {name: r$i, unit: N, displacement: x, stiffness: k$i}\n";      // 19
+  EXPECT_THAT(ErrorOf(Pendulum("  L: 0.6\n  k1: 5", rest)),
+              AllOf(HasSubstr("m.yaml:20: slots[0].items[0] (i = 2).stiffness"),
+                    HasSubstr("'k2'")));
+  EXPECT_EQ(ErrorOf(Pendulum("  L: 0.6\n  k1: 5\n  k2: 6", rest)), "no error");
+  EXPECT_THAT(ErrorOf(Pendulum("  L: 0.6", "slots:\n  - repeat: {i: 3}\n    items: []\n")),
+              HasSubstr("{i: [1, 2, 3]}"));
+  EXPECT_THAT(ErrorOf(Pendulum("  L: 0.6", "slots:\n  - repeat: {i: [1]}\n    items:\n"
+                                          "      - repeat: {j: [1]}\n        items: []\n")),
+              HasSubstr("do not nest"));
+}
+
 TEST(ModelFileContractTest, DeepExpressionsAreRefusedWithThePlace) {
   std::string s = Pendulum("  L: 0.6");
   s.replace(s.find("[L, 0, 0]"), 9, "[\"" + std::string(30000, '(') + "L" + std::string(30000, ')') + "\", 0, 0]");

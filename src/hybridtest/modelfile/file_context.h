@@ -62,8 +62,16 @@ void ReadTimeFunctions(FileContext& c, const YAML::Node& node);
 std::vector<double> ReadSlots(FileContext& c, const YAML::Node& node);
 void ReadLoads(FileContext& c, const YAML::Node& forces, const YAML::Node& torques);
 
-// The elements of the optional list section `node` at `key` (empty when absent).
+// The elements of the optional list section `node` at `key` (empty when absent), with
+// `repeat:` blocks expanded:
+//   - repeat: {i: [1, 2, 3]}
+//     items:
+//       - {name: B$i, parent: H, axis: z, angle: psi + ($i - 1) * 2 * pi / 3 + beta$i}
+// copies `items` once per value, replacing $i (or ${i}) in every scalar by the value as written.
+// `labels` (if given) receives each element's key path: "frames[2]" or, for an expanded one,
+// "frames[1].items[0] (i = 2)".
 std::vector<YAML::Node> ListItems(const YamlInput& in, const YAML::Node& node,
-                                  const std::string& key);
+                                  const std::string& key,
+                                  std::vector<std::string>* labels = nullptr);
 
 }  // namespace hybridtest::modelfile::internal

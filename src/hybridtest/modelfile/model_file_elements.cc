@@ -124,10 +124,11 @@ void ReadKinematicalEquations(FileContext& c, const YAML::Node& node) {
 }
 
 void ReadFrames(FileContext& c, const YAML::Node& root_frames) {
-  const std::vector<YAML::Node> items = ListItems(c.in, root_frames, "frames");
+  std::vector<std::string> labels;
+  const std::vector<YAML::Node> items = ListItems(c.in, root_frames, "frames", &labels);
   for (std::size_t i = 0; i < items.size(); ++i) {
     const YAML::Node& f = items[i];
-    const std::string kp = fmt::format("frames[{}]", i);
+    const std::string& kp = labels[i];
     c.in.RequireMapping(f, kp);
     c.in.CheckKeys(f, kp, {"name", "parent", "axis", "angle", "euler", "dcm"});
     const std::string name = c.in.String(f["name"], kp + ".name", "a frame name");
@@ -196,10 +197,11 @@ void ReadFrames(FileContext& c, const YAML::Node& root_frames) {
 }
 
 void ReadPoints(FileContext& c, const YAML::Node& node) {
-  const std::vector<YAML::Node> items = ListItems(c.in, node, "points");
+  std::vector<std::string> labels;
+  const std::vector<YAML::Node> items = ListItems(c.in, node, "points", &labels);
   for (std::size_t i = 0; i < items.size(); ++i) {
     const YAML::Node& p = items[i];
-    const std::string kp = fmt::format("points[{}]", i);
+    const std::string& kp = labels[i];
     c.in.RequireMapping(p, kp);
     c.in.CheckKeys(p, kp, {"name", "from", "frame", "position"});
     const std::string name = c.in.String(p["name"], kp + ".name", "a point name");
@@ -220,9 +222,10 @@ void ReadPoints(FileContext& c, const YAML::Node& node) {
 }
 
 void ReadMasses(FileContext& c, const YAML::Node& particles, const YAML::Node& bodies) {
-  const std::vector<YAML::Node> ps = ListItems(c.in, particles, "particles");
+  std::vector<std::string> labels;
+  const std::vector<YAML::Node> ps = ListItems(c.in, particles, "particles", &labels);
   for (std::size_t i = 0; i < ps.size(); ++i) {
-    const std::string kp = fmt::format("particles[{}]", i);
+    const std::string& kp = labels[i];
     c.in.RequireMapping(ps[i], kp);
     c.in.CheckKeys(ps[i], kp, {"name", "point", "mass"});
     const std::string name = c.in.String(ps[i]["name"], kp + ".name", "a name");
@@ -232,9 +235,10 @@ void ReadMasses(FileContext& c, const YAML::Node& particles, const YAML::Node& b
     AtPlace(c.Where(ps[i]["mass"], kp + ".mass"),
             [&] { c.builder->AddParticle(name, point, mass); return 0; });
   }
-  const std::vector<YAML::Node> bs = ListItems(c.in, bodies, "bodies");
+  std::vector<std::string> body_labels;
+  const std::vector<YAML::Node> bs = ListItems(c.in, bodies, "bodies", &body_labels);
   for (std::size_t i = 0; i < bs.size(); ++i) {
-    const std::string kp = fmt::format("bodies[{}]", i);
+    const std::string& kp = body_labels[i];
     c.in.RequireMapping(bs[i], kp);
     c.in.CheckKeys(bs[i], kp, {"name", "frame", "mass_center", "mass", "inertia"});
     const std::string name = c.in.String(bs[i]["name"], kp + ".name", "a name");

@@ -113,10 +113,11 @@ void ReadTimeFunctions(FileContext& c, const YAML::Node& node) {
 
 std::vector<double> ReadSlots(FileContext& c, const YAML::Node& node) {
   std::vector<double> stiffness;
-  const std::vector<YAML::Node> items = ListItems(c.in, node, "slots");
+  std::vector<std::string> labels;
+  const std::vector<YAML::Node> items = ListItems(c.in, node, "slots", &labels);
   for (std::size_t i = 0; i < items.size(); ++i) {
     const YAML::Node& s = items[i];
-    const std::string kp = fmt::format("slots[{}]", i);
+    const std::string& kp = labels[i];
     c.in.RequireMapping(s, kp);
     c.in.CheckKeys(s, kp, {"name", "unit", "description", "displacement", "stiffness"});
     const std::string name = c.in.String(s["name"], kp + ".name", "a slot name such as r1");
@@ -146,10 +147,11 @@ std::vector<double> ReadSlots(FileContext& c, const YAML::Node& node) {
 
 namespace {
 void ReadLoadList(FileContext& c, const YAML::Node& node, const std::string& key, bool force) {
-  const std::vector<YAML::Node> items = ListItems(c.in, node, key);
+  std::vector<std::string> labels;
+  const std::vector<YAML::Node> items = ListItems(c.in, node, key, &labels);
   for (std::size_t i = 0; i < items.size(); ++i) {
     const YAML::Node& l = items[i];
-    const std::string kp = fmt::format("{}[{}]", key, i);
+    const std::string& kp = labels[i];
     c.in.RequireMapping(l, kp);
     if (force) {
       c.in.CheckKeys(l, kp, {"name", "point", "expressed_in", "value"});
