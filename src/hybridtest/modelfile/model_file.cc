@@ -152,13 +152,19 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
     c.symbols.Add({name, kind, index, value});
   };
   c.symbols.Add({"t", Op::kTime, -1, 0.0});
+  // The places of the names (after `repeat:` expansion: the copy's line and label).
+  std::vector<std::string> coordinate_labels, speed_labels;
+  const std::vector<YAML::Node> coordinate_items =
+      internal::ListItems(in, root["coordinates"], "coordinates", &coordinate_labels);
+  const std::vector<YAML::Node> speed_items =
+      internal::ListItems(in, root["speeds"], "speeds", &speed_labels);
   for (std::size_t k = 0; k < coordinates.size(); ++k) {
     declare(coordinates[k].name, Op::kCoordinate, static_cast<int>(k), 0.0,
-            in.Where(root["coordinates"][k], fmt::format("coordinates[{}].name", k)));
+            in.Where(coordinate_items[k]["name"], coordinate_labels[k] + ".name"));
   }
   for (std::size_t k = 0; k < speeds.size(); ++k) {
     declare(speeds[k].name, Op::kSpeed, static_cast<int>(k), 0.0,
-            in.Where(root["speeds"][k], fmt::format("speeds[{}].name", k)));
+            in.Where(speed_items[k]["name"], speed_labels[k] + ".name"));
   }
   if (speeds.empty()) {
     for (std::size_t k = 0; k < coordinates.size(); ++k) {
