@@ -4,6 +4,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <fmt/core.h>
+
 #include <numbers>
 #include <random>
 
@@ -218,6 +220,20 @@ TEST(ModelFileContractTest, RepeatErrorsNameTheExpandedElement) {
   EXPECT_THAT(ErrorOf(Pendulum("  L: 0.6", "slots:\n  - repeat: {i: [1]}\n    items:\n"
                                           "      - repeat: {j: [1]}\n        items: []\n")),
               HasSubstr("do not nest"));
+}
+
+TEST(ModelFileContractTest, TheJetCapNamesTheNonAffineExpression) {
+  std::string s = "name: chain\ncoordinates:\n";                    // 1-2
+  for (int k = 1; k <= 33; ++k) s += fmt::format("  - {{name: q{}, unit: m}}\n", k);  // 3-35
+  s += "points:\n";                                                 // 36
+  for (int k = 1; k <= 33; ++k) {
+    s += fmt::format("  - {{name: P{0}, position: [{1}, 0, 0]}}\n", k,
+                     k == 20 ? "sin(q20)" : fmt::format("q{}", k));  // P20 on line 56
+  }
+  s += "particles:\n";
+  for (int k = 1; k <= 33; ++k) s += fmt::format("  - {{name: m{0}, point: P{0}, mass: 1}}\n", k);
+  EXPECT_THAT(ErrorOf(s), AllOf(HasSubstr("at most 32"),
+                                HasSubstr("m.yaml:56: points[19].position[0] = 'sin(q20)'")));
 }
 
 TEST(ModelFileContractTest, DeepExpressionsAreRefusedWithThePlace) {

@@ -22,6 +22,9 @@ struct FileContext {
   // Slot names, known before the slots are read, so that a slot used outside a load is named
   // as such instead of "unknown name".
   std::vector<std::string> slot_names;
+  // Where the first kinematic expression that is not affine was written (the engine then needs
+  // jets, capped at kMaxJetCoordinates coordinates): named when the cap is hit.
+  mutable std::string first_general;
 
   // "file:line: key_path".
   std::string Where(const YAML::Node& node, const std::string& key_path) const {

@@ -194,7 +194,12 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
     return {file.name, file.description, parameters, std::move(builder).Build(),
             std::move(stiffness)};
   } catch (const ModelError& e) {
-    throw ConfigError(fmt::format("{}: {}", in.path(), e.what()));
+    std::string which;
+    if (c.num_coordinates > multibody::kMaxJetCoordinates && !c.first_general.empty()) {
+      which = fmt::format("; the first non-affine kinematic expression is {} (write angles and "
+                          "positions affine in the coordinates to lift the cap)", c.first_general);
+    }
+    throw ConfigError(fmt::format("{}: {}{}", in.path(), e.what(), which));
   } catch (const YAML::Exception& e) {
     // A reader that touched a missing key: should not happen (every required key is checked
     // with its place), but never let yaml-cpp's "line 0, column 0" reach the user alone.
@@ -389,6 +394,9 @@ multibody::ScalarField FileContext::Field(const YAML::Node& node, const std::str
       }
     }
     return multibody::ScalarField::Affine(f.constant, std::move(terms), time_rate);
+  }
+  if (first_general.empty()) {
+    first_general = fmt::format("{} = '{}'", Where(node, key_path), node.Scalar());
   }
   auto shared = std::make_shared<const Expression>(std::move(e));
   return multibody::ScalarField::Function([shared](const auto& a) {

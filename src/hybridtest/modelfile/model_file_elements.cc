@@ -108,6 +108,7 @@ void ReadKinematicalEquations(FileContext& c, const YAML::Node& node) {
   if (!node.IsSequence() || static_cast<int>(node.size()) != n) {
     c.in.ThrowValue(node, kp, fmt::format("the {0} × {0} matrix W(q) of q̇ = W(q) u as {0} rows", n));
   }
+  if (c.first_general.empty()) c.first_general = c.Where(node, kp) + " (W(q))";
   auto W = std::make_shared<std::vector<Expression>>();
   for (int i = 0; i < n; ++i) {
     const std::string row = fmt::format("{}[{}]", kp, i);
