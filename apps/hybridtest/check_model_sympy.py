@@ -167,6 +167,8 @@ class Reader:
         text = str(text)
         text = SUFFIX.sub(_suffix, text)
         text = re.sub(r'\bif\s*\(', 'if_(', text)
+        text = re.sub(r'\b(velocity|angular_velocity)\s*\(\s*(\w+)\s*,\s*(\w+)\s*\)\s*\.\s*([xyz])',
+                      r"\1_('\2', '\3', '\4')", text)
         return parse_expr(text, local_dict=dict(self.names), transformations=TRANSFORMS)
 
     def vector(self, frame, components):
@@ -220,6 +222,21 @@ class Reader:
             center = points[b['mass_center']]
             bodies.append(me.RigidBody(b['name'], center, frame, self.expr(b['mass']),
                                        (dyadic, center)))
+        # velocity(P, F).x and angular_velocity(A, F).z in loads: SymPy's own P.vel(N) and
+        # A.ang_vel_in(N), with q̇ = W(q) u substituted.
+        n = len(self.q)
+        W_doc = doc.get('kinematical_equations')
+        W_kin = sp.Matrix([[self.expr(c) for c in row] for row in W_doc]) if W_doc else sp.eye(n)
+        qdot_sub = {qk.diff(self.t): wk for qk, wk in zip(self.q, W_kin * sp.Matrix(self.u))}
+
+        def velocity(point, frame, axis):
+            return points[point].vel(N).dot(getattr(frames[frame], axis)).subs(qdot_sub)
+
+        def angular_velocity(of, frame, axis):
+            return frames[of].ang_vel_in(N).dot(getattr(frames[frame], axis)).subs(qdot_sub)
+
+        self.names['velocity_'] = velocity
+        self.names['angular_velocity_'] = angular_velocity
         loads = []
         for f in doc.get('forces') or []:
             loads.append((points[f['point']],

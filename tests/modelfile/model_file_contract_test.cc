@@ -236,6 +236,59 @@ TEST(ModelFileContractTest, TheJetCapNamesTheNonAffineExpression) {
                                 HasSubstr("m.yaml:56: points[19].position[0] = 'sin(q20)'")));
 }
 
+// The exact state Jacobian and coupling matrix (AutoDiff) stay exact through the new functions,
+// tables and velocity(): against central differences of the double right-hand side.
+TEST(ModelFileContractTest, JacobianAndCouplingStayExactThroughFunctionsTablesAndVelocities) {
+  for (const std::string name : {"turbine_functions", "top_drag"}) {
+    SCOPED_TRACE(name);
+    const ModelFile f = LoadModelFile(HYBRIDTEST_SOURCE_DIR "/tests/modelfile/data/" + name + ".yaml");
+    const models::BuiltModel b = BuildModelFile(f, f.parameters);
+    const int n = b.model.num_coordinates(), ns = b.model.num_slots();
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> d(-0.5, 0.5);
+    Eigen::VectorXd x(2 * n), r = Eigen::VectorXd::Constant(ns, 30.0);
+    for (int k = 0; k < 2 * n; ++k) x(k) = d(rng);
+    x(n + 1) += 2.0;  // away from the kinks of if(), sign() and the tables' knots
+    multibody::Data<double> data(b.model);
+    auto f_rhs = [&](const Eigen::VectorXd& xx, const Eigen::VectorXd& rr) {
+      Eigen::VectorXd out(2 * n);
+      multibody::CalcStateDerivative<double>(b.model, data, 0.7, xx, rr, out);
+      return out;
+    };
+    const Eigen::MatrixXd J = multibody::CalcStateJacobian(b.model, 0.7, x, r);
+    const double h = 1e-6;
+    for (int k = 0; k < 2 * n; ++k) {
+      Eigen::VectorXd xp = x, xm = x;
+      xp(k) += h;
+      xm(k) -= h;
+      const Eigen::VectorXd fd = (f_rhs(xp, r) - f_rhs(xm, r)) / (2 * h);
+      EXPECT_LT((J.col(k) - fd).cwiseAbs().maxCoeff(), 1e-5 * (1.0 + fd.cwiseAbs().maxCoeff()))
+          << "column " << k;
+    }
+    if (ns > 0) {
+      const Eigen::MatrixXd B = multibody::CalcCouplingMatrix(b.model, 0.7, x);
+      multibody::Data<double> dd(b.model);
+      multibody::CalcKinematics<double>(b.model, dd, 0.7, x);
+      multibody::CalcForcing<double>(b.model, dd, Eigen::VectorXd::Zero(ns));
+      const Eigen::VectorXd g0 = dd.g;
+      multibody::CalcForcing<double>(b.model, dd, Eigen::VectorXd::Unit(ns, 0));
+      EXPECT_LT((B.col(0) - (dd.g - g0)).cwiseAbs().maxCoeff(), 1e-9);
+    }
+  }
+}
+
+TEST(ModelFileContractTest, VelocitiesAreForLoadsOnly) {
+  std::string s = Pendulum("  L: 0.6");
+  s.replace(s.find("[L, 0, 0]"), 9, "[\"L + velocity(C, N).x\", 0, 0]");
+  EXPECT_THAT(ErrorOf(s), AllOf(HasSubstr("points[1].position[0]"), HasSubstr("only in forces and torques")));
+  EXPECT_THAT(ErrorOf(Pendulum("  L: 0.6", "forces:\n  - {name: f, point: P, value: [\"velocity(Q, N).x\", 0, 0]}\n")),
+              AllOf(HasSubstr("'Q' is not a point"), HasSubstr("velocity(P, F).x")));
+  EXPECT_THAT(ErrorOf(Pendulum("  L: 0.6", "forces:\n  - {name: f, point: P, value: [\"velocity(P, N)\", 0, 0]}\n")),
+              HasSubstr("component"));
+  EXPECT_EQ(ErrorOf(Pendulum("  L: 0.6", "forces:\n  - {name: f, point: P, value: [\"-velocity(P, A).y * angular_velocity(A, N).z\", 0, 0]}\n")),
+            "no error");
+}
+
 TEST(ModelFileContractTest, DeepExpressionsAreRefusedWithThePlace) {
   std::string s = Pendulum("  L: 0.6");
   s.replace(s.find("[L, 0, 0]"), 9, "[\"" + std::string(30000, '(') + "L" + std::string(30000, ')') + "\", 0, 0]");

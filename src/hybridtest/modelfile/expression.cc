@@ -11,6 +11,7 @@
 #include <numbers>
 #include <optional>
 
+#include "hybridtest/modelfile/kinematics_mirror.h"
 #include "hybridtest/modelfile/units.h"
 
 namespace hybridtest::modelfile {
@@ -349,6 +350,10 @@ class Parser {
     const std::string name(text_.substr(start, pos_ - start));
     const std::size_t name_start = start;
     Skip();
+    if (pos_ < text_.size() && text_[pos_] == '(' &&
+        (name == "velocity" || name == "angular_velocity")) {
+      return ParseVelocity(name, name_start);
+    }
     if (pos_ < text_.size() && text_[pos_] == '(') {
       for (const FunctionInfo& f : kFunctions) {
         if (name != f.name) continue;
@@ -416,6 +421,47 @@ class Parser {
     return Push({s->kind, 0, s->index, -1, -1, -1});
   }
 
+  // velocity(P, F).x: the velocity of point P in N, its component along F's x̂ (y, z alike);
+  // angular_velocity(A, F).z: the angular velocity of frame A in N, likewise.
+  int ParseVelocity(const std::string& name, std::size_t name_start) {
+    const bool angular = name == "angular_velocity";
+    const std::string usage = angular ? "angular_velocity(A, F).x (frame A, components in frame F)"
+                                      : "velocity(P, F).x (point P, components in frame F)";
+    auto fail = [&](const std::string& what) {
+      token_start_ = name_start;
+      Fail(name, what + "; write " + usage);
+    };
+    const Mirror* m = symbols_.mirror().get();
+    if (m == nullptr) fail("velocities may be used only in forces and torques");
+    ++pos_;
+    auto word = [&]() {
+      Skip();
+      const std::size_t start = pos_;
+      while (pos_ < text_.size() && IsNameChar(text_[pos_])) ++pos_;
+      return std::string(text_.substr(start, pos_ - start));
+    };
+    const std::string of = word();
+    if (!Accept(",")) fail("expected two names");
+    const std::string in = word();
+    if (!Accept(")") || !Accept(".")) fail("expected ').' and a component");
+    Skip();
+    const char axis = pos_ < text_.size() ? text_[pos_] : '\0';
+    if (axis != 'x' && axis != 'y' && axis != 'z') fail("the component is x, y or z");
+    ++pos_;
+    const auto& ids = angular ? m->frame_ids : m->point_ids;
+    const auto it = ids.find(of);
+    if (it == ids.end()) {
+      fail(fmt::format("'{}' is not a {} declared before this load", of, angular ? "frame" : "point"));
+    }
+    const auto frame = m->frame_ids.find(in);
+    if (frame == m->frame_ids.end()) fail(fmt::format("'{}' is not a frame", in));
+    if (m->num_coordinates > multibody::kMaxJetCoordinates) {
+      fail(fmt::format("velocities in loads are supported up to {} coordinates", multibody::kMaxJetCoordinates));
+    }
+    return Push({angular ? Op::kAngularVelocity : Op::kVelocity,
+                 static_cast<double>(3 * frame->second + (axis - 'x')), it->second, -1, -1, -1});
+  }
+
   std::string_view text_;
   const SymbolTable& symbols_;
   std::size_t pos_ = 0;
@@ -442,6 +488,7 @@ Expression Expression::Parse(std::string_view text, const SymbolTable& symbols) 
   };
   out.root_ = copy(copy, e.root_);
   if (out.Uses(Op::kTable)) out.tables_ = symbols.tables();
+  if (out.Uses(Op::kVelocity) || out.Uses(Op::kAngularVelocity)) out.mirror_ = symbols.mirror();
   return out;
 }
 

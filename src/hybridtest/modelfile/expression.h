@@ -33,7 +33,13 @@ enum class Op {
   kLt, kLe, kGt, kGe,  // comparisons: 1 or 0 (the condition of an `if`)
   kIf,                 // if(a, b, c): b where a ≠ 0, else c
   kTable,              // table `index` at a: piecewise-linear interpolation
+  kVelocity,           // velocity of point `index` in N; value = 3 · frame + component
+  kAngularVelocity,    // angular velocity of frame `index` in N; value as for kVelocity
 };
+
+// The frames and points of a model file as read, for velocity() and angular_velocity() in
+// loads (kinematics_mirror.h).
+struct Mirror;
 
 // A 1-D table y(x) from a model file: piecewise-linear between the points (x strictly
 // increasing, at least two), constant beyond the ends (the end values, slope 0).
@@ -75,6 +81,9 @@ class SymbolTable {
   // Declares a table, called as NAME(x) in expressions.
   void AddTable(std::string name, Table table);
   const std::shared_ptr<std::vector<Table>>& tables() const { return tables_; }
+  // The frames and points velocity() may name (set by the model-file reader; null: none).
+  void SetMirror(std::shared_ptr<const Mirror> mirror) { mirror_ = std::move(mirror); }
+  const std::shared_ptr<const Mirror>& mirror() const { return mirror_; }
   const Symbol* Find(std::string_view name) const;
   // Up to three known names closest to `name` (edit distance), for "did you mean" hints.
   std::vector<std::string> Closest(std::string_view name) const;
@@ -82,6 +91,7 @@ class SymbolTable {
  private:
   std::vector<Symbol> symbols_;
   std::shared_ptr<std::vector<Table>> tables_ = std::make_shared<std::vector<Table>>();
+  std::shared_ptr<const Mirror> mirror_;
 };
 
 // A parse error: `column` (0-based) and the offending `token` in the expression text.
@@ -105,12 +115,14 @@ class Expression {
   bool Uses(Op op) const;
   // The tables kTable nodes index (shared with the symbol table it was parsed against).
   const Table* tables() const { return tables_ ? tables_->data() : nullptr; }
+  const Mirror* mirror() const { return mirror_.get(); }
 
  private:
   friend class Parser;
   std::vector<Node> nodes_;
   int root_ = 0;
   std::shared_ptr<const std::vector<Table>> tables_;
+  std::shared_ptr<const Mirror> mirror_;
 };
 
 // An expression as c0 + Σ c_i v_i over variables (t, q_k, u_k, r_k, time functions), if it

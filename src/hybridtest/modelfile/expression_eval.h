@@ -4,6 +4,7 @@
 // over the flat node array; every temporary lives on the stack (no heap allocation).
 #include <cmath>
 #include <span>
+#include <type_traits>
 
 #include "hybridtest/modelfile/expression.h"
 #include "hybridtest/multibody/jet.h"
@@ -21,6 +22,19 @@ struct Variables {
   std::span<const S> r;       // static restoring forces, one per slot
   std::span<const S> time_values;  // the model's time functions at t
 };
+
+namespace eval_detail {
+struct EvalData {
+  const Table* tables;
+  const Mirror* mirror;
+};
+}  // namespace eval_detail
+
+// Component `component` (in frame `frame`'s unit vectors) of the velocity of point `id` in N
+// (or, `angular`, of the angular velocity of frame `id` in N). kinematics_mirror.h.
+template <typename S>
+S MirrorVelocity(const Mirror& m, bool angular, int id, int frame, int component,
+                 const Variables<S>& v);
 
 namespace eval_detail {
 inline double Value(double x) { return x; }
@@ -97,7 +111,7 @@ S PowConstant(const S& a, double p) {
 }
 
 template <typename S>
-S Eval(const Node* nodes, const Table* tables, int i, const Variables<S>& v) {
+S Eval(const Node* nodes, const EvalData& d, int i, const Variables<S>& v) {
   using std::cos; using std::exp; using std::log; using std::sin; using std::sqrt; using std::tan;
   const Node& n = nodes[i];
   switch (n.op) {
@@ -107,63 +121,74 @@ S Eval(const Node* nodes, const Table* tables, int i, const Variables<S>& v) {
     case Op::kSpeed: return v.u[static_cast<std::size_t>(n.index)];
     case Op::kSlot: return v.r[static_cast<std::size_t>(n.index)];
     case Op::kTimeFunction: return v.time_values[static_cast<std::size_t>(n.index)];
-    case Op::kNeg: return S(-Eval(nodes, tables, n.a, v));
-    case Op::kAdd: return S(Eval(nodes, tables, n.a, v) + Eval(nodes, tables, n.b, v));
-    case Op::kSub: return S(Eval(nodes, tables, n.a, v) - Eval(nodes, tables, n.b, v));
+    case Op::kNeg: return S(-Eval(nodes, d, n.a, v));
+    case Op::kAdd: return S(Eval(nodes, d, n.a, v) + Eval(nodes, d, n.b, v));
+    case Op::kSub: return S(Eval(nodes, d, n.a, v) - Eval(nodes, d, n.b, v));
     case Op::kMul: {
       // A constant factor multiplies as a double (cheaper for jets and AutoDiff).
-      if (nodes[n.a].op == Op::kConst) return S(nodes[n.a].value * Eval(nodes, tables, n.b, v));
-      if (nodes[n.b].op == Op::kConst) return S(Eval(nodes, tables, n.a, v) * nodes[n.b].value);
-      return S(Eval(nodes, tables, n.a, v) * Eval(nodes, tables, n.b, v));
+      if (nodes[n.a].op == Op::kConst) return S(nodes[n.a].value * Eval(nodes, d, n.b, v));
+      if (nodes[n.b].op == Op::kConst) return S(Eval(nodes, d, n.a, v) * nodes[n.b].value);
+      return S(Eval(nodes, d, n.a, v) * Eval(nodes, d, n.b, v));
     }
     case Op::kDiv:
-      if (nodes[n.b].op == Op::kConst) return S(Eval(nodes, tables, n.a, v) * (1.0 / nodes[n.b].value));
-      return S(Eval(nodes, tables, n.a, v) / Eval(nodes, tables, n.b, v));
+      if (nodes[n.b].op == Op::kConst) return S(Eval(nodes, d, n.a, v) * (1.0 / nodes[n.b].value));
+      return S(Eval(nodes, d, n.a, v) / Eval(nodes, d, n.b, v));
     case Op::kPow: {
-      const S a = Eval(nodes, tables, n.a, v);
+      const S a = Eval(nodes, d, n.a, v);
       if (nodes[n.b].op == Op::kConst) return PowConstant(a, nodes[n.b].value);
-      return S(exp(Eval(nodes, tables, n.b, v) * log(a)));
+      return S(exp(Eval(nodes, d, n.b, v) * log(a)));
     }
-    case Op::kSin: return S(sin(Eval(nodes, tables, n.a, v)));
-    case Op::kCos: return S(cos(Eval(nodes, tables, n.a, v)));
-    case Op::kTan: return S(tan(Eval(nodes, tables, n.a, v)));
-    case Op::kExp: return S(exp(Eval(nodes, tables, n.a, v)));
-    case Op::kLog: return S(log(Eval(nodes, tables, n.a, v)));
-    case Op::kSqrt: return S(sqrt(Eval(nodes, tables, n.a, v)));
+    case Op::kSin: return S(sin(Eval(nodes, d, n.a, v)));
+    case Op::kCos: return S(cos(Eval(nodes, d, n.a, v)));
+    case Op::kTan: return S(tan(Eval(nodes, d, n.a, v)));
+    case Op::kExp: return S(exp(Eval(nodes, d, n.a, v)));
+    case Op::kLog: return S(log(Eval(nodes, d, n.a, v)));
+    case Op::kSqrt: return S(sqrt(Eval(nodes, d, n.a, v)));
     case Op::kAbs: {
-      const S a = Eval(nodes, tables, n.a, v);
+      const S a = Eval(nodes, d, n.a, v);
       return Value(a) < 0.0 ? S(-a) : a;
     }
     case Op::kMin: case Op::kMax: {
-      const S a = Eval(nodes, tables, n.a, v);
-      const S b = Eval(nodes, tables, n.b, v);
+      const S a = Eval(nodes, d, n.a, v);
+      const S b = Eval(nodes, d, n.b, v);
       const bool a_less = Value(a) < Value(b);
       return (n.op == Op::kMin) == a_less ? a : b;
     }
-    case Op::kAtan2: return Atan2(Eval(nodes, tables, n.a, v), Eval(nodes, tables, n.b, v));
-    case Op::kTanh: return S(Tanh(Eval(nodes, tables, n.a, v)));
-    case Op::kAsin: return S(Asin(Eval(nodes, tables, n.a, v)));
-    case Op::kAcos: return S(Acos(Eval(nodes, tables, n.a, v)));
-    case Op::kAtan: return S(Atan(Eval(nodes, tables, n.a, v)));
+    case Op::kAtan2: return Atan2(Eval(nodes, d, n.a, v), Eval(nodes, d, n.b, v));
+    case Op::kTanh: return S(Tanh(Eval(nodes, d, n.a, v)));
+    case Op::kAsin: return S(Asin(Eval(nodes, d, n.a, v)));
+    case Op::kAcos: return S(Acos(Eval(nodes, d, n.a, v)));
+    case Op::kAtan: return S(Atan(Eval(nodes, d, n.a, v)));
     case Op::kSign: {
-      const double a = Value(Eval(nodes, tables, n.a, v));
+      const double a = Value(Eval(nodes, d, n.a, v));
       return S(a > 0.0 ? 1.0 : a < 0.0 ? -1.0 : 0.0);
     }
     case Op::kLt: case Op::kLe: case Op::kGt: case Op::kGe: {
-      const double a = Value(Eval(nodes, tables, n.a, v)), b = Value(Eval(nodes, tables, n.b, v));
+      const double a = Value(Eval(nodes, d, n.a, v)), b = Value(Eval(nodes, d, n.b, v));
       const bool yes = n.op == Op::kLt ? a < b : n.op == Op::kLe ? a <= b
                      : n.op == Op::kGt ? a > b : a >= b;
       return S(yes ? 1.0 : 0.0);
     }
     case Op::kTable: {
-      const S a = Eval(nodes, tables, n.a, v);
+      const S a = Eval(nodes, d, n.a, v);
       double intercept = 0.0, slope = 0.0;
-      tables[n.index].Segment(Value(a), &intercept, &slope);
+      d.tables[n.index].Segment(Value(a), &intercept, &slope);
       if (slope == 0.0) return S(intercept);
       return S(a * slope + intercept);
     }
+    case Op::kVelocity: case Op::kAngularVelocity: {
+      // Loads only (double, AutoDiff): the reader refuses velocities in kinematic fields.
+      if constexpr (std::is_same_v<S, double> || std::is_same_v<S, multibody::AutoDiff>) {
+        const int frame = static_cast<int>(n.value) / 3;
+        const int component = static_cast<int>(n.value) % 3;
+        return MirrorVelocity<S>(*d.mirror, n.op == Op::kAngularVelocity, n.index, frame,
+                                 component, v);
+      } else {
+        return S(0.0);
+      }
+    }
     case Op::kIf:
-      return Value(Eval(nodes, tables, n.a, v)) != 0.0 ? Eval(nodes, tables, n.b, v) : Eval(nodes, tables, n.c, v);
+      return Value(Eval(nodes, d, n.a, v)) != 0.0 ? Eval(nodes, d, n.b, v) : Eval(nodes, d, n.c, v);
   }
   return S(0.0);
 }
@@ -172,7 +197,10 @@ S Eval(const Node* nodes, const Table* tables, int i, const Variables<S>& v) {
 // The value of `e` at `v`.
 template <typename S>
 S Evaluate(const Expression& e, const Variables<S>& v) {
-  return eval_detail::Eval(e.nodes().data(), e.tables(), e.root(), v);
+  return eval_detail::Eval(e.nodes().data(), eval_detail::EvalData{e.tables(), e.mirror()},
+                           e.root(), v);
 }
 
 }  // namespace hybridtest::modelfile
+
+#include "hybridtest/modelfile/kinematics_mirror.h"  // IWYU pragma: keep

@@ -8,6 +8,7 @@
 
 #include "hybridtest/common/yaml_input.h"
 #include "hybridtest/modelfile/expression.h"
+#include "hybridtest/modelfile/kinematics_mirror.h"
 #include "hybridtest/multibody/model.h"
 
 namespace hybridtest::modelfile::internal {
@@ -25,6 +26,8 @@ struct FileContext {
   // Where the first kinematic expression that is not affine was written (the engine then needs
   // jets, capped at kMaxJetCoordinates coordinates): named when the cap is hit.
   mutable std::string first_general;
+  // The frames and points as read, for velocity() in loads (kinematics_mirror.h).
+  std::shared_ptr<Mirror> mirror = std::make_shared<Mirror>();
 
   // "file:line: key_path".
   std::string Where(const YAML::Node& node, const std::string& key_path) const {

@@ -183,6 +183,11 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
     c.builder = &builder;
     c.frames["N"] = builder.newtonian();
     c.points["O"] = builder.origin();
+    c.mirror->num_coordinates = c.num_coordinates;
+    c.mirror->frames.emplace_back();
+    c.mirror->points.emplace_back();
+    c.mirror->frame_ids["N"] = 0;
+    c.mirror->point_ids["O"] = 0;
     internal::ReadTables(c, root["tables"]);
     internal::ReadKinematicalEquations(c, root["kinematical_equations"]);
     internal::ReadTimeFunctions(c, root["time_functions"]);
@@ -190,6 +195,7 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
     internal::ReadPoints(c, root["points"]);
     internal::ReadMasses(c, root["particles"], root["bodies"]);
     std::vector<double> stiffness = internal::ReadSlots(c, root["slots"]);
+    c.symbols.SetMirror(c.mirror);  // velocity() and angular_velocity(): loads only
     internal::ReadLoads(c, root["forces"], root["torques"]);
     return {file.name, file.description, parameters, std::move(builder).Build(),
             std::move(stiffness)};

@@ -117,6 +117,7 @@ void ReadKinematicalEquations(FileContext& c, const YAML::Node& node) {
     }
     for (int j = 0; j < n; ++j) W->push_back(c.ParseKinematic(node[i][j], fmt::format("{}[{}]", row, j)));
   }
+  c.mirror->W = *W;
   c.builder->SetKinematicalEquations([W](const auto& a, auto out) {
     using J = std::decay_t<decltype(a.t)>;
     const Variables<J> v{a.t, a.q, {}, {}, {}};
@@ -138,6 +139,15 @@ void ReadFrames(FileContext& c, const YAML::Node& root_frames) {
                                     "its own name", c.Where(f["name"], kp + ".name"), name));
     }
     const FrameId parent = f["parent"] ? c.Frame(f["parent"], kp + ".parent") : FrameId{0};
+    const int mirror_parent = f["parent"] ? c.mirror->frame_ids.at(f["parent"].Scalar()) : 0;
+    // Records a rotation about `axis` (in the mirror's parent) for velocity() in loads.
+    auto mirror_frame = [&](const std::string& frame_name, int mirror_of, const Eigen::Vector3d& axis,
+                            Expression angle) {
+      c.mirror->frames.push_back({mirror_of, axis.normalized(), std::move(angle)});
+      const int id = static_cast<int>(c.mirror->frames.size()) - 1;
+      c.mirror->frame_ids[frame_name] = id;
+      return id;
+    };
     const std::string where = c.Where(f, kp);
     const int kinds = (f["angle"] ? 1 : 0) + (f["euler"] ? 1 : 0) + (f["dcm"] ? 1 : 0);
     if (kinds != 1) {
@@ -150,6 +160,7 @@ void ReadFrames(FileContext& c, const YAML::Node& root_frames) {
       const Eigen::Vector3d axis = f["axis"] ? Axis(c, f["axis"], kp + ".axis")
                                              : Eigen::Vector3d::UnitZ();
       CheckAngle(c, f["angle"], kp + ".angle");
+      mirror_frame(name, mirror_parent, axis, c.ParseKinematic(f["angle"], kp + ".angle"));
       multibody::ScalarField angle = c.Field(f["angle"], kp + ".angle");
       id = AtPlace(where, [&] { return c.builder->AddFrameAboutAxis(name, parent, axis, angle); });
     } else if (f["euler"]) {
@@ -168,11 +179,14 @@ void ReadFrames(FileContext& c, const YAML::Node& root_frames) {
                                           "(e.g. ZXZ, XYZ), angles: [a1, a2, a3]}");
       }
       FrameId prev = parent;
+      int mirror_prev = mirror_parent;
       for (int k = 0; k < 3; ++k) {
         const Eigen::Vector3d axis = Eigen::Vector3d::Unit(std::toupper(seq[k]) - 'X');
         CheckAngle(c, angles[k], fmt::format("{}.euler.angles[{}]", kp, k));
         multibody::ScalarField angle = c.Field(angles[k], fmt::format("{}.euler.angles[{}]", kp, k));
         const std::string part = k == 2 ? name : fmt::format("{}.{}", name, k + 1);
+        mirror_prev = mirror_frame(part, mirror_prev, axis,
+                                   c.ParseKinematic(angles[k], fmt::format("{}.euler.angles[{}]", kp, k)));
         prev = AtPlace(where, [&] { return c.builder->AddFrameAboutAxis(part, prev, axis, angle); });
       }
       id = prev;
@@ -188,6 +202,7 @@ void ReadFrames(FileContext& c, const YAML::Node& root_frames) {
                                       R.determinant()));
       }
       const Eigen::AngleAxisd aa(R);
+      mirror_frame(name, mirror_parent, aa.axis(), Expression::Constant(aa.angle()));
       id = AtPlace(where, [&] {
         return c.builder->AddFrameAboutAxis(name, parent, aa.axis(),
                                             multibody::ScalarField::Constant(aa.angle()));
@@ -216,6 +231,15 @@ void ReadPoints(FileContext& c, const YAML::Node& node) {
     c.RequireVector3(pos, kp + ".position", "three components [x, y, z] in `frame`, in m");
     std::array<multibody::ScalarField, 3> position;
     for (int k = 0; k < 3; ++k) position[k] = c.Field(pos[k], fmt::format("{}.position[{}]", kp, k));
+    Mirror::Point mirror_point;
+    mirror_point.from = p["from"] ? c.mirror->point_ids.at(p["from"].Scalar()) : 0;
+    mirror_point.frame = p["frame"] ? c.mirror->frame_ids.at(p["frame"].Scalar()) : 0;
+    for (int k = 0; k < 3; ++k) {
+      mirror_point.position[static_cast<std::size_t>(k)] =
+          c.ParseKinematic(pos[k], fmt::format("{}.position[{}]", kp, k));
+    }
+    c.mirror->points.push_back(std::move(mirror_point));
+    c.mirror->point_ids[name] = static_cast<int>(c.mirror->points.size()) - 1;
     c.points[name] = AtPlace(c.Where(p, kp), [&] {
       return c.builder->AddPoint(name, from, frame, std::move(position));
     });
