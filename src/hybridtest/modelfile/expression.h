@@ -14,7 +14,8 @@
 // A number may carry a unit: `30 deg`, `600 mm` (converted to SI at parse time; units.h).
 // Functions: sin cos tan exp log sqrt abs tanh asin acos atan sign (one argument), pow min max
 // atan2 (two), if(cond, a, b) (the branch selected by value; its derivative is the branch's).
-// Constant: pi. A table declared in the file is called like a function: Cp(lambda).
+// Constant: pi. A table declared in the file is called like a function: Cp(lambda). In loads,
+// velocity(P, F).x and angular_velocity(A, F).z (kinematics_mirror.h).
 // Names resolve through a SymbolTable: time t [s], coordinates q_k, speeds u_k, slots r_k,
 // time functions, and parameters (replaced by their SI value at parse time). Sub-trees
 // without variables are folded into constants.
