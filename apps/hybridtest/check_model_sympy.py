@@ -147,7 +147,11 @@ class Reader:
         for name, table in (doc.get('tables') or {}).items():
             xs = [self.expr(v) for v in table['x']]
             ys = [self.expr(v) for v in table['y']]
-            self.names[name] = self.table(xs, ys)
+            if 'z' in table:
+                zs = [[self.expr(v) for v in row] for row in table['z']]
+                self.names[name] = self.table2(xs, ys, zs)
+            else:
+                self.names[name] = self.table(xs, ys)
         for name, text in (doc.get('time_functions') or {}).items():
             self.names[name] = self.expr(text)
 
@@ -161,6 +165,29 @@ class Reader:
                 pieces.append((ys[k] + slope * (a - xs[k]), a < xs[k + 1]))
             pieces.append((ys[-1], True))
             return sp.Piecewise(*pieces)
+        return lookup
+
+    @staticmethod
+    def table2(xs, ys, zs):
+        """Bilinear z(x, y) in each cell of the grid, clamped to the grid beyond its edges."""
+        def cells(grid, a):
+            # (cell index, fraction across it, condition), the first that holds wins.
+            out = [(0, sp.S.Zero, a < grid[0])]
+            for k in range(len(grid) - 1):
+                out.append((k, (a - grid[k]) / (grid[k + 1] - grid[k]), a < grid[k + 1]))
+            out.append((len(grid) - 2, sp.S.One, True))
+            return out
+
+        def lookup(a, b):
+            outer = []
+            for i, s, ci in cells(xs, a):
+                inner = []
+                for j, r, cj in cells(ys, b):
+                    z00, z10, z01, z11 = zs[i][j], zs[i + 1][j], zs[i][j + 1], zs[i + 1][j + 1]
+                    inner.append((z00 * (1 - s) * (1 - r) + z10 * s * (1 - r) + z01 * (1 - s) * r
+                                  + z11 * s * r, cj))
+                outer.append((sp.Piecewise(*inner), ci))
+            return sp.Piecewise(*outer)
         return lookup
 
     def expr(self, text):

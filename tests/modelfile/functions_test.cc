@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <tuple>
 
 #include "hybridtest/modelfile/compiled_scalar.h"
 #include "hybridtest/modelfile/units.h"
@@ -218,6 +219,39 @@ TEST(TableTest, InterpolatesLinearlyAndIsConstantBeyondTheEnds) {
     why = err.message;
   }
   EXPECT_NE(why.find("Cp(x)"), std::string::npos) << why;
+}
+
+TEST(TableTest, TwoDimensionalTablesAreBilinearAndClamped) {
+  SymbolTable s = Symbols();
+  // z = x + 10 y + x y on the grid: bilinear reproduces it exactly inside.
+  Table t{{0.0, 1.0, 3.0}, {0.0, 2.0}, {}};
+  for (double x : t.x)
+    for (double y : t.y) t.z.push_back(x + 10 * y + x * y);
+  s.AddTable("Ct", t);
+  const Expression e = Expression::Parse("Ct(q1, q2)", s);
+  auto at = [&](double q1, double q2) {
+    const double q[2] = {q1, q2};
+    return Evaluate(e, Variables<double>{0.0, q, {}, {}, {}});
+  };
+  EXPECT_DOUBLE_EQ(at(0.5, 1.0), 0.5 + 10 + 0.5);
+  EXPECT_DOUBLE_EQ(at(2.0, 0.5), 2.0 + 5 + 1.0);
+  EXPECT_DOUBLE_EQ(at(-1.0, 1.0), at(0.0, 1.0));  // clamped in x
+  EXPECT_DOUBLE_EQ(at(2.0, 5.0), at(2.0, 2.0));   // clamped in y
+  // Partials: 1 + y and 10 + x inside; 0 along a clamped axis.
+  for (const auto& [q1, q2, d1, d2] : {std::tuple{0.5, 1.0, 2.0, 10.5}, {2.0, 0.5, 1.5, 12.0},
+                                       {-1.0, 1.0, 0.0, 10.0}, {2.0, 5.0, 3.0, 0.0}}) {
+    const AutoDiff aq[2] = {AutoDiff(q1, Derivatives::Unit(2, 0)), AutoDiff(q2, Derivatives::Unit(2, 1))};
+    const AutoDiff a = Evaluate(e, Variables<AutoDiff>{AutoDiff(0.0), aq, {}, {}, {}});
+    EXPECT_NEAR(a.derivatives()(0), d1, 1e-14) << q1 << ", " << q2;
+    EXPECT_NEAR(a.derivatives()(1), d2, 1e-14) << q1 << ", " << q2;
+  }
+  std::string why;
+  try {
+    Expression::Parse("Ct(q1)", s);
+  } catch (const ExpressionError& err) {
+    why = err.message;
+  }
+  EXPECT_NE(why.find("two arguments"), std::string::npos) << why;
 }
 
 TEST(UnitsTest, ParsedAndConvertedOrRefused) {

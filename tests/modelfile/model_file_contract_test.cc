@@ -180,6 +180,14 @@ TEST(ModelFileContractTest, TablesAreCheckedWhereTheyAreDeclared) {
   EXPECT_THAT(with("tables:\n  sin: {x: [0, 1], y: [0, 1]}\n"), HasSubstr("built-in function"));
   EXPECT_THAT(with("tables:\n  L: {x: [0, 1], y: [0, 1]}\n"), HasSubstr("already used"));
   EXPECT_THAT(with("tables:\n  f: {x: [0, th], y: [0, 1]}\n"), HasSubstr("a constant"));
+  EXPECT_THAT(with("tables:\n  f: {x: [0, 1], y: [0, 1, 2], z: [[0, 1, 2]]}\n"),
+              AllOf(HasSubstr("tables.f.z"), HasSubstr("2 rows (one per x) of 3 values")));
+  EXPECT_THAT(with("tables:\n  f: {x: [0, 1], y: [0, 1], z: [[0, 1], [2]]}\n"),
+              HasSubstr("tables.f.z[1]"));
+  EXPECT_THAT(with("tables:\n  f: {x: [0, 1], y: [1, 0], z: [[0, 1], [2, 3]]}\n"),
+              HasSubstr("y must increase strictly"));
+  EXPECT_EQ(with("tables:\n  f: {x: [0, 1], y: [0, 1], z: [[0, 1], [2, 3]]}\n"
+                 "forces:\n  - {name: a, point: P, value: [\"f(x, th)\", 0, 0]}\n"), "no error");
 }
 
 TEST(ModelFileContractTest, RepeatExpandsToTheSameModelAsTheCopies) {

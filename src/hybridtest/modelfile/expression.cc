@@ -23,6 +23,20 @@ void SymbolTable::AddTable(std::string name, Table table) {
   Add({std::move(name), Op::kTable, static_cast<int>(tables_->size()) - 1, 0.0});
 }
 
+int GridCell(const std::vector<double>& grid, double at, int* clamped) {
+  const int last = static_cast<int>(grid.size()) - 2;
+  if (!(at > grid.front())) {
+    *clamped = -1;
+    return 0;
+  }
+  if (at >= grid.back()) {
+    *clamped = 1;
+    return last;
+  }
+  *clamped = 0;
+  return static_cast<int>(std::upper_bound(grid.begin(), grid.end(), at) - grid.begin()) - 1;
+}
+
 void Table::Segment(double at, double* intercept, double* slope) const {
   if (!(at > x.front())) {  // also NaN: the first value
     *intercept = y.front();
@@ -388,14 +402,27 @@ class Parser {
       if (const Symbol* table = symbols_.Find(name); table != nullptr && table->kind == Op::kTable) {
         const DepthGuard guard(*this);
         ++pos_;
+        const Table& t = (*symbols_.tables())[static_cast<std::size_t>(table->index)];
         const int a = ParseExpr();
+        if (t.two_d()) {
+          if (!Accept(",")) {
+            token_start_ = name_start;
+            Fail(name, fmt::format("the 2-D table {0} takes two arguments: {0}(x, y)", name));
+          }
+          const int b = ParseExpr();
+          if (!Accept(")")) {
+            token_start_ = name_start;
+            Fail(name, fmt::format("the 2-D table {0} takes two arguments: {0}(x, y); close it "
+                                   "with ')'", name));
+          }
+          return Push({Op::kTable2, 0, table->index, a, b, -1});
+        }
         if (!Accept(")")) {
           token_start_ = name_start;
           Fail(name, fmt::format("the table {0} takes one argument: {0}(x); close it with ')'", name));
         }
         if (e_.nodes_[a].op == Op::kConst) {  // folded: a table at a constant
           double intercept = 0.0, slope = 0.0;
-          const Table& t = (*symbols_.tables())[static_cast<std::size_t>(table->index)];
           t.Segment(e_.nodes_[a].value, &intercept, &slope);
           return Push({Op::kConst, intercept + slope * e_.nodes_[a].value, -1, -1, -1, -1});
         }
@@ -487,7 +514,7 @@ Expression Expression::Parse(std::string_view text, const SymbolTable& symbols) 
     return map[i] = static_cast<int>(out.nodes_.size()) - 1;
   };
   out.root_ = copy(copy, e.root_);
-  if (out.Uses(Op::kTable)) out.tables_ = symbols.tables();
+  if (out.Uses(Op::kTable) || out.Uses(Op::kTable2)) out.tables_ = symbols.tables();
   if (out.Uses(Op::kVelocity) || out.Uses(Op::kAngularVelocity)) out.mirror_ = symbols.mirror();
   return out;
 }

@@ -34,6 +34,7 @@ enum class Op {
   kLt, kLe, kGt, kGe,  // comparisons: 1 or 0 (the condition of an `if`)
   kIf,                 // if(a, b, c): b where a ≠ 0, else c
   kTable,              // table `index` at a: piecewise-linear interpolation
+  kTable2,             // 2-D table `index` at (a, b): bilinear interpolation
   kVelocity,           // velocity of point `index` in N; value = 3 · frame + component
   kAngularVelocity,    // angular velocity of frame `index` in N; value as for kVelocity
 };
@@ -46,10 +47,17 @@ struct Mirror;
 // increasing, at least two), constant beyond the ends (the end values, slope 0).
 struct Table {
   std::vector<double> x, y;
-  // The segment's value and slope at `at`: y = value + slope · (at − x0) is the caller's job;
-  // here value0 + slope · at.
+  // 2-D tables: z(x, y) on the grid x × y, row-major (z[i · |y| + j] at x_i, y_j), bilinear in
+  // each cell, clamped to the grid beyond its edges. Empty for a 1-D table y(x).
+  std::vector<double> z;
+  bool two_d() const { return !z.empty(); }
+  // 1-D: the value at `at` is intercept + slope · at on its segment (slope 0 beyond the ends).
   void Segment(double at, double* intercept, double* slope) const;
 };
+
+// The cell of `grid` (strictly increasing) holding `at`: index i of its left edge, and whether
+// `at` is clamped to the left (−1) or right (+1) edge of the grid, or inside (0).
+int GridCell(const std::vector<double>& grid, double at, int* clamped);
 
 // Whether `name` is one of the built-in functions (sin, atan2, if, ...).
 bool IsFunctionName(std::string_view name);

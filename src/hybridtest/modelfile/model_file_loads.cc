@@ -60,7 +60,7 @@ void ReadTables(FileContext& c, const YAML::Node& node) {
                                     "name", where, name));
     }
     c.in.RequireMapping(kv.second, kp);
-    c.in.CheckKeys(kv.second, kp, {"x", "y", "description"});
+    c.in.CheckKeys(kv.second, kp, {"x", "y", "z", "description"});
     Table table;
     for (const char* axis : {"x", "y"}) {
       const YAML::Node list = c.Require(kv.second, axis, kp, "a list of numbers [a, b, ...]");
@@ -71,16 +71,38 @@ void ReadTables(FileContext& c, const YAML::Node& node) {
                                  "a number (numbers, units and parameters)"));
       }
     }
-    if (table.x.size() < 2 || table.x.size() != table.y.size()) {
-      throw ConfigError(fmt::format("{}: {} x and {} y values; give at least two points and as "
-                                    "many y as x", c.Where(kv.second, kp), table.x.size(),
-                                    table.y.size()));
+    const bool two_d = kv.second["z"].IsDefined();
+    if (two_d) {
+      // z(x, y): one row per x, one entry per y.
+      const YAML::Node rows = kv.second["z"];
+      if (!rows.IsSequence() || rows.size() != table.x.size()) {
+        c.in.ThrowValue(rows, kp + ".z", fmt::format("{} rows (one per x) of {} values (one per y)",
+                                                     table.x.size(), table.y.size()));
+      }
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        const std::string row = fmt::format("{}.z[{}]", kp, i);
+        if (!rows[i].IsSequence() || rows[i].size() != table.y.size()) {
+          c.in.ThrowValue(rows[i], row, fmt::format("a row of {} values (one per y)", table.y.size()));
+        }
+        for (std::size_t j = 0; j < rows[i].size(); ++j) {
+          table.z.push_back(c.Constant(rows[i][j], fmt::format("{}[{}]", row, j), "a number"));
+        }
+      }
     }
-    for (std::size_t i = 1; i < table.x.size(); ++i) {
-      if (!(table.x[i] > table.x[i - 1])) {
-        throw ConfigError(fmt::format("{}: x must increase strictly; x[{}] = {:g} follows {:g}",
-                                      c.Where(kv.second["x"][i], fmt::format("{}.x[{}]", kp, i)),
-                                      i, table.x[i], table.x[i - 1]));
+    if (table.x.size() < 2 || (two_d ? table.y.size() < 2 : table.x.size() != table.y.size())) {
+      throw ConfigError(fmt::format("{}: {} x and {} y values; give at least two points and {}",
+                                    c.Where(kv.second, kp), table.x.size(), table.y.size(),
+                                    two_d ? "at least two y" : "as many y as x"));
+    }
+    for (const char* axis : {"x", "y"}) {
+      const std::vector<double>& g = std::string(axis) == "x" ? table.x : table.y;
+      if (std::string(axis) == "y" && !two_d) break;
+      for (std::size_t i = 1; i < g.size(); ++i) {
+        if (!(g[i] > g[i - 1])) {
+          throw ConfigError(fmt::format("{}: {} must increase strictly; {}[{}] = {:g} follows {:g}",
+                                        c.Where(kv.second[axis][i], fmt::format("{}.{}[{}]", kp, axis, i)),
+                                        axis, axis, i, g[i], g[i - 1]));
+        }
       }
     }
     if (c.symbols.Find(name) != nullptr) {
