@@ -18,6 +18,7 @@ from the file.
 """
 
 import json
+import pathlib
 import re
 import sys
 
@@ -120,9 +121,29 @@ def expand_repeats(doc):
     return doc
 
 
+def is_number(text):
+    try:
+        float(text)
+        return True
+    except ValueError:
+        return False
+
+
+def read_csv(path):
+    """Rows of cells (strings) of a CSV table, comments (#) and blank lines dropped."""
+    rows = []
+    with open(path, encoding='utf-8') as f:
+        for line in f:
+            line = line.split('#', 1)[0].strip()
+            if line.strip(',; \t'):
+                rows.append([c.strip() for c in re.split(r'[,;\t]', line)])
+    return rows
+
+
 class Reader:
-    def __init__(self, doc):
+    def __init__(self, doc, directory=pathlib.Path('.')):
         self.doc = doc
+        self.directory = directory
         self.t = me.dynamicsymbols._t
         self.names = dict(FUNCTIONS)
         self.names['t'] = self.t
@@ -145,6 +166,19 @@ class Reader:
         for k, s in enumerate(slots):
             self.names[s['name']] = self.r[k]
         for name, table in (doc.get('tables') or {}).items():
+            if 'csv' in table or 'csv_grid' in table:
+                rows = read_csv(self.directory / table.get('csv', table.get('csv_grid')))
+                if 'csv' in table:
+                    rows = [r for r in rows if all(is_number(c) for c in r)]
+                    xs = [sp.Float(r[0]) for r in rows]
+                    ys = [sp.Float(r[1]) for r in rows]
+                    self.names[name] = self.table(xs, ys)
+                else:
+                    ys = [sp.Float(c) for c in rows[0][1:]]
+                    xs = [sp.Float(r[0]) for r in rows[1:]]
+                    zs = [[sp.Float(c) for c in r[1:]] for r in rows[1:]]
+                    self.names[name] = self.table2(xs, ys, zs)
+                continue
             xs = [self.expr(v) for v in table['x']]
             ys = [self.expr(v) for v in table['y']]
             if 'z' in table:
@@ -306,7 +340,7 @@ def run():
         doc = yaml.safe_load(f)
     with open(sys.argv[2], encoding='utf-8') as f:
         states = json.load(f)
-    reader = Reader(expand_repeats(doc))
+    reader = Reader(expand_repeats(doc), pathlib.Path(sys.argv[1]).parent)
     M, F = reader.build()
     n = len(reader.q)
     Q = sp.symbols(f'Q0:{n}')

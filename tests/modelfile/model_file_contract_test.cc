@@ -6,6 +6,10 @@
 
 #include <fmt/core.h>
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <random>
 
@@ -295,6 +299,52 @@ TEST(ModelFileContractTest, VelocitiesAreForLoadsOnly) {
               HasSubstr("component"));
   EXPECT_EQ(ErrorOf(Pendulum("  L: 0.6", "forces:\n  - {name: f, point: P, value: [\"-velocity(P, A).y * angular_velocity(A, N).z\", 0, 0]}\n")),
             "no error");
+}
+
+TEST(ModelFileContractTest, CsvTablesEqualTheSameTablesInline) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                    ("hybridtest-csv-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "cp.csv") << "lambda, Cp\n0, 0\n1, 2  # peak\n3, 1\n";
+  std::ofstream(dir / "ct.csv") << "x\\y, 0, 2\n0, 0, 20\n1, 1, 23\n3, 3, 29\n";
+  std::ofstream(dir / "bad.csv") << "0, 0\n1, two\n";
+  const std::string loads =
+      "forces:\n  - {name: a, point: P, value: [\"f(x) + g(x, th)\", 0, 0]}\n";
+  auto build = [&](const std::string& tables) {
+    const std::string text = Pendulum("  L: 0.6", tables + loads);
+    const std::filesystem::path file = dir / "m.yaml";
+    std::ofstream(file) << text;
+    const ModelFile f = LoadModelFile(file.string());
+    return BuildModelFile(f, f.parameters);
+  };
+  const models::BuiltModel inline_tables = build(
+      "tables:\n  f: {x: [0, 1, 3], y: [0, 2, 1]}\n"
+      "  g: {x: [0, 1, 3], y: [0, 2], z: [[0, 20], [1, 23], [3, 29]]}\n");
+  const models::BuiltModel csv_tables =
+      build("tables:\n  f: {csv: cp.csv}\n  g: {csv_grid: ct.csv}\n");
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> d(-1, 4);
+  for (int i = 0; i < 10; ++i) {
+    Eigen::VectorXd x(4), a(4), b(4);
+    x << d(rng), d(rng), d(rng), d(rng);
+    multibody::Data<double> da(inline_tables.model), db(csv_tables.model);
+    multibody::CalcStateDerivative<double>(inline_tables.model, da, 0.0, x, Eigen::VectorXd(), a);
+    multibody::CalcStateDerivative<double>(csv_tables.model, db, 0.0, x, Eigen::VectorXd(), b);
+    EXPECT_EQ(a, b);
+  }
+  auto error = [&](const std::string& tables) {
+    try {
+      build(tables);
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_THAT(error("tables:\n  f: {csv: nowhere.csv}\n  g: {csv_grid: ct.csv}\n"),
+              AllOf(HasSubstr("tables.f.csv"), HasSubstr("cannot read")));
+  EXPECT_THAT(error("tables:\n  f: {csv: bad.csv}\n  g: {csv_grid: ct.csv}\n"),
+              AllOf(HasSubstr("bad.csv:2"), HasSubstr("not a row of numbers")));
+  std::filesystem::remove_all(dir);
 }
 
 TEST(ModelFileContractTest, DeepExpressionsAreRefusedWithThePlace) {

@@ -4,6 +4,8 @@
 
 #include <array>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/modelfile/compiled_scalar.h"
@@ -48,6 +50,65 @@ SlotUse SlotUsage(const std::vector<Node>& nodes, int i) {
 }
 }  // namespace
 
+namespace {
+// The numbers of a CSV file next to the model file: one vector per line that has any (a first
+// line that is not numbers is a header and skipped; `#` starts a comment). Throws ConfigError
+// naming file:line.
+std::vector<std::vector<double>> ReadCsv(const FileContext& c, const YAML::Node& node,
+                                         const std::string& kp, bool grid) {
+  const std::string name = c.in.String(node, kp, "a CSV file next to the model file");
+  const std::filesystem::path path =
+      std::filesystem::path(c.in.path()).parent_path() / std::filesystem::path(name);
+  std::ifstream file(path);
+  if (!file) {
+    throw ConfigError(fmt::format("{} = '{}': cannot read {}; give a CSV file next to the model "
+                                  "file", c.Where(node, kp), name, path.string()));
+  }
+  std::vector<std::vector<double>> rows;
+  std::string line;
+  std::size_t bytes = 0;
+  for (int number = 1; std::getline(file, line); ++number) {
+    bytes += line.size() + 1;
+    if (bytes > kMaxConfigBytes) {
+      throw ConfigError(fmt::format("{}: larger than {} bytes", path.string(), kMaxConfigBytes));
+    }
+    if (const std::size_t hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+    if (line.find_first_not_of(" \t\r,;") == std::string::npos) continue;
+    std::vector<double> row;
+    bool numbers = true;
+    std::size_t start = 0;
+    for (std::size_t cell = 0;; ++cell) {
+      const std::size_t end = line.find_first_of(",;\t", start);
+      std::string text = line.substr(start, end == std::string::npos ? std::string::npos : end - start);
+      text.erase(0, text.find_first_not_of(" \r"));
+      text.erase(text.find_last_not_of(" \r") + 1);
+      char* stop = nullptr;
+      const double v = std::strtod(text.c_str(), &stop);
+      if (grid && rows.empty() && cell == 0) {
+        row.push_back(0.0);  // the grid's corner cell: a label or nothing
+      } else if (text.empty() || *stop != '\0' || !std::isfinite(v)) {
+        numbers = false;
+        row.push_back(0.0);
+      } else {
+        row.push_back(v);
+      }
+      if (end == std::string::npos) break;
+      start = end + 1;
+    }
+    if (!numbers) {
+      if (rows.empty() && !grid) continue;  // a header line
+      throw ConfigError(fmt::format("{}:{}: '{}' is not a row of numbers; a {} has {}",
+                                    path.string(), number, line, grid ? "grid CSV" : "CSV table",
+                                    grid ? "a first row of y values after a corner cell, then "
+                                           "rows of x followed by its z values"
+                                         : "rows of x, y"));
+    }
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+}  // namespace
+
 void ReadTables(FileContext& c, const YAML::Node& node) {
   if (!node.IsDefined() || node.IsNull()) return;
   c.in.RequireMapping(node, "tables");
@@ -60,9 +121,38 @@ void ReadTables(FileContext& c, const YAML::Node& node) {
                                     "name", where, name));
     }
     c.in.RequireMapping(kv.second, kp);
-    c.in.CheckKeys(kv.second, kp, {"x", "y", "z", "description"});
+    c.in.CheckKeys(kv.second, kp, {"x", "y", "z", "csv", "csv_grid", "description"});
     Table table;
-    for (const char* axis : {"x", "y"}) {
+    const bool csv = kv.second["csv"].IsDefined(), csv_grid = kv.second["csv_grid"].IsDefined();
+    if (csv || csv_grid) {
+      if (csv && csv_grid) {
+        throw ConfigError(fmt::format("{}: give `csv` (rows of x, y) or `csv_grid` (a grid z(x, "
+                                      "y)), not both", c.Where(kv.second, kp)));
+      }
+      const std::string key = csv ? "csv" : "csv_grid";
+      const auto rows = ReadCsv(c, kv.second[key], kp + "." + key, csv_grid);
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        const std::size_t want = csv ? 2 : rows.front().size();
+        if (rows[i].size() != want) {
+          throw ConfigError(fmt::format("{}: row {} of the numbers has {} values, expected {}",
+                                        c.Where(kv.second[key], kp + "." + key), i + 1,
+                                        rows[i].size(), want));
+        }
+        if (csv) {
+          table.x.push_back(rows[i][0]);
+          table.y.push_back(rows[i][1]);
+        } else if (i == 0) {
+          table.y.assign(rows[i].begin() + 1, rows[i].end());
+        } else {
+          table.x.push_back(rows[i][0]);
+          table.z.insert(table.z.end(), rows[i].begin() + 1, rows[i].end());
+        }
+      }
+    }
+    const std::vector<std::string> inline_axes =
+        csv || csv_grid ? std::vector<std::string>{} : std::vector<std::string>{"x", "y"};
+    for (const std::string& axis_name : inline_axes) {
+      const char* axis = axis_name.c_str();
       const YAML::Node list = c.Require(kv.second, axis, kp, "a list of numbers [a, b, ...]");
       if (!list.IsSequence()) c.in.ThrowValue(list, kp + "." + axis, "a list of numbers [a, b, ...]");
       std::vector<double>& out = std::string(axis) == "x" ? table.x : table.y;
@@ -71,8 +161,8 @@ void ReadTables(FileContext& c, const YAML::Node& node) {
                                  "a number (numbers, units and parameters)"));
       }
     }
-    const bool two_d = kv.second["z"].IsDefined();
-    if (two_d) {
+    const bool two_d = kv.second["z"].IsDefined() || csv_grid;
+    if (two_d && !csv_grid) {
       // z(x, y): one row per x, one entry per y.
       const YAML::Node rows = kv.second["z"];
       if (!rows.IsSequence() || rows.size() != table.x.size()) {
@@ -99,9 +189,11 @@ void ReadTables(FileContext& c, const YAML::Node& node) {
       if (std::string(axis) == "y" && !two_d) break;
       for (std::size_t i = 1; i < g.size(); ++i) {
         if (!(g[i] > g[i - 1])) {
+          const std::string where = csv || csv_grid
+                                        ? c.Where(kv.second, kp)
+                                        : c.Where(kv.second[axis][i], fmt::format("{}.{}[{}]", kp, axis, i));
           throw ConfigError(fmt::format("{}: {} must increase strictly; {}[{}] = {:g} follows {:g}",
-                                        c.Where(kv.second[axis][i], fmt::format("{}.{}[{}]", kp, axis, i)),
-                                        axis, axis, i, g[i], g[i - 1]));
+                                        where, axis, axis, i, g[i], g[i - 1]));
         }
       }
     }
