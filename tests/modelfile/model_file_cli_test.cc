@@ -119,6 +119,18 @@ TEST(ModelFileCliTest, CheckModelNamesTheCoordinateOfASingularMassMatrix) {
   EXPECT_NE(out.find("involves forgotten: give it mass or inertia"), std::string::npos) << out;
 }
 
+TEST(ModelFileCliTest, CheckModelSaysWhenWIsSingular) {
+  const fs::path f = TempDir() / "singular_w.yaml";
+  std::ofstream(f) << "name: singular_w\n"
+                      "coordinates:\n  - {name: x, unit: m}\n  - {name: y, unit: m}\n"
+                      "kinematical_equations:\n  - [1, 0]\n  - [1, 0]\n"
+                      "points:\n  - {name: P, position: [x, y, 0]}\n"
+                      "particles:\n  - {name: p, point: P, mass: 1}\n";
+  const auto [status, out] = Hybridtest("check-model --no-sympy " + f.string());
+  EXPECT_EQ(status, 1) << out;
+  EXPECT_NE(out.find("W(q) of q̇ = W(q) u is singular"), std::string::npos) << out;
+}
+
 TEST(ModelFileCliTest, CheckModelReportsTheSympyTimeLimitInWords) {
   const auto [status, out] = Hybridtest(fmt::format(
       "check-model {}/examples/models/double_pendulum.yaml --sympy-timeout 0.001", kSource));
