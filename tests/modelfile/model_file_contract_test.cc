@@ -165,6 +165,8 @@ TEST(ModelFileContractTest, InertiasMustBePhysical) {
   EXPECT_EQ(with("[0, 0.5, 0.5]"), "no error");   // a slender rod: equality
   EXPECT_EQ(with("[0.25, 0.25, 0.5]"), "no error");  // a thin disc: equality
   EXPECT_EQ(with("[[2, 0.5, 0], [0.5, 2, 0], [0, 0, 3]]"), "no error");
+  EXPECT_THAT(with("[pow(L, 2), 1, 1]"), AllOf(HasSubstr("bodies[0].inertia"), HasSubstr("must be quoted")));
+  EXPECT_EQ(with("[\"pow(L, 2)\", 0.3, 0.3]"), "no error");
 }
 
 TEST(ModelFileContractTest, SlotInAPositionSaysWhereSlotsGo) {

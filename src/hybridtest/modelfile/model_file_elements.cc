@@ -277,7 +277,8 @@ void ReadMasses(FileContext& c, const YAML::Node& particles, const YAML::Node& b
                                     "the inertia about the mass centre in `frame`, [Ixx, Iyy, "
                                     "Izz] or three rows, in kg·m² (write [0, 0, 0] for none)");
     Eigen::Matrix3d I;
-    if (in.IsSequence() && in.size() == 3 && in[0].IsScalar()) {
+    if (in.IsSequence() && in.size() > 0 && in[0].IsScalar()) {
+      c.RequireVector3(in, kp + ".inertia", "[Ixx, Iyy, Izz] or three rows [[...], [...], [...]]");
       I.setZero();
       for (int k = 0; k < 3; ++k) {
         I(k, k) = c.Constant(in[k], fmt::format("{}.inertia[{}]", kp, k), "a principal moment in kg·m²");
