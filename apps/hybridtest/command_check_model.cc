@@ -8,6 +8,8 @@
 #include <fmt/format.h>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+#include <cstdio>
 #include <random>
 
 #include "command.h"
@@ -24,7 +26,23 @@ struct CheckModelOptions {
   int states = 20;
   unsigned seed = 1;
   bool no_sympy = false;
+  int sympy_states = 5;      // states compared with SymPy
+  double tolerance = 1e-9;   // relative
+  double sympy_timeout = 600.0;  // [s]
 };
+
+// The coordinates that take part in the direction `v` (an eigenvector of a singular M or W):
+// those with at least 30 % of its largest component.
+std::string CoordinatesIn(const multibody::Model& model, const Eigen::VectorXd& v) {
+  std::string out;
+  const double big = v.cwiseAbs().maxCoeff();
+  for (int k = 0; k < v.size(); ++k) {
+    if (std::abs(v(k)) >= 0.3 * big) {
+      out += fmt::format("{}{}", out.empty() ? "" : ", ", model.coordinates()[k].name);
+    }
+  }
+  return out;
+}
 
 // A random state: q_k within ±1 rad for angles, ±0.1 in other units; u within ±1; r within
 // ±100 in the slot's unit; t in [0, 2] s.
@@ -84,6 +102,7 @@ void RunCheckModel(const CheckModelOptions& opt) {
   std::vector<SympyState> states;
   std::vector<Eigen::MatrixXd> M;
   std::vector<Eigen::VectorXd> g;
+  std::vector<Eigen::VectorXd> xdot;
   double worst_ratio = 1.0;
   bool ok = true;
   for (int i = 0; i < opt.states; ++i) {
@@ -95,14 +114,33 @@ void RunCheckModel(const CheckModelOptions& opt) {
     multibody::CalcForcing<double>(model, data, s.r);
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(data.M);
     const double lo = eig.eigenvalues().minCoeff(), hi = eig.eigenvalues().maxCoeff();
+    if (!model.has_identity_kinematics()) {
+      const Eigen::JacobiSVD<Eigen::MatrixXd> svd(data.W, Eigen::ComputeFullV);
+      const Eigen::VectorXd sv = svd.singularValues();
+      if (!(sv(sv.size() - 1) > 1e-12 * sv(0))) {
+        fmt::print("check: W(q) of q̇ = W(q) u is singular at random state {} (q = [{}]) in the "
+                   "direction of {}: the speeds cannot be found from q̇ there; choose other "
+                   "coordinates or speeds (e.g. another Euler sequence)\n", i,
+                   fmt::join(s.q.data(), s.q.data() + s.q.size(), ", "),
+                   CoordinatesIn(model, svd.matrixV().col(sv.size() - 1)));
+        ok = false;
+        break;
+      }
+    }
     if (!(lo > 1e-12 * hi) || !data.g.allFinite()) {
+      const std::string which =
+          data.M.allFinite() ? CoordinatesIn(model, eig.eigenvectors().col(0)) : "(not finite)";
       fmt::print("check: M is not positive definite at random state {} (q = [{}]): eigenvalues "
-                 "{:g} … {:g}; a coordinate carries no mass or inertia, or the coordinates are "
-                 "singular there\n", i, fmt::join(s.q.data(), s.q.data() + s.q.size(), ", "),
-                 lo, hi);
+                 "{:g} … {:g}; the direction of the smallest involves {}: give {} mass or "
+                 "inertia, or check that the coordinates are not singular there\n", i,
+                 fmt::join(s.q.data(), s.q.data() + s.q.size(), ", "), lo, hi, which,
+                 which.find(',') == std::string::npos ? "it" : "them");
       ok = false;
       break;
     }
+    Eigen::VectorXd xd(model.num_states());
+    multibody::CalcStateDerivative<double>(model, data, s.t, x, s.r, xd);
+    xdot.push_back(xd);
     worst_ratio = std::min(worst_ratio, lo / hi);
     states.push_back(s);
     M.push_back(data.M);
@@ -124,22 +162,37 @@ void RunCheckModel(const CheckModelOptions& opt) {
   } else if (!(script = FindSympyReader(&why)) || (python = FindPythonWithSympy(&why)).empty()) {
     fmt::print("sympy: skipped: {}\n", why);
   } else {
-    const std::size_t count = std::min<std::size_t>(states.size(), 5);
+    const std::size_t count =
+        std::min<std::size_t>(states.size(), static_cast<std::size_t>(std::max(1, opt.sympy_states)));
+    fmt::print("sympy: deriving the model with KanesMethod at {} states (may take a minute for "
+               "large models; --no-sympy skips it)...\n", count);
+    std::fflush(stdout);
     const std::vector<SympyState> some(states.begin(), states.begin() + static_cast<long>(count));
-    const SympyResult ref = RunSympyReader(python, *script, opt.file, some);
-    double worst_M = 0.0, worst_g = 0.0;
-    for (std::size_t i = 0; i < count && i < ref.M.size() && i < ref.g.size(); ++i) {
-      if (ref.M[i].rows() != M[i].rows() || ref.g[i].size() != g[i].size()) {
+    const SympyResult ref = RunSympyReader(python, *script, opt.file, some, opt.sympy_timeout);
+    if (ref.M.size() != count || ref.g.size() != count || ref.qdot.size() != count) {
+      throw Error(fmt::format("the SymPy reader answered for {} states, not {}", ref.M.size(), count));
+    }
+    double worst_M = 0.0, worst_g = 0.0, worst_xdot = 0.0;
+    for (std::size_t i = 0; i < count; ++i) {
+      if (ref.M[i].rows() != M[i].rows() || ref.g[i].size() != g[i].size() ||
+          ref.qdot[i].size() != g[i].size()) {
         throw Error("the SymPy reader returned matrices of another size than the engine's");
       }
       worst_M = std::max(worst_M, (ref.M[i] - M[i]).cwiseAbs().maxCoeff() /
                                       std::max(1e-300, ref.M[i].cwiseAbs().maxCoeff()));
       worst_g = std::max(worst_g, (ref.g[i] - g[i]).cwiseAbs().maxCoeff() /
                                       std::max(1.0, ref.g[i].cwiseAbs().maxCoeff()));
+      // ẋ from SymPy's own M, g and q̇ = W(q) u.
+      Eigen::VectorXd x_ref(2 * ref.g[i].size());
+      x_ref << ref.qdot[i], ref.M[i].ldlt().solve(ref.g[i]);
+      worst_xdot = std::max(worst_xdot, (x_ref - xdot[i]).cwiseAbs().maxCoeff() /
+                                            std::max(1.0, x_ref.cwiseAbs().maxCoeff()));
     }
-    const bool agree = worst_M < 1e-9 && worst_g < 1e-9;
+    const bool agree = worst_M < opt.tolerance && worst_g < opt.tolerance &&
+                       worst_xdot < opt.tolerance;
     fmt::print("sympy: KanesMethod from the same file at {} states: worst relative difference "
-               "M {:.3g}, g {:.3g}  {}\n", count, worst_M, worst_g, agree ? "ok" : "DIFFERENT");
+               "M {:.3g}, g {:.3g}, ẋ {:.3g} (tolerance {:g})  {}\n", count, worst_M, worst_g,
+               worst_xdot, opt.tolerance, agree ? "ok" : "DIFFERENT");
     ok = ok && agree;
   }
   if (!ok) throw Error(fmt::format("{}: the model file builds, but a check failed (above)", opt.file));
@@ -153,6 +206,12 @@ void AddCheckModelCommand(CLI::App& root) {
   cmd->add_option("--states", opt->states, "random states for the checks (default 20)");
   cmd->add_option("--seed", opt->seed, "random seed (default 1)");
   cmd->add_flag("--no-sympy", opt->no_sympy, "skip the SymPy cross-check");
+  cmd->add_option("--sympy-states", opt->sympy_states,
+                  "states compared with SymPy (default 5, at most --states)");
+  cmd->add_option("--tolerance", opt->tolerance,
+                  "largest relative difference from SymPy accepted (default 1e-9)");
+  cmd->add_option("--sympy-timeout", opt->sympy_timeout,
+                  "seconds the SymPy half may take (default 600; 0: no limit)");
   cmd->callback([opt] { RunCheckModel(*opt); });
 }
 

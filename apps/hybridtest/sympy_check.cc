@@ -2,7 +2,11 @@
 #include "sympy_check.h"
 
 #include <fmt/core.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <cstring>
+#include <iterator>
 
 #include <cstdio>
 #include <cstdlib>
@@ -36,6 +40,33 @@ std::string Capture(const std::string& command, int* status) {
 }
 }  // namespace
 
+std::string DescribeStatus(int status) {
+  if (status == -1) return "it could not be started";
+  if (WIFEXITED(status)) {
+    const int code = WEXITSTATUS(status);
+    if (code == 127) return "exit code 127 (the interpreter or the script was not found)";
+    return fmt::format("exit code {}", code);
+  }
+  if (WIFSIGNALED(status)) {
+    return fmt::format("killed by signal {} ({})", WTERMSIG(status), ::strsignal(WTERMSIG(status)));
+  }
+  return fmt::format("wait status {}", status);
+}
+
+std::string LastLines(const std::string& text, int lines) {
+  std::size_t end = text.find_last_not_of(" \n\r\t");
+  if (end == std::string::npos) return "(nothing on standard error)";
+  std::size_t start = end + 1;
+  for (int i = 0; i < lines && start > 0; ++i) {
+    const std::size_t nl = text.rfind('\n', start - 1);
+    start = nl == std::string::npos ? 0 : nl;
+    if (start == 0) break;
+  }
+  std::string out = text.substr(start, end + 1 - start);
+  while (!out.empty() && out.front() == '\n') out.erase(out.begin());
+  return out;
+}
+
 std::optional<std::string> FindSympyReader(std::string* why) {
   std::error_code ec;
   const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
@@ -64,7 +95,8 @@ std::string FindPythonWithSympy(std::string* why) {
 }
 
 SympyResult RunSympyReader(const std::string& python, const std::string& script,
-                           const std::string& model_file, const std::vector<SympyState>& states) {
+                           const std::string& model_file, const std::vector<SympyState>& states,
+                           double timeout_s) {
   nlohmann::json in = nlohmann::json::array();
   for (const SympyState& s : states) {
     in.push_back({{"t", s.t},
@@ -75,14 +107,29 @@ SympyResult RunSympyReader(const std::string& python, const std::string& script,
   const std::filesystem::path states_file = std::filesystem::temp_directory_path() /
       fmt::format("hybridtest-check-model-{}.json", ::getpid());
   std::ofstream(states_file) << in.dump();
+  const std::filesystem::path errors_file = std::filesystem::temp_directory_path() /
+      fmt::format("hybridtest-check-model-{}.err", ::getpid());
   int status = 0;
-  const std::string out = Capture(fmt::format("{} -B {} {} {}", Quote(python), Quote(script),
-                                              Quote(model_file), Quote(states_file.string())),
+  const std::string limit = timeout_s > 0.0 ? fmt::format("timeout {:g} ", timeout_s) : "";
+  const std::string out = Capture(fmt::format("{}{} -B {} {} {} 2>{}", limit, Quote(python), Quote(script),
+                                              Quote(model_file), Quote(states_file.string()),
+                                              Quote(errors_file.string())),
                                   &status);
+  std::string errors;
+  {
+    std::ifstream err(errors_file);
+    errors.assign(std::istreambuf_iterator<char>(err), std::istreambuf_iterator<char>());
+  }
   std::filesystem::remove(states_file);
+  std::filesystem::remove(errors_file);
+  if (timeout_s > 0.0 && WIFEXITED(status) && WEXITSTATUS(status) == 124) {
+    throw Error(fmt::format("the SymPy reader did not finish within {:g} s on {}; raise "
+                            "--sympy-timeout, compare fewer states (--sympy-states) or skip it "
+                            "with --no-sympy", timeout_s, model_file));
+  }
   if (status != 0) {
-    throw Error(fmt::format("the SymPy reader failed (exit status {}) on {}; its message is "
-                            "above", status, model_file));
+    throw Error(fmt::format("the SymPy reader {} failed on {}: {}; its message: {}", script,
+                            model_file, DescribeStatus(status), LastLines(errors, 8)));
   }
   const nlohmann::json j = nlohmann::json::parse(out, nullptr, false);
   if (j.is_discarded() || !j.contains("M") || !j.contains("g")) {
@@ -96,9 +143,13 @@ SympyResult RunSympyReader(const std::string& python, const std::string& script,
       for (int k = 0; k < n; ++k) M(i, k) = m[i][k].get<double>();
     result.M.push_back(M);
   }
-  for (const auto& g : j["g"]) {
-    const std::vector<double> v = g.get<std::vector<double>>();
-    result.g.push_back(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));
+  for (const char* key : {"g", "qdot"}) {
+    if (!j.contains(key)) throw Error(fmt::format("the SymPy reader printed no '{}'", key));
+    for (const auto& g : j[key]) {
+      const std::vector<double> v = g.get<std::vector<double>>();
+      (std::string(key) == "g" ? result.g : result.qdot)
+          .push_back(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));
+    }
   }
   return result;
 }

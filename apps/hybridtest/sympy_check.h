@@ -21,7 +21,13 @@ struct SympyState {
 struct SympyResult {
   std::vector<Eigen::MatrixXd> M;  // one (n × n) per state
   std::vector<Eigen::VectorXd> g;  // one (n) per state
+  std::vector<Eigen::VectorXd> qdot;  // one (n) per state: q̇ = W(q) u
 };
+
+// A wait status as words: "exit code 3", "killed by signal 9 (Killed)".
+std::string DescribeStatus(int status);
+// The last `lines` lines of `text` (a script's standard error), trimmed.
+std::string LastLines(const std::string& text, int lines);
 
 // The script's path beside the running binary, or nullopt (with the reason in `why`).
 std::optional<std::string> FindSympyReader(std::string* why);
@@ -30,7 +36,9 @@ std::optional<std::string> FindSympyReader(std::string* why);
 std::string FindPythonWithSympy(std::string* why);
 
 // Runs the reader on `model_file` at `states`. Throws hybridtest::Error if the script fails.
+// `timeout_s` > 0 stops the script after that many seconds (coreutils `timeout`).
 SympyResult RunSympyReader(const std::string& python, const std::string& script,
-                           const std::string& model_file, const std::vector<SympyState>& states);
+                           const std::string& model_file, const std::vector<SympyState>& states,
+                           double timeout_s = 0.0);
 
 }  // namespace hybridtest::app

@@ -90,6 +90,56 @@ TEST(ModelFileCliTest, CheckModelExitsTwoNamingFileLineAndTheFixOnAnInvalidFile)
   EXPECT_NE(out.find("did you mean l"), std::string::npos) << out;
 }
 
+TEST(ModelFileCliTest, CheckModelExitsTwoOnABodyWithoutMassOrASlotWithoutStiffness) {
+  const std::string head = "name: bad\n"                                          // 1
+                           "coordinates:\n  - {name: x, unit: m}\n"              // 2-3
+                           "points:\n  - {name: P, position: [x, 0, 0]}\n";      // 4-5
+  const fs::path no_mass = TempDir() / "no_mass.yaml";
+  std::ofstream(no_mass) << head << "bodies:\n  - {name: b, frame: N, mass_center: P, inertia: [0, 0, 0]}\n";
+  const auto [s1, o1] = Hybridtest("check-model " + no_mass.string());
+  EXPECT_EQ(s1, 2) << o1;
+  EXPECT_NE(o1.find(no_mass.string() + ":7: bodies[0].mass: missing"), std::string::npos) << o1;
+  const fs::path no_stiffness = TempDir() / "no_stiffness.yaml";
+  std::ofstream(no_stiffness) << head << "particles:\n  - {name: p, point: P, mass: 1}\n"
+                              << "slots:\n  - {name: r1, unit: N, displacement: x}\n";
+  const auto [s2, o2] = Hybridtest("check-model " + no_stiffness.string());
+  EXPECT_EQ(s2, 2) << o2;
+  EXPECT_NE(o2.find(no_stiffness.string() + ":9: slots[0].stiffness: missing"), std::string::npos) << o2;
+}
+
+TEST(ModelFileCliTest, CheckModelNamesTheCoordinateOfASingularMassMatrix) {
+  const fs::path f = TempDir() / "singular.yaml";
+  std::ofstream(f) << "name: singular\n"
+                      "coordinates:\n  - {name: x, unit: m}\n  - {name: forgotten, unit: rad}\n"
+                      "points:\n  - {name: P, position: [x, 0, 0]}\n"
+                      "particles:\n  - {name: p, point: P, mass: 1}\n";
+  const auto [status, out] = Hybridtest("check-model --no-sympy " + f.string());
+  EXPECT_EQ(status, 1) << out;
+  EXPECT_NE(out.find("not positive definite"), std::string::npos) << out;
+  EXPECT_NE(out.find("involves forgotten: give it mass or inertia"), std::string::npos) << out;
+}
+
+TEST(ModelFileCliTest, CheckModelSaysWhenWIsSingular) {
+  const fs::path f = TempDir() / "singular_w.yaml";
+  std::ofstream(f) << "name: singular_w\n"
+                      "coordinates:\n  - {name: x, unit: m}\n  - {name: y, unit: m}\n"
+                      "kinematical_equations:\n  - [1, 0]\n  - [1, 0]\n"
+                      "points:\n  - {name: P, position: [x, y, 0]}\n"
+                      "particles:\n  - {name: p, point: P, mass: 1}\n";
+  const auto [status, out] = Hybridtest("check-model --no-sympy " + f.string());
+  EXPECT_EQ(status, 1) << out;
+  EXPECT_NE(out.find("W(q) of q̇ = W(q) u is singular"), std::string::npos) << out;
+}
+
+TEST(ModelFileCliTest, CheckModelReportsTheSympyTimeLimitInWords) {
+  const auto [status, out] = Hybridtest(fmt::format(
+      "check-model {}/examples/models/double_pendulum.yaml --sympy-timeout 0.001", kSource));
+  if (out.find("sympy: skipped") != std::string::npos) GTEST_SKIP() << "no python3 with SymPy";
+  EXPECT_EQ(status, 1) << out;
+  EXPECT_NE(out.find("did not finish within 0.001 s"), std::string::npos) << out;
+  EXPECT_EQ(out.find("exit status"), std::string::npos) << out;
+}
+
 std::string ReadFile(const fs::path& p) {
   std::ifstream in(p);
   std::stringstream s;

@@ -56,7 +56,10 @@ TEST(ModelFileConfigTest, ErrorsNameTheConfigKey) {
 TEST(ModelFileConfigTest, ModelFileRightHandSideDoesNotAllocate) {
   if (!test_support::kCanCountAllocations) GTEST_SKIP() << "malloc cannot be counted here";
   std::mt19937 rng(4);
-  for (const std::string name : {"rotor", "spinning_top", "wind_turbine", "cart_pendulum"}) {
+  // The last two (tests/modelfile/data) use atan2, if, tables and velocity() in loads.
+  for (const std::string name : {"rotor", "spinning_top", "wind_turbine", "cart_pendulum",
+                                 "../../tests/modelfile/data/turbine_functions",
+                                 "../../tests/modelfile/data/top_drag"}) {
     const ModelFile f = LoadModelFile(HYBRIDTEST_SOURCE_DIR "/examples/models/" + name + ".yaml");
     const models::BuiltModel built = BuildModelFile(f, f.parameters);
     const multibody::Model& model = built.model;

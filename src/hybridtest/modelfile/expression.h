@@ -10,10 +10,16 @@
 //   unary   := ('-' | '+') unary | power
 //   power   := primary (('^' | '**') unary)?
 //   primary := number | name | name '(' expr (',' expr)* ')' | '(' expr ')'
-// Functions: sin cos tan exp log sqrt abs (one argument), pow min max (two). Constant: pi.
+//   cond    := expr ('<' | '<=' | '>' | '>=') expr        (only as the first argument of if)
+// A number may carry a unit: `30 deg`, `600 mm` (converted to SI at parse time; units.h).
+// Functions: sin cos tan exp log sqrt abs tanh asin acos atan sign (one argument), pow min max
+// atan2 (two), if(cond, a, b) (the branch selected by value; its derivative is the branch's).
+// Constant: pi. A table declared in the file is called like a function: Cp(lambda). In loads,
+// velocity(P, F).x and angular_velocity(A, F).z (kinematics_mirror.h).
 // Names resolve through a SymbolTable: time t [s], coordinates q_k, speeds u_k, slots r_k,
 // time functions, and parameters (replaced by their SI value at parse time). Sub-trees
 // without variables are folded into constants.
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -24,7 +30,37 @@ enum class Op {
   kConst, kTime, kCoordinate, kSpeed, kSlot, kTimeFunction,
   kNeg, kAdd, kSub, kMul, kDiv, kPow,
   kSin, kCos, kTan, kExp, kLog, kSqrt, kAbs, kMin, kMax,
+  kAtan2, kTanh, kAsin, kAcos, kAtan, kSign,
+  kLt, kLe, kGt, kGe,  // comparisons: 1 or 0 (the condition of an `if`)
+  kIf,                 // if(a, b, c): b where a ≠ 0, else c
+  kTable,              // table `index` at a: piecewise-linear interpolation
+  kTable2,             // 2-D table `index` at (a, b): bilinear interpolation
+  kVelocity,           // velocity of point `index` in N; value = 3 · frame + component
+  kAngularVelocity,    // angular velocity of frame `index` in N; value as for kVelocity
 };
+
+// The frames and points of a model file as read, for velocity() and angular_velocity() in
+// loads (kinematics_mirror.h).
+struct Mirror;
+
+// A 1-D table y(x) from a model file: piecewise-linear between the points (x strictly
+// increasing, at least two), constant beyond the ends (the end values, slope 0).
+struct Table {
+  std::vector<double> x, y;
+  // 2-D tables: z(x, y) on the grid x × y, row-major (z[i · |y| + j] at x_i, y_j), bilinear in
+  // each cell, clamped to the grid beyond its edges. Empty for a 1-D table y(x).
+  std::vector<double> z;
+  bool two_d() const { return !z.empty(); }
+  // 1-D: the value at `at` is intercept + slope · at on its segment (slope 0 beyond the ends).
+  void Segment(double at, double* intercept, double* slope) const;
+};
+
+// The cell of `grid` (strictly increasing) holding `at`: index i of its left edge, and whether
+// `at` is clamped to the left (−1) or right (+1) edge of the grid, or inside (0).
+int GridCell(const std::vector<double>& grid, double at, int* clamped);
+
+// Whether `name` is one of the built-in functions (sin, atan2, if, ...).
+bool IsFunctionName(std::string_view name);
 
 struct Node {
   Op op = Op::kConst;
@@ -32,7 +68,13 @@ struct Node {
   int index = -1;      // kCoordinate, kSpeed, kSlot, kTimeFunction: 0-based index
   int a = -1;          // first operand (node index)
   int b = -1;          // second operand
+  int c = -1;          // third operand (kIf)
 };
+
+// Expressions nest at most this deep (parentheses, calls and chains of operators): deeper ones
+// are refused at parse time, so that parsing and evaluation (both recursive) cannot overflow the
+// stack. A formula this deep is better split into parameters or time functions.
+inline constexpr int kMaxExpressionDepth = 200;
 
 // What a name means in an expression.
 struct Symbol {
@@ -45,12 +87,20 @@ struct Symbol {
 class SymbolTable {
  public:
   void Add(Symbol symbol);
+  // Declares a table, called as NAME(x) in expressions.
+  void AddTable(std::string name, Table table);
+  const std::shared_ptr<std::vector<Table>>& tables() const { return tables_; }
+  // The frames and points velocity() may name (set by the model-file reader; null: none).
+  void SetMirror(std::shared_ptr<const Mirror> mirror) { mirror_ = std::move(mirror); }
+  const std::shared_ptr<const Mirror>& mirror() const { return mirror_; }
   const Symbol* Find(std::string_view name) const;
   // Up to three known names closest to `name` (edit distance), for "did you mean" hints.
   std::vector<std::string> Closest(std::string_view name) const;
 
  private:
   std::vector<Symbol> symbols_;
+  std::shared_ptr<std::vector<Table>> tables_ = std::make_shared<std::vector<Table>>();
+  std::shared_ptr<const Mirror> mirror_;
 };
 
 // A parse error: `column` (0-based) and the offending `token` in the expression text.
@@ -72,11 +122,16 @@ class Expression {
   double constant_value() const { return nodes_[root_].value; }
   // True if any node is of kind `op` (e.g. kSpeed: the expression reads a speed).
   bool Uses(Op op) const;
+  // The tables kTable nodes index (shared with the symbol table it was parsed against).
+  const Table* tables() const { return tables_ ? tables_->data() : nullptr; }
+  const Mirror* mirror() const { return mirror_.get(); }
 
  private:
   friend class Parser;
   std::vector<Node> nodes_;
   int root_ = 0;
+  std::shared_ptr<const std::vector<Table>> tables_;
+  std::shared_ptr<const Mirror> mirror_;
 };
 
 // An expression as c0 + Σ c_i v_i over variables (t, q_k, u_k, r_k, time functions), if it

@@ -4,9 +4,11 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "hybridtest/common/yaml_input.h"
 #include "hybridtest/modelfile/expression.h"
+#include "hybridtest/modelfile/kinematics_mirror.h"
 #include "hybridtest/multibody/model.h"
 
 namespace hybridtest::modelfile::internal {
@@ -18,11 +20,27 @@ struct FileContext {
   std::map<std::string, multibody::PointId> points;
   multibody::ModelBuilder* builder = nullptr;
   int num_coordinates = 0;
+  // Slot names, known before the slots are read, so that a slot used outside a load is named
+  // as such instead of "unknown name".
+  std::vector<std::string> slot_names;
+  // Where the first kinematic expression that is not affine was written (the engine then needs
+  // jets, capped at kMaxJetCoordinates coordinates): named when the cap is hit.
+  mutable std::string first_general;
+  // The frames and points as read, for velocity() in loads (kinematics_mirror.h).
+  std::shared_ptr<Mirror> mirror = std::make_shared<Mirror>();
 
   // "file:line: key_path".
   std::string Where(const YAML::Node& node, const std::string& key_path) const {
     return in.Where(node, key_path);
   }
+  // parent[key], which must be present: otherwise a ConfigError at the parent's line,
+  // "file:line: kp.key: missing; expected <expected>; add `key: ...` to kp".
+  YAML::Node Require(const YAML::Node& parent, const std::string& key, const std::string& kp,
+                     const std::string& expected) const;
+  // The elements of a 3-vector `node` at `kp` ([x, y, z]); refused with `expected` otherwise,
+  // with a hint when a formula with a comma was not quoted (`pow(L, 2)` splits in YAML).
+  void RequireVector3(const YAML::Node& node, const std::string& kp,
+                      const std::string& expected) const;
   // The expression written at `node` (a number or a formula). Throws ConfigError naming the
   // place, the token and the fix.
   Expression Parse(const YAML::Node& node, const std::string& key_path) const;
@@ -44,13 +62,22 @@ void ReadKinematicalEquations(FileContext& c, const YAML::Node& node);
 void ReadFrames(FileContext& c, const YAML::Node& node);
 void ReadPoints(FileContext& c, const YAML::Node& node);
 void ReadMasses(FileContext& c, const YAML::Node& particles, const YAML::Node& bodies);
+void ReadTables(FileContext& c, const YAML::Node& node);
 void ReadTimeFunctions(FileContext& c, const YAML::Node& node);
 // Slots: declares them in the builder; returns each slot's default stiffness.
 std::vector<double> ReadSlots(FileContext& c, const YAML::Node& node);
 void ReadLoads(FileContext& c, const YAML::Node& forces, const YAML::Node& torques);
 
-// The elements of the optional list section `node` at `key` (empty when absent).
+// The elements of the optional list section `node` at `key` (empty when absent), with
+// `repeat:` blocks expanded:
+//   - repeat: {i: [1, 2, 3]}
+//     items:
+//       - {name: B$i, parent: H, axis: z, angle: psi + ($i - 1) * 2 * pi / 3 + beta$i}
+// copies `items` once per value, replacing $i (or ${i}) in every scalar by the value as written.
+// `labels` (if given) receives each element's key path: "frames[2]" or, for an expanded one,
+// "frames[1].items[0] (i = 2)".
 std::vector<YAML::Node> ListItems(const YamlInput& in, const YAML::Node& node,
-                                  const std::string& key);
+                                  const std::string& key,
+                                  std::vector<std::string>* labels = nullptr);
 
 }  // namespace hybridtest::modelfile::internal

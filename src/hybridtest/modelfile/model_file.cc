@@ -4,28 +4,66 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
+#include <array>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <set>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/modelfile/compiled_scalar.h"
 #include "hybridtest/modelfile/file_context.h"
+#include "hybridtest/modelfile/units.h"
 
 namespace hybridtest::modelfile {
 
 namespace {
+// A coordinate's or speed's unit: the engine's state is SI, so only SI units are accepted (a
+// coordinate in m, rad or 1; its speed per second); a lab unit is refused with the fix.
+void CheckStateUnit(const YamlInput& in, const YAML::Node& node, const std::string& kp,
+                    const std::string& text, bool coordinate) {
+  std::string why;
+  const std::optional<Unit> unit = ParseUnit(text, &why);
+  if (!unit) throw ConfigError(fmt::format("{} = '{}': {}", in.Where(node, kp), text, why));
+  const auto& d = unit->dim;
+  const bool length = d == std::array<int, 4>{1, 0, 0, 0};
+  const bool angle = d == std::array<int, 4>{0, 0, 0, 1};
+  const bool plain = d == std::array<int, 4>{0, 0, 0, 0};
+  const int s = coordinate ? 0 : -1;
+  const bool kind_ok = coordinate ? (length || angle || plain)
+                                  : (d[0] + d[3] <= 1 && d[1] == 0 && d[2] == s);
+  if (unit->to_si != 1.0) {
+    throw ConfigError(fmt::format(
+        "{} = '{}': the engine's state is in SI, so a {} is in {} ({:g} {} = 1 {}); write "
+        "`unit: {}` and give initial conditions in SI. Parameters may keep lab units: "
+        "`L: {{value: 600, unit: mm}}` is read as 0.6 m", in.Where(node, kp), text,
+        coordinate ? "coordinate" : "speed", coordinate ? "m or rad" : "m/s or rad/s",
+        1.0 / unit->to_si, text, unit->si, unit->si));
+  }
+  if (!kind_ok) {
+    throw ConfigError(fmt::format("{} = '{}': a {} is {}; write one of those", in.Where(node, kp),
+                                  text, coordinate ? "coordinate" : "speed",
+                                  coordinate ? "a length (m), an angle (rad) or a number (1)"
+                                             : "a rate per second (m/s, rad/s or 1/s)"));
+  }
+}
+
 // Quantities (coordinates or speeds) as a list of {name, unit, description}.
 std::vector<multibody::QuantityInfo> ReadQuantities(const YamlInput& in, const YAML::Node& root,
                                                     const std::string& key) {
   std::vector<multibody::QuantityInfo> out;
-  const std::vector<YAML::Node> items = internal::ListItems(in, root[key], key);
+  std::vector<std::string> labels;
+  const std::vector<YAML::Node> items = internal::ListItems(in, root[key], key, &labels);
   for (std::size_t i = 0; i < items.size(); ++i) {
-    const std::string kp = fmt::format("{}[{}]", key, i);
+    const std::string& kp = labels[i];
     in.RequireMapping(items[i], kp);
     in.CheckKeys(items[i], kp, {"name", "unit", "description"});
-    out.push_back({in.String(items[i]["name"], kp + ".name", "a name such as q1 or theta"),
-                   in.String(items[i]["unit"], kp + ".unit", "an SI unit such as m or rad"),
+    const std::string unit = in.String(items[i]["unit"], kp + ".unit",
+                                       key == "coordinates" ? "m or rad" : "m/s or rad/s");
+    CheckStateUnit(in, items[i]["unit"], kp + ".unit", unit, key == "coordinates");
+    out.push_back({in.String(items[i]["name"], kp + ".name", "a name such as q1 or theta"), unit,
                    in.ReadString(items[i], kp, "description", "")});
   }
   return out;
@@ -37,7 +75,7 @@ ModelFile ParseModelFile(YamlInput input) {
   const YamlInput& in = f.input;
   const YAML::Node& root = in.root();
   in.CheckKeys(root, "", {"name", "description", "parameters", "coordinates", "speeds",
-                          "kinematical_equations", "time_functions", "frames", "points",
+                          "kinematical_equations", "tables", "time_functions", "frames", "points",
                           "particles", "bodies", "slots", "forces", "torques"});
   f.name = in.ReadString(root, "", "name",
                          std::filesystem::path(in.path()).stem().string());
@@ -53,9 +91,27 @@ ModelFile ParseModelFile(YamlInput input) {
       }
       in.RequireMapping(kv.second, kp);
       in.CheckKeys(kv.second, kp, {"value", "unit", "description"});
-      f.parameters.Add(name, in.ReadNumber(kv.second, kp, "value", "a number in SI units"),
-                       in.ReadString(kv.second, kp, "unit", ""),
-                       in.ReadString(kv.second, kp, "description", ""));
+      const double value = in.ReadNumber(kv.second, kp, "value", "a number in its `unit`");
+      const std::string unit_text = in.ReadString(kv.second, kp, "unit", "");
+      std::string description = in.ReadString(kv.second, kp, "description", "");
+      if (unit_text.empty()) {
+        f.parameters.Add(name, value, "", description);
+        continue;
+      }
+      // Converted to SI here, once: the engine and the run config's overrides are SI.
+      std::string why;
+      const std::optional<Unit> unit = ParseUnit(unit_text, &why);
+      if (!unit) {
+        throw ConfigError(fmt::format("{} = '{}': {}; or leave `unit:` out and give the value "
+                                      "in SI", in.Where(kv.second["unit"], kp + ".unit"),
+                                      unit_text, why));
+      }
+      if (unit->to_si != 1.0) {
+        description += fmt::format("{}(given as {:g} {})", description.empty() ? "" : " ", value,
+                                   unit_text);
+      }
+      f.parameters.Add(name, value * unit->to_si, unit->to_si == 1.0 ? unit_text : unit->si,
+                       description);
     }
   }
   return f;
@@ -81,7 +137,10 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
                                   in.Where(root["speeds"], "speeds"), speeds.size(),
                                   coordinates.size()));
   }
-  internal::FileContext c{in, {}, {}, {}, nullptr, static_cast<int>(coordinates.size())};
+  internal::FileContext c{in, {}, {}, {}, nullptr, static_cast<int>(coordinates.size()), {}};
+  for (const YAML::Node& s : internal::ListItems(in, root["slots"], "slots")) {
+    if (s.IsMap() && s["name"] && s["name"].IsScalar()) c.slot_names.push_back(s["name"].Scalar());
+  }
   // Names: t, coordinates, speeds, parameters; each declared once.
   std::set<std::string> seen{"t", "pi", "N", "O"};
   auto declare = [&](const std::string& name, Op kind, int index, double value,
@@ -93,13 +152,19 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
     c.symbols.Add({name, kind, index, value});
   };
   c.symbols.Add({"t", Op::kTime, -1, 0.0});
+  // The places of the names (after `repeat:` expansion: the copy's line and label).
+  std::vector<std::string> coordinate_labels, speed_labels;
+  const std::vector<YAML::Node> coordinate_items =
+      internal::ListItems(in, root["coordinates"], "coordinates", &coordinate_labels);
+  const std::vector<YAML::Node> speed_items =
+      internal::ListItems(in, root["speeds"], "speeds", &speed_labels);
   for (std::size_t k = 0; k < coordinates.size(); ++k) {
     declare(coordinates[k].name, Op::kCoordinate, static_cast<int>(k), 0.0,
-            in.Where(root["coordinates"][k], fmt::format("coordinates[{}].name", k)));
+            in.Where(coordinate_items[k]["name"], coordinate_labels[k] + ".name"));
   }
   for (std::size_t k = 0; k < speeds.size(); ++k) {
     declare(speeds[k].name, Op::kSpeed, static_cast<int>(k), 0.0,
-            in.Where(root["speeds"][k], fmt::format("speeds[{}].name", k)));
+            in.Where(speed_items[k]["name"], speed_labels[k] + ".name"));
   }
   if (speeds.empty()) {
     for (std::size_t k = 0; k < coordinates.size(); ++k) {
@@ -118,32 +183,165 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
     c.builder = &builder;
     c.frames["N"] = builder.newtonian();
     c.points["O"] = builder.origin();
+    c.mirror->num_coordinates = c.num_coordinates;
+    c.mirror->frames.emplace_back();
+    c.mirror->points.emplace_back();
+    c.mirror->frame_ids["N"] = 0;
+    c.mirror->point_ids["O"] = 0;
+    internal::ReadTables(c, root["tables"]);
     internal::ReadKinematicalEquations(c, root["kinematical_equations"]);
     internal::ReadTimeFunctions(c, root["time_functions"]);
     internal::ReadFrames(c, root["frames"]);
     internal::ReadPoints(c, root["points"]);
     internal::ReadMasses(c, root["particles"], root["bodies"]);
     std::vector<double> stiffness = internal::ReadSlots(c, root["slots"]);
+    c.symbols.SetMirror(c.mirror);  // velocity() and angular_velocity(): loads only
     internal::ReadLoads(c, root["forces"], root["torques"]);
     return {file.name, file.description, parameters, std::move(builder).Build(),
             std::move(stiffness)};
   } catch (const ModelError& e) {
-    throw ConfigError(fmt::format("{}: {}", in.path(), e.what()));
+    std::string which;
+    if (c.num_coordinates > multibody::kMaxJetCoordinates && !c.first_general.empty()) {
+      which = fmt::format("; the first non-affine kinematic expression is {} (write angles and "
+                          "positions affine in the coordinates to lift the cap)", c.first_general);
+    }
+    throw ConfigError(fmt::format("{}: {}{}", in.path(), e.what(), which));
+  } catch (const YAML::Exception& e) {
+    // A reader that touched a missing key: should not happen (every required key is checked
+    // with its place), but never let yaml-cpp's "line 0, column 0" reach the user alone.
+    throw ConfigError(fmt::format("{}: {} (a required key is missing or has the wrong kind; "
+                                  "compare with docs/model-files.md)", in.path(), e.what()));
   }
 }
 
 namespace internal {
 
+namespace {
+// Replaces $var and ${var} by `value` in every scalar under `node` (a clone: marks are kept).
+void Substitute(YAML::Node node, const std::string& var, const std::string& value) {
+  if (node.IsScalar()) {
+    const std::string& s = node.Scalar();
+    std::string out;
+    bool changed = false;
+    for (std::size_t k = 0; k < s.size();) {
+      if (s[k] == '$') {
+        if (s.compare(k + 1, var.size() + 2, "{" + var + "}") == 0) {
+          out += value;
+          k += var.size() + 3;
+          changed = true;
+          continue;
+        }
+        const std::size_t after = k + 1 + var.size();
+        if (s.compare(k + 1, var.size(), var) == 0 &&
+            (after >= s.size() || !(std::isalnum(static_cast<unsigned char>(s[after])) || s[after] == '_'))) {
+          out += value;
+          k = after;
+          changed = true;
+          continue;
+        }
+      }
+      out += s[k++];
+    }
+    if (changed) node = out;
+  } else if (node.IsSequence()) {
+    for (YAML::Node child : node) Substitute(child, var, value);
+  } else if (node.IsMap()) {
+    for (auto kv : node) Substitute(kv.second, var, value);
+  }
+}
+}  // namespace
+
 std::vector<YAML::Node> ListItems(const YamlInput& in, const YAML::Node& node,
-                                  const std::string& key) {
+                                  const std::string& key, std::vector<std::string>* labels) {
   std::vector<YAML::Node> out;
   if (!node.IsDefined() || node.IsNull()) return out;
   if (!node.IsSequence()) {
     throw ConfigError(fmt::format("{}: expected a list (lines starting with '- ')",
                                   in.Where(node, key)));
   }
-  for (const auto& item : node) out.push_back(item);
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const YAML::Node item = node[i];
+    const std::string kp = fmt::format("{}[{}]", key, i);
+    if (!item.IsMap() || !item["repeat"]) {
+      out.push_back(item);
+      if (labels != nullptr) labels->push_back(kp);
+      continue;
+    }
+    in.CheckKeys(item, kp, {"repeat", "items"});
+    const YAML::Node repeat = item["repeat"];
+    if (!repeat.IsMap() || repeat.size() != 1 || !repeat.begin()->second.IsSequence() ||
+        repeat.begin()->second.size() == 0) {
+      in.ThrowValue(repeat, kp + ".repeat", "one variable and its values, e.g. {i: [1, 2, 3]}");
+    }
+    const std::string var = repeat.begin()->first.as<std::string>();
+    bool name_ok = !var.empty() && !std::isdigit(static_cast<unsigned char>(var[0]));
+    for (char ch : var) name_ok = name_ok && (std::isalnum(static_cast<unsigned char>(ch)) || ch == '_');
+    if (!name_ok) {
+      throw ConfigError(fmt::format("{}: the repeat variable '{}' must be a name (letters, "
+                                    "digits, _), used as ${}", in.Where(repeat, kp + ".repeat"),
+                                    var, var));
+    }
+    const YAML::Node items = item["items"];
+    if (!items.IsDefined() || !items.IsSequence()) {
+      in.ThrowValue(item["items"], kp + ".items", "the list of elements to repeat");
+    }
+    for (const auto& v : repeat.begin()->second) {
+      if (!v.IsScalar()) in.ThrowValue(v, kp + ".repeat." + var, "a list of values (numbers or names)");
+      // A fresh copy of the items per value, parsed again from the file's text so that every
+      // copy keeps the file's line numbers (YAML::Clone loses them).
+      const YAML::Node fresh =
+          in.text().empty() ? YAML::Node() : static_cast<const YAML::Node>(YAML::Load(in.text()))[key][i]["items"];
+      for (std::size_t j = 0; j < items.size(); ++j) {
+        const std::string label = fmt::format("{}.items[{}] ({} = {})", kp, j, var, v.Scalar());
+        if (items[j].IsMap() && items[j]["repeat"]) {
+          throw ConfigError(fmt::format("{}: repeat blocks do not nest; list the combinations "
+                                        "in one repeat", in.Where(items[j], label)));
+        }
+        YAML::Node copy = fresh.IsDefined() && fresh.IsSequence() && fresh.size() == items.size()
+                              ? fresh[j]
+                              : YAML::Clone(items[j]);
+        Substitute(copy, var, v.Scalar());
+        out.push_back(copy);
+        if (labels != nullptr) labels->push_back(label);
+        if (out.size() > kMaxListLength) {
+          throw ConfigError(fmt::format("{}: more than {} elements after expansion",
+                                        in.Where(item, kp), kMaxListLength));
+        }
+      }
+    }
+  }
   return out;
+}
+
+YAML::Node FileContext::Require(const YAML::Node& parent, const std::string& key,
+                               const std::string& kp, const std::string& expected) const {
+  YAML::Node node = parent[key];
+  if (!node.IsDefined() || node.IsNull()) {
+    throw ConfigError(fmt::format("{}.{}: missing; expected {}; add `{}: ...` to {}",
+                                  Where(parent, kp), key, expected, key, kp));
+  }
+  return node;
+}
+
+void FileContext::RequireVector3(const YAML::Node& node, const std::string& kp,
+                                 const std::string& expected) const {
+  if (node.IsSequence() && node.size() == 3) return;
+  std::string hint;
+  if (node.IsSequence()) {
+    bool unbalanced = false;  // an item with unbalanced parentheses: split at a comma
+    for (const auto& item : node) {
+      if (!item.IsScalar()) continue;
+      int open = 0;
+      for (char ch : item.Scalar()) open += ch == '(' ? 1 : ch == ')' ? -1 : 0;
+      unbalanced = unbalanced || open != 0;
+    }
+    if (unbalanced) {
+      hint = "; a formula with a comma inside [...] must be quoted, e.g. [\"pow(L, 2)\", 0, 0], "
+             "or YAML splits it at the comma";
+    }
+  }
+  if (!node.IsDefined() || node.IsNull()) in.ThrowValue(node, kp, expected);
+  throw ConfigError(fmt::format("{}: expected {}{}", Where(node, kp), expected, hint));
 }
 
 Expression FileContext::Parse(const YAML::Node& node, const std::string& key_path) const {
@@ -154,8 +352,15 @@ Expression FileContext::Parse(const YAML::Node& node, const std::string& key_pat
   try {
     return Expression::Parse(text, symbols);
   } catch (const ExpressionError& e) {
+    std::string message = e.message;
+    if (std::find(slot_names.begin(), slot_names.end(), e.token) != slot_names.end()) {
+      message = fmt::format("'{}' is a slot (a restoring force); slots may appear only in forces "
+                            "and torques; angles, positions and displacements use t, the "
+                            "coordinates and parameters", e.token);
+    }
+    const std::string shown = text.size() > 120 ? text.substr(0, 100) + " …" : text;
     throw ConfigError(fmt::format("{} = '{}': at '{}' (column {}): {}", Where(node, key_path),
-                                  text, e.token, e.column + 1, e.message));
+                                  shown, e.token.substr(0, 40), e.column + 1, message));
   }
 }
 
@@ -195,6 +400,9 @@ multibody::ScalarField FileContext::Field(const YAML::Node& node, const std::str
       }
     }
     return multibody::ScalarField::Affine(f.constant, std::move(terms), time_rate);
+  }
+  if (first_general.empty()) {
+    first_general = fmt::format("{} = '{}'", Where(node, key_path), node.Scalar());
   }
   auto shared = std::make_shared<const Expression>(std::move(e));
   return multibody::ScalarField::Function([shared](const auto& a) {
