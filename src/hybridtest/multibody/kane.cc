@@ -5,11 +5,21 @@
 #include <fmt/core.h>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/multibody/tree_mass.h"
 
 namespace hybridtest::multibody {
 
 template <typename T>
 void CalcMassMatrix(const Model& model, Data<T>& data) {
+  if (model.tree_mass_matrix()) {
+    internal::CalcTreeMassMatrix(model, data);
+  } else {
+    CalcMassMatrixPairwise(model, data);
+  }
+}
+
+template <typename T>
+void CalcMassMatrixPairwise(const Model& model, Data<T>& data) {
   MatrixX<T>& M = data.M;
   T* m = M.data();  // column-major: M(j, k) = m[j + k n] (offsets in MassTerm)
   M.setZero();
@@ -202,6 +212,7 @@ void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
 
 #define HYBRIDTEST_INSTANTIATE(T)                                                             \
   template void CalcMassMatrix<T>(const Model&, Data<T>&);                                    \
+  template void CalcMassMatrixPairwise<T>(const Model&, Data<T>&);                            \
   template void CalcForcing<T>(const Model&, Data<T>&, const Eigen::Ref<const VectorX<T>>&);  \
   template void CalcStateDerivative<T>(const Model&, Data<T>&, const T&,                      \
                                        const Eigen::Ref<const VectorX<T>>&,                   \
