@@ -67,8 +67,8 @@ Model BuildTurbine(int links) {
     PointId tip = hub;
     for (int k = 0; k < links; ++k) {
       const FrameId L = b.AddFrameAboutAxis("L", parent, Eigen::Vector3d::UnitY(), ScalarField::Coordinate(next++));
-      const PointId G = b.AddPoint("G", tip, L, {{}, {}, ScalarField::Constant(0.4)});
-      tip = b.AddPoint("P", tip, L, {{}, {}, ScalarField::Constant(0.8)});
+      const PointId G = b.AddPoint("G", tip, L, {ScalarField(), ScalarField(), ScalarField::Constant(0.4)});
+      tip = b.AddPoint("P", tip, L, {ScalarField(), ScalarField(), ScalarField::Constant(0.8)});
       b.AddRigidBody("segment", L, G, 2.0, 0.1 * I);
       parent = L;
     }
@@ -96,7 +96,7 @@ void ExpectPathsAgree(const Model& model, double tolerance) {
       CalcMassMatrix<double>(model, tree);
     }
     CalcMassMatrixPairwise<double>(model, pairwise);
-    EXPECT_LT(RelativeError(tree.M, pairwise.M), tolerance) << "trial " << trial;
+    EXPECT_LE(RelativeError(tree.M, pairwise.M), tolerance) << "trial " << trial;
     EXPECT_TRUE(tree.M.isApprox(tree.M.transpose(), 0.0));
     // AutoDiff: seed a few directions of x.
     VectorX<AutoDiff> xa(2 * n);
@@ -117,10 +117,13 @@ void ExpectPathsAgree(const Model& model, double tolerance) {
       Eigen::MatrixXd a(n, n), p(n, n);
       for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j) {
-          a(i, j) = tree_ad.M(i, j).derivatives()(d);
-          p(i, j) = pairwise_ad.M(i, j).derivatives()(d);
+          // A zero entry that no term touched has no derivative vector.
+          const auto& da = tree_ad.M(i, j).derivatives();
+          const auto& dp = pairwise_ad.M(i, j).derivatives();
+          a(i, j) = da.size() > d ? da(d) : 0.0;
+          p(i, j) = dp.size() > d ? dp(d) : 0.0;
         }
-      EXPECT_LT(RelativeError(a, p), tolerance) << "trial " << trial << ", ∂M/∂x_" << d;
+      EXPECT_LE(RelativeError(a, p), tolerance) << "trial " << trial << ", ∂M/∂x_" << d;
     }
   }
 }
