@@ -1,6 +1,7 @@
 // Side by side with MuJoCo (Debian's libmujoco-dev, an optional benchmark dependency; this
 // file is built only where CMake finds it): the same tree, built for both engines from one
-// description (bench/tree_description.h; the MJCF is generated with nested <body> elements),
+// description (bench/tree_description.h; the MJCF is generated with nested <body> elements,
+// split into <include>d files every 40 levels because tinyxml2 refuses nesting deeper than 100),
 // checked to agree on q̈ before timing, and timed in interleaved blocks of thread CPU time.
 //
 //   VsMujoco/Chain/n    an n-link pendulum, n = 4, 10, 30, 100
@@ -10,6 +11,8 @@
 // on the same state) and ratio = kane_us / mujoco_us, all from the same rounds.
 #include <benchmark/benchmark.h>
 #include <mujoco/mujoco.h>
+
+#include <stdlib.h>
 
 #include <cstdio>
 #include <ctime>
@@ -30,7 +33,28 @@ std::string Vec(const Eigen::Vector3d& v) {
   return s;
 }
 
-void WriteBody(const std::vector<BodyDescription>& bodies, int i, std::string& xml) {
+// tinyxml2 refuses elements nested deeper than 100; a chain of 100 bodies is deeper. Every
+// kSplitDepth levels the subtree goes to its own file, pulled in with <include> (MuJoCo
+// copies an included file's children in place, after parsing it on its own).
+constexpr int kSplitDepth = 40;
+
+struct MjcfFiles {
+  std::string dir;
+  std::vector<std::string> paths;  // written, removed after loading
+};
+
+void WriteBody(const std::vector<BodyDescription>& bodies, int i, int depth, MjcfFiles& files,
+               std::string& xml) {
+  if (depth > 0 && depth % kSplitDepth == 0) {
+    std::string sub = "<mujoco>\n";
+    WriteBody(bodies, i, depth + 1, files, sub);
+    sub += "</mujoco>\n";
+    const std::string name = "part" + std::to_string(files.paths.size()) + ".xml";
+    std::ofstream(files.dir + "/" + name) << sub;
+    files.paths.push_back(files.dir + "/" + name);
+    xml += "<include file=\"" + name + "\"/>\n";
+    return;
+  }
   const BodyDescription& d = bodies[i];
   xml += "<body pos=\"" + Vec(d.offset) + "\">";
   xml += std::string("<joint type=\"") + (d.hinge ? "hinge" : "slide") + "\" axis=\"" +
@@ -40,25 +64,31 @@ void WriteBody(const std::vector<BodyDescription>& bodies, int i, std::string& x
   xml += "<inertial pos=\"" + Vec(d.com) + "\" mass=\"" + mass + "\" diaginertia=\"" +
          Vec(d.inertia) + "\"/>";
   for (std::size_t c = 0; c < bodies.size(); ++c) {
-    if (bodies[c].parent == i) WriteBody(bodies, static_cast<int>(c), xml);
+    if (bodies[c].parent == i) WriteBody(bodies, static_cast<int>(c), depth + 1, files, xml);
   }
   xml += "</body>\n";
 }
 
 mjModel* BuildMujocoModel(const std::vector<BodyDescription>& bodies) {
+  MjcfFiles files;
+  char dir_template[] = "/tmp/hybridtest_vs_mujoco_XXXXXX";
+  if (mkdtemp(dir_template) == nullptr) throw std::runtime_error("cannot create a temporary directory");
+  files.dir = dir_template;
   std::string xml =
       "<mujoco><compiler angle=\"radian\" inertiafromgeom=\"false\"/>"
       "<option timestep=\"0.001\" gravity=\"0 0 " + std::to_string(-kGravity) + "\">"
       "<flag contact=\"disable\"/></option><worldbody>\n";
   for (std::size_t i = 0; i < bodies.size(); ++i) {
-    if (bodies[i].parent < 0) WriteBody(bodies, static_cast<int>(i), xml);
+    if (bodies[i].parent < 0) WriteBody(bodies, static_cast<int>(i), 0, files, xml);
   }
   xml += "</worldbody></mujoco>\n";
-  const std::string path = "/tmp/hybridtest_bench_vs_mujoco_" + std::to_string(bodies.size()) + ".xml";
+  const std::string path = files.dir + "/model.xml";
   std::ofstream(path) << xml;
+  files.paths.push_back(path);
   char error[1000] = "";
   mjModel* m = mj_loadXML(path.c_str(), nullptr, error, sizeof error);
-  std::remove(path.c_str());
+  for (const auto& p : files.paths) std::remove(p.c_str());
+  std::remove(files.dir.c_str());
   if (m == nullptr) throw std::runtime_error(std::string("MuJoCo: ") + error);
   return m;
 }
