@@ -7,8 +7,11 @@
 #include <numbers>
 #include <random>
 
+#include <Eigen/Cholesky>
+
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/multibody/tree_mass.h"
+#include "support/alloc_counter.h"
 #include "support/multibody_helpers.h"
 
 namespace hybridtest::multibody {
@@ -202,6 +205,31 @@ TEST(TreeMassMatrix, ModelsThatAreNotTreesOfJointsTakeThePairwisePath) {
     const Model model = std::move(b).Build();
     EXPECT_FALSE(model.is_joint_tree());
     ExpectPathsAgree(model, 0.0);
+  }
+}
+
+// The tree path and the blocked factorisation of large models allocate nothing per call.
+TEST(TreeMassMatrix, LargeModelsDoNotAllocate) {
+  if (!test_support::kCanCountAllocations) GTEST_SKIP() << "malloc cannot be counted here";
+  for (const Model& model : {BuildChain(40, true, true), BuildTurbine(8)}) {
+    ASSERT_TRUE(model.tree_mass_matrix());
+    const int n = model.num_coordinates();
+    Data<double> data(model);
+    std::mt19937 rng(3);
+    const Eigen::VectorXd x = RandomState(rng, Eigen::VectorXd::Constant(n, 1.0), 1.0);
+    const Eigen::VectorXd r(0);
+    Eigen::VectorXd xdot(2 * n);
+    CalcStateDerivative<double>(model, data, 0.0, x, r, xdot);
+    EXPECT_EQ(test_support::CountAllocations([&] {
+      for (int i = 0; i < 5; ++i) CalcStateDerivative<double>(model, data, 0.01 * i, x, r, xdot);
+    }), 0);
+    // The solve agrees with a plain LLT of the pairwise M.
+    Data<double> check(model);
+    CalcKinematics<double>(model, check, 0.04, x);
+    CalcMassMatrixPairwise<double>(model, check);
+    CalcForcing<double>(model, check, r);
+    const Eigen::VectorXd udot = check.M.llt().solve(check.g);
+    EXPECT_LT(RelativeError(xdot.tail(n), udot), 1e-9);
   }
 }
 
