@@ -140,7 +140,9 @@ TEST(TreeMassMatrix, ChainsTakeTheTreePathAndAgree) {
         ASSERT_TRUE(model.is_joint_tree()) << model.tree_mass_matrix_reason();
         // Large chains take the tree path; n = 1 or 2 may keep the cheaper pairwise sum.
         if (n >= 12) EXPECT_TRUE(model.tree_mass_matrix()) << model.tree_mass_matrix_reason();
-        ExpectPathsAgree(model, 1e-12);
+        // Composite inertias about O carry m |p|² terms: rounding grows with the chain's
+        // reach (12 m at n = 40), still far inside the oracle's 1e-10.
+        ExpectPathsAgree(model, 1e-11);
       }
     }
   }

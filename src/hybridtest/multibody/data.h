@@ -56,6 +56,11 @@ struct Data {
   Matrix3X<T> joint_v;       // (3 × n) [m/s per unit u_j]
   Matrix3X<T> momentum_lin;  // (3 × n) [kg·m/s per unit u_j]
   Matrix3X<T> momentum_ang;  // (3 × n) [kg·m²/s per unit u_j]
+  // Composite inertia, about O in N, of everything joint j moves: mass, first moment m p,
+  // and rotational inertia about O.
+  VectorX<T> composite_mass;                   // (n) [kg]
+  Matrix3X<T> composite_moment;                // (3 × n) [kg·m]
+  std::vector<Matrix3<T>> composite_inertia;   // (n) [kg·m²]
 };
 
 extern template struct Data<double>;

@@ -47,6 +47,9 @@ Data<T>::Data(const Model& model) : n(model.num_coordinates()) {
   joint_v.setZero(3, n);
   momentum_lin.setZero(3, n);
   momentum_ang.setZero(3, n);
+  composite_mass.setZero(n);
+  composite_moment.setZero(3, n);
+  composite_inertia.assign(n, Matrix3<T>::Zero());
 }
 
 template struct Data<double>;

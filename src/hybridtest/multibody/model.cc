@@ -368,18 +368,16 @@ Model ModelBuilder::Build() && {
     m.tree_mass_plan_ = TreeMassPlan{};
   } else {
     // Estimated cost in flops (calibrated with bench/bench_kane_scale.cc): the pairwise sum
-    // ~6 per mass term and ~8 per rotational pair; the tree path ~8 per joint, ~15 per
-    // translational and ~10 per rotational column of an element, ~7 per pair.
-    std::size_t pairwise = 6 * m.mass_terms_.size(), tree = 8 * static_cast<std::size_t>(n);
+    // ~6 per mass term and ~8 per rotational pair; the tree path ~60 per joint (axis,
+    // composite, momentum), ~45 per element and ~7 per pair.
+    std::size_t pairwise = 6 * m.mass_terms_.size();
     for (const auto& b : elements_.bodies) {
       const std::size_t a = elements_.frames[b.frame].active.size();
       pairwise += 8 * a * (a + 1) / 2 + 30;
     }
-    for (const auto& el : m.tree_mass_plan_.elements) {
-      if (el.mass > 0.0) tree += 15 * elements_.points[el.point].active.size();
-      if (el.has_inertia) tree += 10 * elements_.frames[el.frame].active.size() + 45;
-    }
-    tree += 7 * m.tree_mass_plan_.pairs.size();
+    const std::size_t tree = 60 * static_cast<std::size_t>(n) +
+                             45 * m.tree_mass_plan_.elements.size() +
+                             7 * m.tree_mass_plan_.pairs.size();
     m.tree_mass_matrix_ = tree < pairwise;
     if (!m.tree_mass_matrix_) {
       m.tree_mass_matrix_reason_ = fmt::format(

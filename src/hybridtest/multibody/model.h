@@ -176,6 +176,12 @@ struct TreeMassPlan {
   std::vector<Joint> joints;      // (n)
   std::vector<Element> elements;
   std::vector<Pair> pairs;        // every structurally non-zero M_jk, j ≤ k
+  // The joint tree, for composite inertias: element e belongs to joint owner[e] (the
+  // innermost speed that moves it, −1 if none); parent[k] is the next joint out (−1 at a
+  // root); `order` lists the joints that move anything, children before parents.
+  std::vector<int> owner;   // (elements)
+  std::vector<int> parent;  // (n)
+  std::vector<int> order;
 };
 
 // Everything a model is made of, as the builder collects it and the built model holds it

@@ -139,6 +139,28 @@ std::string PlanTreeMassMatrix(const ModelElements& e, TreeMassPlan& plan) {
       }
     }
   }
+  // The joint tree: inner before outer by (size of the moved set, then −index), so joints
+  // that move the same set form a chain.
+  auto inner_first = [&](int a, int b) {
+    return moves[a].size() != moves[b].size() ? moves[a].size() < moves[b].size() : a > b;
+  };
+  plan.owner.assign(plan.elements.size(), -1);
+  for (std::size_t el = 0; el < plan.elements.size(); ++el) {
+    for (int k : element_active[el]) {
+      if (plan.owner[el] < 0 || inner_first(k, plan.owner[el])) plan.owner[el] = k;
+    }
+  }
+  plan.parent.assign(static_cast<std::size_t>(n), -1);
+  for (int k = 0; k < n; ++k) {
+    if (moves[k].empty()) continue;
+    plan.order.push_back(k);
+    for (int j = 0; j < n; ++j) {
+      if (j == k || !inner_first(k, j)) continue;
+      if (!std::includes(moves[j].begin(), moves[j].end(), moves[k].begin(), moves[k].end())) continue;
+      if (plan.parent[k] < 0 || inner_first(j, plan.parent[k])) plan.parent[k] = j;
+    }
+  }
+  std::sort(plan.order.begin(), plan.order.end(), inner_first);
   return "";
 }
 
@@ -165,27 +187,51 @@ void CalcTreeMassMatrix(const Model& model, Data<T>& data) {
       Sv.col(j) = data.v_partial[joint.point].col(j);
     }
   }
-  // Spatial momentum about O of everything each speed moves, per unit speed.
-  Hv.setZero();
-  Hw.setZero();
-  const auto& points = model.points();
-  const auto& frames = model.frames();
-  for (const TreeMassPlan::Element& el : plan.elements) {
+  // Composite inertias about O: each element into its joint, then children into parents.
+  VectorX<T>& cm = data.composite_mass;
+  Matrix3X<T>& cc = data.composite_moment;
+  std::vector<Matrix3<T>>& ci = data.composite_inertia;
+  for (int k : plan.order) {
+    cm(k) = T(0.0);
+    cc.col(k).setZero();
+    ci[k].setZero();
+  }
+  for (std::size_t e = 0; e < plan.elements.size(); ++e) {
+    const int k = plan.owner[e];
+    if (k < 0) continue;
+    const TreeMassPlan::Element& el = plan.elements[e];
     if (el.mass > 0.0) {
       const Vector3<T>& p = data.p_OP[el.point];
-      const Matrix3X<T>& V = data.v_partial[el.point];
-      for (int k : points[el.point].active) {
-        const Vector3<T> mv = el.mass * V.col(k);
-        Hv.col(k) += mv;
-        Hw.col(k) += p.cross(mv);
-      }
+      const Vector3<T> c = el.mass * p;
+      cm(k) += el.mass;
+      cc.col(k) += c;
+      // m (|p|² 1 − p pᵀ)
+      Matrix3<T>& I = ci[k];
+      const T pp = p.squaredNorm();
+      I.noalias() -= c * p.transpose();
+      for (int a = 0; a < 3; ++a) I(a, a) += el.mass * pp;
     }
     if (el.has_inertia) {
       const Matrix3<T>& R = data.R_NF[el.frame];
-      const Matrix3<T> I_N = R * el.inertia.template cast<T>() * R.transpose();
-      const Matrix3X<T>& W = data.w_partial[el.frame];
-      for (int k : frames[el.frame].active) Hw.col(k) += I_N * W.col(k);
+      ci[k].noalias() += R * el.inertia.template cast<T>() * R.transpose();
     }
+  }
+  for (int k : plan.order) {
+    const int parent = plan.parent[k];
+    if (parent < 0) continue;
+    cm(parent) += cm(k);
+    cc.col(parent) += cc.col(k);
+    ci[parent] += ci[k];
+  }
+  // Spatial momentum about O per unit u_k: (m v_O + ω × c, c × v_O + I_O ω).
+  Hv.setZero();
+  Hw.setZero();
+  for (int k : plan.order) {
+    const Vector3<T> w = Sw.col(k);
+    const Vector3<T> v = Sv.col(k);
+    const Vector3<T> c = cc.col(k);
+    Hv.col(k) = cm(k) * v + w.cross(c);
+    Hw.col(k) = c.cross(v) + ci[k] * w;
   }
   // M_jk = S_outer · H_inner.
   T* m = data.M.data();
