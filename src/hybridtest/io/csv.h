@@ -1,8 +1,10 @@
 #pragma once
 // The CSV dialect of the journal, shared by the writer (Journal) and the reader (LoadRun):
 // comma-separated, no quoting, one header line of channel names, then one line per row of
-// numbers written with 17 significant digits (the "%.17g" format, but independent of the C
-// locale), so that every double reads back bit for bit. Lines end with '\n'.
+// numbers, each the shortest text that reads back to the same double (std::to_chars without a
+// precision: "0.1", "1e-300", "6.02214076e+23", "inf", "nan"; independent of the C locale), so
+// that every double reads back bit for bit. Files written with 17 significant digits (before
+// 0.x) read the same. Lines end with '\n'.
 #include <optional>
 #include <span>
 #include <string>
@@ -11,10 +13,10 @@
 
 namespace hybridtest::io {
 
-// Significant digits written per value: enough to round-trip any double.
+// Significant digits that always round-trip a double (the shortest form never needs more).
 inline constexpr int kCsvDigits = 17;
 
-// Appends `value` in %.17g form ("0.10000000000000001", "-1e-300", "inf", "nan").
+// Appends `value` as the shortest text that reads back to it ("0.1", "-1e-300", "inf").
 void AppendCsvNumber(double value, std::string& out);
 
 // Appends one data line, "v1,v2,...,vn\n", to `out`.

@@ -10,6 +10,7 @@
 //                           software version, start time; statistics and status once finished
 #include <nlohmann/json.hpp>
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -38,11 +39,23 @@ struct JournalMetadata {
   nlohmann::json extra = nlohmann::json::object();  // anything else worth keeping
 };
 
-// When rows reach the disk.
+// When rows reach the kernel (a killed process loses nothing) and the disk (a power cut loses
+// nothing).
 enum class SyncPolicy {
-  kEveryRow,  // fflush + fsync after every row: a physical substructure is in the loop
-  kBatched,   // fflush every row, fsync every `batch_rows` rows and at the end: numerical runs
+  kEveryRow,  // write + fsync after every row: a physical substructure is in the loop
+              // (decision 0008: a committed row is on disk before the next trial moves steel)
+  kBatched,   // write every row, fsync every `batch_rows` rows and at the end
+  kBuffered,  // numerical runs: rows are collected in memory and written in blocks of
+              // kJournalBlockBytes, and at least every kJournalWriteInterval; fsync at most
+              // every kJournalSyncInterval of wall time, and at Flush(true)/Finish. A killed
+              // process loses at most the rows of the last interval unless Flush() was called
+              // (the runner calls it before it saves a run state); `batch_rows` is unused.
 };
+
+// kBuffered: the bounds on rows held in memory and on rows not yet on the disk.
+inline constexpr std::size_t kJournalBlockBytes = 64 * 1024;  // [B]
+inline constexpr double kJournalWriteInterval = 0.2;          // [s] of wall time
+inline constexpr double kJournalSyncInterval = 1.0;           // [s] of wall time
 
 // The tag of the constructor that reopens an existing journal (resume).
 struct ReopenForAppend {};
@@ -78,12 +91,18 @@ class Journal {
   Journal& operator=(const Journal&) = delete;
 
   // Appends one committed step; row.size() must equal the number of channels. Values are
-  // written with 17 significant digits. The first Append of a new journal publishes it.
+  // written as the shortest text that reads back to the same double (csv.h). The first
+  // Append of a new journal publishes it (written and synced at once, whatever the policy).
   // Throws IoError on a write failure, after cutting the file back to its last whole row.
   // durable = false: the row reaches the kernel (a killed process loses nothing) but is not
   // synced on its own even with kEveryRow; the next durable row's fsync covers it (a scheme's
   // intermediate rows between two specimen samples).
   void Append(std::span<const double> row, bool durable = true);
+
+  // Writes the rows held in memory (kBuffered) to the kernel; with sync = true also fsyncs.
+  // Afterwards a killed process loses no row appended so far. Cheap when nothing is pending.
+  // Throws IoError as Append does (the rows not written are then lost and rows() says so).
+  void Flush(bool sync = false);
 
   // Syncs the CSV and rewrites the sidecar (atomically) with the run's statistics and its
   // final status ("completed", or "stopped: <reason>"). The sidecar is written even if the
@@ -97,7 +116,8 @@ class Journal {
 
   const std::string& csv_path() const { return csv_path_; }
   const std::vector<Channel>& channels() const { return channels_; }
-  long rows() const { return rows_; }          // complete rows in the CSV (0 = header only)
+  long rows() const { return rows_; }  // rows appended (0 = header only), kBuffered: some may
+                                       // still be in memory until Flush()
   bool published() const { return published_; }
   const nlohmann::json& sidecar() const { return sidecar_; }
   // Reopened journals: the values of the last complete row (empty if it has none), the
@@ -113,6 +133,8 @@ class Journal {
   void WriteSidecar(bool reserve_next);
   void ReserveNextSidecar();                // blocks for the next sidecar rewrite (full disk)
   void SyncCsv(long row);                   // throws IoError
+  void WritePending();                      // writes pending_ whole, or cuts back and throws
+  static double Now();                      // monotonic wall time [s]
 
   std::string csv_path_;
   std::vector<Channel> channels_;
@@ -122,6 +144,11 @@ class Journal {
   int fd_ = -1;
   std::int64_t size_ = 0;  // bytes of the CSV's complete lines [B]
   long rows_ = 0;
+  long written_rows_ = 0;  // rows handed to the kernel (kBuffered: rows_ − rows in pending_)
+  std::string pending_;    // kBuffered: whole rows not yet written
+  double last_write_ = 0.0;  // Now() at the last write of pending_ [s]
+  double last_sync_ = 0.0;   // Now() at the last fsync [s]
+  bool unsynced_ = false;    // rows written since the last fsync
   bool published_ = false;
   bool finished_ = false;
   bool status_is_running_ = true;  // false on a reopened journal until its first new row

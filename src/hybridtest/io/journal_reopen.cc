@@ -147,6 +147,9 @@ Journal::Journal(ReopenForAppend, std::string csv_path, SyncPolicy policy, int b
     throw;
   }
   previous_status_ = sidecar_.value("status", "");
+  written_rows_ = rows_;
+  if (policy_ == SyncPolicy::kBuffered) pending_.reserve(kJournalBlockBytes + 64 * 1024);
+  last_write_ = last_sync_ = Now();
   published_ = true;
   status_is_running_ = false;
   ReserveNextSidecar();

@@ -50,6 +50,17 @@ struct Data {
   VectorX<T> partial_rate;         // (n)
   Matrix3X<T> partial_rate3;       // (3 × n)
   MatrixX<T> cholesky_factor;      // (n × n) Lᵀ of M = L Lᵀ (upper triangle used)
+  // Tree mass matrix (Model::tree_mass_matrix()): per speed j, the joint axis (ω_j, v_j at O)
+  // and the spatial momentum about O of everything u_j moves, per unit u_j.
+  Matrix3X<T> joint_w;       // (3 × n) [rad/s per unit u_j]
+  Matrix3X<T> joint_v;       // (3 × n) [m/s per unit u_j]
+  Matrix3X<T> momentum_lin;  // (3 × n) [kg·m/s per unit u_j]
+  Matrix3X<T> momentum_ang;  // (3 × n) [kg·m²/s per unit u_j]
+  // Composite inertia, about O in N, of everything joint j moves: mass, first moment m p,
+  // and rotational inertia about O.
+  VectorX<T> composite_mass;                   // (n) [kg]
+  Matrix3X<T> composite_moment;                // (3 × n) [kg·m]
+  std::vector<Matrix3<T>> composite_inertia;   // (n) [kg·m²]
 };
 
 extern template struct Data<double>;

@@ -2,14 +2,27 @@
 // AutoDiff. See kane.h for the equations.
 #include "hybridtest/multibody/kane.h"
 
+#include <Eigen/Cholesky>
 #include <fmt/core.h>
 
+#include <type_traits>
+
 #include "hybridtest/common/error.h"
+#include "hybridtest/multibody/tree_mass.h"
 
 namespace hybridtest::multibody {
 
 template <typename T>
 void CalcMassMatrix(const Model& model, Data<T>& data) {
+  if (model.tree_mass_matrix()) {
+    internal::CalcTreeMassMatrix(model, data);
+  } else {
+    CalcMassMatrixPairwise(model, data);
+  }
+}
+
+template <typename T>
+void CalcMassMatrixPairwise(const Model& model, Data<T>& data) {
   MatrixX<T>& M = data.M;
   T* m = M.data();  // column-major: M(j, k) = m[j + k n] (offsets in MassTerm)
   M.setZero();
@@ -164,9 +177,24 @@ bool CholeskySolveFixed(const MatrixX<T>& M, const VectorX<T>& b, VectorX<T>& y)
   return true;
 }
 
-// M y = g: unrolled for the small sizes of typical models, the dynamic loop otherwise.
+// From this size on, doubles use Eigen's blocked, vectorised in-place LLT (no allocation: the
+// factor goes to data.cholesky_factor); below it the unblocked loop is cheaper.
+constexpr int kBlockedCholeskyMin = 24;
+
+// M y = g: unrolled for the small sizes of typical models, the dynamic loop for medium ones,
+// Eigen's blocked LLT for large ones (doubles).
 template <typename T>
 bool SolveMassMatrix(Data<T>& data) {
+  if constexpr (std::is_same_v<T, double>) {
+    if (data.n >= kBlockedCholeskyMin) {
+      data.cholesky_factor.template triangularView<Eigen::Lower>() = data.M;
+      const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(data.cholesky_factor);
+      if (llt.info() != Eigen::Success) return false;
+      data.udot = data.g;
+      llt.solveInPlace(data.udot);
+      return true;
+    }
+  }
   switch (data.n) {
     case 1: return CholeskySolveFixed<1>(data.M, data.g, data.udot);
     case 2: return CholeskySolveFixed<2>(data.M, data.g, data.udot);
@@ -202,6 +230,7 @@ void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
 
 #define HYBRIDTEST_INSTANTIATE(T)                                                             \
   template void CalcMassMatrix<T>(const Model&, Data<T>&);                                    \
+  template void CalcMassMatrixPairwise<T>(const Model&, Data<T>&);                            \
   template void CalcForcing<T>(const Model&, Data<T>&, const Eigen::Ref<const VectorX<T>>&);  \
   template void CalcStateDerivative<T>(const Model&, Data<T>&, const T&,                      \
                                        const Eigen::Ref<const VectorX<T>>&,                   \

@@ -28,9 +28,16 @@ template <typename T>
 void CalcKinematics(const Model& model, Data<T>& data, const T& t,
                     const Eigen::Ref<const VectorX<T>>& x);
 
-// data.M from the last CalcKinematics.
+// data.M from the last CalcKinematics. A tree of joints with q̇ = u (Model::tree_mass_matrix())
+// takes the composite path, O(n·depth) (decision 0012); any other model the pairwise sum over
+// each mass element's active speeds, O(Σ |active|²).
 template <typename T>
 void CalcMassMatrix(const Model& model, Data<T>& data);
+
+// data.M by the pairwise sum, whatever the model (the general path; tests cross-check the
+// tree path against it).
+template <typename T>
+void CalcMassMatrixPairwise(const Model& model, Data<T>& data);
 
 // data.g from the last CalcKinematics and the restoring forces r (num_slots) [N].
 template <typename T>

@@ -43,6 +43,13 @@ Data<T>::Data(const Model& model) : n(model.num_coordinates()) {
   partial_rate.setZero(n);
   partial_rate3.setZero(3, n);
   cholesky_factor.setZero(n, n);
+  joint_w.setZero(3, n);
+  joint_v.setZero(3, n);
+  momentum_lin.setZero(3, n);
+  momentum_ang.setZero(3, n);
+  composite_mass.setZero(n);
+  composite_moment.setZero(3, n);
+  composite_inertia.assign(n, Matrix3<T>::Zero());
 }
 
 template struct Data<double>;

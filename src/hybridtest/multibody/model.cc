@@ -9,6 +9,7 @@
 #include <set>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/multibody/tree_mass.h"
 
 namespace hybridtest::multibody {
 
@@ -361,6 +362,29 @@ Model ModelBuilder::Build() && {
   m.loaded_points_.assign(loaded_points.begin(), loaded_points.end());
   m.loaded_frames_.assign(loaded_frames.begin(), loaded_frames.end());
   m.has_general_fields_ = general;
+  m.tree_mass_matrix_reason_ = internal::PlanTreeMassMatrix(elements_, m.tree_mass_plan_);
+  m.is_joint_tree_ = m.tree_mass_matrix_reason_.empty();
+  if (!m.is_joint_tree_) {
+    m.tree_mass_plan_ = TreeMassPlan{};
+  } else {
+    // Estimated cost in flops (calibrated with bench/bench_kane_scale.cc): the pairwise sum
+    // ~6 per mass term and ~8 per rotational pair; the tree path ~60 per joint (axis,
+    // composite, momentum), ~45 per element and ~7 per pair.
+    std::size_t pairwise = 6 * m.mass_terms_.size();
+    for (const auto& b : elements_.bodies) {
+      const std::size_t a = elements_.frames[b.frame].active.size();
+      pairwise += 8 * a * (a + 1) / 2 + 30;
+    }
+    const std::size_t tree = 60 * static_cast<std::size_t>(n) +
+                             45 * m.tree_mass_plan_.elements.size() +
+                             7 * m.tree_mass_plan_.pairs.size();
+    m.tree_mass_matrix_ = tree < pairwise;
+    if (!m.tree_mass_matrix_) {
+      m.tree_mass_matrix_reason_ = fmt::format(
+          "a tree of joints, but the pairwise sum is cheaper here (~{} against ~{} flops)",
+          pairwise, tree);
+    }
+  }
   m.elements_ = std::move(elements_);
   return m;
 }

@@ -146,6 +146,44 @@ struct MassTerm {
   int m_kj = 0;
 };
 
+// The mass matrix of a tree of joints (composite-rigid-body form; decision 0012), set by
+// Build() when the model qualifies (Model::tree_mass_matrix()). Each speed u_j is then a joint
+// with one spatial axis S_j = (ω_j, v_j(O)) in N shared by every mass element it moves: the
+// rotation axis of the one frame whose angle holds q_j (a revolute joint about a pivot), or
+// the translation of the one point whose position holds q_j (a prismatic joint). With the
+// spatial momentum H_k = Σ_{elements moved by u_k} (m v_k, p × m v_k + I ω_k) about O,
+//   M_jk = ω_j·H_k,ang + v_j(O)·H_k,lin      (u_j moves every element u_k moves),
+// which costs O(Σ_elements |active|) = O(n·depth) instead of O(Σ_elements |active|²).
+struct TreeMassPlan {
+  struct Joint {
+    int frame = -1;  // revolute: the frame whose angle holds q_j (ω_j is its column j); −1
+    int pivot = -1;  // revolute: a point u_j does not move that sits on the axis, or −1
+    int point = -1;  // prismatic: the point whose position holds q_j (v_j is its column j)
+  };
+  struct Element {  // a particle, or a rigid body's mass centre and frame
+    int point = -1;
+    int frame = -1;  // −1 for a particle
+    double mass = 0.0;                                    // [kg]
+    Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();    // about the mass centre, body axes
+    bool has_inertia = false;
+  };
+  struct Pair {  // M_jk = M_kj = S_outer · H_inner
+    int outer = -1;
+    int inner = -1;
+    int m_jk = 0;  // offsets in the n × n column-major M
+    int m_kj = 0;
+  };
+  std::vector<Joint> joints;      // (n)
+  std::vector<Element> elements;
+  std::vector<Pair> pairs;        // every structurally non-zero M_jk, j ≤ k
+  // The joint tree, for composite inertias: element e belongs to joint owner[e] (the
+  // innermost speed that moves it, −1 if none); parent[k] is the next joint out (−1 at a
+  // root); `order` lists the joints that move anything, children before parents.
+  std::vector<int> owner;   // (elements)
+  std::vector<int> parent;  // (n)
+  std::vector<int> order;
+};
+
 // Everything a model is made of, as the builder collects it and the built model holds it
 // (Build() moves it across).
 struct ModelElements {
@@ -256,6 +294,15 @@ class Model {
   const std::vector<int>& loaded_frames() const { return loaded_frames_; }
   // Indices of loads acting on each point/frame, for accumulation.
   bool has_general_fields() const { return has_general_fields_; }
+  // True if the model is a tree of joints with q̇ = u (TreeMassPlan, then non-empty).
+  bool is_joint_tree() const { return is_joint_tree_; }
+  // True if CalcMassMatrix takes the O(n·depth) composite path: a joint tree on which it
+  // costs less than the pairwise path (mass_terms()); small models such as the paper's rotor
+  // keep the pairwise sum, which is cheaper there (decision 0012).
+  bool tree_mass_matrix() const { return tree_mass_matrix_; }
+  const TreeMassPlan& tree_mass_plan() const { return tree_mass_plan_; }
+  // Why the model takes the pairwise path (empty if it takes the tree path).
+  const std::string& tree_mass_matrix_reason() const { return tree_mass_matrix_reason_; }
 
  private:
   friend class ModelBuilder;
@@ -265,6 +312,10 @@ class Model {
   std::vector<int> loaded_points_;
   std::vector<int> loaded_frames_;
   bool has_general_fields_ = false;
+  bool is_joint_tree_ = false;
+  bool tree_mass_matrix_ = false;
+  TreeMassPlan tree_mass_plan_;
+  std::string tree_mass_matrix_reason_;
 };
 
 }  // namespace hybridtest::multibody

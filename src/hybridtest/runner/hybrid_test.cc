@@ -111,7 +111,7 @@ RunStatistics HybridTest::Run() {
 
   // Records first: a run that cannot write its journal must not move anything.
   const auto channels = JournalChannels(cfg_, subs_);
-  const io::SyncPolicy policy = physical ? io::SyncPolicy::kEveryRow : io::SyncPolicy::kBatched;
+  const io::SyncPolicy policy = physical ? io::SyncPolicy::kEveryRow : io::SyncPolicy::kBuffered;
   const RunState* resume = options_.resume_from;
   std::optional<io::Journal> journal_storage;
   if (resume != nullptr) {
@@ -228,6 +228,7 @@ RunStatistics HybridTest::Run() {
   auto save_state = [&](bool always, long rows_after) {
     if (!options_.save_state) return;
     if (!always && !physical && rows_after / 1000 == state_rows / 1000) return;
+    journal.Flush();  // its rows before the state's are in the kernel (kBuffered holds some)
     RunState state = CaptureState(*scheme, rows_after, stages ? stages->rows() : 0,
                                   ToJson(stats_));
     state.row.assign(row.data(), row.data() + row.size());
