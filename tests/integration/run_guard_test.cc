@@ -19,18 +19,22 @@ std::string FileText(const fs::path& path) {
   return text.str();
 }
 
-// A run of kIdeal killed (SIGKILL) about 40 % of the way; returns false if it ended first.
-bool KilledRun(const fs::path& csv, std::uintmax_t reference_size, const fs::path& log) {
-  return RunAndSignalAt(RunArgs(kIdeal, csv), csv, reference_size * 2 / 5, SIGKILL, log,
-                        128 + SIGKILL);
+// In `dir`: reference.csv, kIdeal run to the end, and k.csv, the same run killed (SIGKILL)
+// about 40 % of the way. Returns k.csv's path; fails the test if the run ended first.
+fs::path ReferenceAndKilledRun(const fs::path& dir) {
+  const fs::path reference = dir / "reference.csv";
+  EXPECT_EQ(RunToEnd(RunArgs(kIdeal, reference), dir / "reference.log"), 0);
+  const fs::path csv = dir / "k.csv";
+  EXPECT_TRUE(RunAndSignalAt(RunArgs(kIdeal, csv), csv, fs::file_size(reference) * 2 / 5,
+                             SIGKILL, dir / "run.log", 128 + SIGKILL));
+  return csv;
 }
 
 TEST(OneMasterPerRun, TwoResumesThirtyMillisecondsApartOneProceeds) {
   const fs::path dir = ResumeTestDir("two_masters");
   const fs::path reference = dir / "reference.csv";
-  ASSERT_EQ(RunToEnd(RunArgs(kIdeal, reference), dir / "reference.log"), 0);
-  const fs::path csv = dir / "k.csv";
-  ASSERT_TRUE(KilledRun(csv, fs::file_size(reference), dir / "run.log"));
+  const fs::path csv = ReferenceAndKilledRun(dir);
+  ASSERT_FALSE(::testing::Test::HasFailure());
   Child first(HybridtestArgv({"resume", csv.string(), "--quiet"}), dir / "first.log");
   std::this_thread::sleep_for(std::chrono::milliseconds(30));
   Child second(HybridtestArgv({"resume", csv.string(), "--quiet"}), dir / "second.log");
@@ -98,9 +102,8 @@ void EditState(const fs::path& csv, const std::function<void(nlohmann::json&)>& 
 TEST(AStateThatCannotLie, EditedStatesAreRefusedAndTheJournalIsUnchanged) {
   const fs::path dir = ResumeTestDir("edited_state");
   const fs::path reference = dir / "reference.csv";
-  ASSERT_EQ(RunToEnd(RunArgs(kIdeal, reference), dir / "reference.log"), 0);
-  const fs::path csv = dir / "k.csv";
-  ASSERT_TRUE(KilledRun(csv, fs::file_size(reference), dir / "run.log"));
+  const fs::path csv = ReferenceAndKilledRun(dir);
+  ASSERT_FALSE(::testing::Test::HasFailure());
   const fs::path state_path = runner::RunStatePath(csv.string());
   const std::string original_state = FileText(state_path);
   struct Case {

@@ -37,6 +37,20 @@ nlohmann::json StateAfterTrials(double increment = 0.003) {
   return nlohmann::json::parse(slot->SaveState().dump());
 }
 
+// The SafetyStop with which a slot restored from `state` refuses to resume.
+transfer::SafetyStop RefusalOf(const nlohmann::json& state) {
+  auto slot = MakeIdealSlot();
+  slot->Activate();
+  slot->RestoreState(state);
+  try {
+    slot->ReimposeCommitted(0.0, 0.0, 4, {});
+  } catch (const transfer::SafetyStop& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no SafetyStop";
+  return transfer::SafetyStop("none", 0.0, 0.0, 0, 0, {}, "");
+}
+
 TEST(PhysicalResume, ReimposesTheCommittedCommandOnce) {
   const auto state = StateAfterTrials();
   auto slot = MakeIdealSlot();
@@ -78,13 +92,8 @@ TEST(PhysicalResume, RefusesAForceThatDisagreesWithTheJournal) {
   auto state = StateAfterTrials();
   const double committed = state["last"]["force_N"].get<double>();
   state["last"]["force_N"] = committed + 150.0;  // the specimen changed (say, it cracked)
-  auto slot = MakeIdealSlot();
-  slot->Activate();
-  slot->RestoreState(state);
-  try {
-    slot->ReimposeCommitted(0.0, 0.0, 4, {});
-    FAIL() << "no SafetyStop";
-  } catch (const transfer::SafetyStop& e) {
+  {
+    const transfer::SafetyStop e = RefusalOf(state);
     EXPECT_EQ(e.limit(), "resume_force_tolerance");
     EXPECT_NEAR(e.value(), 150.0, 1e-9);
     EXPECT_DOUBLE_EQ(e.limit_value(), 100.0);
@@ -122,13 +131,8 @@ TEST(PhysicalResume, RefusesAPositionThatDisagreesWithTheJournal) {
   // The journal says the actuator stood 2 mm elsewhere (a slipped clamp, a re-zeroed encoder):
   // the force alone would not tell on a soft specimen.
   state["last"]["position_m"] = state["last"]["position_m"].get<double>() + 0.002;
-  auto slot = MakeIdealSlot();
-  slot->Activate();
-  slot->RestoreState(state);
-  try {
-    slot->ReimposeCommitted(0.0, 0.0, 4, {});
-    FAIL() << "no SafetyStop";
-  } catch (const transfer::SafetyStop& e) {
+  {
+    const transfer::SafetyStop e = RefusalOf(state);
     EXPECT_EQ(e.limit(), "resume_position_tolerance");
     EXPECT_NEAR(e.value(), 0.002, 1e-12);
     EXPECT_DOUBLE_EQ(e.limit_value(), 0.25 * kLimits.max_increment);

@@ -10,34 +10,13 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/transfer/modbus/modbus_transfer.h"
 #include "transfer/modbus_server_process.h"
+#include "transfer/modbus_test_support.h"
 
 namespace hybridtest::transfer::modbus {
 namespace {
 
 using testing::ModbusServerProcess;
 
-#define REQUIRE_PYMODBUS()                                                   \
-  if (!testing::PymodbusAvailable()) GTEST_SKIP() << testing::kPymodbusMissing
-
-ModbusOptions Options(const ModbusServerProcess& server) {
-  ModbusOptions o;
-  o.port = server.port();
-  o.ack_timeout = 0.5;
-  o.response_timeout = 0.5;
-  o.connect_timeout = 2.0;
-  return o;
-}
-
-// The message of the TransferError that `f` throws ("" if none).
-template <class F>
-std::string TransferFailure(F&& f) {
-  try {
-    f();
-  } catch (const TransferError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 double Float32(double v) { return static_cast<float>(v); }
 

@@ -71,27 +71,14 @@ void BenchServer::Serve() {
   bench_.Activate();
   Log(fmt::format("serving {} on {}", bench_.Describe(), address()));
   while (!stop_.load()) {
-    // Wait for a new connection or bytes from a pending one.
-    std::vector<pollfd> fds = {{listener_.fd(), POLLIN, 0}};
-    for (std::size_t i = 0; i < handshakes_.size(); ++i) {
-      fds.push_back({handshakes_.at(i).socket.fd(), POLLIN, 0});
-    }
-    poll(fds.data(), fds.size(), kPollIntervalMs);
-    // Pending handshakes, last first so that removing one keeps the others' indices.
-    for (std::size_t k = fds.size(); k-- > 1;) {
-      if ((fds[k].revents & (POLLIN | POLLHUP | POLLERR)) != 0 && AdvanceHandshake(k - 1)) break;
-    }
-    DropExpiredHandshakes();
-    if ((fds[0].revents & POLLIN) != 0 && !stop_.load()) {
-      Socket client = listener_.Accept(0.0);
-      if (client.is_open()) {
-        const std::string evicted = handshakes_.Add(std::move(client), Clock::now());
-        if (!evicted.empty()) {
+    ServeOpeningsTurn(
+        listener_, handshakes_, kPollIntervalMs, stop_,
+        [this](std::size_t i) { return AdvanceHandshake(i); },
+        [this] { DropExpiredHandshakes(); },
+        [this](const std::string& evicted) {
           Log(fmt::format("{} connections await HELLO: dropped the oldest, from {}",
                           options_.max_pending, evicted));
-        }
-      }
-    }
+        });
   }
   handshakes_.TakeAll();
   HoldBench("server stopping");

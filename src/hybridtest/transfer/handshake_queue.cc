@@ -4,6 +4,7 @@
 #include <arpa/inet.h>
 #include <fmt/core.h>
 #include <netinet/in.h>
+#include <poll.h>
 #include <sys/socket.h>
 
 #include <cerrno>
@@ -114,6 +115,28 @@ std::vector<HandshakeQueue::Pending> HandshakeQueue::TakeAll() {
   std::vector<Pending> all = std::move(entries_);
   entries_.clear();
   return all;
+}
+
+void ServeOpeningsTurn(Listener& listener, HandshakeQueue& queue, int poll_ms,
+                       const std::atomic<bool>& stop,
+                       const std::function<bool(std::size_t)>& advance,
+                       const std::function<void()>& drop_expired,
+                       const std::function<void(const std::string&)>& on_evicted) {
+  std::vector<pollfd> fds = {{listener.fd(), POLLIN, 0}};
+  for (std::size_t i = 0; i < queue.size(); ++i) fds.push_back({queue.at(i).socket.fd(), POLLIN, 0});
+  poll(fds.data(), fds.size(), poll_ms);
+  // Pending openings, last first so that removing one keeps the others' indices.
+  for (std::size_t k = fds.size(); k-- > 1;) {
+    if ((fds[k].revents & (POLLIN | POLLHUP | POLLERR)) != 0 && advance(k - 1)) break;
+  }
+  drop_expired();
+  if ((fds[0].revents & POLLIN) != 0 && !stop.load()) {
+    Socket client = listener.Accept(0.0);
+    if (client.is_open()) {
+      const std::string evicted = queue.Add(std::move(client), HandshakeQueue::Clock::now());
+      if (!evicted.empty()) on_evicted(evicted);
+    }
+  }
 }
 
 }  // namespace hybridtest::transfer

@@ -12,6 +12,7 @@
 //    version, a token and a name), so a peer cannot make the server buffer 64 KiB per socket.
 // The opening need not be a frame: a queue built with a Measure function reads whatever that
 // function says the opening is (the OpenFresco server's token preamble and 44-byte header).
+#include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -76,5 +77,17 @@ class HandshakeQueue {
   Measure measure_;
   std::vector<Pending> entries_;  // oldest first
 };
+
+// One turn of a server's accept loop, never blocked by one peer: waits up to `poll_ms` [ms]
+// for a new connection on `listener` or bytes from a pending opening in `queue`; calls
+// `advance(i)` for each opening with bytes, newest first, and ends the turn when it returns
+// true (a session was served: the queue changed); calls `drop_expired()`; then, unless `stop`
+// is set, queues a new connection, calling `on_evicted(address)` when the queue was full and
+// its oldest opening was dropped.
+void ServeOpeningsTurn(Listener& listener, HandshakeQueue& queue, int poll_ms,
+                       const std::atomic<bool>& stop,
+                       const std::function<bool(std::size_t)>& advance,
+                       const std::function<void()>& drop_expired,
+                       const std::function<void(const std::string&)>& on_evicted);
 
 }  // namespace hybridtest::transfer
