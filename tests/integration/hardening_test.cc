@@ -113,6 +113,27 @@ TEST(Hardening, CommandLineErrorsExitTwo) {
   EXPECT_EQ(RunCommand(kExe + " --version").first, 0);
 }
 
+// Numeric options refuse NaN, infinities, signs out of range and trailing text (they used to
+// fall back to a default, or `inf` disabled a check), naming the option and the value.
+TEST(Hardening, NumericOptionsAreValidatedNotReplaced) {
+  const std::string config = kSource + "/examples/rotor/numerical.yaml";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"resume x.csv --force-tolerance nan", "--force-tolerance"},
+      {"resume x.csv --force-tolerance -5", "--force-tolerance"},
+      {"resume x.csv --force-tolerance 0", "--force-tolerance"},
+      {"resume x.csv --force-tolerance inf", "--force-tolerance"},
+      {"resume x.csv --position-tolerance 1mm", "--position-tolerance"},
+      {"eom " + config + " --time nan --state 0,0,0,0,0,0,0,0", "--time"},
+      {"plan " + config + " --tolerance -0.01", "--tolerance"},
+      {"compare " + config + " " + config + " --transient inf", "--transient"},
+  };
+  for (const auto& [args, option] : cases) {
+    const auto [status, out] = RunCommand(kExe + " " + args);
+    EXPECT_EQ(status, 2) << args << "\n" << out;
+    EXPECT_NE(out.find(option), std::string::npos) << args << "\n" << out;
+  }
+}
+
 TEST(Hardening, ReportCreatesTheFoldersOfOut) {
   const std::string config = Write("tiny.yaml", "model: {name: rotor, blades: 3}\n"
                                                 "integrator: {tableau: heun, dt: 0.001}\n"

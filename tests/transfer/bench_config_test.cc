@@ -97,6 +97,21 @@ TEST(BenchConfig, ErrorsNameTheKeyPathAndTheFix) {
   EXPECT_THAT(ErrorOf("{safety: {force_soft_kN: 12}}"), HasSubstr("force_soft"));
 }
 
+// Timing keys that would make one command simulate for hours (and ignore Ctrl-C) are refused.
+TEST(BenchConfig, EveryTimingKeyIsBounded) {
+  EXPECT_THAT(ErrorOf("{timing: {internal_step_ms: 1e-300}}"),
+              AllOf(HasSubstr("timing.internal_step_ms"), HasSubstr("0.001 to 100 ms")));
+  EXPECT_THAT(ErrorOf("{sampling: {window_ms: 1e12}}"),
+              AllOf(HasSubstr("sampling.window_ms"), HasSubstr("0 to 60000 ms")));
+  EXPECT_THAT(ErrorOf("{settling: {dwell_ms: 1e9}}"), HasSubstr("settling.dwell_ms"));
+  EXPECT_THAT(ErrorOf("{actuator: {delay_ms: 1e6}}"), HasSubstr("actuator.delay_ms"));
+  EXPECT_THAT(ErrorOf("{timing: {overhead_ms: 1e10}}"), HasSubstr("timing.overhead_ms"));
+  EXPECT_THAT(ErrorOf("{timing: {internal_step_ms: 0.001}, sampling: {window_ms: 30000}}"),
+              HasSubstr("more than 10 million internal steps"));
+  EXPECT_EQ(ErrorOf("{timing: {internal_step_ms: 0.5}, sampling: {window_ms: 500}}"),
+            "(no error)");
+}
+
 TEST(BenchConfig, LoadFileErrors) {
   EXPECT_THROW(LoadEmulatedBenchConfig("/nonexistent/bench.yaml"), ConfigError);
   const std::string path = ::testing::TempDir() + "/not_a_bench.yaml";
