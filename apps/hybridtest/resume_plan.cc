@@ -32,7 +32,7 @@ void CompleteInterruptedPublish(const std::string& csv) {
 
 }  // namespace
 
-ResumePlan PlanResume(const ResumeCommandOptions& options) {
+ResumePlan PlanResumeChecked(const ResumeCommandOptions& options) {
   if (!std::filesystem::exists(options.csv)) {
     throw ConfigError(fmt::format("{}: no such journal: give the CSV of the run to resume",
                                   options.csv));
@@ -93,6 +93,17 @@ ResumePlan PlanResume(const ResumeCommandOptions& options) {
   }
   if (options.after_safety_stop) plan.record["after_safety_stop"] = true;
   return plan;
+}
+
+ResumePlan PlanResume(const ResumeCommandOptions& options) {
+  try {
+    return PlanResumeChecked(options);
+  } catch (const nlohmann::json::exception& e) {
+    // A sidecar or state with a value of the wrong JSON type (edited by hand or damaged).
+    throw ConfigError(fmt::format("{}: the run's sidecar or state holds a value of the wrong "
+                                  "type ({}); restore the files the run wrote", options.csv,
+                                  e.what()));
+  }
 }
 
 }  // namespace hybridtest::app

@@ -78,6 +78,19 @@ TEST(RunStateChecksum, RoundTripsAndRefusesAnyEdit) {
   nlohmann::json old = j;
   old["version"] = 1;
   EXPECT_THAT(ErrorOf([&] { RunStateFromJson(old, "s.json"); }), HasSubstr("version 1"));
+  // Found by fuzzing: a key of the wrong JSON type is a ConfigError, never an exception of
+  // the JSON library (which the CLI would report as an internal error).
+  for (const char* key : {"format", "version", "checksum", "rows", "row", "journal", "scheme"}) {
+    nlohmann::json wrong = j;
+    wrong[key] = nlohmann::json::array({1, "x"});
+    wrong["checksum"] = RunStateChecksum(wrong);
+    if (std::string(key) == "checksum") wrong[key] = nlohmann::json::array();
+    EXPECT_NE(ErrorOf([&] { RunStateFromJson(wrong, "s.json"); }), "(no error)") << key;
+  }
+  nlohmann::json step = j;
+  step["scheme"]["step"] = "2";
+  step["checksum"] = RunStateChecksum(step);
+  EXPECT_THAT(ErrorOf([&] { RunStateFromJson(step, "s.json"); }), HasSubstr("scheme.step"));
   nlohmann::json huge = j;
   huge["rows"] = 1e300;
   huge["checksum"] = RunStateChecksum(huge);

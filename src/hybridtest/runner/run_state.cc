@@ -127,7 +127,9 @@ nlohmann::json ToJson(const RunState& s) {
 }
 
 RunState RunStateFromJson(const nlohmann::json& j, const std::string& where) {
-  if (!j.is_object() || j.value("format", "") != kFormat) {
+  const auto format = j.is_object() ? j.find("format") : j.end();
+  if (!j.is_object() || format == j.end() || !format->is_string() ||
+      format->get<std::string>() != kFormat) {
     throw ConfigError(fmt::format("{}: not a hybridtest run state (expected \"format\": \"{}\")",
                                   where, kFormat));
   }
@@ -156,6 +158,10 @@ RunState RunStateFromJson(const nlohmann::json& j, const std::string& where) {
     s.rows = count(j.at("rows"));
     s.stage_rows = count(j.at("stage_rows"));
     s.scheme = j.at("scheme");
+    if (!s.scheme.is_object() || !s.scheme.contains("step") ||
+        !s.scheme["step"].is_number_integer()) {
+      throw ConfigError("scheme.step is not an integer");
+    }
     s.substructures = j.at("substructures");
     s.statistics = j.at("statistics");
     s.stiffness = j.at("stiffness");
