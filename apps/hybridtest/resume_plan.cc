@@ -30,8 +30,7 @@ void CompleteInterruptedPublish(const std::string& csv) {
              "{} completed from {}\n", csv, sidecar, staged);
 }
 
-}  // namespace
-
+// PlanResume without the translation of JSON type errors.
 ResumePlan PlanResumeChecked(const ResumeCommandOptions& options) {
   if (!std::filesystem::exists(options.csv)) {
     throw ConfigError(fmt::format("{}: no such journal: give the CSV of the run to resume",
@@ -94,6 +93,8 @@ ResumePlan PlanResumeChecked(const ResumeCommandOptions& options) {
   if (options.after_safety_stop) plan.record["after_safety_stop"] = true;
   return plan;
 }
+
+}  // namespace
 
 ResumePlan PlanResume(const ResumeCommandOptions& options) {
   try {

@@ -214,6 +214,7 @@ void Journal::Append(std::span<const double> row, bool durable) {
   if (policy_ == SyncPolicy::kBuffered && published_ && status_is_running_) {
     // Numerical runs: rows are collected and written in blocks, synced at a bounded interval.
     AppendCsvRow(row, pending_);
+    last_row_.assign(row.begin(), row.end());  // no allocation once sized
     ++rows_;
     if (pending_.size() >= kJournalBlockBytes) {
       WritePending();
@@ -230,6 +231,7 @@ void Journal::Append(std::span<const double> row, bool durable) {
   AppendCsvRow(row, line_);
   // One pwrite hands the row to the kernel: from here on a crash of the process loses nothing.
   WriteRow(line_);
+  last_row_.assign(row.begin(), row.end());
   ++rows_;
   written_rows_ = rows_;
   unsynced_ = true;

@@ -120,8 +120,9 @@ class Journal {
                                        // still be in memory until Flush()
   bool published() const { return published_; }
   const nlohmann::json& sidecar() const { return sidecar_; }
-  // Reopened journals: the values of the last complete row (empty if it has none), the
-  // sidecar's status found on reopening, and the bytes of a partial last line cut off.
+  // The values of the last row appended, or of a reopened journal's last complete row (empty
+  // if it has none; the run state records them); on a reopened journal, the sidecar's status
+  // found on reopening and the bytes of a partial last line cut off.
   const std::vector<double>& last_row() const { return last_row_; }
   const std::string& previous_status() const { return previous_status_; }
   long truncated_bytes() const { return truncated_bytes_; }

@@ -13,6 +13,11 @@ namespace hybridtest::io {
 
 namespace fs = std::filesystem;
 
+std::string RunStatePath(const std::string& csv_path) {
+  const fs::path p(csv_path);
+  return (p.parent_path() / (p.stem().string() + ".state.json")).string();
+}
+
 std::vector<std::string> RunOutputFiles(const std::string& csv_path) {
   const std::string stages = StagesPath(csv_path);
   return {csv_path, SidecarPath(csv_path), stages, SidecarPath(stages)};
@@ -64,8 +69,7 @@ bool SameFile(const std::string& a, const std::string& b) {
 void CheckRunOutputs(const std::string& csv_path, const std::vector<std::string>& inputs,
                      bool overwrite) {
   std::vector<std::string> outputs = RunOutputFiles(csv_path);
-  const fs::path p(csv_path);
-  outputs.push_back((p.parent_path() / (p.stem().string() + ".state.json")).string());
+  outputs.push_back(RunStatePath(csv_path));
   for (const std::string& out : outputs) {
     for (const std::string& in : inputs) {
       if (!SameFile(out, in)) continue;

@@ -13,6 +13,9 @@
 
 namespace hybridtest::io {
 
+// "<dir>/<stem>.state.json" for the journal "<dir>/<stem>.csv": the run state (runner/run_state.h).
+std::string RunStatePath(const std::string& csv_path);
+
 // The files a run to csv_path may write, journal first.
 std::vector<std::string> RunOutputFiles(const std::string& csv_path);
 

@@ -160,10 +160,6 @@ RunStatistics HybridTest::Run() {
     stats_.slowdown = t > 0.0 && physical ? stats_.lab_time / t : 0.0;
     stats_.wall_slowdown = t > 0.0 ? stats_.wall_time / t : 0.0;
   };
-  // The values of the journal's last row (the run state records them: resume checks that the
-  // journal still holds them).
-  Eigen::VectorXd last_row(row.size());
-  long last_row_index = -1;
   // Journal row of a committed state xs with restoring forces rs; `measured`: the physical
   // channels hold the last exchange (else NaN: no specimen sample belongs to this row).
   auto fill_row = [&](double t, const Eigen::VectorXd& xs, const Eigen::VectorXd& rs,
@@ -186,8 +182,6 @@ RunStatistics HybridTest::Run() {
   auto append_row = [&](bool measured) {
     journal.Append(std::span<const double>(row.data(), row.size()), measured);
     stats_.rows = journal.rows();
-    last_row = row;
-    last_row_index = journal.rows() - 1;
   };
   auto write_row = [&](double t, const Eigen::VectorXd& xs, const Eigen::VectorXd& rs,
                        bool measured) {
@@ -233,12 +227,7 @@ RunStatistics HybridTest::Run() {
                                   ToJson(stats_));
     state.row.assign(row.data(), row.data() + row.size());
     state.journal_rows = journal.rows();
-    if (last_row_index >= 0 && last_row_index == journal.rows() - 1) {
-      state.journal_last_row = std::vector<double>(last_row.data(), last_row.data() + last_row.size());
-    } else if (journal.rows() > 0) {
-      // Reopened by a resume that has not written yet: the journal's own last row.
-      state.journal_last_row = journal.last_row();
-    }
+    if (journal.rows() > 0) state.journal_last_row = journal.last_row();
     SaveRunState(state_path, state);
     state_rows = rows_after;
   };

@@ -21,6 +21,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/atomic_file.h"
 #include "hybridtest/io/digest.h"
+#include "hybridtest/io/run_outputs.h"
 
 namespace hybridtest::runner {
 
@@ -106,10 +107,7 @@ std::string RunStateChecksum(const nlohmann::json& j) {
   return io::Sha256Hex(copy.dump());
 }
 
-std::string RunStatePath(const std::string& csv_path) {
-  const std::filesystem::path p(csv_path);
-  return (p.parent_path() / (p.stem().string() + ".state.json")).string();
-}
+std::string RunStatePath(const std::string& csv_path) { return io::RunStatePath(csv_path); }
 
 nlohmann::json ToJson(const RunState& s) {
   nlohmann::json j = {{"format", kFormat},         {"version", kVersion},
