@@ -9,26 +9,12 @@
 #include <chrono>
 #include <thread>
 
-#include "hybridtest/io/run_spec_yaml.h"
+#include "runner/dummy_spec.h"
 
 namespace hybridtest::runner {
 namespace {
 
-io::RunSpec DummySpec() {
-  io::RunSpec spec = io::CompileRunSpec(io::ParseSimulationConfig(YamlInput::FromText(
-      "model: {name: rotor, blades: 3}\n"
-      "initial_state: {q: [0.002, -0.005, 0.002, 0.0], u: [0.1, 0.0, -0.2, 0.5]}\n"
-      "integrator: {tableau: heun, dt: 0.001}\n"
-      "duration: 0.03\n"
-      "substructures:\n"
-      "  r1:\n"
-      "    type: physical\n"
-      "    transfer: {type: loopback, law: {type: linear, stiffness: 7200}}\n"
-      "    safety: defaults\n",
-      "queued_observer_test.yaml")));
-  spec.output.files = false;
-  return spec;
-}
+io::RunSpec DummySpec() { return testing::DummySpec(0.03); }
 
 // Keeps a flat log of what it saw; optionally slow, optionally failing at commit k.
 class Log final : public SessionObserver {
