@@ -26,4 +26,12 @@ std::vector<std::pair<std::string, AddCommandFn>> RegisteredCommands();
 void SetExitStatus(int status);
 int exit_status();
 
+// The process's command line as typed (argv joined with spaces), for the records.
+void SetCommandLine(int argc, char** argv);
+const std::string& command_line();
+
+// What to do next after a failure, printed by main() below the error (e.g. how to resume).
+void SetErrorHint(std::string hint);
+const std::string& error_hint();
+
 }  // namespace hybridtest::app

@@ -1,5 +1,5 @@
 // hybridtest resume RUN.csv [--bench HOST:PORT] [--quiet] [--force-tolerance N]
-//                           [--after-safety-stop]
+//                           [--after-safety-stop] [--set KEY=VALUE ...]
 // Continues a stopped or killed run from its last committed step (its <run>.state.json),
 // appending to the same journal and stage record. On a physical slot the last committed
 // command is re-imposed first and the force checked (docs/safety.md, "Resuming a run").
@@ -32,6 +32,11 @@ void AddResumeCommand(CLI::App& root) {
       ->check(PositiveFiniteNumber());
   cmd->add_flag("--after-safety-stop", opt->after_safety_stop,
                 "resume a run that stopped on a safety limit, once its cause is fixed");
+  cmd->add_option("--set", opt->set,
+                  "change a limit on resume, recorded in the sidecar: "
+                  "substructures.SLOT.safety.KEY=VALUE (stroke_min, stroke_max, max_increment "
+                  "[m], force_soft, force_hard [N], timeout [s]) or resume.force_tolerance / "
+                  "resume.position_tolerance (repeatable)");
   cmd->callback([opt] { ExecuteResume(*opt); });
 }
 

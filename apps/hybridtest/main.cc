@@ -40,6 +40,28 @@ std::vector<std::pair<std::string, AddCommandFn>> RegisteredCommands() {
 void SetExitStatus(int status) { g_exit_status = status; }
 int exit_status() { return g_exit_status; }
 
+namespace {
+std::string& ErrorHint() {
+  static std::string hint;
+  return hint;
+}
+}  // namespace
+void SetErrorHint(std::string hint) { ErrorHint() = std::move(hint); }
+
+namespace {
+std::string& CommandLineText() {
+  static std::string text;
+  return text;
+}
+}  // namespace
+void SetCommandLine(int argc, char** argv) {
+  std::string& text = CommandLineText();
+  text.clear();
+  for (int i = 0; i < argc; ++i) text += (i > 0 ? " " : "") + std::string(argv[i]);
+}
+const std::string& command_line() { return CommandLineText(); }
+const std::string& error_hint() { return ErrorHint(); }
+
 }  // namespace hybridtest::app
 
 int main(int argc, char** argv) {
@@ -54,6 +76,7 @@ int main(int argc, char** argv) {
       "frame); 70 internal error; 130 interrupted (Ctrl-C or SIGTERM: the run stops after the "
       "current step, everything committed is written).");
   for (const auto& [name, add] : app::RegisteredCommands()) add(root);
+  app::SetCommandLine(argc, argv);
 
   try {
     root.parse(argc, argv);
@@ -66,16 +89,18 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "hybridtest: configuration error: %s\n", e.what());
     return 2;
   } catch (const runner::Interrupted& e) {
-    std::fprintf(stderr, "hybridtest: %s\n", e.what());
+    std::fprintf(stderr, "hybridtest: %s\n%s", e.what(), app::error_hint().c_str());
     return 130;
   } catch (const transfer::SafetyStop& e) {
-    std::fprintf(stderr, "hybridtest: %s\n", e.what());  // what() starts with "safety stop:"
+    // what() starts with "safety stop:"
+    std::fprintf(stderr, "hybridtest: %s\n%s", e.what(), app::error_hint().c_str());
     return 3;
   } catch (const TransferError& e) {
-    std::fprintf(stderr, "hybridtest: transfer system error: %s\n", e.what());
+    std::fprintf(stderr, "hybridtest: transfer system error: %s\n%s", e.what(),
+                 app::error_hint().c_str());
     return 4;
   } catch (const Error& e) {
-    std::fprintf(stderr, "hybridtest: error: %s\n", e.what());
+    std::fprintf(stderr, "hybridtest: error: %s\n%s", e.what(), app::error_hint().c_str());
     return 1;
   } catch (const YAML::Exception& e) {
     // A YAML type error the config readers did not catch themselves: still the user's input.

@@ -70,8 +70,10 @@ ResumePlan PlanResumeChecked(const ResumeCommandOptions& options) {
         !options.after_safety_stop) {
       throw ConfigError(fmt::format(
           "{}: the run stopped on a safety limit ({}: {}). Resume retries the step that was "
-          "stopped, with the same limits: find and fix the cause first (docs/safety.md, "
-          "\"Resuming a run\"), then run hybridtest resume {} --after-safety-stop",
+          "stopped, with the limits the run started with: find and fix the cause first "
+          "(docs/safety.md, \"Resuming a run\"), then run\n    hybridtest resume {} "
+          "--after-safety-stop\nand, if a limit must change, add --set "
+          "substructures.SLOT.safety.KEY=VALUE (recorded in the sidecar)",
           options.csv, stop.value("limit", "?"), stop.value("message", ""), options.csv));
     }
   }

@@ -8,8 +8,13 @@
 #include <csignal>
 #include <filesystem>
 
+#include <unistd.h>
+
+#include "resume_changes.h"
 #include "resume_plan.h"
+#include "command.h"
 #include "hybridtest/common/error.h"
+#include "hybridtest/common/version.h"
 #include "hybridtest/io/config.h"
 #include "hybridtest/io/run_inputs.h"
 #include "hybridtest/io/run_lock.h"
@@ -18,6 +23,7 @@
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/runner/progress.h"
 #include "hybridtest/runner/session.h"
+#include "hybridtest/transfer/safety.h"
 #include "hybridtest/runner/run_record.h"
 #include "pre_run_checks.h"
 
@@ -73,6 +79,21 @@ class ProgressObserver final : public runner::SessionObserver {
   runner::Progress progress_;
 };
 
+// Where a run's record comes from (io::SourceSpec::provenance).
+nlohmann::json Provenance(const io::SimulationConfig& cfg, const std::string& csv) {
+  char host[256] = {};
+  if (::gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
+  std::error_code ec;
+  const std::filesystem::path output = std::filesystem::absolute(csv, ec);
+  return {{"software", {{"name", "hybridtest"}, {"version", kVersion},
+                        {"git", kGitDescribe}, {"build_type", kBuildType}}},
+          {"host", host},
+          {"command_line", command_line()},
+          {"working_directory", std::filesystem::current_path(ec).string()},
+          {"output", ec ? csv : output.lexically_normal().string()},
+          {"inputs", io::InputTexts(cfg)}};
+}
+
 // The loop and the summary, shared by run, simulate and resume.
 void RunAndReport(io::RunSpec spec, runner::SessionOptions session_options,
                   const runner::RunState* resume_from, bool quiet) {
@@ -89,7 +110,25 @@ void RunAndReport(io::RunSpec spec, runner::SessionOptions session_options,
   session.AddObserver(progress_observer);
   const StopOnSignal stop_on_signal(session);
   const runner::StepResult result = session.Run();
-  if (result.status != runner::SessionStatus::kFinished) std::rethrow_exception(session.error());
+  if (result.status != runner::SessionStatus::kFinished) {
+    // How to go on comes first: every committed step is kept, and resume continues from it.
+    if (session.statistics().rows > 0 && session.spec().output.files) {
+      bool safety = false;
+      try {
+        std::rethrow_exception(session.error());
+      } catch (const transfer::SafetyStop&) {
+        safety = true;
+      } catch (...) {
+      }
+      SetErrorHint(fmt::format(
+          "every committed step is kept in {}; continue the run with:\n    hybridtest resume "
+          "{}{}\n", csv, csv,
+          safety ? " --after-safety-stop\n  once the cause is found and fixed (a limit may be "
+                   "changed on the way, recorded: --set substructures.SLOT.safety.KEY=VALUE)"
+                 : ""));
+    }
+    std::rethrow_exception(session.error());
+  }
   if (quiet) return;
   const runner::RunStatistics& s = session.statistics();
   const io::SchemeSpec& scheme = session.spec().scheme;
@@ -139,6 +178,7 @@ void ExecuteRun(const RunCommandOptions& options) {
   // Results are never destroyed: an earlier run needs --overwrite, an input is never an output.
   io::CheckRunOutputs(csv, io::RunInputFiles(cfg), options.overwrite);
   spec.source.inputs = io::RecordRunInputs(cfg, csv);
+  spec.source.provenance = Provenance(cfg, csv);
   RunAndReport(std::move(spec), {}, nullptr, options.quiet);
 }
 
@@ -161,6 +201,10 @@ void ExecuteResume(const ResumeCommandOptions& options) {
   if (options.position_tolerance) spec.resume.position_tolerance = options.position_tolerance;
   runner::SessionOptions session_options;
   session_options.resume_record = plan.record;
+  if (!options.set.empty()) {
+    session_options.resume_record["changes"] = ApplyResumeChanges(spec, options.set);
+  }
+  session_options.resume_record["command_line"] = command_line();
   session_options.commands_received_at_stop = plan.commands_received_at_stop;
   if (!options.quiet) {
     fmt::print("hybridtest resume: {} from step {} (t = {} s, journal row {}); previous status: "

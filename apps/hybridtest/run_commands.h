@@ -3,6 +3,7 @@
 // report. One code path, so a dummy hybrid test and a simulation are the same computation.
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace hybridtest::app {
 
@@ -27,6 +28,7 @@ struct ResumeCommandOptions {
   std::optional<double> force_tolerance;  // --force-tolerance [N], else resume.force_tolerance
   std::optional<double> position_tolerance;  // --position-tolerance [m], else resume.position_tolerance
   bool after_safety_stop = false;         // --after-safety-stop: the operator fixed the cause
+  std::vector<std::string> set;           // --set KEY=VALUE (resume_changes.h)
 };
 
 // `hybridtest resume`: rebuilds the run from its sidecar (config text and path, command) and

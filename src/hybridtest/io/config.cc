@@ -198,10 +198,34 @@ schemes::SchemeConfig ParseScheme(const YamlInput& in, const YAML::Node& integ) 
   return sc;
 }
 
+namespace {
+// The `test:` block as JSON: mappings and lists as they are, every scalar as its text (the
+// record keeps what the operator wrote: "S-0421", "0042", "2026-11-23").
+nlohmann::json TestRecord(const YamlInput& in, const YAML::Node& node, const std::string& kp) {
+  if (node.IsMap()) {
+    nlohmann::json out = nlohmann::json::object();
+    for (const auto& kv : node) {
+      const std::string key = in.String(kv.first, kp, "a key (a name such as specimen)");
+      out[key] = TestRecord(in, kv.second, kp + "." + key);
+    }
+    return out;
+  }
+  if (node.IsSequence()) {
+    nlohmann::json out = nlohmann::json::array();
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      out.push_back(TestRecord(in, node[i], fmt::format("{}[{}]", kp, i)));
+    }
+    return out;
+  }
+  if (node.IsNull()) return nullptr;
+  return node.Scalar();
+}
+}  // namespace
+
 SimulationConfig ParseSimulationConfig(const YamlInput& in) {
   const YAML::Node& root = in.root();
   in.CheckKeys(root, "", {"model", "initial_state", "integrator", "duration", "output",
-                          "substructures", "progress", "resume"});
+                          "substructures", "progress", "resume", "test"});
   int blades = 0;
   models::BuiltModel model = ParseModel(in, in.Mapping(root, "model", "model", true), &blades);
   SimulationConfig cfg{.input = in, .model = std::move(model), .blades = blades, .x0 = {},
@@ -292,6 +316,8 @@ SimulationConfig ParseSimulationConfig(const YamlInput& in) {
           "a positive force in newtons (largest |measured - committed force| on resume)");
     }
   }
+  const YAML::Node test = in.Mapping(root, "test", "test", false);
+  if (test.IsDefined()) cfg.test = TestRecord(in, test, "test");
   return cfg;
 }
 

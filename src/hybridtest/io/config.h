@@ -20,9 +20,14 @@
 //     csv: results/run.csv     # journal path (overridden by --out)
 //   substructures: ...         # hybrid tests: see substructure_config.h
 //   progress: {quiet: false}
+//   test:                      # optional: what the record says about the test (free keys)
+//     specimen: S-0421
+//     operator: A. Lab
+//     notes: first article
 //
 // Everything is validated here, where it enters; errors name file:line, key, value and fix.
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
 #include <optional>
 #include <string>
@@ -56,6 +61,8 @@ struct SimulationConfig {
   // resume.position_tolerance: largest |measured − committed position| accepted when `resume`
   // re-imposes the last committed command. Unit: [m]. Default: a quarter of max_increment.
   std::optional<double> resume_position_tolerance;
+  // test: the operator's record of the test (specimen, operator, notes, any keys), as written.
+  nlohmann::json test = nlohmann::json::object();
 };
 
 // Loads and validates a config file. Throws ConfigError.

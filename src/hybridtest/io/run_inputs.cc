@@ -4,6 +4,8 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/digest.h"
@@ -41,6 +43,21 @@ nlohmann::json RecordRunInputs(const SimulationConfig& cfg, const std::string& c
     record.push_back(entry);
   }
   return record;
+}
+
+nlohmann::json InputTexts(const SimulationConfig& cfg) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const RunInput& input : RunInputs(cfg)) {
+    if (input.role == "token") continue;  // a secret: never copied
+    std::string text = cfg.input.text();
+    if (input.role != "config") {
+      std::ifstream file(input.path, std::ios::binary);
+      text.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+    }
+    out.push_back({{"role", input.role}, {"path", input.path}, {"sha256", Sha256Hex(text)},
+                   {"text", text}});
+  }
+  return out;
 }
 
 std::string RecordedConfigPath(const nlohmann::json& inputs, const std::string& csv_path) {

@@ -18,6 +18,10 @@ nlohmann::json RecordRunInputs(const SimulationConfig& cfg, const std::string& c
 
 // The run config's path from the record, resolved against the journal's directory. Throws
 // ConfigError if the record has no config entry.
+// Every input of cfg but a token file, verbatim: [{role, path (as the config resolves it),
+// sha256, text}] — the sidecar's provenance.
+nlohmann::json InputTexts(const SimulationConfig& cfg);
+
 std::string RecordedConfigPath(const nlohmann::json& inputs, const std::string& csv_path);
 
 // Throws ConfigError (exit 2) naming every file of the resumed run `cfg` that differs from the

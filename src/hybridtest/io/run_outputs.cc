@@ -98,12 +98,35 @@ void CheckRunOutputs(const std::string& csv_path, const std::vector<std::string>
                                   "choose another --out", out, kind));
   }
   if (overwrite) return;
+  // A run that did not complete is continued, never replaced by default: resume comes first.
+  {
+    std::error_code ec;
+    if (fs::is_regular_file(csv_path, ec) && fs::is_regular_file(SidecarPath(csv_path), ec)) {
+      std::string status = "completed";  // an unreadable sidecar is no run to continue
+      try {
+        status = ReadSidecar(csv_path).value("status", "");
+      } catch (const std::exception&) {
+      }
+      if (status != "completed") {
+        const bool killed = status == "running";
+        throw ConfigError(fmt::format(
+            "{}: holds a run that did not finish ({}). Continue it with:\n"
+            "    hybridtest resume {}\n"
+            "every committed step is kept. Or choose another --out; --overwrite would destroy "
+            "its committed steps",
+            csv_path,
+            killed ? "status 'running' while no process holds it: it was killed"
+                   : "status '" + status + "'",
+            csv_path));
+      }
+    }
+  }
   for (const std::string& out : outputs) {
     std::error_code ec;
     if (fs::exists(fs::symlink_status(out, ec)) && !ec) {
       throw ConfigError(fmt::format(
-          "{}: exists already (an earlier run); pass --overwrite to replace that run, or "
-          "choose another --out",
+          "{}: exists already (an earlier, completed run); choose another --out, or pass "
+          "--overwrite to replace that run",
           out));
     }
   }

@@ -54,6 +54,7 @@ RunSpec CompileRunSpec(const SimulationConfig& cfg, const SubstructureOptions& o
   spec.output.csv_path =
       !cfg.output_csv.empty() ? cfg.output_csv : "results/" + spec.source.name + ".csv";
   spec.quiet = cfg.quiet;
+  spec.source.test = cfg.test;
   return spec;
 }
 

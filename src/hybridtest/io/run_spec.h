@@ -57,6 +57,12 @@ struct SourceSpec {
   // The files the run reads, [{role, path (relative to the journal's folder), sha256}]
   // (io/run_inputs.h): recorded in the sidecar and every run state; resume checks them.
   nlohmann::json inputs = nlohmann::json::array();
+  // The operator's `test:` block (specimen, operator, notes, any keys), as written.
+  nlohmann::json test = nlohmann::json::object();
+  // Where the record comes from: software (version, git, build type), host, command line,
+  // the resolved output path, every input file verbatim with its sha256. Filled by the
+  // command line; the sidecar keeps it as it is.
+  nlohmann::json provenance = nlohmann::json::object();
 };
 
 struct RunSpec {

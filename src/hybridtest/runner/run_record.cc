@@ -123,6 +123,8 @@ io::JournalMetadata JournalMetadataFor(const io::RunSpec& spec,
                 {"dt", spec.scheme.dt},
                 {"duration", spec.scheme.duration},
                 {"steps", spec.scheme.steps}};
+  if (!spec.source.test.empty()) meta.extra["test"] = spec.source.test;
+  if (!spec.source.provenance.empty()) meta.extra["provenance"] = spec.source.provenance;
   return meta;
 }
 
