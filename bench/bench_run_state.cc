@@ -8,7 +8,7 @@
 //   row     Journal::Append of one row with the physical policy (pwrite + fsync every row);
 //   state   the same Append, then the run state captured (scheme and substructure states),
 //           serialised and written atomically (temporary file, fsync, rename, directory sync)
-//           — what HybridTest::Run does at every commit.
+//           — what the Session's file observer does at every commit.
 // Counters: row_us and row_and_state_us (means, [µs]) and ratio = row_and_state / row, both
 // measured in the same run on the same file system (the temporary directory).
 #include <benchmark/benchmark.h>
@@ -18,9 +18,10 @@
 #include <filesystem>
 
 #include "hybridtest/io/config.h"
+#include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/io/substructure_config.h"
 #include "hybridtest/multibody/kane.h"
-#include "hybridtest/runner/hybrid_test.h"
+#include "hybridtest/runner/run_record.h"
 #include "hybridtest/runner/run_state.h"
 #include "hybridtest/schemes/scheme_config.h"
 
@@ -83,8 +84,9 @@ void BM_RunStateOverhead(benchmark::State& state) {
   double row_s = 0.0, both_s = 0.0;
   long count = 0;
   {
-    io::Journal journal(csv, runner::JournalChannels(cfg, subs),
-                        runner::JournalMetadataFor(cfg, subs, "bench"), io::SyncPolicy::kEveryRow);
+    const io::RunSpec spec = io::CompileRunSpec(cfg);
+    io::Journal journal(csv, runner::JournalChannels(spec),
+                        runner::JournalMetadataFor(spec, subs, "bench"), io::SyncPolicy::kEveryRow);
     std::vector<double> row(journal.channels().size());
     for (std::size_t c = 0; c < row.size(); ++c) row[c] = 0.1234567890123 * static_cast<double>(c + 1);
     const std::string state_path = runner::RunStatePath(csv);

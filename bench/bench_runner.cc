@@ -1,10 +1,10 @@
-// The runner's own cost per Runge–Kutta stage, without a bench: everything HybridTest::Run
+// The runner's own cost per Runge–Kutta stage, without a bench: everything the Session
 // does besides the right-hand side (slot displacements, substructure trials and commits, the
 // stepper's linear combinations, the journal row, statistics and progress).
 //
 // Method. A whole run of the paper's numerical rotor (3 numerical blades, Heun, h = 1 ms,
 // kSteps steps; journal to a temporary file, progress quiet) goes through the real
-// HybridTest::Run. In the same benchmark iteration the RHS cost is measured right after the
+// Session. In the same benchmark iteration the RHS cost is measured right after the
 // run: kSteps·2 CalcStateDerivative<double> calls on rotor states (its cost does not depend on
 // the state: no state-dependent branches), giving rhs_ns per call.
 //
@@ -22,6 +22,12 @@
 //                               of WholeRun is higher than these: it also holds the journal's
 //                               fsync every 1000 rows and at the end, and opening/finishing
 //                               the journal and sidecar.
+//   Runner/SessionStep/*        one committed step of the paper's dummy test (slot r1 on the
+//                               numerical loopback; Heun) held in memory: `bare` is a loop
+//                               written by hand around the same scheme and substructures (no
+//                               observers, no records: the reference), `session` is
+//                               Session::Step() with one observer that reads every trial and
+//                               row; counter ratio_to_bare in the session's row.
 //   Runner/JournalAppend/batched    Journal::Append of one rotor row (12 channels), the policy
 //   Runner/JournalAppend/every_row  of numerical runs (fsync every 1000 rows) and of runs with
 //                               a physical substructure (fflush + fsync every row).
@@ -36,9 +42,12 @@
 #include <vector>
 
 #include "hybridtest/io/config.h"
+#include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/io/substructure_config.h"
 #include "hybridtest/multibody/kane.h"
-#include "hybridtest/runner/hybrid_test.h"
+#include "hybridtest/runner/run_record.h"
+#include "hybridtest/runner/session.h"
+#include "hybridtest/schemes/scheme_config.h"
 
 namespace hybridtest::bench {
 namespace {
@@ -92,12 +101,12 @@ double MeasureRhsNs(const multibody::Model& model, long calls) {
          static_cast<double>(calls);
 }
 
-runner::RunOptions QuietOptions(const std::string& path) {
-  runner::RunOptions options;
-  options.csv_path = path;
-  options.command = "bench";
-  options.progress.mode = runner::ProgressMode::kQuiet;
-  return options;
+io::RunSpec QuietSpec(const io::SimulationConfig& cfg, const std::string& path) {
+  io::RunSpec spec = io::CompileRunSpec(cfg);
+  spec.output.csv_path = path;
+  spec.output.command = "bench";
+  spec.quiet = true;
+  return spec;
 }
 
 void BM_WholeRun(benchmark::State& state) {
@@ -107,9 +116,9 @@ void BM_WholeRun(benchmark::State& state) {
   double run_s = 0.0, rhs_ns = 0.0;
   long runs = 0;
   for (auto _ : state) {
-    runner::HybridTest test(cfg, io::MakeSubstructures(cfg, {}), QuietOptions(path));
+    runner::Session session(QuietSpec(cfg, path));
     const auto start = Clock::now();
-    test.Run();
+    session.Run();
     run_s += std::chrono::duration<double>(Clock::now() - start).count();
     rhs_ns += MeasureRhsNs(cfg.model.model, 2 * kSteps);
     ++runs;
@@ -154,14 +163,16 @@ void BM_StageSeam(benchmark::State& state) {
   double rhs_ns = 0.0;
   long runs = 0;
   for (auto _ : state) {
-    runner::SubstructureList subs = io::MakeSubstructures(cfg, {});
-    for (std::size_t s = 0; s < subs.size(); ++s) {
-      subs[s] = std::make_unique<StampingSubstructure>(std::move(subs[s]),
-                                                       s == 0 ? &stamps : nullptr);
+    io::RunSpec spec = QuietSpec(cfg, path);
+    for (std::size_t s = 0; s < spec.substructures.size(); ++s) {
+      const substructures::SubstructureSpec inner = spec.substructures[s];
+      spec.substructures[s].custom = [inner, s, &stamps] {
+        return std::make_unique<StampingSubstructure>(inner.Build(), s == 0 ? &stamps : nullptr);
+      };
     }
-    runner::HybridTest test(cfg, std::move(subs), QuietOptions(path));
+    runner::Session session(std::move(spec));
     stamps.clear();
-    test.Run();
+    session.Run();
     // Trial k of slot 1 is stage k % 2 of step k / 2 (Heun: two stages).
     for (std::size_t k = 0; k + 1 < stamps.size(); ++k) {
       const double ns = std::chrono::duration<double, std::nano>(stamps[k + 1] - stamps[k]).count();
@@ -185,11 +196,12 @@ BENCHMARK(BM_StageSeam)->Name("Runner/StageSeam")->Unit(benchmark::kMillisecond)
 
 void BM_JournalAppend(benchmark::State& state, io::SyncPolicy policy, const char* name) {
   const io::SimulationConfig cfg = RotorConfig();
+  const io::RunSpec spec = io::CompileRunSpec(cfg);
   const runner::SubstructureList subs = io::MakeSubstructures(cfg, {});
   const std::string path = TempJournalPath(name);
   {
-    io::Journal journal(path, runner::JournalChannels(cfg, subs),
-                        runner::JournalMetadataFor(cfg, subs, "bench"), policy);
+    io::Journal journal(path, runner::JournalChannels(spec),
+                        runner::JournalMetadataFor(spec, subs, "bench"), policy);
     // A typical row: t, x (8), r (3), with full-length digits.
     std::vector<double> row(journal.channels().size());
     for (std::size_t c = 0; c < row.size(); ++c) row[c] = 0.1234567890123 * static_cast<double>(c + 1);
@@ -200,6 +212,73 @@ void BM_JournalAppend(benchmark::State& state, io::SyncPolicy policy, const char
   }
   RemoveJournal(path);
 }
+// The paper's dummy test in memory, long enough for any number of benchmark iterations.
+io::RunSpec DummySpec() {
+  io::RunSpec spec = io::CompileRunSpec(io::ParseSimulationConfig(YamlInput::FromText(
+      "model: {name: rotor, blades: 3}\n"
+      "integrator: {tableau: heun, dt: 0.001}\n"
+      "duration: 100000\n"
+      "substructures:\n"
+      "  r1:\n"
+      "    type: physical\n"
+      "    transfer: {type: loopback, law: {type: linear, stiffness: 5250}}\n"
+      "    safety: defaults\n",
+      "bench_session.yaml")));
+  spec.output.files = false;
+  spec.quiet = true;
+  return spec;
+}
+
+// The reference: the same scheme and substructures stepped by hand, nothing recorded.
+void BM_BareLoop(benchmark::State& state) {
+  const io::RunSpec spec = DummySpec();
+  const multibody::Model& model = spec.model.model;
+  runner::SubstructureList subs;
+  for (const auto& s : spec.substructures) subs.push_back(s.Build());
+  schemes::SlotInfo info{Eigen::VectorXd::Constant(3, 5250.0), Eigen::VectorXd::Constant(3, 0.005)};
+  auto scheme = schemes::MakeScheme(spec.scheme.config, spec.scheme.tableau, spec.scheme.dt,
+                                    spec.scheme.duration, spec.scheme.steps, model, info);
+  for (auto& s : subs) s->Activate();
+  schemes::SeamOf seam([&](const schemes::TrialPoint& at, const Eigen::VectorXd& d,
+                           Eigen::Ref<Eigen::VectorXd> r) {
+    for (std::size_t s = 0; s < subs.size(); ++s) {
+      const auto i = static_cast<Eigen::Index>(s);
+      r(i) = subs[s]->Trial(d(i), {at.step, at.stage, at.t});
+    }
+  });
+  schemes::RowSinkOf rows([](double, const Eigen::VectorXd&, const Eigen::VectorXd&) {});
+  Eigen::VectorXd r0 = Eigen::VectorXd::Zero(3), d0 = Eigen::VectorXd::Zero(3);
+  seam.Trial({0, 0, 0.0}, d0, r0);
+  scheme->Start(0.0, spec.x0, r0);
+  for (auto _ : state) {
+    scheme->Step(seam, rows);
+    for (auto& s : subs) s->Commit();
+    benchmark::DoNotOptimize(scheme->committed().x.data());
+  }
+  state.counters["ns_per_step"] = benchmark::Counter(
+      static_cast<double>(state.iterations()), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_BareLoop)->Name("Runner/SessionStep/bare");
+
+void BM_SessionStep(benchmark::State& state) {
+  class Reader final : public runner::SessionObserver {
+   public:
+    void OnTrial(const runner::TrialEvent& e) override { sum += e.r[0]; }
+    void OnCommit(const runner::CommitEvent& e) override { sum += e.row[1]; }
+    double sum = 0.0;
+  } reader;
+  runner::Session session(DummySpec());
+  session.AddObserver(reader);
+  session.Initialize();
+  for (auto _ : state) {
+    session.Step();
+    benchmark::DoNotOptimize(reader.sum);
+  }
+  state.counters["ns_per_step"] = benchmark::Counter(
+      static_cast<double>(state.iterations()), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_SessionStep)->Name("Runner/SessionStep/session");
+
 BENCHMARK_CAPTURE(BM_JournalAppend, batched, io::SyncPolicy::kBatched, "batched")
     ->Name("Runner/JournalAppend/batched");
 BENCHMARK_CAPTURE(BM_JournalAppend, every_row, io::SyncPolicy::kEveryRow, "every_row")

@@ -52,16 +52,11 @@ void SchemeStep(benchmark::State& state, schemes::SchemeKind kind, double dt) {
                           Eigen::VectorXd::Constant(m, std::numeric_limits<double>::infinity())};
   auto scheme = schemes::MakeScheme(config, integrators::FindTableau("heun"), dt, kDuration,
                                     static_cast<long>(kDuration / dt), model, slots);
-  multibody::Data<double> data(model);
-  Eigen::VectorXd d(m);
-  schemes::SeamOf seam([&](long, int, double t, const Eigen::VectorXd& x,
-                           Eigen::Ref<Eigen::VectorXd> r) {
-    multibody::CalcSlotDisplacements<double>(model, data, t, x.head(model.num_coordinates()), d);
-    r = 7200.0 * d;
-  });
+  schemes::SeamOf seam([&](const schemes::TrialPoint&, const Eigen::VectorXd& d,
+                           Eigen::Ref<Eigen::VectorXd> r) { r = 7200.0 * d; });
   schemes::RowSinkOf rows([](double, const Eigen::VectorXd&, const Eigen::VectorXd&) {});
   Eigen::VectorXd x0 = Eigen::VectorXd::Zero(2 * model.num_coordinates()), r0(m);
-  seam.Trial(0, 0, 0.0, x0, r0);
+  seam.Trial({0, 0, 0.0}, Eigen::VectorXd::Zero(m), r0);
   scheme->Start(0.0, x0, r0);
   long steps = 0;
   const auto start = std::chrono::steady_clock::now();

@@ -9,7 +9,7 @@
 #include "cli_values.h"
 #include "command.h"
 #include "hybridtest/common/error.h"
-#include "hybridtest/io/config.h"
+#include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/runner/plan.h"
 
 namespace hybridtest::app {
@@ -39,7 +39,10 @@ void ExecutePlan(const PlanCommandOptions& opt) {
     throw ConfigError(fmt::format("--tolerance {}: expected a positive relative error, e.g. "
                                   "0.01 for 1 %", opt.tolerance));
   }
-  const io::SimulationConfig cfg = io::LoadSimulationConfig(opt.config);
+  // With --emulate, the configured transfer systems are never read: the bench file stands in.
+  io::SubstructureOptions substructure_options;
+  if (!opt.emulate.empty()) substructure_options.emulate_bench = opt.emulate;
+  const io::RunSpec spec = io::LoadRunSpec(opt.config, substructure_options);
   runner::PlanOptions options;
   options.tolerance = opt.tolerance;
   if (!opt.emulate.empty()) options.emulate_bench = opt.emulate;
@@ -57,7 +60,7 @@ void ExecutePlan(const PlanCommandOptions& opt) {
     fmt::print("{}   [{}/{}]\n", Row(r), i + 1, n);
     std::fflush(stdout);
   };
-  const auto results = runner::PlanTest(cfg, options);
+  const auto results = runner::PlanTest(spec, options);
   const auto best = runner::Recommend(results, opt.tolerance);
   if (!best) {
     fmt::print("no candidate met the tolerance of {} %; tighten the steps or check the "
@@ -85,7 +88,9 @@ void AddPlanCommand(CLI::App& root) {
   cmd->add_option("--emulate", opt->emulate,
                   "emulated bench config that stands in for physical slots on other transfer "
                   "systems (remote, modbus, ...)");
-  cmd->add_option("--keep", opt->keep, "write every run into this folder and keep it");
+  cmd->add_option("--keep", opt->keep,
+                  "also write every run's files into this folder (without it, plan writes "
+                  "nothing: runs are held in memory)");
   cmd->add_flag("--quiet", opt->quiet, "print only the recommendation");
   cmd->callback([opt] { ExecutePlan(*opt); });
 }

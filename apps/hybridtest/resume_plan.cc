@@ -30,6 +30,22 @@ void CompleteInterruptedPublish(const std::string& csv) {
              "{} completed from {}\n", csv, sidecar, staged);
 }
 
+// The commands each slot's bench had received when the run stopped, where recorded.
+std::vector<std::optional<long>> CommandsReceivedAtStop(const nlohmann::json& sidecar) {
+  std::vector<std::optional<long>> out;
+  const auto stats = sidecar.find("statistics");
+  if (stats == sidecar.end() || !stats->is_object()) return out;
+  const auto stop = stats->find("stop");
+  if (stop == stats->end() || !stop->is_object()) return out;
+  const auto received = stop->find("commands_received");
+  if (received == stop->end() || !received->is_array()) return out;
+  for (const auto& entry : *received) {
+    out.push_back(entry.is_number_integer() ? std::optional<long>(entry.get<long>())
+                                            : std::nullopt);
+  }
+  return out;
+}
+
 // PlanResume without the translation of JSON type errors.
 ResumePlan PlanResumeChecked(const ResumeCommandOptions& options) {
   if (!std::filesystem::exists(options.csv)) {
@@ -91,6 +107,7 @@ ResumePlan PlanResumeChecked(const ResumeCommandOptions& options) {
     plan.record["position_tolerance_option_m"] = *options.position_tolerance;
   }
   if (options.after_safety_stop) plan.record["after_safety_stop"] = true;
+  plan.commands_received_at_stop = CommandsReceivedAtStop(sidecar);
   return plan;
 }
 

@@ -5,7 +5,9 @@
 // (docs/safety.md, "Resuming a run") throw ConfigError naming the file and the way out.
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "hybridtest/io/config.h"
 #include "hybridtest/runner/run_state.h"
@@ -21,6 +23,9 @@ struct ResumePlan {
   double t = 0.0;               // its time [s]
   std::string previous_status;  // the sidecar's status
   nlohmann::json record;        // {"previous_stop_kind", "force_tolerance_option_N"?}
+  // Per slot: the commands its in-process bench had received when the run stopped (the
+  // stop's record), so that a test fault that stopped it does not fire again.
+  std::vector<std::optional<long>> commands_received_at_stop;
 };
 
 ResumePlan PlanResume(const ResumeCommandOptions& options);

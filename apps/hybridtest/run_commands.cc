@@ -4,6 +4,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <atomic>
 #include <csignal>
 #include <filesystem>
 
@@ -14,22 +15,27 @@
 #include "hybridtest/io/run_lock.h"
 #include "hybridtest/io/run_outputs.h"
 #include "hybridtest/io/output_budget.h"
-#include "hybridtest/io/substructure_config.h"
-#include "hybridtest/runner/hybrid_test.h"
+#include "hybridtest/io/run_spec_yaml.h"
+#include "hybridtest/runner/progress.h"
+#include "hybridtest/runner/session.h"
 #include "hybridtest/runner/run_record.h"
-#include "hybridtest/runner/stop_request.h"
 #include "pre_run_checks.h"
 
 namespace hybridtest::app {
 namespace {
 
-// SIGINT/SIGTERM ask the runner to stop after the current step (the bench holds, everything
-// committed is written). The handler resets itself: a second Ctrl-C ends the process at once.
+// The session a SIGINT/SIGTERM asks to stop (after the current step: the bench holds, every
+// committed step is written). The handler resets itself: a second Ctrl-C ends the process.
+std::atomic<runner::Session*> g_signalled_session{nullptr};
+
 class StopOnSignal {
  public:
-  StopOnSignal() {
+  explicit StopOnSignal(runner::Session& session) {
+    g_signalled_session.store(&session);
     struct sigaction action {};
-    action.sa_handler = [](int) { runner::RequestStop(); };
+    action.sa_handler = [](int) {
+      if (runner::Session* s = g_signalled_session.load()) s->RequestStop();
+    };
     action.sa_flags = SA_RESETHAND;
     sigemptyset(&action.sa_mask);
     sigaction(SIGINT, &action, &old_int_);
@@ -38,7 +44,7 @@ class StopOnSignal {
   ~StopOnSignal() {
     sigaction(SIGINT, &old_int_, nullptr);
     sigaction(SIGTERM, &old_term_, nullptr);
-    runner::ClearStopRequest();
+    g_signalled_session.store(nullptr);
   }
   StopOnSignal(const StopOnSignal&) = delete;
   StopOnSignal& operator=(const StopOnSignal&) = delete;
@@ -48,27 +54,53 @@ class StopOnSignal {
   struct sigaction old_term_ {};
 };
 
-}  // namespace
+// The progress display as a session observer.
+class ProgressObserver final : public runner::SessionObserver {
+ public:
+  ProgressObserver(const runner::Session& session, runner::ProgressOptions options)
+      : session_(session), progress_(options) {}
+  void OnCommit(const runner::CommitEvent& e) override {
+    if (e.kind != runner::RowKind::kCommitted) return;
+    const runner::RunStatistics& s = session_.statistics();
+    progress_.Update({e.step, e.step + session_.EstimatedStepsLeft(), e.t,
+                      session_.spec().scheme.duration, s.physical_evaluations, s.lab_time,
+                      s.wall_time});
+  }
+  void OnStop(const runner::StopEvent&) override { progress_.Finish(); }
 
-namespace {
+ private:
+  const runner::Session& session_;
+  runner::Progress progress_;
+};
 
 // The loop and the summary, shared by run, simulate and resume.
-void RunAndReport(const io::SimulationConfig& cfg, runner::SubstructureList subs,
-                  runner::RunOptions run, bool quiet) {
+void RunAndReport(io::RunSpec spec, runner::SessionOptions session_options,
+                  const runner::RunState* resume_from, bool quiet) {
   // A file-size limit makes a write fail (EFBIG, reported with the run's status) instead of
   // killing the process mid-row.
   std::signal(SIGXFSZ, SIG_IGN);
-  if (quiet || cfg.quiet) run.progress.mode = runner::ProgressMode::kQuiet;
-  runner::HybridTest test(cfg, std::move(subs), run);
-  const StopOnSignal stop_on_signal;
-  const runner::RunStatistics s = test.Run();
+  runner::ProgressOptions progress;
+  if (quiet || spec.quiet) progress.mode = runner::ProgressMode::kQuiet;
+  const std::string command = spec.output.command;
+  const std::string csv = spec.output.csv_path;
+  runner::Session session(std::move(spec), std::move(session_options));
+  if (resume_from != nullptr) session.SetState(*resume_from);
+  ProgressObserver progress_observer(session, progress);
+  session.AddObserver(progress_observer);
+  const StopOnSignal stop_on_signal(session);
+  const runner::StepResult result = session.Run();
+  if (result.status != runner::SessionStatus::kFinished) std::rethrow_exception(session.error());
   if (quiet) return;
-  fmt::print("hybridtest {}: {} steps with {}, t = {} s, {} rows -> {}\n", run.command, s.steps,
-             cfg.scheme.kind == schemes::SchemeKind::kRungeKutta
-                 ? fmt::format("{} ({} stages) at {} s", cfg.tableau.name, cfg.tableau.stages(), cfg.dt)
-                 : schemes::SchemeKindName(cfg.scheme.kind) +
-                       (cfg.scheme.adaptive.enabled ? " (adaptive step)" : fmt::format(" at {} s", cfg.dt)),
-             s.sim_time, s.rows, run.csv_path);
+  const runner::RunStatistics& s = session.statistics();
+  const io::SchemeSpec& scheme = session.spec().scheme;
+  fmt::print("hybridtest {}: {} steps with {}, t = {} s, {} rows -> {}\n", command, s.steps,
+             scheme.config.kind == schemes::SchemeKind::kRungeKutta
+                 ? fmt::format("{} ({} stages) at {} s", scheme.tableau.name,
+                               scheme.tableau.stages(), scheme.dt)
+                 : schemes::SchemeKindName(scheme.config.kind) +
+                       (scheme.config.adaptive.enabled ? " (adaptive step)"
+                                                       : fmt::format(" at {} s", scheme.dt)),
+             s.sim_time, s.rows, csv);
   fmt::print("  wall time {:.3f} s ({:.3g}x real time)", s.wall_time, s.wall_slowdown);
   if (s.physical_evaluations > 0) {
     fmt::print("; {} physical evaluations, lab time {:.0f} s = {}h{:02}m ({:.0f}x slower than "
@@ -84,29 +116,30 @@ void RunAndReport(const io::SimulationConfig& cfg, runner::SubstructureList subs
 void ExecuteRun(const RunCommandOptions& options) {
   const io::SimulationConfig cfg = io::LoadSimulationConfig(options.config);
   CheckSchemeStability(cfg);  // pre-run check: refuses a step beyond the stability limit
-  auto subs = io::MakeSubstructures(
+  io::RunSpec spec = io::CompileRunSpec(
       cfg, {options.bench, options.allow_physical,
-            "`simulate` is numerical only: use `hybridtest run` for a hybrid test"});
-  runner::RunOptions run;
-  run.csv_path = runner::ResolveOutputPath(cfg, options.out);
-  run.command = options.command;
+            "`simulate` is numerical only: use `hybridtest run` for a hybrid test", std::nullopt});
+  if (!options.out.empty()) spec.output.csv_path = options.out;
+  spec.output.command = options.command;
+  const std::string& csv = spec.output.csv_path;
   // One master per run: the lock is taken before any file of the run is looked at or touched.
-  const auto parent = std::filesystem::path(run.csv_path).parent_path();
+  const auto parent = std::filesystem::path(csv).parent_path();
   if (!parent.empty()) std::filesystem::create_directories(parent);
-  const io::RunLock lock = io::RunLock::Acquire(run.csv_path, options.command);
+  const io::RunLock lock = io::RunLock::Acquire(csv, options.command);
   // Pre-run check: the journal and stage record must fit on the disk.
-  const bool physical = std::any_of(subs.begin(), subs.end(),
-                                    [](const auto& s) { return s->is_physical(); });
+  const bool physical = std::any_of(spec.substructures.begin(), spec.substructures.end(),
+                                    [](const auto& s) { return s.is_physical(); });
   io::CheckOutputFits(
-      run.csv_path,
-      io::EstimateOutputBytes(
-          runner::MaxJournalRows(cfg), static_cast<int>(runner::JournalChannels(cfg, subs).size()),
-          cfg.scheme.kind == schemes::SchemeKind::kRungeKutta ? cfg.tableau.stages() : 1,
-          physical ? static_cast<int>(runner::StageChannels(cfg, subs).size()) : 0));
+      csv, io::EstimateOutputBytes(
+               runner::MaxJournalRows(spec), static_cast<int>(runner::JournalChannels(spec).size()),
+               spec.scheme.config.kind == schemes::SchemeKind::kRungeKutta
+                   ? spec.scheme.tableau.stages()
+                   : 1,
+               physical ? static_cast<int>(runner::StageChannels(spec).size()) : 0));
   // Results are never destroyed: an earlier run needs --overwrite, an input is never an output.
-  io::CheckRunOutputs(run.csv_path, io::RunInputFiles(cfg), options.overwrite);
-  run.inputs = io::RecordRunInputs(cfg, run.csv_path);
-  RunAndReport(cfg, std::move(subs), std::move(run), options.quiet);
+  io::CheckRunOutputs(csv, io::RunInputFiles(cfg), options.overwrite);
+  spec.source.inputs = io::RecordRunInputs(cfg, csv);
+  RunAndReport(std::move(spec), {}, nullptr, options.quiet);
 }
 
 void ExecuteResume(const ResumeCommandOptions& options) {
@@ -117,25 +150,24 @@ void ExecuteResume(const ResumeCommandOptions& options) {
   // One master per run: nothing of the run is read before the lock is held.
   const io::RunLock lock = io::RunLock::Acquire(options.csv, "resume");
   const ResumePlan plan = PlanResume(options);
-  runner::RunOptions run;
-  run.csv_path = options.csv;
-  run.command = plan.command;
-  run.resume_from = &plan.state;
-  run.resume_force_tolerance =
-      options.force_tolerance.value_or(plan.cfg.resume_force_tolerance.value_or(0.0));
-  run.resume_record = plan.record;
-  run.resume_position_tolerance =
-      options.position_tolerance.value_or(plan.cfg.resume_position_tolerance.value_or(0.0));
-  run.inputs = plan.state.inputs;
-  auto subs = io::MakeSubstructures(
+  io::RunSpec spec = io::CompileRunSpec(
       plan.cfg, {options.bench, plan.command != "simulate",
-                 "`simulate` is numerical only: use `hybridtest run` for a hybrid test"});
+                 "`simulate` is numerical only: use `hybridtest run` for a hybrid test",
+                 std::nullopt});
+  spec.output.csv_path = options.csv;
+  spec.output.command = plan.command;
+  spec.source.inputs = plan.state.inputs;
+  if (options.force_tolerance) spec.resume.force_tolerance = options.force_tolerance;
+  if (options.position_tolerance) spec.resume.position_tolerance = options.position_tolerance;
+  runner::SessionOptions session_options;
+  session_options.resume_record = plan.record;
+  session_options.commands_received_at_stop = plan.commands_received_at_stop;
   if (!options.quiet) {
     fmt::print("hybridtest resume: {} from step {} (t = {} s, journal row {}); previous status: "
                "{}\n", options.csv, plan.step, plan.t, plan.state.rows - 1, plan.previous_status);
     std::fflush(stdout);
   }
-  RunAndReport(plan.cfg, std::move(subs), std::move(run), options.quiet);
+  RunAndReport(std::move(spec), std::move(session_options), &plan.state, options.quiet);
 }
 
 }  // namespace hybridtest::app

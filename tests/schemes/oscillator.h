@@ -38,11 +38,11 @@ inline multibody::Model OscillatorModel(const Oscillator& o) {
 class SpringSeam final : public SubstructureSeam {
  public:
   explicit SpringSeam(double k, double cubic = 0.0) : k_(k), cubic_(cubic) {}
-  void Trial(long step, int stage, double t, const Eigen::VectorXd& x,
+  void Trial(const TrialPoint& at, const Eigen::VectorXd& slot_d,
              Eigen::Ref<Eigen::VectorXd> r) override {
-    const double d = x(0);
+    const double d = slot_d(0);
     r(0) = k_ * d * (1.0 + cubic_ * d * d);
-    trials.push_back({step, stage, t, d});
+    trials.push_back({at.step, at.stage, at.t, d});
   }
   struct Record {
     long step;

@@ -60,7 +60,7 @@ SchemeRun Integrate(const Oscillator& o, const SchemeConfig& c, double h, double
   auto scheme = Make(model, c, h, k0);
   Eigen::VectorXd x0(2), r0(1);
   x0 << 0.01, 0.0;
-  seam.Trial(0, 0, 0.0, x0, r0);
+  seam.Trial({0, 0, 0.0}, x0.head(1), r0);
   scheme->Start(0.0, x0, r0);
   SchemeRun run;
   while (!scheme->finished()) {
@@ -189,7 +189,7 @@ TEST(Schemes, StepsDoNotAllocate) {
       rows.q.reserve(100000);
       Eigen::VectorXd x0(2), r0(1);
       x0 << 0.01, 0.0;
-      seam.Trial(0, 0, 0.0, x0, r0);
+      seam.Trial({0, 0, 0.0}, x0.head(1), r0);
       scheme->Start(0.0, x0, r0);
       scheme->Step(seam, rows);  // warm-up
       const long allocations = test_support::CountAllocations([&] {

@@ -15,6 +15,8 @@
 #include "hybridtest/transfer/emulated_bench.h"
 #include "hybridtest/transfer/modbus/modbus_config.h"
 #include "hybridtest/transfer/numerical_loopback.h"
+#include "hybridtest/transfer/modbus/modbus_transfer.h"
+#include "hybridtest/transfer/openfresco/client.h"
 #include "hybridtest/transfer/openfresco/client_config.h"
 #include "hybridtest/transfer/socket.h"
 
@@ -23,23 +25,30 @@ namespace {
 
 using substructures::Substructure;
 
+using substructures::TransferSpec;
+
+TransferSpec EmulatedSpec(transfer::EmulatedBenchConfig bench) {
+  return {"emulated", [bench = std::move(bench)] { return transfer::MakeEmulatedBench(bench); }};
+}
+
 // `reply_timeout` [s]: the safety section's communication timeout, used by a remote transfer
-// unless its own `timeout` is given.
-std::unique_ptr<transfer::TransferSystem> MakeTransfer(const YamlInput& in, const YAML::Node& node,
-                                                       const std::string& kp,
-                                                       const SubstructureOptions& options,
-                                                       double reply_timeout,
-                                                       const transfer::SafetyLimits* limits) {
+// unless its own `timeout` is given. Everything is read and checked here, once; the spec's
+// factory only builds from what was read.
+TransferSpec ParseTransfer(const YamlInput& in, const YAML::Node& node, const std::string& kp,
+                           const SubstructureOptions& options, double reply_timeout,
+                           const transfer::SafetyLimits* limits) {
   if (options.emulate_bench) {  // `plan --emulate`: no real bench, whatever the config names
-    return transfer::MakeEmulatedBench(transfer::LoadEmulatedBenchConfig(*options.emulate_bench));
+    return EmulatedSpec(transfer::LoadEmulatedBenchConfig(*options.emulate_bench));
   }
   if (node["type"] && node["type"].IsScalar() && node["type"].Scalar() == "modbus") {
-    return transfer::modbus::MakeModbusTransfer(in, node, kp, options.bench_address, reply_timeout,
-                                                limits);
+    auto modbus = transfer::modbus::ParseModbusOptions(in, node, kp, options.bench_address,
+                                                       reply_timeout, limits);
+    return {"modbus", [modbus] { return std::make_unique<transfer::modbus::ModbusTransfer>(modbus); }};
   }
   if (node["type"] && node["type"].IsScalar() && node["type"].Scalar() == "openfresco") {
-    return transfer::openfresco::MakeClientTransfer(in, node, kp, options.bench_address,
-                                                    reply_timeout);
+    auto client = transfer::openfresco::ParseClientOptions(in, node, kp, options.bench_address,
+                                                           reply_timeout);
+    return {"openfresco", [client] { return std::make_unique<transfer::openfresco::Client>(client); }};
   }
   in.CheckKeys(node, kp, {"type", "config", "bench", "law", "p0", "address", "token",
                           "token_file", "timeout"});
@@ -57,7 +66,7 @@ std::unique_ptr<transfer::TransferSystem> MakeTransfer(const YamlInput& in, cons
       throw ConfigError(fmt::format("{}: an emulated transfer needs `config: FILE` (a bench file) "
                                     "or an inline `bench:` mapping", in.Where(node, kp)));
     }
-    return transfer::MakeEmulatedBench(bench);
+    return EmulatedSpec(std::move(bench));
   }
   if (type == "loopback") {
     if (!node["law"]) {
@@ -65,8 +74,11 @@ std::unique_ptr<transfer::TransferSystem> MakeTransfer(const YamlInput& in, cons
                                     "stiffness: 7200}})", in.Where(node, kp)));
     }
     const double p0 = node["p0"] ? in.Number(node["p0"], kp + ".p0", "a position in m") : 0.0;
-    return std::make_unique<transfer::NumericalLoopback>(
-        constitutive::ParseRestoringForceLaw(node["law"], in.Where(node["law"], kp + ".law")), p0);
+    std::shared_ptr<const constitutive::RestoringForceLaw> law =
+        constitutive::ParseRestoringForceLaw(node["law"], in.Where(node["law"], kp + ".law"));
+    return {"loopback", [law, p0] {
+              return std::make_unique<transfer::NumericalLoopback>(law->Clone(), p0);
+            }};
   }
   if (type == "remote") {
     transfer::BenchClientOptions client;
@@ -104,7 +116,7 @@ std::unique_ptr<transfer::TransferSystem> MakeTransfer(const YamlInput& in, cons
     client.reply_timeout =
         node["timeout"] ? in.PositiveNumber(node["timeout"], kp + ".timeout", "seconds")
                         : reply_timeout;
-    return std::make_unique<transfer::BenchClient>(client);
+    return {"remote", [client] { return std::make_unique<transfer::BenchClient>(client); }};
   }
   throw ConfigError(fmt::format("{} = '{}': expected emulated, loopback, remote or modbus",
                                 in.Where(node["type"], kp + ".type"), type));
@@ -171,21 +183,21 @@ transfer::SafetyLimits ParseSafety(const YamlInput& in, const YAML::Node& node,
   return l;
 }
 
-std::unique_ptr<Substructure> DefaultNumerical(const SimulationConfig& cfg, int slot) {
+substructures::SubstructureSpec DefaultNumerical(const SimulationConfig& cfg, int slot) {
   const double k = cfg.model.slot_stiffness.at(slot);
-  return std::make_unique<substructures::NumericalSubstructure>(
-      std::make_unique<constitutive::LinearSpring>(k, "model default"));
+  return substructures::NumericalSpec(cfg.model.model.slots()[slot].info.name,
+                                      std::make_unique<constitutive::LinearSpring>(k, "model default"));
 }
 
 // `initial_stiffness:` of a physical slot: K0 = dr/dd [N/m], `measure`, or
 // {measure: true, amplitude: 0.001}.
 void ParseInitialStiffness(const YamlInput& in, const YAML::Node& node, const std::string& kp,
-                           substructures::PhysicalSubstructure& physical) {
+                           substructures::PhysicalSpec& physical) {
   const std::string key = kp + ".initial_stiffness";
   const char* expected = "K0 in N/m (a positive number), `measure`, or {measure: true, amplitude: "
                          "0.001} (ramp amplitude in m)";
   if (node.IsScalar() && node.Scalar() == "measure") {
-    physical.RequestStiffnessMeasurement(1e-3);
+    physical.stiffness_ramp = 1e-3;
     return;
   }
   if (node.IsMap()) {
@@ -193,22 +205,23 @@ void ParseInitialStiffness(const YamlInput& in, const YAML::Node& node, const st
     if (!node["measure"] || !node["measure"].IsScalar() || node["measure"].Scalar() != "true") {
       throw ConfigError(fmt::format("{}: expected {}", in.Where(node, key), expected));
     }
-    physical.RequestStiffnessMeasurement(
+    physical.stiffness_ramp =
         node["amplitude"] ? in.PositiveNumber(node["amplitude"], key + ".amplitude",
                                               "the ramp amplitude in m (e.g. 0.001)")
-                          : 1e-3);
+                          : 1e-3;
     return;
   }
-  physical.SetInitialStiffness(in.PositiveNumber(node, key, expected));
+  physical.initial_stiffness = in.PositiveNumber(node, key, expected);
 }
 
 }  // namespace
 
-std::vector<std::unique_ptr<Substructure>> MakeSubstructures(const SimulationConfig& cfg,
-                                                             const SubstructureOptions& options) {
+std::vector<substructures::SubstructureSpec> ParseSubstructureSpecs(
+    const SimulationConfig& cfg, const SubstructureOptions& options) {
   const YamlInput& in = cfg.input;
   const auto& slots = cfg.model.model.slots();
-  std::vector<std::unique_ptr<Substructure>> result(slots.size());
+  std::vector<substructures::SubstructureSpec> result(slots.size());
+  std::vector<bool> given(slots.size(), false);
   const YAML::Node section = in.Mapping(in.root(), "substructures", "substructures", false);
   if (section.IsDefined()) {
     for (const auto& kv : section) {
@@ -232,10 +245,11 @@ std::vector<std::unique_ptr<Substructure>> MakeSubstructures(const SimulationCon
       }
       in.CheckKeys(node, kp, {"type", "law", "transfer", "setup", "safety", "initial_stiffness"});
       const std::string type = in.String(node["type"], kp + ".type", "numerical or physical");
+      given[slot] = true;
       if (type == "numerical") {
-        result[slot] = node["law"] ? std::make_unique<substructures::NumericalSubstructure>(
-                                         constitutive::ParseRestoringForceLaw(
-                                             node["law"], in.Where(node["law"], kp + ".law")))
+        result[slot] = node["law"] ? substructures::NumericalSpec(
+                                         slot_name, constitutive::ParseRestoringForceLaw(
+                                                        node["law"], in.Where(node["law"], kp + ".law")))
                                    : DefaultNumerical(cfg, slot);
       } else if (type == "physical") {
         if (!options.allow_physical) {
@@ -244,17 +258,21 @@ std::vector<std::unique_ptr<Substructure>> MakeSubstructures(const SimulationCon
         }
         const YAML::Node tr = in.Mapping(node, "transfer", kp + ".transfer", true);
         const transfer::SafetyLimits limits = ParseSafety(in, node["safety"], kp + ".safety");
-        auto physical = std::make_unique<substructures::PhysicalSubstructure>(
-            slot_name, MakeTransfer(in, tr, kp + ".transfer", options, limits.timeout,
-                                    node["safety"].IsMap() ? &limits : nullptr),
-            ParseSetup(in, node["setup"], kp + ".setup"), limits,
-            node["safety"].IsMap() && node["safety"]["initial_stiffness"]
-                ? std::optional<double>(in.PositiveNumber(node["safety"]["initial_stiffness"],
-                                                          kp + ".safety.initial_stiffness",
-                                                          "the specimen's expected stiffness in N/m"))
-                : std::nullopt);
-        if (node["initial_stiffness"]) ParseInitialStiffness(in, node["initial_stiffness"], kp, *physical);
-        result[slot] = std::move(physical);
+        substructures::PhysicalSpec physical;
+        physical.transfer = ParseTransfer(in, tr, kp + ".transfer", options, limits.timeout,
+                                          node["safety"].IsMap() ? &limits : nullptr);
+        physical.setup = ParseSetup(in, node["setup"], kp + ".setup");
+        physical.limits = limits;
+        if (node["safety"].IsMap() && node["safety"]["initial_stiffness"]) {
+          physical.safety_stiffness = in.PositiveNumber(node["safety"]["initial_stiffness"],
+                                                        kp + ".safety.initial_stiffness",
+                                                        "the specimen's expected stiffness in N/m");
+        }
+        if (node["initial_stiffness"]) {
+          ParseInitialStiffness(in, node["initial_stiffness"], kp, physical);
+        }
+        result[slot].slot = slot_name;
+        result[slot].physical = std::move(physical);
       } else {
         throw ConfigError(fmt::format("{} = '{}': expected numerical or physical",
                                       in.Where(node["type"], kp + ".type"), type));
@@ -262,9 +280,16 @@ std::vector<std::unique_ptr<Substructure>> MakeSubstructures(const SimulationCon
     }
   }
   for (std::size_t s = 0; s < slots.size(); ++s) {
-    if (!result[s]) result[s] = DefaultNumerical(cfg, static_cast<int>(s));
+    if (!given[s]) result[s] = DefaultNumerical(cfg, static_cast<int>(s));
   }
   return result;
+}
+
+std::vector<std::unique_ptr<Substructure>> MakeSubstructures(const SimulationConfig& cfg,
+                                                             const SubstructureOptions& options) {
+  std::vector<std::unique_ptr<Substructure>> built;
+  for (const auto& spec : ParseSubstructureSpecs(cfg, options)) built.push_back(spec.Build());
+  return built;
 }
 
 }  // namespace hybridtest::io

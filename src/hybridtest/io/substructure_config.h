@@ -31,6 +31,7 @@
 
 #include "hybridtest/io/config.h"
 #include "hybridtest/substructures/substructure.h"
+#include "hybridtest/substructures/substructure_spec.h"
 
 namespace hybridtest::io {
 
@@ -42,6 +43,11 @@ struct SubstructureOptions {
   // bench config file instead of the configured one (`hybridtest plan --emulate`).
   std::optional<std::string> emulate_bench;
 };
+
+// One spec per slot of cfg.model, in slot order: the section read and checked once (bench
+// files, tokens and laws included); building from them reads nothing more.
+std::vector<substructures::SubstructureSpec> ParseSubstructureSpecs(
+    const SimulationConfig& cfg, const SubstructureOptions& options);
 
 // One substructure per slot of cfg.model, in slot order. Nothing is activated or connected.
 std::vector<std::unique_ptr<substructures::Substructure>> MakeSubstructures(

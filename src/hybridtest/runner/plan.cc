@@ -7,14 +7,14 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
-#include <random>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/constitutive/linear_spring.h"
 #include "hybridtest/integrators/catalogue.h"
 #include "hybridtest/io/substructure_config.h"
 #include "hybridtest/multibody/kane.h"
-#include "hybridtest/runner/hybrid_test.h"
+#include "hybridtest/runner/run_record.h"
+#include "hybridtest/runner/session.h"
 #include "hybridtest/substructures/numerical_substructure.h"
 #include "hybridtest/substructures/physical_substructure.h"
 #include "hybridtest/transfer/emulated_bench.h"
@@ -28,8 +28,8 @@ constexpr double kReferenceStep = 1e-4;  // [s] RK4
 
 // The emulated specimen's law behind a physical substructure, as a numerical one; or a linear
 // spring of its K0 where the setup is not the identity or the bench is not emulated.
-std::unique_ptr<substructures::Substructure> NumericalTwin(const substructures::Substructure& s,
-                                                           const std::string& slot) {
+std::shared_ptr<const constitutive::RestoringForceLaw> TwinLaw(
+    const substructures::Substructure& s, const std::string& slot) {
   const auto* physical = dynamic_cast<const substructures::PhysicalSubstructure*>(&s);
   if (physical == nullptr) return nullptr;
   const auto* bench = dynamic_cast<const transfer::EmulatedBench*>(&physical->transfer());
@@ -37,8 +37,7 @@ std::unique_ptr<substructures::Substructure> NumericalTwin(const substructures::
   const bool identity = setup.sign == 1.0 && setup.scale == 1.0 && setup.force_sign == 1.0 &&
                         setup.force_scale == 1.0 && setup.load_cell_zero == 0.0;
   if (bench != nullptr && identity && std::abs(setup.p0 - bench->config().p0) < 1e-12) {
-    return std::make_unique<substructures::NumericalSubstructure>(
-        bench->config().specimen->Clone());
+    return bench->config().specimen->Clone();
   }
   const auto k0 = physical->initial_stiffness();
   if (!k0) {
@@ -46,19 +45,15 @@ std::unique_ptr<substructures::Substructure> NumericalTwin(const substructures::
                                   "can use and no initial_stiffness; give "
                                   "substructures.{}.initial_stiffness in N/m", slot, slot));
   }
-  return std::make_unique<substructures::NumericalSubstructure>(
-      std::make_unique<constitutive::LinearSpring>(*k0, "plan reference (K0)"));
+  return std::make_unique<constitutive::LinearSpring>(*k0, "plan reference (K0)");
 }
 
-long Reversals(const std::string& stages_csv, const std::string& channel) {
-  if (!fs::exists(stages_csv)) return 0;
-  const io::RunData s = io::LoadRun(stages_csv);
-  if (!s.Has(channel)) return 0;
-  const Eigen::VectorXd c = s.Get(channel);
+// Direction reversals of a sequence of commands.
+long Reversals(const std::vector<double>& c) {
   long reversals = 0;
   double last_sign = 0.0;
-  for (Eigen::Index k = 1; k < c.size(); ++k) {
-    const double d = c(k) - c(k - 1);
+  for (std::size_t k = 1; k < c.size(); ++k) {
+    const double d = c[k] - c[k - 1];
     if (d == 0.0 || !std::isfinite(d)) continue;
     const double sign = d > 0.0 ? 1.0 : -1.0;
     if (last_sign != 0.0 && sign != last_sign) ++reversals;
@@ -67,25 +62,76 @@ long Reversals(const std::string& stages_csv, const std::string& channel) {
   return reversals;
 }
 
-io::SimulationConfig WithScheme(const io::SimulationConfig& cfg, const PlanCandidate& c) {
-  io::SimulationConfig out = cfg;
-  out.scheme = c.scheme;
-  out.tableau = c.tableau;
-  out.dt = c.dt;
-  out.steps = static_cast<long>(std::llround(cfg.duration / c.dt));
+// What plan keeps of a run, in memory: the committed rows (as the journal would hold them)
+// and the command of one physical slot at every trial (as the stage record would).
+class PlanRecorder final : public SessionObserver {
+ public:
+  explicit PlanRecorder(int command_exchange) : command_exchange_(command_exchange) {}
+  void OnTrial(const TrialEvent& e) override {
+    if (command_exchange_ >= 0 && static_cast<std::size_t>(command_exchange_) < e.exchanges.size()) {
+      commands.push_back(e.exchanges[static_cast<std::size_t>(command_exchange_)].command);
+    }
+  }
+  void OnCommit(const CommitEvent& e) override {
+    if (e.kind == RowKind::kUncommitted) return;
+    width = e.row.size();
+    values.insert(values.end(), e.row.begin(), e.row.end());
+  }
+  // The rows as a run read back from its journal.
+  io::RunData Data(const Session& session) const {
+    io::RunData data;
+    data.channels = JournalChannels(session.spec());
+    const auto rows = static_cast<Eigen::Index>(width == 0 ? 0 : values.size() / width);
+    data.values = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic,
+                                                 Eigen::RowMajor>>(
+        values.data(), rows, static_cast<Eigen::Index>(width));
+    return data;
+  }
+  std::vector<double> commands;
+  std::vector<double> values;
+  std::size_t width = 0;
+
+ private:
+  int command_exchange_;
+};
+
+io::RunSpec WithScheme(const io::RunSpec& spec, const PlanCandidate& c) {
+  io::RunSpec out = spec;
+  out.scheme.config = c.scheme;
+  out.scheme.tableau = c.tableau;
+  out.scheme.dt = c.dt;
+  out.scheme.steps = static_cast<long>(std::llround(spec.scheme.duration / c.dt));
   return out;
+}
+
+// Runs `spec` in memory (or into work_dir/<name>.csv when a work folder is given); returns
+// the session's result and fills the recorder. Throws the run's error.
+RunStatistics RunInMemory(io::RunSpec spec, const std::string& work_dir, const std::string& name,
+                          PlanRecorder& recorder, io::RunData* data) {
+  spec.output.files = !work_dir.empty();
+  spec.output.command = "plan";
+  if (spec.output.files) spec.output.csv_path = (fs::path(work_dir) / (name + ".csv")).string();
+  spec.quiet = true;
+  Session session(std::move(spec));
+  session.AddObserver(recorder);
+  const StepResult r = session.Run();
+  if (r.status != SessionStatus::kFinished) std::rethrow_exception(session.error());
+  if (data != nullptr) *data = recorder.Data(session);
+  return session.statistics();
 }
 
 }  // namespace
 
-std::vector<PlanCandidate> DefaultCandidates(const io::SimulationConfig& cfg, double p2p) {
+std::vector<PlanCandidate> DefaultCandidates(const io::RunSpec& spec, double p2p) {
   std::vector<PlanCandidate> out;
   const auto rk4 = integrators::FindTableau("rk4");
-  out.push_back({fmt::format("as configured ({}{})", schemes::SchemeKindName(cfg.scheme.kind),
-                             cfg.scheme.kind == schemes::SchemeKind::kRungeKutta
-                                 ? " " + cfg.tableau.name + fmt::format(", dt {} s", cfg.dt)
+  const io::SchemeSpec& configured = spec.scheme;
+  out.push_back({fmt::format("as configured ({}{})", schemes::SchemeKindName(configured.config.kind),
+                             configured.config.kind == schemes::SchemeKind::kRungeKutta
+                                 ? " " + configured.tableau.name +
+                                       fmt::format(", dt {} s", configured.dt)
                                  : ""),
-                 cfg.scheme, cfg.tableau, cfg.dt});
+                 configured.config, configured.tableau, configured.dt});
   auto make = [&](schemes::SchemeKind kind, double dt, double rel_tol) {
     PlanCandidate c;
     c.scheme.kind = kind;
@@ -105,8 +151,8 @@ std::vector<PlanCandidate> DefaultCandidates(const io::SimulationConfig& cfg, do
   };
   // Fixed steps must divide the duration.
   auto divides = [&](double dt) {
-    const double n = std::round(cfg.duration / dt);
-    return n >= 1.0 && std::abs(n * dt - cfg.duration) <= 1e-9 * cfg.duration;
+    const double n = std::round(spec.scheme.duration / dt);
+    return n >= 1.0 && std::abs(n * dt - spec.scheme.duration) <= 1e-9 * spec.scheme.duration;
   };
   for (double dt : {0.005, 0.0025}) {
     if (divides(dt)) make(schemes::SchemeKind::kAlphaOs, dt, 0.0);
@@ -166,98 +212,82 @@ double RelativeError(const multibody::Model& model, const io::RunData& run,
   return p2p > 0.0 ? worst / p2p : std::numeric_limits<double>::infinity();
 }
 
-std::vector<PlanResult> PlanTest(const io::SimulationConfig& cfg, const PlanOptions& options) {
-  io::SubstructureOptions sub_options;
-  sub_options.emulate_bench = options.emulate_bench;
+std::vector<PlanResult> PlanTest(const io::RunSpec& configured, const PlanOptions& options) {
+  io::RunSpec spec = configured;
+  const multibody::Model& model = spec.model.model;
   // Which slots are physical, and is each one emulated (no steel may move in a plan)?
   int first_physical = -1;
-  {
-    const auto subs = io::MakeSubstructures(cfg, sub_options);
-    for (std::size_t s = 0; s < subs.size(); ++s) {
-      const auto* p = dynamic_cast<const substructures::PhysicalSubstructure*>(subs[s].get());
-      if (p == nullptr) continue;
-      if (first_physical < 0) first_physical = static_cast<int>(s);
-      if (dynamic_cast<const transfer::EmulatedBench*>(&p->transfer()) == nullptr &&
-          !options.emulate_bench) {
-        throw ConfigError(fmt::format(
-            "{}: plan never moves a real bench, and slot {} is not on an emulated one; give "
-            "--emulate BENCH.yaml (an emulated bench config, e.g. examples/rotor/"
-            "bench-cantilever.yaml) to stand in for it", cfg.input.path(),
-            cfg.model.model.slots()[s].info.name));
-      }
+  for (std::size_t s = 0; s < spec.substructures.size(); ++s) {
+    auto& physical = spec.substructures[s].physical;
+    if (!physical) continue;
+    if (first_physical < 0) first_physical = static_cast<int>(s);
+    if (options.emulate_bench) {
+      physical->transfer = {"emulated", [bench = transfer::LoadEmulatedBenchConfig(
+                                             *options.emulate_bench)] {
+                              return transfer::MakeEmulatedBench(bench);
+                            }};
+    } else if (physical->transfer.type != "emulated") {
+      throw ConfigError(fmt::format(
+          "{}: plan never moves a real bench, and slot {} is not on an emulated one; give "
+          "--emulate BENCH.yaml (an emulated bench config, e.g. examples/rotor/"
+          "bench-cantilever.yaml) to stand in for it", spec.source.config_path,
+          model.slots()[s].info.name));
     }
   }
   if (first_physical < 0) {
     throw ConfigError(fmt::format("{}: has no physical substructure; plan compares schemes by "
                                   "their specimen evaluations, so it needs one (a `type: "
-                                  "physical` slot on an emulated bench)", cfg.input.path()));
+                                  "physical` slot on an emulated bench)", spec.source.config_path));
   }
-
-  const bool temporary = options.work_dir.empty();
-  const fs::path dir = temporary ? fs::temp_directory_path() /
-                                       fmt::format("hybridtest-plan-{}", std::random_device{}())
-                                 : fs::path(options.work_dir);
-  fs::create_directories(dir);
-  struct Cleanup {
-    fs::path dir;
-    bool active;
-    ~Cleanup() {
-      std::error_code ec;
-      if (active) fs::remove_all(dir, ec);
-    }
-  } cleanup{dir, temporary};
-
-  RunOptions quiet;
-  quiet.progress.mode = ProgressMode::kQuiet;
-  quiet.command = "plan";
+  if (!options.work_dir.empty()) fs::create_directories(options.work_dir);
 
   // The reference: numerical twins of the specimens, RK4 at 0.1 ms.
   PlanCandidate ref_candidate{"reference", {}, integrators::FindTableau("rk4"), kReferenceStep};
-  const io::SimulationConfig ref_cfg = WithScheme(cfg, ref_candidate);
-  {
-    auto subs = io::MakeSubstructures(cfg, sub_options);
-    for (std::size_t s = 0; s < subs.size(); ++s) {
-      if (auto twin = NumericalTwin(*subs[s], cfg.model.model.slots()[s].info.name)) {
-        subs[s] = std::move(twin);
-      }
-    }
-    RunOptions o = quiet;
-    o.csv_path = (dir / "reference.csv").string();
-    HybridTest(ref_cfg, std::move(subs), o).Run();
+  io::RunSpec ref_spec = WithScheme(spec, ref_candidate);
+  for (std::size_t s = 0; s < ref_spec.substructures.size(); ++s) {
+    if (!ref_spec.substructures[s].physical) continue;
+    const auto built = ref_spec.substructures[s].Build();
+    const std::string& slot = model.slots()[s].info.name;
+    substructures::SubstructureSpec twin;
+    twin.slot = slot;
+    twin.law = TwinLaw(*built, slot);
+    ref_spec.substructures[s] = std::move(twin);
   }
-  const io::RunData reference = io::LoadRun((dir / "reference.csv").string());
+  io::RunData reference;
+  {
+    PlanRecorder recorder(-1);
+    RunInMemory(ref_spec, options.work_dir, "reference", recorder, &reference);
+  }
   double p2p = 0.0;
-  RelativeError(cfg.model.model, reference, reference, first_physical, &p2p);
+  RelativeError(model, reference, reference, first_physical, &p2p);
 
-  const std::vector<PlanCandidate> candidates = DefaultCandidates(cfg, p2p);
-  const std::string command_channel =
-      cfg.model.model.slots()[static_cast<std::size_t>(first_physical)].info.name + "_command";
+  const std::vector<PlanCandidate> candidates = DefaultCandidates(spec, p2p);
   std::vector<PlanResult> results;
   for (std::size_t i = 0; i < candidates.size(); ++i) {
     PlanResult res;
     res.candidate = candidates[i];
-    const io::SimulationConfig run_cfg = WithScheme(cfg, candidates[i]);
-    RunOptions o = quiet;
-    o.csv_path = (dir / fmt::format("candidate-{}.csv", i)).string();
-    try {
-      auto subs = io::MakeSubstructures(run_cfg, sub_options);
-      // Operator splitting needs K0: measure it (on the emulated bench) where none is given.
-      for (auto& s : subs) {
-        auto* p = dynamic_cast<substructures::PhysicalSubstructure*>(s.get());
-        if (p != nullptr && !p->initial_stiffness() && !p->requested_stiffness_ramp() &&
-            candidates[i].scheme.kind != schemes::SchemeKind::kRungeKutta) {
-          p->RequestStiffnessMeasurement(1e-3);
+    io::RunSpec run_spec = WithScheme(spec, candidates[i]);
+    // Operator splitting needs K0: measure it (on the emulated bench) where none is given.
+    if (candidates[i].scheme.kind != schemes::SchemeKind::kRungeKutta) {
+      for (std::size_t s = 0; s < run_spec.substructures.size(); ++s) {
+        auto& physical = run_spec.substructures[s].physical;
+        if (physical && !physical->initial_stiffness && !physical->safety_stiffness &&
+            !physical->stiffness_ramp) {
+          physical->stiffness_ramp = 1e-3;
         }
       }
-      HybridTest test(run_cfg, std::move(subs), o);
-      const RunStatistics stats = test.Run();
+    }
+    try {
+      PlanRecorder recorder(0);  // the first physical slot's exchange
+      io::RunData run;
+      const RunStatistics stats = RunInMemory(std::move(run_spec), options.work_dir,
+                                              fmt::format("candidate-{}", i), recorder, &run);
       res.ok = true;
       res.evaluations = stats.physical_evaluations;
       res.lab_time = stats.lab_time;
       res.wall_time = stats.wall_time;
-      res.error = RelativeError(cfg.model.model, io::LoadRun(o.csv_path), reference, first_physical);
-      res.reversals = Reversals((dir / fmt::format("candidate-{}.stages.csv", i)).string(),
-                                command_channel);
+      res.error = RelativeError(model, run, reference, first_physical);
+      res.reversals = Reversals(recorder.commands);
     } catch (const std::exception& e) {
       res.ok = false;
       res.failure = e.what();

@@ -15,12 +15,15 @@
 // row times; T the duration (so [2, 10] s for the paper's 10 s).
 //
 // Lab time: as the emulated bench's clock reports it (calibrated to the paper's bench).
-// Reversals: how often the commanded actuator motion changes direction (stage record).
+// Reversals: how often the commanded actuator motion changes direction (every trial).
+//
+// Every run is a Session held in memory (a recorder observer keeps its rows and commands):
+// plan writes no file unless PlanOptions::work_dir asks for them.
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "hybridtest/io/config.h"
+#include "hybridtest/io/run_spec.h"
 #include "hybridtest/io/run_reader.h"
 
 namespace hybridtest::runner {
@@ -46,16 +49,16 @@ struct PlanResult {
 struct PlanOptions {
   double tolerance = 0.01;                   // largest acceptable error [-]
   std::optional<std::string> emulate_bench;  // stand-in bench for non-emulated physical slots
-  std::string work_dir;                      // where runs are written (empty: a temp folder,
-                                             // removed afterwards)
+  std::string work_dir;                      // also write every run's files here (empty:
+                                             // nothing is written; runs are held in memory)
   // Called after each candidate (index, count, result) for progress output.
   std::function<void(std::size_t, std::size_t, const PlanResult&)> on_result;
 };
 
-// The candidates for cfg: the configured scheme first, then α-OS (fixed and adaptive) and
+// The candidates for spec: the configured scheme first, then α-OS (fixed and adaptive) and
 // MR-OS (fixed and adaptive) over a range of steps and tolerances scaled to the reference's
 // peak-to-peak `p2p` [m].
-std::vector<PlanCandidate> DefaultCandidates(const io::SimulationConfig& cfg, double p2p);
+std::vector<PlanCandidate> DefaultCandidates(const io::RunSpec& spec, double p2p);
 
 // Relative error of `run` against `reference` (definition above); `first_physical_slot` is
 // the slot whose peak-to-peak normalises it. Throws IoError if a channel is missing.
@@ -65,7 +68,7 @@ double RelativeError(const multibody::Model& model, const io::RunData& run,
 // Runs the reference and every candidate; returns the results in candidate order. Throws
 // ConfigError if cfg has no physical slot, or one whose bench is not emulated and no
 // emulate_bench is given.
-std::vector<PlanResult> PlanTest(const io::SimulationConfig& cfg, const PlanOptions& options);
+std::vector<PlanResult> PlanTest(const io::RunSpec& spec, const PlanOptions& options);
 
 // The cheapest result (fewest evaluations, then lab time) with error ≤ tolerance, if any.
 std::optional<PlanResult> Recommend(const std::vector<PlanResult>& results, double tolerance);

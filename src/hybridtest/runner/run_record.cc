@@ -28,50 +28,50 @@ std::string SlotCoordinate(const multibody::Model& model, int slot) {
 
 }  // namespace
 
-std::vector<io::Channel> JournalChannels(const io::SimulationConfig& cfg,
-                                         const SubstructureList& subs) {
-  const multibody::Model& model = cfg.model.model;
+std::vector<io::Channel> JournalChannels(const io::RunSpec& spec) {
+  const multibody::Model& model = spec.model.model;
   std::vector<io::Channel> channels{{"t", "s", "time"}};
   for (const auto& q : model.coordinates()) channels.push_back({q.name, q.unit, q.description});
   for (const auto& u : model.speeds()) channels.push_back({u.name, u.unit, u.description});
   for (const auto& s : model.slots()) channels.push_back({s.info.name, s.info.unit, s.info.description});
-  for (std::size_t s = 0; s < subs.size(); ++s) {
-    if (subs[s]->is_physical()) AddPhysicalChannels(model.slots()[s].info.name, channels);
+  for (std::size_t s = 0; s < spec.substructures.size(); ++s) {
+    if (spec.substructures[s].is_physical()) AddPhysicalChannels(model.slots()[s].info.name, channels);
   }
   return channels;
 }
 
-std::vector<io::Channel> StageChannels(const io::SimulationConfig& cfg,
-                                       const SubstructureList& subs) {
+std::vector<io::Channel> StageChannels(const io::RunSpec& spec) {
   std::vector<io::Channel> channels{{"step", "-", "step index n (0-based)"},
                                     {"stage", "-", "Runge-Kutta stage (0-based)"},
                                     {"t", "s", "model time of the stage"}};
-  for (std::size_t s = 0; s < subs.size(); ++s) {
-    if (subs[s]->is_physical()) AddPhysicalChannels(cfg.model.model.slots()[s].info.name, channels);
+  for (std::size_t s = 0; s < spec.substructures.size(); ++s) {
+    if (spec.substructures[s].is_physical()) {
+      AddPhysicalChannels(spec.model.model.slots()[s].info.name, channels);
+    }
   }
   return channels;
 }
 
-long MaxJournalRows(const io::SimulationConfig& cfg) {
-  const auto& sc = cfg.scheme;
-  double steps = static_cast<double>(cfg.steps);
+long MaxJournalRows(const io::RunSpec& spec) {
+  const auto& sc = spec.scheme.config;
+  double steps = static_cast<double>(spec.scheme.steps);
   if (sc.kind != schemes::SchemeKind::kRungeKutta && sc.adaptive.enabled) {
-    steps = std::ceil(cfg.duration / sc.adaptive.dt_min);
+    steps = std::ceil(spec.scheme.duration / sc.adaptive.dt_min);
   }
   double rows = steps + 1.0;
-  if (sc.kind == schemes::SchemeKind::kMrOs) rows += std::ceil(cfg.duration / sc.substep) + steps;
+  if (sc.kind == schemes::SchemeKind::kMrOs) rows += std::ceil(spec.scheme.duration / sc.substep) + steps;
   return static_cast<long>(std::min(rows, 1e15));
 }
 
-io::JournalMetadata JournalMetadataFor(const io::SimulationConfig& cfg,
+io::JournalMetadata JournalMetadataFor(const io::RunSpec& spec,
                                        const SubstructureList& subs, const std::string& command) {
-  const multibody::Model& model = cfg.model.model;
+  const multibody::Model& model = spec.model.model;
   io::JournalMetadata meta;
   meta.command = command;
-  meta.config_path = cfg.input.path();
-  meta.config_text = cfg.input.text();
+  meta.config_path = spec.source.config_path;
+  meta.config_text = spec.source.config_text;
   nlohmann::json parameters = nlohmann::json::array();
-  for (const auto& p : cfg.model.parameters.all()) {
+  for (const auto& p : spec.model.parameters.all()) {
     parameters.push_back({{"name", p.name}, {"value", p.value}, {"unit", p.unit},
                           {"description", p.description}});
   }
@@ -89,8 +89,8 @@ io::JournalMetadata JournalMetadataFor(const io::SimulationConfig& cfg,
                      {"coordinate", SlotCoordinate(model, s)},
                      {"description", model.slots()[s].info.description}});
   }
-  meta.model = {{"name", cfg.model.name},       {"description", cfg.model.description},
-                {"blades", cfg.blades},         {"parameters", parameters},
+  meta.model = {{"name", spec.model.name},      {"description", spec.model.description},
+                {"blades", spec.source.blades},         {"parameters", parameters},
                 {"coordinates", infos(model.coordinates())},
                 {"speeds", infos(model.speeds())}, {"slots", slots}};
   for (std::size_t s = 0; s < subs.size(); ++s) {
@@ -104,23 +104,25 @@ io::JournalMetadata JournalMetadataFor(const io::SimulationConfig& cfg,
     }
     meta.substructures.push_back(entry);
   }
-  nlohmann::json integrator = {{"scheme", schemes::SchemeKindName(cfg.scheme.kind)}};
-  if (cfg.scheme.kind == schemes::SchemeKind::kRungeKutta) {
-    integrator.update({{"tableau", cfg.tableau.name}, {"title", cfg.tableau.title},
-                       {"order", cfg.tableau.order}, {"stages", cfg.tableau.stages()}});
+  const schemes::SchemeConfig& scheme = spec.scheme.config;
+  const integrators::ButcherTableau& tableau = spec.scheme.tableau;
+  nlohmann::json integrator = {{"scheme", schemes::SchemeKindName(scheme.kind)}};
+  if (scheme.kind == schemes::SchemeKind::kRungeKutta) {
+    integrator.update({{"tableau", tableau.name}, {"title", tableau.title},
+                       {"order", tableau.order}, {"stages", tableau.stages()}});
   } else {
-    if (cfg.scheme.kind == schemes::SchemeKind::kAlphaOs) integrator["alpha"] = cfg.scheme.alpha;
-    if (cfg.scheme.kind == schemes::SchemeKind::kMrOs) integrator["substep_s"] = cfg.scheme.substep;
-    if (cfg.scheme.adaptive.enabled) {
-      integrator["adaptive"] = {{"tolerance_m", cfg.scheme.adaptive.tolerance},
-                                {"dt_min_s", cfg.scheme.adaptive.dt_min},
-                                {"dt_max_s", cfg.scheme.adaptive.dt_max}};
+    if (scheme.kind == schemes::SchemeKind::kAlphaOs) integrator["alpha"] = scheme.alpha;
+    if (scheme.kind == schemes::SchemeKind::kMrOs) integrator["substep_s"] = scheme.substep;
+    if (scheme.adaptive.enabled) {
+      integrator["adaptive"] = {{"tolerance_m", scheme.adaptive.tolerance},
+                                {"dt_min_s", scheme.adaptive.dt_min},
+                                {"dt_max_s", scheme.adaptive.dt_max}};
     }
   }
   meta.extra = {{"integrator", integrator},
-                {"dt", cfg.dt},
-                {"duration", cfg.duration},
-                {"steps", cfg.steps}};
+                {"dt", spec.scheme.dt},
+                {"duration", spec.scheme.duration},
+                {"steps", spec.scheme.steps}};
   return meta;
 }
 

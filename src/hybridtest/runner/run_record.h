@@ -10,7 +10,7 @@
 #include <memory>
 #include <vector>
 
-#include "hybridtest/io/config.h"
+#include "hybridtest/io/run_spec.h"
 #include "hybridtest/io/journal.h"
 #include "hybridtest/substructures/substructure.h"
 
@@ -18,19 +18,17 @@ namespace hybridtest::runner {
 
 using SubstructureList = std::vector<std::unique_ptr<substructures::Substructure>>;
 
-std::vector<io::Channel> JournalChannels(const io::SimulationConfig& cfg,
-                                         const SubstructureList& subs);
+std::vector<io::Channel> JournalChannels(const io::RunSpec& spec);
 
 // Channels of the per-stage record of physical exchanges: step, stage, t, and for each
 // physical substructure its command, position, force and lab time.
-std::vector<io::Channel> StageChannels(const io::SimulationConfig& cfg,
-                                       const SubstructureList& subs);
+std::vector<io::Channel> StageChannels(const io::RunSpec& spec);
 
 // An upper bound of the journal rows a run writes (adaptive schemes: at their smallest step;
 // MR-OS: a row per substep). Used to check that the output fits on the disk.
-long MaxJournalRows(const io::SimulationConfig& cfg);
+long MaxJournalRows(const io::RunSpec& spec);
 
-io::JournalMetadata JournalMetadataFor(const io::SimulationConfig& cfg,
+io::JournalMetadata JournalMetadataFor(const io::RunSpec& spec,
                                        const SubstructureList& subs, const std::string& command);
 
 }  // namespace hybridtest::runner

@@ -83,7 +83,7 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
   multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_pred_.head(n_), d_pred_);
 
   // The one specimen evaluation of the step.
-  seam.Trial(n + 1, 0, t_next, x_pred_, r_pred_);
+  seam.Trial({n + 1, 0, t_next}, d_pred_, r_pred_);
 
   // Newton on a with the Jacobian at the predictor.
   // (allocation-free: the derivative workspace and the factorisations are built once)

@@ -8,7 +8,7 @@
 //
 //   predictor (explicit, imposed on the specimen once):
 //     q̃ = q_n + h u_n + h² (1/2 − β) a_n          ũ = u_n + h (1 − γ) a_n
-//     r̃ = seam.Trial(t_{n+1}, [q̃; ũ])            d̃ = d(t_{n+1}, q̃)
+//     d̃ = d(t_{n+1}, q̃)                             r̃ = seam.Trial(d̃)
 //   splitting: the restoring forces between the predictor and the solution are modelled with
 //   the initial stiffness K0 (per slot):  r(q) = r̃ + K0 ∘ (d(t_{n+1}, q) − d̃)
 //   corrector (implicit in the numerical model, no specimen motion):

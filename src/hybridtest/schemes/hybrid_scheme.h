@@ -6,8 +6,9 @@
 // static restoring forces of the substructures. A scheme computes committed points
 // (t_n, x_n, r_n) one step at a time. Its only access to the substructures is the seam:
 //
-//   seam.Trial(step, stage, t, x, r)   every substructure is tried at the slot displacements
-//                                      d(t, q) of state x: a physical one MOVES STEEL here.
+//   seam.Trial({step, stage, t}, d, r)  every substructure is tried at the slot displacements
+//                                       d (m), which the scheme computed from its state as
+//                                       d(t, q): a physical one MOVES STEEL here.
 //
 // Contract (every scheme, tested in tests/schemes/):
 //   - a step makes exactly evaluations_per_step() trials, never two at the same trial state
@@ -33,15 +34,22 @@
 
 namespace hybridtest::schemes {
 
-// The impure seam, implemented by the runner.
+// Where a trial belongs, for records and messages: the trial is part of step `step` (stage 0
+// is the trial at a committed state), at model time t [s].
+struct TrialPoint {
+  long step = 0;
+  int stage = 0;
+  double t = 0.0;  // [s]
+};
+
+// The impure seam, implemented by the runner's Session.
 class SubstructureSeam {
  public:
   virtual ~SubstructureSeam() = default;
-  // Tries every substructure at the slot displacements of state x (2n) at time t [s] and
-  // writes their restoring forces into r (m). `step` and `stage` label the trial in records
-  // and messages (the trial belongs to step `step`; stage 0 is the trial at a committed
-  // state). Throws SafetyStop or TransferError from a physical substructure.
-  virtual void Trial(long step, int stage, double t, const Eigen::VectorXd& x,
+  // Tries every substructure at the slot displacements d (m; [m] or [rad] per slot) and writes
+  // their restoring forces into r (m; [N] or [N·m]). Throws SafetyStop or TransferError from a
+  // physical substructure.
+  virtual void Trial(const TrialPoint& at, const Eigen::VectorXd& d,
                      Eigen::Ref<Eigen::VectorXd> r) = 0;
 };
 
@@ -59,9 +67,9 @@ template <class F>
 class SeamOf final : public SubstructureSeam {
  public:
   explicit SeamOf(F f) : f_(std::move(f)) {}
-  void Trial(long step, int stage, double t, const Eigen::VectorXd& x,
+  void Trial(const TrialPoint& at, const Eigen::VectorXd& d,
              Eigen::Ref<Eigen::VectorXd> r) override {
-    f_(step, stage, t, x, r);
+    f_(at, d, r);
   }
 
  private:

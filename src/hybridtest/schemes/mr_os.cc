@@ -100,7 +100,7 @@ void MrOs::Step(SubstructureSeam& seam, RowSink& rows) {
   }
   const Eigen::VectorXd& d_imposed = d_;
   // Evaluate: the one specimen evaluation of the macro step.
-  seam.Trial(k + 1, 0, t_next, x_pred_, r_sample_);
+  seam.Trial({k + 1, 0, t_next}, d_imposed, r_sample_);
   t_new_ = t_next;
   rho_new_ = r_sample_ - slots_.k0.cwiseProduct(d_imposed);
   d_last_ = d_imposed;

@@ -16,7 +16,8 @@ RungeKuttaScheme::RungeKuttaScheme(const multibody::Model& model,
       h_(h),
       steps_(steps),
       x_next_(2 * model.num_coordinates()),
-      r_stage_(model.num_slots()) {}
+      r_stage_(model.num_slots()),
+      d_stage_(model.num_slots()) {}
 
 std::string RungeKuttaScheme::Describe() const {
   return fmt::format("explicit Runge–Kutta '{}' ({}, order {}), h = {} s, {} evaluations per step",
@@ -26,6 +27,7 @@ std::string RungeKuttaScheme::Describe() const {
 
 void RungeKuttaScheme::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
   const long n = point_.step;
+  const int n_q = model_.num_coordinates();
   const double t = static_cast<double>(n) * h_;
   has_uncommitted_ = false;
   stepper_.Step(t, h_, point_.x,
@@ -35,7 +37,9 @@ void RungeKuttaScheme::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
                     multibody::CalcStateDerivative<double>(model_, data_, t_i, x_i, point_.r, k);
                     return;
                   }
-                  seam.Trial(n, i, t_i, x_i, r_stage_);
+                  multibody::CalcSlotDisplacements<double>(model_, data_, t_i, x_i.head(n_q),
+                                                           d_stage_);
+                  seam.Trial({n, i, t_i}, d_stage_, r_stage_);
                   multibody::CalcStateDerivative<double>(model_, data_, t_i, x_i, r_stage_, k);
                 },
                 x_next_);
@@ -46,7 +50,8 @@ void RungeKuttaScheme::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
   uncommitted_.t = t_next;
   uncommitted_.x = x_next_;
   has_uncommitted_ = true;
-  seam.Trial(n + 1, 0, t_next, x_next_, r_stage_);
+  multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_next_.head(n_q), d_stage_);
+  seam.Trial({n + 1, 0, t_next}, d_stage_, r_stage_);
   has_uncommitted_ = false;
   point_.step = n + 1;
   point_.t = t_next;

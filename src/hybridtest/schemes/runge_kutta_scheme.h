@@ -5,13 +5,13 @@
 //
 //   step n → n+1 (t_n = n h):
 //     stage 0: k_0 = f(t_n, x_n, r_n) with r_n measured at x_n (the trial that committed x_n)
-//     stage i = 1..s−1: x_i = x_n + h Σ_j a_ij k_j, r_i = seam.Trial(x_i), k_i = f(t_i, x_i, r_i)
+//     stage i = 1..s−1: x_i = x_n + h Σ_j a_ij k_j, r_i = seam.Trial(d(t_i, x_i)),
+//                       k_i = f(t_i, x_i, r_i)
 //     x_{n+1} = x_n + h Σ b_i k_i
-//     r_{n+1} = seam.Trial(x_{n+1})  (stage 0 of step n+1; the runner commits and journals it)
+//     r_{n+1} = seam.Trial(d(t_{n+1}, x_{n+1}))  (stage 0 of step n+1; the session commits
+//                                               and journals it)
 //
-// The trials, their order and every floating-point operation are those of the runner before
-// hybrid schemes existed, so results are bit-identical to it. Explicit RK is only
-// conditionally stable: h must lie within the tableau's stability region for the model's
+// Every stage is a trial, in the paper's order. Explicit RK is only conditionally stable: h must lie within the tableau's stability region for the model's
 // fastest eigenvalue (the rotor's generator damping gives −958 1/s: Heun needs h ≤ 2.09 ms).
 #include "hybridtest/integrators/explicit_runge_kutta.h"
 #include "hybridtest/multibody/data.h"
@@ -42,6 +42,7 @@ class RungeKuttaScheme final : public HybridScheme {
   long steps_;
   Eigen::VectorXd x_next_;  // (2n)
   Eigen::VectorXd r_stage_; // (m)
+  Eigen::VectorXd d_stage_; // (m) slot displacements of the stage's trial
 };
 
 }  // namespace hybridtest::schemes

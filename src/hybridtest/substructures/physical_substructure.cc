@@ -29,11 +29,11 @@ PhysicalSubstructure::PhysicalSubstructure(std::string name,
                                            std::unique_ptr<transfer::TransferSystem> transfer,
                                            SetupTransform setup, transfer::SafetyLimits limits,
                                            std::optional<double> initial_stiffness)
-    : name_(std::move(name)), transfer_(std::move(transfer)), setup_(setup), safety_(limits) {
+    : name_(std::move(name)), transfer_(std::move(transfer)), setup_(setup), gate_(limits) {
   if (!transfer_) throw Error("PhysicalSubstructure '" + name_ + "': no transfer system");
   setup_.Validate();
-  safety_.SetStartPosition(setup_.p0);
-  if (initial_stiffness) safety_.SetInitialStiffness(*initial_stiffness);
+  gate_.monitor().SetStartPosition(setup_.p0);
+  if (initial_stiffness) gate_.monitor().SetInitialStiffness(*initial_stiffness);
   safety_stiffness_ = initial_stiffness;
 }
 
@@ -54,11 +54,11 @@ void PhysicalSubstructure::SetInitialStiffness(double k0) {
   k0_ = k0;
   // The monitor predicts forces per actuator displacement from the start.
   const double per_actuator = k0 / (setup_.sign * setup_.scale * setup_.force_sign * setup_.force_scale);
-  if (per_actuator > 0.0) safety_.SetInitialStiffness(per_actuator);
+  if (per_actuator > 0.0) gate_.monitor().SetInitialStiffness(per_actuator);
 }
 
 double PhysicalSubstructure::max_displacement_increment() const {
-  return safety_.limits().max_increment / setup_.scale;
+  return gate_.monitor().limits().max_increment / setup_.scale;
 }
 
 PhysicalSubstructure::StiffnessMeasurement PhysicalSubstructure::MeasureInitialStiffness(
@@ -109,34 +109,35 @@ void PhysicalSubstructure::Activate() {
   active_ = true;
 }
 
-double PhysicalSubstructure::Trial(double displacement, const TrialContext& ctx) {
-  const transfer::BenchUnits units = transfer_->bench_units();
-  const double command = setup_.CommandMetres(displacement);
+void PhysicalSubstructure::GatedMoveTo(double command, transfer::MoveLabel label) {
   held_ = false;
   try {
-    safety_.CheckCommand(command, ctx.step, ctx.stage);
-    const transfer::Measurement m = transfer_->Execute(setup_.ToBench(command, units));
-    ++evaluations_;
-    const double position = setup_.PositionMetres(m.position, units);
-    const double force = setup_.ForceNewtons(m.force, units);
-    last_ = {command, position, force, m.lab_time};
-    safety_.CheckMeasurement(command, position, force, ctx.step, ctx.stage);
-    return setup_.RestoringForce(force);
-  } catch (const transfer::SafetyStop&) {
-    Hold();
-    throw;
-  } catch (const TransferError& e) {
-    // Name where in the test the bench was lost; the actuator holds at its last command.
-    Hold();
-    throw TransferError(fmt::format("{}: {} (step {}, stage {}, t = {} s; the actuator holds at "
-                                    "its last safe command {} m)", name_, e.what(), ctx.step,
-                                    ctx.stage, ctx.t, safety_.has_safe_command()
-                                                          ? safety_.last_safe_command()
-                                                          : setup_.p0));
+    gate_.Move(*transfer_, command, label, setup_.load_cell_zero, move_);
   } catch (...) {
+    if (move_.executed) {
+      ++evaluations_;
+      last_ = {command, move_.position, move_.force, move_.lab_time};
+    }
     Hold();
     throw;
   }
+  ++evaluations_;
+  last_ = {command, move_.position, move_.force, move_.lab_time};
+}
+
+double PhysicalSubstructure::Trial(double displacement, const TrialContext& ctx) {
+  const double command = setup_.CommandMetres(displacement);
+  try {
+    GatedMoveTo(command, {ctx.step, ctx.stage});
+  } catch (const TransferError& e) {
+    // Name where in the test the bench was lost; the actuator holds at its last command.
+    throw TransferError(fmt::format("{}: {} (step {}, stage {}, t = {} s; the actuator holds at "
+                                    "its last safe command {} m)", name_, e.what(), ctx.step,
+                                    ctx.stage, ctx.t, gate_.monitor().has_safe_command()
+                                                          ? gate_.monitor().last_safe_command()
+                                                          : setup_.p0));
+  }
+  return setup_.RestoringForce(last_.force);
 }
 
 void PhysicalSubstructure::Hold() noexcept {

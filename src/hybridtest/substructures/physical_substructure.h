@@ -1,11 +1,12 @@
 #pragma once
 // A physical substructure: a specimen on a test bench, reached through a TransferSystem and a
-// SetupTransform, guarded by a SafetyMonitor. Every trial:
-//   1. command = setup(d) [m]; the monitor checks it (stroke, increment, predicted force,
-//      finite) — a command beyond a limit is never sent;
-//   2. the transfer system executes it (bench units) and returns a measurement;
-//   3. the monitor checks the measurement (finite, hard force limit);
-//   4. r^s = setup⁻¹(measured force).
+// SetupTransform, guarded by a SafetyGate (transfer/safety_gate.h). Every trial:
+//   1. command = setup(d) [m];
+//   2. the gate checks it (stroke, increment, predicted force, finite; a command beyond a limit
+//      is never sent), the transfer system executes it (bench units), and the gate checks the
+//      measurement (finite, hard force limit);
+//   3. r^s = setup⁻¹(measured force).
+// The K0 ramp and the resume moves go through the same gate.
 // On any violation or communication failure the transfer system is put on Hold() (it stays at
 // the last safe command) and the error propagates to the runner.
 #include <functional>
@@ -15,6 +16,7 @@
 #include "hybridtest/substructures/setup_transform.h"
 #include "hybridtest/substructures/substructure.h"
 #include "hybridtest/transfer/safety.h"
+#include "hybridtest/transfer/safety_gate.h"
 
 namespace hybridtest::substructures {
 
@@ -37,7 +39,7 @@ class PhysicalSubstructure final : public Substructure {
   Exchange last_exchange() const override { return last_; }
   long evaluations() const override { return evaluations_; }
   std::string Describe() const override;
-  const transfer::SafetyMonitor& safety() const { return safety_; }
+  const transfer::SafetyMonitor& safety() const { return gate_.monitor(); }
   const transfer::TransferSystem& transfer() const { return *transfer_; }
   // Resume: see TransferSystem::NoteCommandsBeforeResume.
   void NoteCommandsBeforeResume(long count) { transfer_->NoteCommandsBeforeResume(count); }
@@ -108,7 +110,7 @@ class PhysicalSubstructure final : public Substructure {
   std::string name_;
   std::unique_ptr<transfer::TransferSystem> transfer_;
   SetupTransform setup_;
-  transfer::SafetyMonitor safety_;
+  transfer::SafetyGate gate_;
   Exchange last_;
   std::optional<double> k0_;            // dr/dd [N/m]
   std::optional<double> k0_ramp_;       // measure K0 before the test with this amplitude [m]
@@ -116,6 +118,11 @@ class PhysicalSubstructure final : public Substructure {
   long evaluations_ = 0;
   bool active_ = false;
   bool held_ = false;  // Hold() already sent since the last trial
+
+  // One move through the gate: last_ and evaluations_ follow the bench's answer (also when
+  // its check throws); on any failure the bench is put on hold and the error propagates.
+  void GatedMoveTo(double command, transfer::MoveLabel label);
+  transfer::GatedMove move_;  // the last move (reused: no allocation per trial)
 };
 
 }  // namespace hybridtest::substructures

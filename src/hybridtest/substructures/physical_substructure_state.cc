@@ -15,7 +15,7 @@ nlohmann::json PhysicalSubstructure::SaveState() const {
                     {"force_N", last_.force}, {"lab_time_s", last_.lab_time}}},
           {"evaluations", evaluations_},
           {"k0", k0_ ? nlohmann::json(*k0_) : nlohmann::json(nullptr)},
-          {"safety", safety_.SaveState()},
+          {"safety", gate_.monitor().SaveState()},
           {"transfer", transfer_->SaveState()}};
 }
 
@@ -26,7 +26,7 @@ void PhysicalSubstructure::RestoreState(const nlohmann::json& state) {
              last.at("force_N").get<double>(), last.at("lab_time_s").get<double>()};
     evaluations_ = state.at("evaluations").get<long>();
     if (!state.at("k0").is_null()) k0_ = state.at("k0").get<double>();
-    safety_.RestoreState(state.at("safety"));
+    gate_.monitor().RestoreState(state.at("safety"));
     if (!state.at("transfer").is_null()) transfer_->RestoreState(state.at("transfer"));
   } catch (const nlohmann::json::exception& e) {
     throw Error(fmt::format("{}: cannot restore the saved state: {}", name_, e.what()));
@@ -34,11 +34,11 @@ void PhysicalSubstructure::RestoreState(const nlohmann::json& state) {
 }
 
 double PhysicalSubstructure::DefaultResumePositionTolerance() const {
-  return 0.25 * safety_.limits().max_increment;
+  return 0.25 * gate_.monitor().limits().max_increment;
 }
 
 double PhysicalSubstructure::DefaultResumeForceTolerance(double position_tolerance) const {
-  const double by_limit = 0.01 * safety_.limits().force_hard;
+  const double by_limit = 0.01 * gate_.monitor().limits().force_hard;
   // A force tolerance wider than the stiffness times the position tolerance would accept a
   // position error the position check refuses (100 N on a 7.2 N/mm specimen is 13.9 mm).
   if (const auto k0 = initial_stiffness(); k0 && std::isfinite(*k0) && *k0 > 0.0) {
@@ -62,18 +62,7 @@ PhysicalSubstructure::ResumeCheck PhysicalSubstructure::ReimposeCommitted(
   // One move: checked before it is sent and after it is measured, like a trial (stage −1:
   // not a stage of the scheme).
   auto move = [&](double command, bool reimposition) {
-    held_ = false;
-    try {
-      safety_.CheckCommand(command, step, -1);
-      const transfer::Measurement m = transfer_->Execute(setup_.ToBench(command, units));
-      ++evaluations_;
-      last_ = {command, setup_.PositionMetres(m.position, units),
-               setup_.ForceNewtons(m.force, units), m.lab_time};
-      safety_.CheckMeasurement(command, last_.position, last_.force, step, -1);
-    } catch (...) {
-      Hold();
-      throw;
-    }
+    GatedMoveTo(command, {step, -1});
     if (on_move) on_move(reimposition);
   };
   if (const auto read = transfer_->Read()) {
@@ -82,9 +71,9 @@ PhysicalSubstructure::ResumeCheck PhysicalSubstructure::ReimposeCommitted(
     // Every move from here is checked against where the actuator IS, not where the state says
     // it was: the increment limit then holds for the first move too.
     const double measured_command = *check.read_position;  // commands are actuator positions [m]
-    safety_.SetStartPosition(measured_command);
+    gate_.monitor().SetStartPosition(measured_command);
     const double gap = check.command - measured_command;
-    const double limit = safety_.limits().max_increment;
+    const double limit = gate_.monitor().limits().max_increment;
     if (std::abs(gap) > limit) {
       // The bench has moved since the commit: walk back in equal moves of at most 99.9 % of
       // the limit, so that rounding never pushes a move over it (a gap of exactly k limits
@@ -107,7 +96,7 @@ PhysicalSubstructure::ResumeCheck PhysicalSubstructure::ReimposeCommitted(
     throw transfer::SafetyStop(
         position_bad ? "resume_position_tolerance" : "resume_force_tolerance",
         position_bad ? position_difference : difference,
-        position_bad ? check.position_tolerance : check.tolerance, step, -1, safety_.history(),
+        position_bad ? check.position_tolerance : check.tolerance, step, -1, gate_.monitor().history(),
         fmt::format("{}: resume refused: the last committed command {} m was re-imposed and the "
                     "bench measured position {} m and force {} N, but the journal's committed "
                     "position is {} m and force {} N (differences {} m and {} N; accepted {} m "

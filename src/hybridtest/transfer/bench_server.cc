@@ -47,11 +47,11 @@ BenchServer::BenchServer(TransferSystem& bench, BenchServerOptions options)
     : bench_(bench),
       options_(std::move(options)),
       units_(bench.bench_units()),
-      monitor_(options_.limits),
+      gate_(options_.limits),
       listener_(CheckOptions(options_), options_.port),
       handshakes_(options_.max_pending, options_.handshake_timeout) {
-  if (options_.start_position) monitor_.SetStartPosition(*options_.start_position);
-  if (options_.initial_stiffness) monitor_.SetInitialStiffness(*options_.initial_stiffness);
+  if (options_.start_position) gate_.monitor().SetStartPosition(*options_.start_position);
+  if (options_.initial_stiffness) gate_.monitor().SetInitialStiffness(*options_.initial_stiffness);
 }
 
 std::string BenchServer::address() const { return listener_.address(); }
@@ -301,19 +301,16 @@ bool BenchServer::HandleCommand(Session& session, const Frame& frame) {
     return true;
   }
   // Check, move, check: a SafetyStop from any of the three refuses and latches.
-  const double m_per_unit = units_.metres_per_length_unit;
-  const double n_per_unit = units_.newtons_per_force_unit;
   MeasurementMessage reply;
   try {
-    monitor_.CheckCommand(command.position * m_per_unit, n, 0);
-    if (bench_held_) {
-      bench_.Activate();
-      bench_held_ = false;
-    }
-    reply.measurement = bench_.Execute(command.position);
-    monitor_.CheckMeasurement(command.position * m_per_unit,
-                              reply.measurement.position * m_per_unit,
-                              reply.measurement.force * n_per_unit, n, 0);
+    GatedMove move;
+    gate_.MoveBench(bench_, command.position, {n, 0}, move, [&] {
+      if (bench_held_) {
+        bench_.Activate();
+        bench_held_ = false;
+      }
+    });
+    reply.measurement = move.raw;
   } catch (const SafetyStop& e) {
     HoldBench(fmt::format("safety refusal at command {} ({})", n, e.limit()));
     session.refused = true;

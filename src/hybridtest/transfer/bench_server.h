@@ -43,6 +43,7 @@
 #include "hybridtest/transfer/handshake_queue.h"
 #include "hybridtest/transfer/frame.h"
 #include "hybridtest/transfer/safety.h"
+#include "hybridtest/transfer/safety_gate.h"
 #include "hybridtest/transfer/socket.h"
 #include "hybridtest/transfer/transfer_system.h"
 
@@ -108,7 +109,7 @@ class BenchServer {
   TransferSystem& bench_;
   BenchServerOptions options_;
   BenchUnits units_;
-  SafetyMonitor monitor_;
+  SafetyGate gate_;  // check → move → check of every command received
   Listener listener_;
   std::atomic<bool> stop_{false};
   std::atomic<long> commands_received_{0};

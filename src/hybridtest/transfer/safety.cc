@@ -37,6 +37,7 @@ SafetyStop::SafetyStop(std::string limit, double value, double limit_value, long
 
 SafetyMonitor::SafetyMonitor(SafetyLimits limits, std::size_t history_length)
     : limits_(limits), history_length_(history_length) {
+  history_.reserve(history_length_ + 1);
   RequireFinite("stroke_min", limits_.stroke_min);
   RequireFinite("stroke_max", limits_.stroke_max);
   if (!(limits_.stroke_min < limits_.stroke_max)) {
@@ -196,7 +197,9 @@ std::vector<ExchangeRecord> SafetyMonitor::history() const {
 
 void SafetyMonitor::Remember(const ExchangeRecord& record) {
   history_.push_back(record);
-  while (history_.size() > history_length_) history_.pop_front();
+  if (history_.size() > history_length_) {
+    history_.erase(history_.begin(), history_.end() - static_cast<long>(history_length_));
+  }
 }
 
 }  // namespace hybridtest::transfer

@@ -9,7 +9,6 @@
 // to the runner, which writes everything committed and exits non-zero.
 #include <nlohmann/json.hpp>
 
-#include <deque>
 #include <string>
 #include <vector>
 
@@ -103,7 +102,8 @@ class SafetyMonitor {
  private:
   SafetyLimits limits_;
   std::size_t history_length_;
-  std::deque<ExchangeRecord> history_;
+  std::vector<ExchangeRecord> history_;  // oldest first; room for history_length_ + 1, so
+                                         // remembering never allocates
   [[noreturn]] void Stop(const std::string& limit, double value, double limit_value, long step,
                          int stage, const std::string& what) const;
   void Remember(const ExchangeRecord& record);

@@ -13,10 +13,10 @@
 
 namespace hybridtest::transfer::openfresco {
 
-std::unique_ptr<TransferSystem> MakeClientTransfer(const YamlInput& in, const YAML::Node& node,
-                                                   const std::string& kp,
-                                                   const std::optional<std::string>& bench_address,
-                                                   double reply_timeout) {
+ClientOptions ParseClientOptions(const YamlInput& in, const YAML::Node& node,
+                                 const std::string& kp,
+                                 const std::optional<std::string>& bench_address,
+                                 double reply_timeout) {
   in.CheckKeys(node, kp, {"type", "host", "port", "units", "timeout", "token", "token_file"});
   ClientOptions client;
   if (bench_address && !bench_address->empty()) {
@@ -59,7 +59,14 @@ std::unique_ptr<TransferSystem> MakeClientTransfer(const YamlInput& in, const YA
   client.reply_timeout = node["timeout"]
                              ? in.PositiveNumber(node["timeout"], kp + ".timeout", "seconds")
                              : reply_timeout;
-  return std::make_unique<Client>(client);
+  return client;
+}
+
+std::unique_ptr<TransferSystem> MakeClientTransfer(const YamlInput& in, const YAML::Node& node,
+                                                   const std::string& kp,
+                                                   const std::optional<std::string>& bench_address,
+                                                   double reply_timeout) {
+  return std::make_unique<Client>(ParseClientOptions(in, node, kp, bench_address, reply_timeout));
 }
 
 }  // namespace hybridtest::transfer::openfresco

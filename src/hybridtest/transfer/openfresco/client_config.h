@@ -19,12 +19,18 @@
 #include <yaml-cpp/yaml.h>
 
 #include "hybridtest/common/yaml_input.h"
+#include "hybridtest/transfer/openfresco/client.h"
 #include "hybridtest/transfer/transfer_system.h"
 
 namespace hybridtest::transfer::openfresco {
 
 // `node` is the `transfer:` mapping at key path `kp`; `bench_address` is --bench when given;
 // `reply_timeout` [s] is used unless `timeout:` is given. Throws ConfigError naming the key.
+ClientOptions ParseClientOptions(const YamlInput& in, const YAML::Node& node,
+                                 const std::string& kp,
+                                 const std::optional<std::string>& bench_address,
+                                 double reply_timeout);
+// The client for the section (not connected).
 std::unique_ptr<TransferSystem> MakeClientTransfer(const YamlInput& in, const YAML::Node& node,
                                                    const std::string& kp,
                                                    const std::optional<std::string>& bench_address,

@@ -62,12 +62,12 @@ Server::Server(TransferSystem& bench, ExpSetup setup, BenchServerOptions options
       setup_(std::move(setup)),
       options_(CheckOptions(std::move(options))),
       bench_units_(bench.bench_units()),
-      monitor_(options_.limits),
+      gate_(options_.limits),
       listener_(options_.host, options_.port),
       handshakes_(options_.max_pending, options_.handshake_timeout, OpeningSize) {
   ValidateSetup(setup_);
-  if (options_.start_position) monitor_.SetStartPosition(*options_.start_position);
-  monitor_.SetInitialStiffness(options_.initial_stiffness.value_or(setup_.initial_stiffness));
+  if (options_.start_position) gate_.monitor().SetStartPosition(*options_.start_position);
+  gate_.monitor().SetInitialStiffness(options_.initial_stiffness.value_or(setup_.initial_stiffness));
 }
 
 std::string Server::address() const { return listener_.address(); }
@@ -317,13 +317,14 @@ bool Server::HandleTrial(Session& session, const std::vector<double>& message) {
   const double m_per_unit = bench_units_.metres_per_length_unit;
   const double n_per_unit = bench_units_.newtons_per_force_unit;
   try {
-    monitor_.CheckCommand(command, count, 0);
-    if (bench_held_) {
-      bench_.Activate();
-      bench_held_ = false;
-    }
-    const Measurement m = bench_.Execute(command / m_per_unit);
-    monitor_.CheckMeasurement(command, m.position * m_per_unit, m.force * n_per_unit, count, 0);
+    GatedMove move;
+    gate_.Move(bench_, command, {count, 0}, 0.0, move, [&] {
+      if (bench_held_) {
+        bench_.Activate();
+        bench_held_ = false;
+      }
+    });
+    const Measurement& m = move.raw;
     session.measured = true;
     session.offset = m.position * m_per_unit - setup_.p0;
     session.force = m.force * n_per_unit;

@@ -52,6 +52,7 @@
 #include "hybridtest/transfer/openfresco/setup.h"
 #include "hybridtest/transfer/openfresco/wire.h"
 #include "hybridtest/transfer/safety.h"
+#include "hybridtest/transfer/safety_gate.h"
 #include "hybridtest/transfer/socket.h"
 #include "hybridtest/transfer/transfer_system.h"
 
@@ -102,7 +103,7 @@ class Server {
   ExpSetup setup_;
   BenchServerOptions options_;
   BenchUnits bench_units_;
-  SafetyMonitor monitor_;
+  SafetyGate gate_;  // check → move → check of every command received
   Listener listener_;
   std::atomic<bool> stop_{false};
   std::atomic<long> sessions_{0};

@@ -1,7 +1,7 @@
-// HybridTest, the loop policy: with fake substructures that record (step, stage, t, d), check
+// Session, the loop policy: with fake substructures that record (step, stage, t, d), check
 // the order of trials and commits, what the journal row n holds, and what a failure at stage 0
 // or stage 1 of a step leaves behind (rows, NaN forces, holds, the sidecar's stop report).
-#include "hybridtest/runner/hybrid_test.h"
+#include "hybridtest/runner/session.h"
 
 #include <fmt/core.h>
 #include <gtest/gtest.h>
@@ -12,6 +12,7 @@
 #include <fstream>
 
 #include "hybridtest/io/run_reader.h"
+#include "hybridtest/io/run_spec_yaml.h"
 #include "runner/fake_substructure.h"
 
 namespace hybridtest::runner {
@@ -36,6 +37,23 @@ duration: 0.01
 )", "runner_test.yaml"));
 }
 
+// The rotor with three fakes (slot 0 physical) and an optional failure of `failing_slot`.
+io::RunSpec FakeSpec(const io::SimulationConfig& cfg, std::shared_ptr<std::vector<Call>> log,
+                     std::optional<Failure> failure = std::nullopt, int failing_slot = 0) {
+  io::RunSpec spec = io::CompileRunSpec(cfg);
+  for (int s = 0; s < 3; ++s) {
+    auto& sub = spec.substructures[static_cast<std::size_t>(s)];
+    const std::optional<Failure> f = s == failing_slot ? failure : std::nullopt;
+    sub.law.reset();
+    sub.custom = [s, log, f] {
+      return std::make_unique<FakeSubstructure>(s, log, kStiffness, s == 0, f);
+    };
+    sub.custom_is_physical = s == 0;
+  }
+  spec.quiet = true;
+  return spec;
+}
+
 struct Outcome {
   std::vector<Call> calls;
   io::RunData run;
@@ -55,27 +73,26 @@ Outcome RunWithFakes(const std::string& name, std::optional<Failure> failure = s
   const io::SimulationConfig cfg = MakeConfig();
   EXPECT_EQ(cfg.steps, kSteps);
   auto log = std::make_shared<std::vector<Call>>();
-  SubstructureList subs;
-  for (int s = 0; s < 3; ++s) {
-    subs.push_back(std::make_unique<FakeSubstructure>(
-        s, log, kStiffness, s == 0, s == failing_slot ? failure : std::nullopt));
-  }
-  RunOptions options;
-  options.csv_path = (dir / "run.csv").string();
-  options.progress.mode = ProgressMode::kQuiet;
+  io::RunSpec spec = FakeSpec(cfg, log, failure, failing_slot);
+  spec.output.csv_path = (dir / "run.csv").string();
   Outcome out;
-  HybridTest test(cfg, std::move(subs), options);
-  try {
-    test.Run();
-  } catch (const transfer::SafetyStop& e) {
-    out.error = e.what();
-    out.safety = true;
-  } catch (const TransferError& e) {
-    out.error = e.what();
-    out.transfer = true;
+  Session session(spec);
+  const StepResult result = session.Run();
+  if (result.status != SessionStatus::kFinished) {
+    try {
+      std::rethrow_exception(session.error());
+    } catch (const transfer::SafetyStop& e) {
+      out.error = e.what();
+      out.safety = true;
+    } catch (const TransferError& e) {
+      out.error = e.what();
+      out.transfer = true;
+    }
+    EXPECT_EQ(result.status, SessionStatus::kStopped);
+    EXPECT_EQ(result.reason, out.error);
   }
   out.calls = *log;
-  out.run = io::LoadRun(options.csv_path);
+  out.run = io::LoadRun(spec.output.csv_path);
   if (fs::exists(dir / "run.stages.csv")) out.stages = io::LoadRun((dir / "run.stages.csv").string());
   return out;
 }
@@ -101,7 +118,7 @@ std::string Name(CallKind k) {
   return "?";
 }
 
-TEST(HybridTest, EveryStageOfEveryStepIsTriedInOrderAndCommitFollowsStageZero) {
+TEST(Session, EveryStageOfEveryStepIsTriedInOrderAndCommitFollowsStageZero) {
   const Outcome out = RunWithFakes("order");
   ASSERT_TRUE(out.error.empty()) << out.error;
   // The expected call sequence, slot by slot.
@@ -137,7 +154,7 @@ TEST(HybridTest, EveryStageOfEveryStepIsTriedInOrderAndCommitFollowsStageZero) {
   }
 }
 
-TEST(HybridTest, JournalRowNHoldsXnAndTheForcesMeasuredAtStageZero) {
+TEST(Session, JournalRowNHoldsXnAndTheForcesMeasuredAtStageZero) {
   const Outcome out = RunWithFakes("rows");
   ASSERT_TRUE(out.error.empty()) << out.error;
   const io::RunData& run = out.run;
@@ -202,7 +219,7 @@ void ExpectHeldAndNotDeactivated(const std::vector<Call>& calls) {
   }
 }
 
-TEST(HybridTest, FailureAtStageOneOfStepKLeavesRowsZeroToK) {
+TEST(Session, FailureAtStageOneOfStepKLeavesRowsZeroToK) {
   constexpr long k = 4;
   const Outcome full = RunWithFakes("full1");
   const Outcome out = RunWithFakes("stage1", Failure{k, 1, false}, 1);
@@ -229,7 +246,7 @@ TEST(HybridTest, FailureAtStageOneOfStepKLeavesRowsZeroToK) {
   EXPECT_EQ(meta.at("statistics").at("stop").at("kind"), "transfer");
 }
 
-TEST(HybridTest, FailureAtStageZeroOfStepKLeavesRowKWithNanForces) {
+TEST(Session, FailureAtStageZeroOfStepKLeavesRowKWithNanForces) {
   constexpr long k = 4;
   const Outcome full = RunWithFakes("full0");
   const Outcome out = RunWithFakes("stage0", Failure{k, 0, true}, 0);
@@ -268,7 +285,7 @@ TEST(HybridTest, FailureAtStageZeroOfStepKLeavesRowKWithNanForces) {
   EXPECT_EQ(out.stages->metadata.at("status"), run.metadata.at("status"));
 }
 
-TEST(HybridTest, FailureAtTheLastStateLeavesEveryStepAndANanLastRow) {
+TEST(Session, FailureAtTheLastStateLeavesEveryStepAndANanLastRow) {
   const Outcome full = RunWithFakes("fullN");
   const Outcome out = RunWithFakes("last", Failure{kSteps, 0, false}, 2);
   ASSERT_TRUE(out.transfer);
@@ -279,12 +296,10 @@ TEST(HybridTest, FailureAtTheLastStateLeavesEveryStepAndANanLastRow) {
   EXPECT_EQ(out.run.metadata.at("statistics").at("steps"), kSteps);
 }
 
-TEST(HybridTest, RejectsAWrongNumberOfSubstructures) {
-  const io::SimulationConfig cfg = MakeConfig();
-  auto log = std::make_shared<std::vector<Call>>();
-  SubstructureList subs;
-  subs.push_back(std::make_unique<FakeSubstructure>(0, log, kStiffness, false));
-  EXPECT_THROW(HybridTest(cfg, std::move(subs), RunOptions{}), Error);
+TEST(Session, RejectsAWrongNumberOfSubstructures) {
+  io::RunSpec spec = io::CompileRunSpec(MakeConfig());
+  spec.substructures.pop_back();
+  EXPECT_THROW(Session{spec}, ConfigError);
 }
 
 }  // namespace

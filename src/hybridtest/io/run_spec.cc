@@ -1,0 +1,64 @@
+// See run_spec.h and run_spec_yaml.h.
+#include "hybridtest/io/run_spec.h"
+
+#include <fmt/core.h>
+
+#include <filesystem>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/io/run_spec_yaml.h"
+
+namespace hybridtest::io {
+
+void ValidateRunSpec(const RunSpec& spec) {
+  const multibody::Model& model = spec.model.model;
+  const int n = model.num_coordinates();
+  if (spec.x0.size() != 2 * n) {
+    throw ConfigError(fmt::format("run spec: x0 has {} entries; the model '{}' needs 2n = {} "
+                                  "([q; u])", spec.x0.size(), spec.model.name, 2 * n));
+  }
+  if (static_cast<int>(spec.substructures.size()) != model.num_slots()) {
+    throw ConfigError(fmt::format("run spec: {} substructures for the {} slots of model '{}'; "
+                                  "give one per slot, in slot order",
+                                  spec.substructures.size(), model.num_slots(), spec.model.name));
+  }
+  for (int s = 0; s < model.num_slots(); ++s) {
+    const std::string& name = model.slots()[static_cast<std::size_t>(s)].info.name;
+    if (spec.substructures[static_cast<std::size_t>(s)].slot != name) {
+      throw ConfigError(fmt::format("run spec: substructure {} is for slot '{}', but the model's "
+                                    "slot {} is '{}'; give them in slot order", s,
+                                    spec.substructures[static_cast<std::size_t>(s)].slot, s, name));
+    }
+  }
+  if (!(spec.scheme.dt > 0.0) || !(spec.scheme.duration > 0.0) || spec.scheme.steps < 1) {
+    throw ConfigError(fmt::format("run spec: dt = {} s, duration = {} s, steps = {}: expected a "
+                                  "positive step and duration and at least one step",
+                                  spec.scheme.dt, spec.scheme.duration, spec.scheme.steps));
+  }
+  if (spec.output.files && spec.output.csv_path.empty()) {
+    throw ConfigError("run spec: output.files is set but output.csv_path is empty: give the "
+                      "journal's path, or set output.files = false for a run in memory");
+  }
+}
+
+RunSpec CompileRunSpec(const SimulationConfig& cfg, const SubstructureOptions& options) {
+  RunSpec spec(cfg.model);
+  spec.substructures = ParseSubstructureSpecs(cfg, options);
+  spec.x0 = cfg.x0;
+  spec.scheme = {cfg.scheme, cfg.tableau, cfg.dt, cfg.duration, cfg.steps};
+  spec.resume = {cfg.resume_force_tolerance, cfg.resume_position_tolerance};
+  spec.source.config_path = cfg.input.path();
+  spec.source.config_text = cfg.input.text();
+  spec.source.name = std::filesystem::path(cfg.input.path()).stem().string();
+  spec.source.blades = cfg.blades;
+  spec.output.csv_path =
+      !cfg.output_csv.empty() ? cfg.output_csv : "results/" + spec.source.name + ".csv";
+  spec.quiet = cfg.quiet;
+  return spec;
+}
+
+RunSpec LoadRunSpec(const std::string& path, const SubstructureOptions& options) {
+  return CompileRunSpec(LoadSimulationConfig(path), options);
+}
+
+}  // namespace hybridtest::io

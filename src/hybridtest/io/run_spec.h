@@ -1,0 +1,80 @@
+#pragma once
+// RunSpec: everything a run needs, as plain data — no YAML inside. A run config (with its
+// bench and model files) is compiled into one once (io/run_spec_yaml.h); a C++ or Python
+// program may also fill one in directly. The Session (runner/session.h) builds the model's
+// substructures and the scheme from it and never writes into it.
+//
+//   model          the built model (constant) and its resolved parameters
+//   x0             the initial state [q; u] (2n), SI
+//   scheme         which hybrid scheme, its tableau and steps
+//   substructures  one spec per slot of the model, in slot order
+//   output         where the run's files go, or none (in memory)
+//   source         what the sidecar records about where the spec came from
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hybridtest/integrators/butcher_tableau.h"
+#include "hybridtest/models/catalogue.h"
+#include "hybridtest/schemes/scheme_config.h"
+#include "hybridtest/substructures/substructure_spec.h"
+
+namespace hybridtest::io {
+
+struct SchemeSpec {
+  schemes::SchemeConfig config;         // integrator.scheme and its parameters
+  integrators::ButcherTableau tableau;  // runge-kutta only
+  double dt = 0.0;                      // step (the first step of an adaptive scheme) [s]
+  double duration = 0.0;                // simulated time [s]
+  long steps = 0;                       // round(duration / dt)
+};
+
+struct OutputSpec {
+  // false: the run writes no file at all (no journal, stage record or run state); observers
+  // are its only record. `plan`, campaigns and embedded runs use this.
+  bool files = true;
+  std::string csv_path;        // the journal; required when files is true
+  bool record_stages = true;   // also <run>.stages.csv when a physical slot exists
+  bool save_state = true;      // <run>.state.json for `resume`
+  std::string command = "run"; // recorded in the sidecar ("run", "simulate", "plan", ...)
+};
+
+struct ResumeSpec {
+  // Largest |measured − committed| force and position accepted when a resume re-imposes the
+  // last committed command. Units: [N], [m]; unset: derived per slot (docs/safety.md).
+  std::optional<double> force_tolerance;
+  std::optional<double> position_tolerance;
+};
+
+struct SourceSpec {
+  std::string config_path;   // the run config ("" for a spec written in code)
+  std::string config_text;   // its verbatim text
+  std::string name;          // the config's stem: default output results/<name>.csv
+  int blades = 0;            // rotor only
+  // The files the run reads, [{role, path (relative to the journal's folder), sha256}]
+  // (io/run_inputs.h): recorded in the sidecar and every run state; resume checks them.
+  nlohmann::json inputs = nlohmann::json::array();
+};
+
+struct RunSpec {
+  explicit RunSpec(models::BuiltModel built) : model(std::move(built)) {}
+
+  models::BuiltModel model;
+  Eigen::VectorXd x0;  // (2n) [q; u], SI
+  SchemeSpec scheme;
+  std::vector<substructures::SubstructureSpec> substructures;  // one per slot
+  OutputSpec output;
+  ResumeSpec resume;
+  SourceSpec source;
+  bool quiet = false;  // progress: {quiet: true}
+};
+
+// Throws ConfigError if the spec cannot make a run: sizes (x0 against the model, one
+// substructure per slot, in slot order), a non-positive step or duration, files without a
+// journal path.
+void ValidateRunSpec(const RunSpec& spec);
+
+}  // namespace hybridtest::io

@@ -1,0 +1,144 @@
+// See run_files.h.
+#include "hybridtest/runner/run_files.h"
+
+#include <fmt/core.h>
+
+#include <filesystem>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/io/run_outputs.h"
+#include "hybridtest/io/utc_time.h"
+#include "hybridtest/runner/run_record.h"
+
+namespace hybridtest::runner {
+
+RunFiles::RunFiles(const io::RunSpec& spec, nlohmann::json resume_record)
+    : spec_(spec), resume_record_(std::move(resume_record)) {}
+
+void RunFiles::OnStart(const Session& session) {
+  session_ = &session;
+  const std::string& csv = spec_.output.csv_path;
+  const auto& subs = session.substructures();
+  const bool physical = session.has_physical();
+  const io::SyncPolicy policy = physical ? io::SyncPolicy::kEveryRow : io::SyncPolicy::kBuffered;
+  const RunState* resume = session.resume_state();
+  if (resume != nullptr) {
+    rows_cut_ = CutJournalToRows(csv, resume->rows);
+    journal_.emplace(io::kReopenForAppend, csv, policy);
+    state_rows_ = resume->rows;
+  } else {
+    io::JournalMetadata metadata = JournalMetadataFor(spec_, subs, spec_.output.command);
+    metadata.extra["inputs"] = spec_.source.inputs;
+    journal_.emplace(csv, JournalChannels(spec_), std::move(metadata), policy);
+  }
+  if (physical && spec_.output.record_stages) {
+    // Flushed to the kernel every row (a killed process loses nothing); synced to the disk in
+    // batches: the journal itself is synced every row.
+    if (resume != nullptr && std::filesystem::exists(io::StagesPath(csv))) {
+      stages_.emplace(io::kReopenForAppend, io::StagesPath(csv), io::SyncPolicy::kBatched, 100);
+    } else {
+      stages_.emplace(io::StagesPath(csv), StageChannels(spec_),
+                      JournalMetadataFor(spec_, subs, spec_.output.command),
+                      io::SyncPolicy::kBatched, 100);
+    }
+    stage_values_.resize(static_cast<Eigen::Index>(stages_->channels().size()));
+  }
+  state_path_ = io::RunStatePath(csv);
+}
+
+void RunFiles::OnTrial(const TrialEvent& event) {
+  if (!stages_) return;
+  Eigen::Index c = 0;
+  stage_values_(c++) = static_cast<double>(event.at.step);
+  stage_values_(c++) = event.at.stage;
+  stage_values_(c++) = event.at.t;
+  for (const auto& e : event.exchanges) {
+    for (double v : {e.command, e.position, e.force, e.lab_time}) stage_values_(c++) = v;
+  }
+  stages_->Append(std::span<const double>(stage_values_.data(), stage_values_.size()));
+}
+
+void RunFiles::OnCommit(const CommitEvent& event) {
+  if (event.kind != RowKind::kCommitted) {
+    journal_->Append(event.row, false);
+    return;
+  }
+  if (journal_->rows() == 0) {
+    // Row 0 first: it publishes the journal; the state of a run that never published stays
+    // that of the earlier run at the same path.
+    journal_->Append(event.row, true);
+    SaveState(true, journal_->rows(), event.row);
+    return;
+  }
+  SaveState(session_->scheme()->finished(), journal_->rows() + 1, event.row);
+  journal_->Append(event.row, true);
+}
+
+void RunFiles::SaveState(bool always, long rows_after, std::span<const double> row) {
+  if (!spec_.output.save_state) return;
+  if (!always && !session_->has_physical() && rows_after / 1000 == state_rows_ / 1000) return;
+  journal_->Flush();  // its rows before the state's are in the kernel (kBuffered holds some)
+  RunState state = session_->GetState();
+  state.rows = rows_after;
+  state.stage_rows = stages_ ? stages_->rows() : 0;
+  state.row.assign(row.begin(), row.end());
+  state.journal_rows = journal_->rows();
+  if (journal_->rows() > 0) state.journal_last_row = journal_->last_row();
+  SaveRunState(state_path_, state);
+  state_rows_ = rows_after;
+}
+
+void RunFiles::OnResume(const ResumeEvent& event) {
+  const RunState& state = *event.state;
+  if (event.phase == ResumeEvent::kRestored) {
+    // The state is saved just before its row: a crash in between lost only that row.
+    if (journal_->rows() == state.rows - 1) {
+      journal_->Append(event.row, true);
+      row_rewritten_ = true;
+    } else if (journal_->rows() != state.rows) {
+      throw IoError(fmt::format("{}: {} rows, but the run state belongs to row {}; the journal "
+                                "and its state do not fit together", journal_->csv_path(),
+                                journal_->rows(), state.rows - 1));
+    }
+    return;
+  }
+  const schemes::CommittedPoint& p = session_->committed();
+  nlohmann::json record = resume_record_;
+  record.update({{"time", io::UtcNowIso8601()}, {"step", p.step}, {"t", p.t},
+                 {"row", state.rows - 1},
+                 {"rows_cut", rows_cut_},
+                 {"row_rewritten_from_state", row_rewritten_},
+                 {"previous_status", journal_->previous_status()}});
+  const nlohmann::json& sidecar = journal_->sidecar();
+  if (sidecar.contains("statistics") && sidecar["statistics"].contains("stop")) {
+    const auto& stop = sidecar["statistics"]["stop"];
+    record["previous_stop"] = {{"kind", stop.value("kind", "")},
+                               {"message", stop.value("message", "")}};
+  }
+  record["checks"] = event.checks;
+  if (event.phase == ResumeEvent::kRefused) record["refused"] = event.refused;
+  nlohmann::json resumes = sidecar.value("resumes", nlohmann::json::array());
+  resumes.push_back(record);
+  journal_->SetSidecarEntry("resumes", resumes);
+}
+
+void RunFiles::OnStop(const StopEvent& event) {
+  if (!journal_) return;
+  const std::string status =
+      event.status == SessionStatus::kFinished ? "completed" : "stopped: " + event.reason;
+  if (event.status == SessionStatus::kFinished) {
+    journal_->Finish(event.statistics, status);
+    if (stages_) stages_->Finish(event.statistics, status);
+    return;
+  }
+  try {
+    journal_->Finish(event.statistics, status);
+  } catch (const std::exception&) {
+  }
+  try {
+    if (stages_) stages_->Finish(event.statistics, status);
+  } catch (const std::exception&) {
+  }
+}
+
+}  // namespace hybridtest::runner

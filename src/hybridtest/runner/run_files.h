@@ -1,0 +1,52 @@
+#pragma once
+// RunFiles: the records of a file-backed run, one session observer — the journal
+// (<run>.csv + sidecar), the stage record (<run>.stages.csv, with a physical slot) and the run
+// state (<run>.state.json, for `resume`). They are one observer because their order at a
+// commit is the crash-safety contract (decisions 0008 and 0011):
+//
+//   row 0 of a new run:  appended first (it publishes the journal), then the state saved
+//   every later commit:  the state saved (the journal flushed to the kernel first), then the
+//                        row appended — with a physical slot, synced before the next trial
+//   every trial:         a stage record row (flushed to the kernel every row)
+//   resume:              the journal is cut to the state's rows and reopened before anything
+//                        moves; a row the crash lost is rewritten from the state; the resume
+//                        and its checks go to the sidecar's "resumes"
+//   stop:                the sidecar gets the statistics and the status
+//
+// The state is saved at every commit of a run with a physical slot, else every 1,000 rows
+// and at the end.
+#include <optional>
+
+#include "hybridtest/io/journal.h"
+#include "hybridtest/io/run_spec.h"
+#include "hybridtest/runner/session.h"
+
+namespace hybridtest::runner {
+
+class RunFiles final : public SessionObserver {
+ public:
+  // `resume_record`: extra fields of the sidecar's resume record.
+  RunFiles(const io::RunSpec& spec, nlohmann::json resume_record);
+
+  void OnStart(const Session& session) override;
+  void OnTrial(const TrialEvent& event) override;
+  void OnCommit(const CommitEvent& event) override;
+  void OnResume(const ResumeEvent& event) override;
+  void OnStop(const StopEvent& event) override;
+
+ private:
+  void SaveState(bool always, long rows_after, std::span<const double> row);
+
+  const io::RunSpec& spec_;
+  nlohmann::json resume_record_;
+  const Session* session_ = nullptr;
+  std::optional<io::Journal> journal_;
+  std::optional<io::Journal> stages_;
+  std::string state_path_;
+  long state_rows_ = 0;        // rows of the last saved state
+  long rows_cut_ = 0;          // resume: journal rows after the state's, cut before reopening
+  bool row_rewritten_ = false; // resume: the state's row was lost and written again
+  Eigen::VectorXd stage_values_;
+};
+
+}  // namespace hybridtest::runner

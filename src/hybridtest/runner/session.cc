@@ -1,0 +1,383 @@
+// See session.h.
+#include "hybridtest/runner/session.h"
+
+#include <fmt/core.h>
+
+#include <limits>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/multibody/kane.h"
+#include "hybridtest/runner/run_files.h"
+#include "hybridtest/runner/stop_request.h"
+#include "hybridtest/schemes/scheme_config.h"
+#include "hybridtest/substructures/physical_substructure.h"
+#include "hybridtest/transfer/safety.h"
+
+namespace hybridtest::runner {
+namespace {
+
+nlohmann::json StopDetails(const std::exception& e) {
+  nlohmann::json stop = {{"message", e.what()}};
+  if (const auto* safety = dynamic_cast<const transfer::SafetyStop*>(&e)) {
+    stop["kind"] = "safety";
+    stop["limit"] = safety->limit();
+    stop["value"] = safety->value();
+    stop["limit_value"] = safety->limit_value();
+    stop["step"] = safety->step();
+    stop["stage"] = safety->stage();
+    nlohmann::json history = nlohmann::json::array();
+    for (const auto& h : safety->history()) {
+      history.push_back({{"step", h.step}, {"stage", h.stage}, {"command", h.command},
+                         {"position", h.position}, {"force", h.force}, {"answered", h.answered}});
+    }
+    stop["history"] = history;
+  } else if (dynamic_cast<const TransferError*>(&e) != nullptr) {
+    stop["kind"] = "transfer";
+  } else if (dynamic_cast<const Interrupted*>(&e) != nullptr) {
+    stop["kind"] = "interrupted";
+  } else {
+    stop["kind"] = "error";
+  }
+  return stop;
+}
+
+// What the schemes may know of the substructures: K0 and the largest safe increment per slot.
+schemes::SlotInfo SlotInfoOf(const std::vector<std::unique_ptr<substructures::Substructure>>& subs) {
+  const auto m = static_cast<Eigen::Index>(subs.size());
+  schemes::SlotInfo info{Eigen::VectorXd::Zero(m), Eigen::VectorXd::Zero(m)};
+  for (std::size_t s = 0; s < subs.size(); ++s) {
+    info.k0(static_cast<Eigen::Index>(s)) =
+        subs[s]->initial_stiffness().value_or(std::numeric_limits<double>::quiet_NaN());
+    info.max_increment(static_cast<Eigen::Index>(s)) = subs[s]->max_displacement_increment();
+  }
+  return info;
+}
+
+}  // namespace
+
+const char* StatusName(SessionStatus status) {
+  switch (status) {
+    case SessionStatus::kWorking: return "working";
+    case SessionStatus::kFinished: return "finished";
+    case SessionStatus::kHeld: return "held";
+    case SessionStatus::kStopped: return "stopped";
+  }
+  return "?";
+}
+
+nlohmann::json ToJson(const RunStatistics& s) {
+  return {{"steps", s.steps},           {"rows", s.rows},
+          {"physical_evaluations", s.physical_evaluations},
+          {"sim_time_s", s.sim_time},   {"wall_time_s", s.wall_time},
+          {"lab_time_s", s.lab_time},   {"slowdown", s.slowdown},
+          {"wall_slowdown", s.wall_slowdown}};
+}
+
+// The seam: every substructure tried at the scheme's slot displacements, then the observers.
+class Session::Seam final : public schemes::SubstructureSeam {
+ public:
+  explicit Seam(Session& session) : session_(session) {}
+  void Trial(const schemes::TrialPoint& at, const Eigen::VectorXd& d,
+             Eigen::Ref<Eigen::VectorXd> r) override {
+    auto& subs = session_.subs_;
+    for (std::size_t s = 0; s < subs.size(); ++s) {
+      const auto i = static_cast<Eigen::Index>(s);
+      r(i) = subs[s]->Trial(d(i), {at.step, at.stage, at.t});
+    }
+    session_.PublishTrial(at, d, r);
+  }
+
+ private:
+  Session& session_;
+};
+
+// A scheme's intermediate rows (no specimen sample belongs to them).
+class Session::Rows final : public schemes::RowSink {
+ public:
+  explicit Rows(Session& session) : session_(session) {}
+  void Row(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& r) override {
+    session_.Publish(RowKind::kIntermediate, session_.stats_.steps, t, x, r);
+  }
+
+ private:
+  Session& session_;
+};
+
+Session::Session(io::RunSpec spec, SessionOptions options)
+    : spec_(std::move(spec)), options_(std::move(options)) {
+  io::ValidateRunSpec(spec_);
+  for (const auto& s : spec_.substructures) {
+    subs_.push_back(s.Build());
+    if (subs_.back()->is_physical()) ++physical_count_;
+  }
+  const int n = model().num_coordinates();
+  const int m = model().num_slots();
+  row_.resize(1 + 2 * n + m + 4 * physical_count_);
+  r0_.resize(m);
+  exchanges_.resize(static_cast<std::size_t>(physical_count_));
+  seam_ = std::make_unique<Seam>(*this);
+  rows_sink_ = std::make_unique<Rows>(*this);
+  if (spec_.output.files) {
+    files_ = std::make_unique<RunFiles>(spec_, options_.resume_record);
+    observers_.push_back(files_.get());
+  }
+}
+
+Session::~Session() {
+  // A session dropped while working leaves every actuator holding.
+  if (initialized_ && result_.status == SessionStatus::kWorking) {
+    for (auto& s : subs_) s->Hold();
+  }
+}
+
+void Session::AddObserver(SessionObserver& observer) {
+  if (initialized_) {
+    throw Error("Session::AddObserver: add observers before Initialize()");
+  }
+  observers_.push_back(&observer);
+}
+
+void Session::SetState(const RunState& state) {
+  if (initialized_) throw Error("Session::SetState: give the state before Initialize()");
+  const auto& slots = model().slots();
+  if (state.substructures.size() != subs_.size()) {
+    throw ConfigError(fmt::format("the run state has {} substructures, the run's config {}",
+                                  state.substructures.size(), subs_.size()));
+  }
+  for (std::size_t s = 0; s < subs_.size(); ++s) {
+    const auto& entry = state.substructures[s];
+    if (entry.value("slot", "") != slots[s].info.name) {
+      throw ConfigError(fmt::format("the run state's substructure {} is slot '{}', the config's "
+                                    "is '{}'", s, entry.value("slot", ""), slots[s].info.name));
+    }
+  }
+  resume_ = state;
+}
+
+RunState Session::GetState() const {
+  RunState state;
+  if (scheme_) state.scheme = scheme_->SaveState();
+  const auto& slots = model().slots();
+  for (std::size_t s = 0; s < subs_.size(); ++s) {
+    state.substructures.push_back({{"slot", slots[s].info.name}, {"state", subs_[s]->SaveState()}});
+  }
+  state.statistics = ToJson(stats_);
+  state.stiffness = stiffness_record_;
+  state.inputs = spec_.source.inputs;
+  return state;
+}
+
+const schemes::CommittedPoint& Session::committed() const {
+  if (!scheme_) throw Error("Session::committed: nothing is committed before Initialize()");
+  return scheme_->committed();
+}
+
+long Session::EstimatedStepsLeft() const {
+  return scheme_ ? scheme_->EstimatedStepsLeft(spec_.scheme.duration) : 0;
+}
+
+double Session::WallTime() const {
+  return wall_offset_ +
+         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
+}
+
+void Session::UpdateStatistics(double t) {
+  stats_.sim_time = t;
+  stats_.wall_time = WallTime();
+  stats_.physical_evaluations = 0;
+  for (const auto& s : subs_) {
+    stats_.physical_evaluations += s->evaluations();
+    if (s->is_physical()) stats_.lab_time = std::max(stats_.lab_time, s->last_exchange().lab_time);
+  }
+  stats_.slowdown = t > 0.0 && physical_count_ > 0 ? stats_.lab_time / t : 0.0;
+  stats_.wall_slowdown = t > 0.0 ? stats_.wall_time / t : 0.0;
+}
+
+void Session::FillRow(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& r,
+                      bool measured) {
+  Eigen::Index c = 0;
+  row_(c++) = t;
+  row_.segment(c, x.size()) = x;
+  c += x.size();
+  row_.segment(c, r.size()) = r;
+  c += r.size();
+  for (const auto& s : subs_) {
+    if (!s->is_physical()) continue;
+    const auto e = s->last_exchange();
+    for (double v : {e.command, e.position, e.force, e.lab_time}) {
+      row_(c++) = measured ? v : std::numeric_limits<double>::quiet_NaN();
+    }
+  }
+}
+
+void Session::Publish(RowKind kind, long step, double t, const Eigen::VectorXd& x,
+                      const Eigen::VectorXd& r) {
+  FillRow(t, x, r, kind == RowKind::kCommitted);
+  ++stats_.rows;
+  const CommitEvent event{kind, step, t, {x.data(), static_cast<std::size_t>(x.size())},
+                          {r.data(), static_cast<std::size_t>(r.size())},
+                          {row_.data(), static_cast<std::size_t>(row_.size())}};
+  for (SessionObserver* o : observers_) o->OnCommit(event);
+}
+
+void Session::PublishTrial(const schemes::TrialPoint& at,
+                           const Eigen::Ref<const Eigen::VectorXd>& d,
+                           const Eigen::Ref<const Eigen::VectorXd>& r) {
+  std::size_t k = 0;
+  for (const auto& s : subs_) {
+    if (s->is_physical()) exchanges_[k++] = s->last_exchange();
+  }
+  const TrialEvent event{at, {d.data(), static_cast<std::size_t>(d.size())},
+                         {r.data(), static_cast<std::size_t>(r.size())}, exchanges_};
+  for (SessionObserver* o : observers_) o->OnTrial(event);
+}
+
+void Session::BuildScheme() {
+  scheme_ = schemes::MakeScheme(spec_.scheme.config, spec_.scheme.tableau, spec_.scheme.dt,
+                                spec_.scheme.duration, spec_.scheme.steps, model(),
+                                SlotInfoOf(subs_));
+}
+
+void Session::MeasureRequestedStiffness() {
+  stiffness_record_ = nlohmann::json::array();
+  for (std::size_t s = 0; s < subs_.size(); ++s) {
+    nlohmann::json entry = {{"slot", model().slots()[s].info.name}};
+    auto* physical = dynamic_cast<substructures::PhysicalSubstructure*>(subs_[s].get());
+    if (physical != nullptr && physical->requested_stiffness_ramp()) {
+      const auto m = physical->MeasureInitialStiffness(*physical->requested_stiffness_ramp());
+      nlohmann::json samples = nlohmann::json::array();
+      for (const auto& [d, r] : m.samples) samples.push_back({d, r});
+      entry.update({{"k0", m.k0}, {"source", "measured"}, {"amplitude_m", m.amplitude},
+                    {"samples_d_m_r_N", samples}});
+    } else if (const auto k0 = subs_[s]->initial_stiffness()) {
+      entry.update({{"k0", *k0}, {"source", subs_[s]->is_physical() ? "configured" : "law"}});
+    } else {
+      entry.update({{"k0", nullptr}, {"source", "unknown"}});
+    }
+    stiffness_record_.push_back(entry);
+  }
+}
+
+StepResult Session::Initialize() {
+  if (initialized_) throw Error("Session::Initialize: called twice");
+  initialized_ = true;
+  wall_start_ = std::chrono::steady_clock::now();
+  try {
+    // Records first: a run that cannot write them must not move anything.
+    for (SessionObserver* o : observers_) o->OnStart(*this);
+    for (auto& s : subs_) s->Activate();
+    if (resume_) {
+      RestoreFromState();
+    } else {
+      MeasureRequestedStiffness();
+      BuildScheme();
+      // The initial state: tried (stage 0 of step 0), committed, journalled.
+      const int n = model().num_coordinates();
+      multibody::Data<double> data(model());
+      Eigen::VectorXd d0(model().num_slots());
+      multibody::CalcSlotDisplacements<double>(model(), data, 0.0, spec_.x0.head(n), d0);
+      seam_->Trial({0, 0, 0.0}, d0, r0_);
+      for (auto& s : subs_) s->Commit();
+      scheme_->Start(0.0, spec_.x0, r0_);
+      UpdateStatistics(0.0);
+      Publish(RowKind::kCommitted, 0, 0.0, spec_.x0, r0_);
+    }
+    t_now_ = scheme_->committed().t;
+  } catch (const std::exception& e) {
+    return Fail(e);
+  }
+  result_ = {SessionStatus::kWorking, ""};
+  return result_;
+}
+
+StepResult Session::Step() {
+  if (!initialized_) throw Error("Session::Step: call Initialize() first");
+  if (result_.status != SessionStatus::kWorking) return result_;
+  try {
+    scheme_->Step(*seam_, *rows_sink_);
+    const schemes::CommittedPoint& p = scheme_->committed();
+    for (auto& s : subs_) s->Commit();
+    stats_.steps = p.step;
+    t_now_ = p.t;
+    UpdateStatistics(p.t);
+    Publish(RowKind::kCommitted, p.step, p.t, p.x, p.r);
+    if (scheme_->finished()) return Finish();
+    if (stop_requested_.load(std::memory_order_relaxed)) {
+      throw Interrupted(fmt::format("interrupted by the operator at t = {} s after {} steps; "
+                                    "every committed step is kept{}", p.t, p.step,
+                                    spec_.output.files ? " in " + spec_.output.csv_path : ""));
+    }
+  } catch (const std::exception& e) {
+    return Fail(e);
+  }
+  return result_;
+}
+
+StepResult Session::Run() {
+  StepResult r = initialized_ ? result_ : Initialize();
+  while (r.status == SessionStatus::kWorking) r = Step();
+  return r;
+}
+
+StepResult Session::Finish() {
+  try {
+    for (auto& s : subs_) s->Deactivate();
+  } catch (const std::exception& e) {
+    return Fail(e);
+  }
+  UpdateStatistics(t_now_);
+  StopEvent event{SessionStatus::kFinished, "", ToJson(stats_)};
+  event.statistics["initial_stiffness"] = stiffness_record_;
+  result_ = {SessionStatus::kFinished, ""};
+  try {
+    for (SessionObserver* o : observers_) o->OnStop(event);
+  } catch (const std::exception& e) {
+    // The run is complete, but its record could not be finished.
+    error_ = std::current_exception();
+    result_ = {SessionStatus::kStopped, e.what()};
+  }
+  return result_;
+}
+
+StepResult Session::Fail(const std::exception& e) {
+  error_ = std::current_exception();
+  for (auto& s : subs_) s->Hold();
+  const bool interrupted = dynamic_cast<const Interrupted*>(&e) != nullptr;
+  result_ = {interrupted ? SessionStatus::kHeld : SessionStatus::kStopped, e.what()};
+  // A state computed but not committed (its own trial failed) is recorded without forces.
+  if (scheme_ && scheme_->uncommitted() != nullptr) {
+    try {
+      const schemes::CommittedPoint& u = *scheme_->uncommitted();
+      stats_.steps = u.step;  // the step that computed it is done; its trial failed
+      t_now_ = u.t;
+      Publish(RowKind::kUncommitted, u.step, u.t, u.x,
+              Eigen::VectorXd::Constant(model().num_slots(),
+                                        std::numeric_limits<double>::quiet_NaN()));
+    } catch (const std::exception&) {
+      // A record failed too; the original error is the one to report.
+    }
+  }
+  UpdateStatistics(t_now_);
+  StopEvent event{result_.status, e.what(), ToJson(stats_)};
+  event.statistics["initial_stiffness"] = stiffness_record_;
+  event.statistics["stop"] = StopDetails(e);
+  // How many commands each in-process bench had received: a resume tells it, so that a test
+  // fault that stopped the run does not fire again.
+  nlohmann::json received = nlohmann::json::array();
+  for (const auto& s : subs_) {
+    const auto* p = dynamic_cast<const substructures::PhysicalSubstructure*>(s.get());
+    const auto count = p != nullptr ? p->transfer().commands_received() : std::nullopt;
+    received.push_back(count ? nlohmann::json(*count) : nlohmann::json(nullptr));
+  }
+  event.statistics["stop"]["commands_received"] = received;
+  for (SessionObserver* o : observers_) {
+    try {
+      o->OnStop(event);
+    } catch (const std::exception&) {
+      // Every observer hears of the stop; the run's own error is the one reported.
+    }
+  }
+  return result_;
+}
+
+}  // namespace hybridtest::runner

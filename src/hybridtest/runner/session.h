@@ -1,0 +1,221 @@
+#pragma once
+// Session: one run of a hybrid test (or a simulation), held in the caller's hands. Built from a
+// RunSpec (io/run_spec.h); it builds the substructures and the scheme and drives the scheme one
+// committed step at a time (decision 0014):
+//
+//   Initialize()   observers start (a file-backed run's records open first: a run that cannot
+//                  write must not move anything); substructures activate; K0 ramps where
+//                  asked; r_0 = trial at x_0 (step 0, stage 0), committed     ◄ steel moves
+//                  — or, after SetState(), the run continues from that state: the bench is
+//                  brought back to the last committed command and checked (docs/safety.md)
+//   Step()         scheme.Step(seam): its trials go through the seam, which tries every
+//                  substructure at the slot displacements d the scheme computed and reports
+//                  each trial to the observers (OnTrial); then the substructures commit and
+//                  the observers receive the committed row (OnCommit)
+//
+// Step() and Initialize() never throw for what happens in a run: a failure (SafetyStop,
+// TransferError, a singular mass matrix, a write error) puts every substructure on Hold(),
+// tells the observers (OnStop) and returns kStopped with the reason; error() holds the
+// exception. RequestStop() (any thread, or a signal handler) ends the run after the step in
+// progress: every substructure holds and Step() returns kHeld. A finished run deactivates its
+// substructures and returns kFinished. Then every further Step() returns the same result.
+//
+// Observers are called on the stepping thread, in the order they were added, and must not
+// throw (an observer's exception stops the run like any failure). The row an OnCommit carries
+// is the journal row: t, x (2n), r (m), then per physical slot command, position, force and
+// lab time (SI, runner/run_record.h); intermediate rows (MR-OS's substeps) carry NaN there.
+#include <atomic>
+#include <chrono>
+#include <optional>
+#include <exception>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "hybridtest/io/run_spec.h"
+#include "hybridtest/runner/run_state.h"
+#include "hybridtest/schemes/hybrid_scheme.h"
+#include "hybridtest/substructures/substructure.h"
+
+namespace hybridtest::runner {
+
+enum class SessionStatus {
+  kWorking,   // a step was committed; more to go
+  kFinished,  // the run reached its end; substructures deactivated
+  kHeld,      // stopped on request (RequestStop); substructures hold; resumable
+  kStopped,   // stopped by a failure (reason, error()); substructures hold; resumable
+};
+const char* StatusName(SessionStatus status);
+
+struct StepResult {
+  SessionStatus status = SessionStatus::kWorking;
+  std::string reason;  // why a run is held or stopped ("" otherwise)
+};
+
+struct RunStatistics {
+  long steps = 0;                 // committed steps
+  long rows = 0;                  // committed rows (the journal's rows)
+  long physical_evaluations = 0;  // trials sent to benches
+  double sim_time = 0.0;          // simulated time reached [s]
+  double wall_time = 0.0;         // [s]
+  double lab_time = 0.0;          // lab time reported by the benches [s]
+  double slowdown = 0.0;          // lab time / simulated time (0 without a bench) [-]
+  double wall_slowdown = 0.0;     // wall time / simulated time [-]
+};
+nlohmann::json ToJson(const RunStatistics& s);
+
+// One trial of every substructure (a physical one moved): where, d (m) [m], r (m) [N], and the
+// exchange of each physical slot (in slot order; command, position, force, lab time, SI).
+// Resume moves are trials too: stage −2 a ramp move, −1 the re-imposition.
+struct TrialEvent {
+  schemes::TrialPoint at;
+  std::span<const double> d;
+  std::span<const double> r;
+  std::span<const substructures::Exchange> exchanges;
+};
+
+enum class RowKind {
+  kCommitted,     // a committed point with its specimen sample (rows 0, 1, ... of a step)
+  kIntermediate,  // a committed point between samples (MR-OS substeps): NaN physical channels
+  kUncommitted,   // after a failure: the state a step computed but could not try; NaN r
+};
+
+struct CommitEvent {
+  RowKind kind = RowKind::kCommitted;
+  long step = 0;                 // committed steps
+  double t = 0.0;                // [s]
+  std::span<const double> x;     // (2n)
+  std::span<const double> r;     // (m)
+  std::span<const double> row;   // the journal row (see above)
+};
+
+struct StopEvent {
+  SessionStatus status = SessionStatus::kFinished;  // kFinished, kHeld or kStopped
+  std::string reason;            // "" when finished
+  nlohmann::json statistics;     // ToJson(statistics) + initial_stiffness (+ stop details)
+};
+
+// A resume, in two phases: kRestored once every substructure and the scheme hold the saved
+// state (before anything moves; `row` is the state's committed row), then kChecked after the
+// bench was brought back and checked (`checks`, one per physical slot) or kRefused if a check
+// or a move failed (`refused` says why; a kStopped result follows).
+struct ResumeEvent {
+  enum Phase { kRestored, kChecked, kRefused } phase = kRestored;
+  const RunState* state = nullptr;
+  std::span<const double> row;
+  nlohmann::json checks = nlohmann::json::array();
+  std::string refused;
+};
+
+class Session;
+class RunFiles;
+
+class SessionObserver {
+ public:
+  virtual ~SessionObserver() = default;
+  // Before anything is activated; a file-backed run's records open here.
+  virtual void OnStart(const Session& /*session*/) {}
+  virtual void OnTrial(const TrialEvent& /*event*/) {}
+  virtual void OnCommit(const CommitEvent& /*event*/) {}
+  virtual void OnResume(const ResumeEvent& /*event*/) {}
+  virtual void OnStop(const StopEvent& /*event*/) {}
+};
+
+struct SessionOptions {
+  // Resume: commands each slot's in-process bench had received when the run stopped (from the
+  // stopped run's record), so that a test fault that stopped it does not fire again.
+  std::vector<std::optional<long>> commands_received_at_stop;
+  // Extra fields of the sidecar's resume record (e.g. the tolerances the operator gave).
+  nlohmann::json resume_record = nlohmann::json::object();
+};
+
+class Session {
+ public:
+  // Validates the spec (io::ValidateRunSpec) and builds the substructures; nothing is
+  // activated, opened or moved. Throws ConfigError.
+  explicit Session(io::RunSpec spec, SessionOptions options = {});
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  // Observers are not owned and must outlive the session; add them before Initialize().
+  void AddObserver(SessionObserver& observer);
+
+  // Continue from a saved state (before Initialize()). Throws ConfigError if it does not fit
+  // the spec (slots, sizes).
+  void SetState(const RunState& state);
+  // The committed state now (everything resume needs; rows/journal fields are the file
+  // observer's to fill).
+  RunState GetState() const;
+
+  StepResult Initialize();
+  StepResult Step();
+  // Steps until the run is no longer working.
+  StepResult Run();
+  // Thread- and async-signal-safe.
+  void RequestStop() noexcept { stop_requested_.store(true, std::memory_order_relaxed); }
+
+  const io::RunSpec& spec() const { return spec_; }
+  const multibody::Model& model() const { return spec_.model.model; }
+  const RunStatistics& statistics() const { return stats_; }
+  const StepResult& result() const { return result_; }
+  // The last committed point (valid after a successful Initialize()).
+  const schemes::CommittedPoint& committed() const;
+  const schemes::HybridScheme* scheme() const { return scheme_.get(); }
+  const std::vector<std::unique_ptr<substructures::Substructure>>& substructures() const {
+    return subs_;
+  }
+  bool has_physical() const { return physical_count_ > 0; }
+  // The state SetState() gave (nullptr for a new run).
+  const RunState* resume_state() const { return resume_ ? &*resume_ : nullptr; }
+  // Every slot's K0 and its source, for the sidecar.
+  const nlohmann::json& stiffness_record() const { return stiffness_record_; }
+  // Steps still to go (estimate for adaptive schemes).
+  long EstimatedStepsLeft() const;
+  // The failure that stopped the run, if any.
+  std::exception_ptr error() const { return error_; }
+
+ private:
+  class Seam;
+  class Rows;
+  void MeasureRequestedStiffness();
+  void BuildScheme();
+  void RestoreFromState();
+  void ReimposeCommitted();
+  void FillRow(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& r, bool measured);
+  void Publish(RowKind kind, long step, double t, const Eigen::VectorXd& x,
+               const Eigen::VectorXd& r);
+  void PublishTrial(const schemes::TrialPoint& at, const Eigen::Ref<const Eigen::VectorXd>& d,
+                    const Eigen::Ref<const Eigen::VectorXd>& r);
+  void UpdateStatistics(double t);
+  StepResult Fail(const std::exception& e);
+  StepResult Finish();
+  double WallTime() const;
+
+  io::RunSpec spec_;
+  SessionOptions options_;
+  std::vector<std::unique_ptr<substructures::Substructure>> subs_;
+  std::unique_ptr<RunFiles> files_;  // the journal, stage record and run state (file-backed)
+  std::vector<SessionObserver*> observers_;
+  std::unique_ptr<schemes::HybridScheme> scheme_;
+  std::unique_ptr<Seam> seam_;
+  std::unique_ptr<Rows> rows_sink_;
+  std::optional<RunState> resume_;
+  std::atomic<bool> stop_requested_{false};
+  StepResult result_;
+  bool initialized_ = false;
+  int physical_count_ = 0;
+  RunStatistics stats_;
+  nlohmann::json stiffness_record_ = nlohmann::json::array();
+  std::exception_ptr error_;
+  double t_now_ = 0.0;
+  double wall_offset_ = 0.0;  // wall time of the sessions before a resume [s]
+  std::chrono::steady_clock::time_point wall_start_;
+  // Preallocated per-step buffers.
+  Eigen::VectorXd row_;
+  Eigen::VectorXd r0_;
+  std::vector<substructures::Exchange> exchanges_;  // per physical slot
+};
+
+}  // namespace hybridtest::runner

@@ -1,0 +1,65 @@
+#pragma once
+// SubstructureSpec: what owns one restoring-force slot, as data. Compiled once (from a run
+// config by io/run_spec_yaml.h, or written directly in C++), then built as often as needed:
+// every Build() makes a fresh substructure with nothing activated or connected (a `plan`
+// builds one per candidate, a resume one per session). Building never writes into the spec.
+//
+//   numerical: a restoring-force law (a prototype, cloned by every Build());
+//   custom:    a factory of any Substructure (a program's own);
+//   physical:  a transfer system (a factory of the configured type), the setup transform, the
+//              safety limits and how K0 is known (given, measured by a ramp, or predicted from
+//              the safety section's specimen stiffness).
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "hybridtest/constitutive/restoring_force_law.h"
+#include "hybridtest/substructures/setup_transform.h"
+#include "hybridtest/substructures/substructure.h"
+#include "hybridtest/transfer/safety.h"
+#include "hybridtest/transfer/transfer_system.h"
+
+namespace hybridtest::substructures {
+
+// A transfer system of one configured type, ready to be made (nothing connected yet).
+struct TransferSpec {
+  std::string type;  // "emulated", "loopback", "remote", "modbus", "openfresco", or a user's
+  std::function<std::unique_ptr<transfer::TransferSystem>()> make;
+};
+
+struct PhysicalSpec {
+  TransferSpec transfer;
+  SetupTransform setup;
+  transfer::SafetyLimits limits;
+  // safety.initial_stiffness: the specimen's expected stiffness per actuator displacement,
+  // for the monitor's force prediction. Unit: [N/m].
+  std::optional<double> safety_stiffness;
+  // K0 = dr/dd given in the config. Unit: [N/m] (or [N·m/rad]).
+  std::optional<double> initial_stiffness;
+  // Measure K0 before the test with a ramp of this amplitude. Unit: [m].
+  std::optional<double> stiffness_ramp;
+};
+
+struct SubstructureSpec {
+  std::string slot;  // the model's slot name
+  // Numerical: the law (a prototype; never trialled itself).
+  std::shared_ptr<const constitutive::RestoringForceLaw> law;
+  // Physical (then `law` is empty).
+  std::optional<PhysicalSpec> physical;
+  // Any other substructure (a program's own, a test's fake): made by this factory, which must
+  // return a fresh one each time. `custom_is_physical`: it moves a bench (journal channels,
+  // syncing every row).
+  std::function<std::unique_ptr<Substructure>()> custom;
+  bool custom_is_physical = false;
+
+  bool is_physical() const { return physical.has_value() || (custom && custom_is_physical); }
+  // A fresh substructure. Throws ConfigError if the spec is empty or inconsistent, and what
+  // the transfer factory throws.
+  std::unique_ptr<Substructure> Build() const;
+};
+
+// A numerical slot of law `law`.
+SubstructureSpec NumericalSpec(std::string slot, std::unique_ptr<constitutive::RestoringForceLaw> law);
+
+}  // namespace hybridtest::substructures
