@@ -67,7 +67,9 @@ TEST(RunInterrupt, CtrlCStopsAfterTheStepAndWritesEverything) {
 
   const io::RunData data = io::LoadRun(csv.string());
   EXPECT_TRUE(data.warnings.empty());  // a clean stop: no cut-off last line
-  ASSERT_GE(data.num_rows(), 300);
+  // Every row seen before the signal (300 lines: the header and 299 rows) is there; the signal
+  // may land while the last of them is being synced, and then no further step is taken.
+  ASSERT_GE(data.num_rows(), 299);
   // The last row is the last committed state, with the forces measured there (the scheme's
   // trial of x_{n+1} belongs to the step; decision 0007): a resume starts from it.
   const long k = data.num_rows() - 1;

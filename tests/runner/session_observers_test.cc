@@ -11,6 +11,7 @@
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/runner/session.h"
 #include "hybridtest/runner/stop_request.h"
+#include "runner/dummy_spec.h"
 #include "support/alloc_counter.h"
 
 namespace hybridtest::runner {
@@ -18,23 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The paper's dummy test (slot r1 on a numerical loopback, i.e. "physical"), 20 ms.
-io::RunSpec DummySpec(double duration = 0.02) {
-  io::RunSpec spec = io::CompileRunSpec(io::ParseSimulationConfig(YamlInput::FromText(
-      "model: {name: rotor, blades: 3}\n"
-      "initial_state: {q: [0.002, -0.005, 0.002, 0.0], u: [0.1, 0.0, -0.2, 0.5]}\n"
-      "integrator: {tableau: heun, dt: 0.001}\n"
-      "duration: " + std::to_string(duration) + "\n"
-      "substructures:\n"
-      "  r1:\n"
-      "    type: physical\n"
-      "    transfer: {type: loopback, law: {type: linear, stiffness: 7200}}\n"
-      "    safety: defaults\n",
-      "session_observers_test.yaml")));
-  spec.output.files = false;
-  spec.quiet = true;
-  return spec;
-}
+io::RunSpec DummySpec(double duration = 0.02) { return testing::DummySpec(duration); }
 
 // Records everything it is told, in order.
 class Recorder final : public SessionObserver {

@@ -8,6 +8,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/runner/run_files.h"
+#include "hybridtest/runner/run_record.h"
 #include "hybridtest/runner/stop_request.h"
 #include "hybridtest/schemes/scheme_config.h"
 #include "hybridtest/substructures/physical_substructure.h"
@@ -79,6 +80,7 @@ class Session::Seam final : public schemes::SubstructureSeam {
   explicit Seam(Session& session) : session_(session) {}
   void Trial(const schemes::TrialPoint& at, const Eigen::VectorXd& d,
              Eigen::Ref<Eigen::VectorXd> r) override {
+    for (SessionObserver* o : session_.observers_) o->BeforeTrial(at);
     auto& subs = session_.subs_;
     for (std::size_t s = 0; s < subs.size(); ++s) {
       const auto i = static_cast<Eigen::Index>(s);
@@ -110,10 +112,8 @@ Session::Session(io::RunSpec spec, SessionOptions options)
     subs_.push_back(s.Build());
     if (subs_.back()->is_physical()) ++physical_count_;
   }
-  const int n = model().num_coordinates();
-  const int m = model().num_slots();
-  row_.resize(1 + 2 * n + m + 4 * physical_count_);
-  r0_.resize(m);
+  row_.resize(static_cast<Eigen::Index>(JournalChannels(spec_).size()));
+  r0_.resize(model().num_slots());
   exchanges_.resize(static_cast<std::size_t>(physical_count_));
   seam_ = std::make_unique<Seam>(*this);
   rows_sink_ = std::make_unique<Rows>(*this);

@@ -116,6 +116,8 @@ class SessionObserver {
   virtual ~SessionObserver() = default;
   // Before anything is activated; a file-backed run's records open here.
   virtual void OnStart(const Session& /*session*/) {}
+  // Before every trial (a physical substructure moves next).
+  virtual void BeforeTrial(const schemes::TrialPoint& /*at*/) {}
   virtual void OnTrial(const TrialEvent& /*event*/) {}
   virtual void OnCommit(const CommitEvent& /*event*/) {}
   virtual void OnResume(const ResumeEvent& /*event*/) {}
