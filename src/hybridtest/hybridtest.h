@@ -12,6 +12,7 @@
 //   io/run_spec_yaml.h   LoadRunSpec: a run config (YAML) compiled once into an io::RunSpec
 //   io/run_spec.h        RunSpec: everything a run needs, as plain data
 //   runner/session.h     Session: Initialize(), Step(), observers, GetState()/SetState()
+//   runner/queued_observer.h  QueuedObserver: a slow observer on a thread of its own
 //   models/catalogue.h   the built-in models; multibody/kane.h the Kane engine
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/units.h"
@@ -20,4 +21,5 @@
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/models/catalogue.h"
 #include "hybridtest/multibody/kane.h"
+#include "hybridtest/runner/queued_observer.h"
 #include "hybridtest/runner/session.h"
