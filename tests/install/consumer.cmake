@@ -1,0 +1,28 @@
+# The out-of-tree consumer, run by CTest with `cmake -P`: installs the current build into a
+# fresh prefix (a copy, no rebuild), configures and builds examples/cpp/01_step_a_session
+# against it with find_package(hybridtest), then runs it on the rotor's dummy test against the
+# installed CLI (compare_final_state.py).
+# -D inputs: BUILD_DIR, SOURCE_DIR, WORK_DIR, GENERATOR, CXX_COMPILER, CXX_LAUNCHER,
+#            CXX_FLAGS, BUILD_TYPE, PYTHON.
+function(run)
+  execute_process(COMMAND ${ARGV} RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE out)
+  if(NOT status EQUAL 0)
+    string(REPLACE ";" " " command "${ARGV}")
+    message(FATAL_ERROR "consumer.cmake: `${command}` failed (${status}):\n${out}")
+  endif()
+  set(run_output "${out}" PARENT_SCOPE)
+endfunction()
+
+set(prefix ${WORK_DIR}/prefix)
+set(build ${WORK_DIR}/build)
+file(REMOVE_RECURSE ${WORK_DIR})
+
+run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/cpp/01_step_a_session -B ${build}
+  -G ${GENERATOR} -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_BUILD_TYPE=${BUILD_TYPE}
+  -DCMAKE_CXX_COMPILER=${CXX_COMPILER} -DCMAKE_CXX_COMPILER_LAUNCHER=${CXX_LAUNCHER}
+  "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}")
+run(${CMAKE_COMMAND} --build ${build})
+run(${PYTHON} ${CMAKE_CURRENT_LIST_DIR}/compare_final_state.py ${build}/step_a_session
+  ${prefix}/bin/hybridtest ${SOURCE_DIR}/examples/rotor/dummy.yaml ${WORK_DIR}/run)
+message("${run_output}")
