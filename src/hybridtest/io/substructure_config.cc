@@ -1,5 +1,6 @@
 // See substructure_config.h.
 #include "hybridtest/io/substructure_config.h"
+#include "hybridtest/io/transfer_readers.h"
 
 #include <fmt/core.h>
 
@@ -10,15 +11,7 @@
 #include "hybridtest/constitutive/parse_law.h"
 #include "hybridtest/substructures/numerical_substructure.h"
 #include "hybridtest/substructures/physical_substructure.h"
-#include "hybridtest/transfer/auth.h"
-#include "hybridtest/transfer/bench_client.h"
 #include "hybridtest/transfer/emulated_bench.h"
-#include "hybridtest/transfer/modbus/modbus_config.h"
-#include "hybridtest/transfer/numerical_loopback.h"
-#include "hybridtest/transfer/modbus/modbus_transfer.h"
-#include "hybridtest/transfer/openfresco/client.h"
-#include "hybridtest/transfer/openfresco/client_config.h"
-#include "hybridtest/transfer/socket.h"
 
 namespace hybridtest::io {
 namespace {
@@ -27,10 +20,6 @@ using substructures::Substructure;
 
 using substructures::TransferSpec;
 
-TransferSpec EmulatedSpec(transfer::EmulatedBenchConfig bench) {
-  return {"emulated", [bench = std::move(bench)] { return transfer::MakeEmulatedBench(bench); }};
-}
-
 // `reply_timeout` [s]: the safety section's communication timeout, used by a remote transfer
 // unless its own `timeout` is given. Everything is read and checked here, once; the spec's
 // factory only builds from what was read.
@@ -38,88 +27,11 @@ TransferSpec ParseTransfer(const YamlInput& in, const YAML::Node& node, const st
                            const SubstructureOptions& options, double reply_timeout,
                            const transfer::SafetyLimits* limits) {
   if (options.emulate_bench) {  // `plan --emulate`: no real bench, whatever the config names
-    return EmulatedSpec(transfer::LoadEmulatedBenchConfig(*options.emulate_bench));
-  }
-  if (node["type"] && node["type"].IsScalar() && node["type"].Scalar() == "modbus") {
-    auto modbus = transfer::modbus::ParseModbusOptions(in, node, kp, options.bench_address,
-                                                       reply_timeout, limits);
-    return {"modbus", [modbus] { return std::make_unique<transfer::modbus::ModbusTransfer>(modbus); }};
-  }
-  if (node["type"] && node["type"].IsScalar() && node["type"].Scalar() == "openfresco") {
-    auto client = transfer::openfresco::ParseClientOptions(in, node, kp, options.bench_address,
-                                                           reply_timeout);
-    return {"openfresco", [client] { return std::make_unique<transfer::openfresco::Client>(client); }};
-  }
-  in.CheckKeys(node, kp, {"type", "config", "bench", "law", "p0", "address", "token",
-                          "token_file", "timeout"});
-  const std::string type =
-      in.String(node["type"], kp + ".type", "a transfer type: emulated, loopback, remote, modbus or openfresco");
-  if (type == "emulated") {
-    transfer::EmulatedBenchConfig bench;
-    if (node["config"]) {
-      std::filesystem::path file = in.String(node["config"], kp + ".config", "a bench file");
-      if (file.is_relative()) file = std::filesystem::path(in.path()).parent_path() / file;
-      bench = transfer::LoadEmulatedBenchConfig(file.string());
-    } else if (node["bench"]) {
-      bench = transfer::ParseEmulatedBenchConfig(node["bench"], in.Where(node["bench"], kp + ".bench"));
-    } else {
-      throw ConfigError(fmt::format("{}: an emulated transfer needs `config: FILE` (a bench file) "
-                                    "or an inline `bench:` mapping", in.Where(node, kp)));
-    }
-    return EmulatedSpec(std::move(bench));
-  }
-  if (type == "loopback") {
-    if (!node["law"]) {
-      throw ConfigError(fmt::format("{}: a loopback transfer needs `law:` (e.g. {{type: linear, "
-                                    "stiffness: 7200}})", in.Where(node, kp)));
-    }
-    const double p0 = node["p0"] ? in.Number(node["p0"], kp + ".p0", "a position in m") : 0.0;
-    std::shared_ptr<const constitutive::RestoringForceLaw> law =
-        constitutive::ParseRestoringForceLaw(node["law"], in.Where(node["law"], kp + ".law"));
-    return {"loopback", [law, p0] {
-              return std::make_unique<transfer::NumericalLoopback>(law->Clone(), p0);
+    return {"emulated", [bench = transfer::LoadEmulatedBenchConfig(*options.emulate_bench)] {
+              return transfer::MakeEmulatedBench(bench);
             }};
   }
-  if (type == "remote") {
-    transfer::BenchClientOptions client;
-    std::string address = options.bench_address.value_or("");
-    if (address.empty() && node["address"]) {
-      address = in.String(node["address"], kp + ".address", "HOST:PORT");
-    }
-    if (address.empty()) {
-      throw ConfigError(fmt::format("{}: a remote transfer needs the bench server's address: give "
-                                    "--bench HOST:PORT or `address: HOST:PORT`", in.Where(node, kp)));
-    }
-    const transfer::HostPort hp = transfer::ParseHostPort(address, "--bench / " + kp + ".address");
-    client.host = hp.host;
-    client.port = hp.port;
-    // The token is a secret: never in the config, whose text is copied into the results.
-    if (node["token"]) {
-      throw ConfigError(fmt::format(
-          "{}: a token written in the run config would be copied into the results (.meta.json); "
-          "put it in a file and give `token_file: PATH`, or set {}", in.Where(node["token"],
-          kp + ".token"), transfer::kTokenEnvironmentVariable));
-    }
-    if (node["token_file"]) {
-      std::filesystem::path file =
-          in.String(node["token_file"], kp + ".token_file", "the path of a file with the token");
-      if (file.is_relative()) file = std::filesystem::path(in.path()).parent_path() / file;
-      client.token = transfer::ReadTokenFile(file.string(), in.Where(node["token_file"],
-                                                                     kp + ".token_file"));
-    } else {
-      client.token = transfer::TokenFromEnvironment();
-    }
-    if (limits != nullptr) {
-      client.expected_limits = *limits;
-      client.limits_where = kp.substr(0, kp.rfind('.')) + ".safety";
-    }
-    client.reply_timeout =
-        node["timeout"] ? in.PositiveNumber(node["timeout"], kp + ".timeout", "seconds")
-                        : reply_timeout;
-    return {"remote", [client] { return std::make_unique<transfer::BenchClient>(client); }};
-  }
-  throw ConfigError(fmt::format("{} = '{}': expected emulated, loopback, remote or modbus",
-                                in.Where(node["type"], kp + ".type"), type));
+  return ReadTransfer({in, node, kp, options.bench_address, reply_timeout, limits});
 }
 
 substructures::SetupTransform ParseSetup(const YamlInput& in, const YAML::Node& node,

@@ -7,7 +7,8 @@
 //     r1:
 //       type: physical
 //       transfer:
-//         type: emulated              # emulated | loopback | remote | modbus (docs/modbus.md)
+//         type: emulated              # emulated | loopback | remote | modbus | openfresco, or a
+//                                     # type a program registered (io/transfer_readers.h)
 //         config: bench-cantilever.yaml   # emulated: bench file, relative to this config
 //         # bench: {...}              # emulated: or the bench inline
 //         # law: {type: linear, stiffness: 7200}   # loopback: the specimen law

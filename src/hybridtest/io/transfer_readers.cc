@@ -1,0 +1,161 @@
+// See transfer_readers.h.
+#include "hybridtest/io/transfer_readers.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/constitutive/parse_law.h"
+#include "hybridtest/transfer/auth.h"
+#include "hybridtest/transfer/bench_client.h"
+#include "hybridtest/transfer/emulated_bench.h"
+#include "hybridtest/transfer/modbus/modbus_config.h"
+#include "hybridtest/transfer/modbus/modbus_transfer.h"
+#include "hybridtest/transfer/numerical_loopback.h"
+#include "hybridtest/transfer/openfresco/client.h"
+#include "hybridtest/transfer/openfresco/client_config.h"
+#include "hybridtest/transfer/socket.h"
+
+namespace hybridtest::io {
+namespace {
+
+using substructures::TransferSpec;
+
+// A path in the config, relative to the config's folder.
+std::string ConfigRelative(const TransferReadContext& c, const YAML::Node& node,
+                           const std::string& key, const char* expected) {
+  std::filesystem::path file = c.in.String(node, c.kp + "." + key, expected);
+  if (file.is_relative()) file = std::filesystem::path(c.in.path()).parent_path() / file;
+  return file.string();
+}
+
+TransferSpec ReadEmulated(const TransferReadContext& c) {
+  c.in.CheckKeys(c.node, c.kp, {"type", "config", "bench"});
+  transfer::EmulatedBenchConfig bench;
+  if (c.node["config"]) {
+    bench = transfer::LoadEmulatedBenchConfig(
+        ConfigRelative(c, c.node["config"], "config", "a bench file"));
+  } else if (c.node["bench"]) {
+    bench = transfer::ParseEmulatedBenchConfig(c.node["bench"],
+                                               c.in.Where(c.node["bench"], c.kp + ".bench"));
+  } else {
+    throw ConfigError(fmt::format("{}: an emulated transfer needs `config: FILE` (a bench file) "
+                                  "or an inline `bench:` mapping", c.in.Where(c.node, c.kp)));
+  }
+  return {"emulated", [bench = std::move(bench)] { return transfer::MakeEmulatedBench(bench); }};
+}
+
+TransferSpec ReadLoopback(const TransferReadContext& c) {
+  c.in.CheckKeys(c.node, c.kp, {"type", "law", "p0"});
+  if (!c.node["law"]) {
+    throw ConfigError(fmt::format("{}: a loopback transfer needs `law:` (e.g. {{type: linear, "
+                                  "stiffness: 7200}})", c.in.Where(c.node, c.kp)));
+  }
+  const double p0 =
+      c.node["p0"] ? c.in.Number(c.node["p0"], c.kp + ".p0", "a position in m") : 0.0;
+  std::shared_ptr<const constitutive::RestoringForceLaw> law = constitutive::ParseRestoringForceLaw(
+      c.node["law"], c.in.Where(c.node["law"], c.kp + ".law"));
+  return {"loopback", [law, p0] {
+            return std::make_unique<transfer::NumericalLoopback>(law->Clone(), p0);
+          }};
+}
+
+TransferSpec ReadRemote(const TransferReadContext& c) {
+  const YamlInput& in = c.in;
+  const YAML::Node& node = c.node;
+  const std::string& kp = c.kp;
+  in.CheckKeys(node, kp, {"type", "address", "token", "token_file", "timeout"});
+  transfer::BenchClientOptions client;
+  std::string address = c.bench_address.value_or("");
+  if (address.empty() && node["address"]) {
+    address = in.String(node["address"], kp + ".address", "HOST:PORT");
+  }
+  if (address.empty()) {
+    throw ConfigError(fmt::format("{}: a remote transfer needs the bench server's address: give "
+                                  "--bench HOST:PORT or `address: HOST:PORT`", in.Where(node, kp)));
+  }
+  const transfer::HostPort hp = transfer::ParseHostPort(address, "--bench / " + kp + ".address");
+  client.host = hp.host;
+  client.port = hp.port;
+  // The token is a secret: never in the config, whose text is copied into the results.
+  if (node["token"]) {
+    throw ConfigError(fmt::format(
+        "{}: a token written in the run config would be copied into the results (.meta.json); "
+        "put it in a file and give `token_file: PATH`, or set {}", in.Where(node["token"],
+        kp + ".token"), transfer::kTokenEnvironmentVariable));
+  }
+  if (node["token_file"]) {
+    client.token = transfer::ReadTokenFile(
+        ConfigRelative(c, node["token_file"], "token_file", "the path of a file with the token"),
+        in.Where(node["token_file"], kp + ".token_file"));
+  } else {
+    client.token = transfer::TokenFromEnvironment();
+  }
+  if (c.limits != nullptr) {
+    client.expected_limits = *c.limits;
+    client.limits_where = kp.substr(0, kp.rfind('.')) + ".safety";
+  }
+  client.reply_timeout =
+      node["timeout"] ? in.PositiveNumber(node["timeout"], kp + ".timeout", "seconds")
+                      : c.reply_timeout;
+  return {"remote", [client] { return std::make_unique<transfer::BenchClient>(client); }};
+}
+
+TransferSpec ReadModbus(const TransferReadContext& c) {
+  auto modbus = transfer::modbus::ParseModbusOptions(c.in, c.node, c.kp, c.bench_address,
+                                                     c.reply_timeout, c.limits);
+  return {"modbus", [modbus] { return std::make_unique<transfer::modbus::ModbusTransfer>(modbus); }};
+}
+
+TransferSpec ReadOpenFresco(const TransferReadContext& c) {
+  auto client = transfer::openfresco::ParseClientOptions(c.in, c.node, c.kp, c.bench_address,
+                                                         c.reply_timeout);
+  return {"openfresco",
+          [client] { return std::make_unique<transfer::openfresco::Client>(client); }};
+}
+
+std::map<std::string, TransferReader>& Readers() {
+  static std::map<std::string, TransferReader> readers{{"emulated", ReadEmulated},
+                                                       {"loopback", ReadLoopback},
+                                                       {"remote", ReadRemote},
+                                                       {"modbus", ReadModbus},
+                                                       {"openfresco", ReadOpenFresco}};
+  return readers;
+}
+
+std::string TypeList() {
+  std::string list;
+  for (const auto& type : TransferTypes()) list += (list.empty() ? "" : ", ") + type;
+  return list;
+}
+
+}  // namespace
+
+void RegisterTransferReader(const std::string& type, TransferReader reader) {
+  if (type.empty() || !reader) {
+    throw ConfigError("RegisterTransferReader: give a type name and a reader");
+  }
+  Readers()[type] = std::move(reader);
+}
+
+std::vector<std::string> TransferTypes() {
+  std::vector<std::string> types;
+  for (const auto& [type, reader] : Readers()) types.push_back(type);
+  return types;  // a std::map is sorted
+}
+
+substructures::TransferSpec ReadTransfer(const TransferReadContext& c) {
+  const std::string type = c.in.String(c.node["type"], c.kp + ".type",
+                                       ("a transfer type: " + TypeList()).c_str());
+  const auto it = Readers().find(type);
+  if (it == Readers().end()) {
+    throw ConfigError(fmt::format("{} = '{}': expected one of {}",
+                                  c.in.Where(c.node["type"], c.kp + ".type"), type, TypeList()));
+  }
+  return it->second(c);
+}
+
+}  // namespace hybridtest::io

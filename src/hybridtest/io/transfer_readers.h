@@ -1,0 +1,40 @@
+#pragma once
+// The transfer types a run config can name (`transfer: {type: ...}`), each with its reader:
+// the reader checks the section's keys and values once (errors name file:line, the key and
+// the fix) and returns a substructures::TransferSpec whose factory builds the transfer
+// system from what was read. The built-in types are emulated, loopback, remote, modbus and
+// openfresco; a program adds its own with RegisterTransferReader before it loads a config.
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hybridtest/common/yaml_input.h"
+#include "hybridtest/substructures/substructure_spec.h"
+#include "hybridtest/transfer/safety.h"
+
+namespace hybridtest::io {
+
+// What a reader gets: the `transfer:` mapping at key path `kp` of config `in`.
+struct TransferReadContext {
+  const YamlInput& in;
+  const YAML::Node& node;
+  const std::string& kp;
+  std::optional<std::string> bench_address;  // --bench HOST:PORT, if given
+  double reply_timeout = 5.0;                // the slot's safety.timeout [s]
+  const transfer::SafetyLimits* limits = nullptr;  // the slot's own limits, if it gave them
+};
+
+using TransferReader = std::function<substructures::TransferSpec(const TransferReadContext&)>;
+
+// Adds (or replaces) the reader of `type`. Not thread-safe: register before loading configs.
+void RegisterTransferReader(const std::string& type, TransferReader reader);
+
+// The registered types, sorted.
+std::vector<std::string> TransferTypes();
+
+// Reads the section with the reader its `type` names. Throws ConfigError for a missing or
+// unknown type (listing the registered ones) and whatever the reader throws.
+substructures::TransferSpec ReadTransfer(const TransferReadContext& context);
+
+}  // namespace hybridtest::io
