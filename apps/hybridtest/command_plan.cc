@@ -6,6 +6,8 @@
 
 #include <cstdio>
 
+#include <yaml-cpp/yaml.h>
+
 #include "cli_values.h"
 #include "command.h"
 #include "hybridtest/common/error.h"
@@ -32,6 +34,40 @@ std::string Row(const runner::PlanResult& r) {
   if (!r.ok) return fmt::format("{:<44} failed: {}", r.candidate.label, r.failure);
   return fmt::format("{:<44} {:>11} {:>11} {:>8.3f} % {:>9}", r.candidate.label, r.evaluations,
                      Duration(r.lab_time), 100.0 * r.error, r.reversals);
+}
+
+// The configured test with the candidate's scheme, as a complete config: the integrator
+// section replaced, and `initial_stiffness: measure` on every physical slot an
+// operator-splitting scheme needs K0 for and that gives none (plan measured it the same way).
+std::string RecommendedConfig(const io::RunSpec& spec, const runner::PlanCandidate& c) {
+  YAML::Node root = YAML::Load(spec.source.config_text);
+  YAML::Node integrator;
+  integrator["scheme"] = schemes::SchemeKindName(c.scheme.kind);
+  if (c.scheme.kind == schemes::SchemeKind::kRungeKutta) integrator["tableau"] = c.tableau.name;
+  integrator["dt"] = fmt::format("{}", c.dt);
+  if (c.scheme.kind == schemes::SchemeKind::kAlphaOs) {
+    integrator["alpha"] = fmt::format("{}", c.scheme.alpha);
+  }
+  if (c.scheme.kind == schemes::SchemeKind::kMrOs) {
+    integrator["substep"] = fmt::format("{}", c.scheme.substep);
+  }
+  if (c.scheme.adaptive.enabled) {
+    integrator["adaptive"]["tolerance"] = fmt::format("{:.3g}", c.scheme.adaptive.tolerance);
+    integrator["adaptive"]["dt_min"] = fmt::format("{}", c.scheme.adaptive.dt_min);
+    integrator["adaptive"]["dt_max"] = fmt::format("{}", c.scheme.adaptive.dt_max);
+  }
+  root["integrator"] = integrator;
+  if (c.scheme.kind != schemes::SchemeKind::kRungeKutta) {
+    for (const auto& sub : spec.substructures) {
+      if (sub.physical && !sub.physical->initial_stiffness && !sub.physical->safety_stiffness &&
+          !sub.physical->stiffness_ramp) {
+        root["substructures"][sub.slot]["initial_stiffness"] = "measure";
+      }
+    }
+  }
+  YAML::Emitter out;
+  out << root;
+  return std::string(out.c_str()) + "\n";
 }
 
 void ExecutePlan(const PlanCommandOptions& opt) {
@@ -73,6 +109,8 @@ void ExecutePlan(const PlanCommandOptions& opt) {
              Duration(best->lab_time),
              results.front().ok ? Duration(results.front().lab_time) : std::string("failed"),
              100.0 * best->error, runner::IntegratorYaml(best->candidate));
+  fmt::print("\nthe configured test with this scheme, complete (save it beside {} and run it):\n"
+             "---\n{}", opt.config, RecommendedConfig(spec, best->candidate));
 }
 
 void AddPlanCommand(CLI::App& root) {

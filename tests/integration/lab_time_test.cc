@@ -120,6 +120,22 @@ TEST(LabTime, PlanPrintsATableAndRecommendsASchemeThatMeetsTheTolerance) {
   EXPECT_THAT(output, ::testing::HasSubstr("scheme: mr-os"));
   // The configured Heun run makes 20,001 evaluations; the recommendation far fewer.
   EXPECT_THAT(output, ::testing::HasSubstr("20001"));
+  // The complete config it prints runs as saved beside the original (its bench file is
+  // relative to it): K0 is measured for the operator-splitting scheme.
+  const auto start = output.find("\n---\n");
+  ASSERT_NE(start, std::string::npos) << output;
+  const std::string recommended = output.substr(start + 5);
+  EXPECT_THAT(recommended, ::testing::HasSubstr("initial_stiffness: measure"));
+  const fs::path dir = OutDir() / "plan_recommended";
+  fs::create_directories(dir);
+  fs::copy_file(kSource + "/examples/rotor/bench-cantilever.yaml", dir / "bench-cantilever.yaml",
+                fs::copy_options::overwrite_existing);
+  std::ofstream(dir / "recommended.yaml") << recommended;
+  const auto [run_status, run_output] =
+      RunCommand(fmt::format("{} run {} --out {} --overwrite --quiet", kBinary,
+                             (dir / "recommended.yaml").string(), (dir / "r.csv").string()),
+                 300);
+  EXPECT_EQ(run_status, 0) << run_output << "\n" << recommended;
 }
 
 }  // namespace
