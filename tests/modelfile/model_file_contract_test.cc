@@ -258,20 +258,21 @@ TEST(ModelFileContractTest, JacobianAndCouplingStayExactThroughFunctionsTablesAn
     const ModelFile f = LoadModelFile(HYBRIDTEST_SOURCE_DIR "/tests/modelfile/data/" + name + ".yaml");
     const models::BuiltModel b = BuildModelFile(f, f.parameters);
     const int n = b.model.num_coordinates(), ns = b.model.num_slots();
+    const int nx = b.model.num_states();  // [q; u; z]: the extra states' columns too
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> d(-0.5, 0.5);
-    Eigen::VectorXd x(2 * n), r = Eigen::VectorXd::Constant(ns, 30.0);
-    for (int k = 0; k < 2 * n; ++k) x(k) = d(rng);
+    Eigen::VectorXd x(nx), r = Eigen::VectorXd::Constant(ns, 30.0);
+    for (int k = 0; k < nx; ++k) x(k) = d(rng);
     x(n + 1) += 2.0;  // away from the kinks of if(), sign() and the tables' knots
     multibody::Data<double> data(b.model);
     auto f_rhs = [&](const Eigen::VectorXd& xx, const Eigen::VectorXd& rr) {
-      Eigen::VectorXd out(2 * n);
+      Eigen::VectorXd out(nx);
       multibody::CalcStateDerivative<double>(b.model, data, 0.7, xx, rr, out);
       return out;
     };
     const Eigen::MatrixXd J = multibody::CalcStateJacobian(b.model, 0.7, x, r);
     const double h = 1e-6;
-    for (int k = 0; k < 2 * n; ++k) {
+    for (int k = 0; k < nx; ++k) {
       Eigen::VectorXd xp = x, xm = x;
       xp(k) += h;
       xm(k) -= h;

@@ -442,7 +442,7 @@ class Parser {
       std::string hint;
       for (const std::string& c : symbols_.Closest(name)) hint += (hint.empty() ? "" : ", ") + c;
       Fail(name, fmt::format("unknown name; did you mean {}? (names are coordinates, speeds, "
-                             "slots, parameters, time functions, t and pi)", hint));
+                             "slots, states, parameters, time functions, t and pi)", hint));
     }
     if (s->kind == Op::kConst) return Push({Op::kConst, s->value, -1, -1, -1, -1});
     return Push({s->kind, 0, s->index, -1, -1, -1});
@@ -553,7 +553,7 @@ Affine LinearizeNode(const std::vector<Node>& nodes, int i) {
   switch (n.op) {
     case Op::kConst: r.c = n.value; return r;
     case Op::kTime: case Op::kCoordinate: case Op::kSpeed: case Op::kSlot:
-    case Op::kTimeFunction:
+    case Op::kTimeFunction: case Op::kState:
       r.terms[{static_cast<int>(n.op), n.op == Op::kTime ? -1 : n.index}] = 1.0;
       return r;
     case Op::kNeg: return Scale(LinearizeNode(nodes, n.a), -1.0);

@@ -17,7 +17,7 @@
 // Constant: pi. A table declared in the file is called like a function: Cp(lambda). In loads,
 // velocity(P, F).x and angular_velocity(A, F).z (kinematics_mirror.h).
 // Names resolve through a SymbolTable: time t [s], coordinates q_k, speeds u_k, slots r_k,
-// time functions, and parameters (replaced by their SI value at parse time). Sub-trees
+// extra states z_k, time functions, and parameters (replaced by their SI value at parse time). Sub-trees
 // without variables are folded into constants.
 #include <memory>
 #include <string>
@@ -37,6 +37,7 @@ enum class Op {
   kTable2,             // 2-D table `index` at (a, b): bilinear interpolation
   kVelocity,           // velocity of point `index` in N; value = 3 · frame + component
   kAngularVelocity,    // angular velocity of frame `index` in N; value as for kVelocity
+  kState,              // extra first-order state z_k (`states:`), k = index
 };
 
 // The frames and points of a model file as read, for velocity() and angular_velocity() in
@@ -65,7 +66,7 @@ bool IsFunctionName(std::string_view name);
 struct Node {
   Op op = Op::kConst;
   double value = 0.0;  // kConst
-  int index = -1;      // kCoordinate, kSpeed, kSlot, kTimeFunction: 0-based index
+  int index = -1;      // kCoordinate, kSpeed, kSlot, kTimeFunction, kState: 0-based index
   int a = -1;          // first operand (node index)
   int b = -1;          // second operand
   int c = -1;          // third operand (kIf)
@@ -134,11 +135,11 @@ class Expression {
   std::shared_ptr<const Mirror> mirror_;
 };
 
-// An expression as c0 + Σ c_i v_i over variables (t, q_k, u_k, r_k, time functions), if it
+// An expression as c0 + Σ c_i v_i over variables (t, q_k, u_k, r_k, z_k, time functions), if it
 // is affine in them with constant coefficients; `affine` is false otherwise.
 struct LinearForm {
   struct Term {
-    Op kind;     // kTime, kCoordinate, kSpeed, kSlot, kTimeFunction
+    Op kind;     // kTime, kCoordinate, kSpeed, kSlot, kTimeFunction, kState
     int index;   // −1 for kTime
     double coefficient;
   };

@@ -67,6 +67,8 @@ void ReadTimeFunctions(FileContext& c, const YAML::Node& node);
 // Slots: declares them in the builder; returns each slot's default stiffness.
 std::vector<double> ReadSlots(FileContext& c, const YAML::Node& node);
 void ReadLoads(FileContext& c, const YAML::Node& forces, const YAML::Node& torques);
+// `states:` (names already declared, in order): the rates and initial values, into the builder.
+void ReadExtraStates(FileContext& c, const YAML::Node& node);
 
 // The elements of the optional list section `node` at `key` (empty when absent), with
 // `repeat:` blocks expanded:

@@ -76,7 +76,7 @@ ModelFile ParseModelFile(YamlInput input) {
   const YAML::Node& root = in.root();
   in.CheckKeys(root, "", {"name", "description", "parameters", "coordinates", "speeds",
                           "kinematical_equations", "tables", "time_functions", "frames", "points",
-                          "particles", "bodies", "slots", "forces", "torques"});
+                          "particles", "bodies", "slots", "states", "forces", "torques"});
   f.name = in.ReadString(root, "", "name",
                          std::filesystem::path(in.path()).stem().string());
   f.description = in.ReadString(root, "", "description", "model file " + in.path());
@@ -177,6 +177,16 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
   for (const models::Parameter& p : parameters.all()) {
     declare(p.name, Op::kConst, -1, p.value, in.Where(root["parameters"], "parameters." + p.name));
   }
+  // Extra states: named now (so that an angle that reads one is told where states go), their
+  // rates read after the slots (a rate may use velocity()).
+  const YAML::Node states = in.Mapping(root, "states", "states", false);
+  if (states.IsDefined()) {
+    int k = 0;
+    for (const auto& kv : states) {
+      const std::string name = kv.first.as<std::string>();
+      declare(name, Op::kState, k++, 0.0, in.Where(kv.first, "states." + name));
+    }
+  }
 
   try {
     multibody::ModelBuilder builder(coordinates, speeds);
@@ -196,6 +206,7 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
     internal::ReadMasses(c, root["particles"], root["bodies"]);
     std::vector<double> stiffness = internal::ReadSlots(c, root["slots"]);
     c.symbols.SetMirror(c.mirror);  // velocity() and angular_velocity(): loads only
+    internal::ReadExtraStates(c, states);
     internal::ReadLoads(c, root["forces"], root["torques"]);
     return {file.name, file.description, parameters, std::move(builder).Build(),
             std::move(stiffness)};
@@ -366,10 +377,12 @@ Expression FileContext::Parse(const YAML::Node& node, const std::string& key_pat
 
 Expression FileContext::ParseKinematic(const YAML::Node& node, const std::string& key_path) const {
   Expression e = Parse(node, key_path);
-  if (e.Uses(Op::kSpeed) || e.Uses(Op::kSlot) || e.Uses(Op::kTimeFunction)) {
-    throw ConfigError(fmt::format("{} = '{}': reads a speed, a slot or a time function; angles, "
-                                  "positions, displacements and W(q) may use only t, the "
-                                  "coordinates and parameters (write speeds into loads)",
+  if (e.Uses(Op::kSpeed) || e.Uses(Op::kSlot) || e.Uses(Op::kTimeFunction) ||
+      e.Uses(Op::kState)) {
+    throw ConfigError(fmt::format("{} = '{}': reads a speed, a slot, a state or a time function; "
+                                  "angles, positions, displacements and W(q) may use only t, the "
+                                  "coordinates and parameters (write speeds and states into "
+                                  "loads)",
                                   Where(node, key_path), node.Scalar()));
   }
   return e;

@@ -212,7 +212,8 @@ void ReadTimeFunctions(FileContext& c, const YAML::Node& node) {
     const std::string kp = "time_functions." + name;
     auto e = std::make_shared<const CompiledScalar>(c.Parse(kv.second, kp));
     if (e->expression.Uses(Op::kCoordinate) || e->expression.Uses(Op::kSpeed) ||
-        e->expression.Uses(Op::kSlot) || e->expression.Uses(Op::kTimeFunction)) {
+        e->expression.Uses(Op::kSlot) || e->expression.Uses(Op::kTimeFunction) ||
+        e->expression.Uses(Op::kState)) {
       throw ConfigError(fmt::format("{} = '{}': a time function may use only t and parameters",
                                     c.Where(kv.second, kp), kv.second.Scalar()));
     }
@@ -294,7 +295,7 @@ void ReadLoadList(FileContext& c, const YAML::Node& node, const std::string& key
     auto load = std::make_shared<const std::vector<CompiledScalar>>(std::move(parts));
     auto f = [load](const auto& a) {
       using T = std::decay_t<decltype(a.t)>;
-      const Variables<T> v{a.t, a.q, a.u, a.r, a.time_values};
+      const Variables<T> v{a.t, a.q, a.u, a.r, a.time_values, a.z};
       return multibody::Vector3<T>((*load)[0].Eval(v), (*load)[1].Eval(v), (*load)[2].Eval(v));
     };
     try {

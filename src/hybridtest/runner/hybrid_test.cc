@@ -166,8 +166,8 @@ RunStatistics HybridTest::Run() {
                       bool measured) {
     Eigen::Index c = 0;
     row(c++) = t;
-    row.segment(c, 2 * n) = xs;
-    c += 2 * n;
+    row.segment(c, xs.size()) = xs;  // [q; u; z]
+    c += xs.size();
     row.segment(c, m) = rs;
     c += m;
     for (const auto& s : subs_) {
