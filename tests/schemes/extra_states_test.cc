@@ -74,7 +74,8 @@ Eigen::VectorXd Integrate(const SchemeConfig& c, double h, double k0, long stop_
   return scheme->committed().x;
 }
 
-// Order observed on q and on z: log2 of the error ratio when h is halved.
+// Order observed on q and on z: log2 of the error ratio when h is halved (at t = kEnd only, so
+// the errors' phase can make it look higher than it is; a lower order is a failure).
 Eigen::Vector2d Order(const SchemeConfig& c, double h, double k0) {
   const Eigen::VectorXd ref = Integrate(Config(SchemeKind::kRungeKutta), 1e-5, kStiffness);
   const Eigen::VectorXd e1 = (Integrate(c, h, k0) - ref).cwiseAbs();
@@ -85,14 +86,14 @@ Eigen::Vector2d Order(const SchemeConfig& c, double h, double k0) {
 TEST(ExtraStates, RungeKuttaIntegratesThemAtItsOrder) {
   const Eigen::Vector2d p = Order(Config(SchemeKind::kRungeKutta), 0.02, kStiffness);
   EXPECT_NEAR(p(0), 4.0, 0.3);
-  EXPECT_NEAR(p(1), 4.0, 0.3);
+  EXPECT_GT(p(1), 3.7);
 }
 
 TEST(ExtraStates, AlphaOsIntegratesThemAtSecondOrderWithExactAndSoftK0) {
   for (double k0 : {kStiffness, 0.6 * kStiffness}) {
     const Eigen::Vector2d p = Order(Config(SchemeKind::kAlphaOs), 0.01, k0);
     EXPECT_NEAR(p(0), 2.0, 0.25) << "K0 = " << k0;
-    EXPECT_NEAR(p(1), 2.0, 0.25) << "K0 = " << k0;
+    EXPECT_GT(p(1), 1.75) << "K0 = " << k0;
   }
 }
 

@@ -21,7 +21,7 @@ struct Variables {
   std::span<const S> u;       // speeds
   std::span<const S> r;       // static restoring forces, one per slot
   std::span<const S> time_values;  // the model's time functions at t
-  std::span<const S> z;       // extra first-order states (`states:`)
+  std::span<const S> z = {};  // extra first-order states (`states:`); empty where unused
 };
 
 namespace eval_detail {

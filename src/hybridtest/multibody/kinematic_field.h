@@ -40,7 +40,7 @@ struct LoadArgs {
   std::span<const T> u;
   std::span<const T> r;
   std::span<const T> time_values;  // (num_time_functions)
-  std::span<const T> z;            // (num_extra_states)
+  std::span<const T> z = {};       // (num_extra_states)
   // Value of time function k (the index AddTimeFunction returned) at t.
   const T& time_function(int k) const { return time_values[static_cast<std::size_t>(k)]; }
 };
