@@ -242,12 +242,12 @@ TEST(ModelFileContractTest, TheJetCapNamesTheNonAffineExpression) {
   s += "points:\n";                                                 // 36
   for (int k = 1; k <= 33; ++k) {
     s += fmt::format("  - {{name: P{0}, position: [{1}, 0, 0]}}\n", k,
-                     k == 20 ? "sin(q20)" : fmt::format("q{}", k));  // P20 on line 56
+                     k == 20 ? "0.1 * sin(10 * q20)" : fmt::format("q{}", k));  // P20 on line 56
   }
   s += "particles:\n";
   for (int k = 1; k <= 33; ++k) s += fmt::format("  - {{name: m{0}, point: P{0}, mass: 1}}\n", k);
   EXPECT_THAT(ErrorOf(s), AllOf(HasSubstr("at most 32"),
-                                HasSubstr("m.yaml:56: points[19].position[0] = 'sin(q20)'")));
+                                HasSubstr("m.yaml:56: points[19].position[0] = '0.1 * sin(10 * q20)'")));
 }
 
 // The exact state Jacobian and coupling matrix (AutoDiff) stay exact through the new functions,
@@ -300,7 +300,7 @@ TEST(ModelFileContractTest, VelocitiesAreForLoadsOnly) {
               AllOf(HasSubstr("'Q' is not a point"), HasSubstr("velocity(P, F).x")));
   EXPECT_THAT(ErrorOf(Pendulum("  L: 0.6", "forces:\n  - {name: f, point: P, value: [\"velocity(P, N)\", 0, 0]}\n")),
               HasSubstr("component"));
-  EXPECT_EQ(ErrorOf(Pendulum("  L: 0.6", "forces:\n  - {name: f, point: P, value: [\"-velocity(P, A).y * angular_velocity(A, N).z\", 0, 0]}\n")),
+  EXPECT_EQ(ErrorOf(Pendulum("  L: 0.6", "forces:\n  - {name: f, point: P, value: [\"-1 kg * velocity(P, A).y * angular_velocity(A, N).z\", 0, 0]}\n")),
             "no error");
 }
 

@@ -56,7 +56,7 @@ TEST(ModelFileStates, JoinTheStateAfterQAndUAndFeedTheLoads) {
   const models::BuiltModel b = Build(Pendulum(
       "states:\n"
       "  z1: {rate: \"(velocity(P, A).y - z1) / tau\", initial: 0.25, unit: m/s, description: filtered tip speed}\n"
-      "  z2: {rate: z1, initial: 30 deg, unit: m}\n",
+      "  z2: {rate: z1, initial: 300 mm, unit: m}\n",
       "torques:\n  - {name: t, frame: A, value: [0, 0, \"-r1 - 3 * z1 - 0.5 * z2\"]}\n"));
   const multibody::Model& m = b.model;
   ASSERT_EQ(m.num_extra_states(), 2);
@@ -65,7 +65,7 @@ TEST(ModelFileStates, JoinTheStateAfterQAndUAndFeedTheLoads) {
   EXPECT_EQ(m.extra_states()[0].info.unit, "m/s");
   EXPECT_EQ(m.extra_states()[0].info.description, "filtered tip speed");
   EXPECT_DOUBLE_EQ(m.extra_states()[0].initial, 0.25);
-  EXPECT_DOUBLE_EQ(m.extra_states()[1].initial, std::numbers::pi / 6);  // units are converted
+  EXPECT_DOUBLE_EQ(m.extra_states()[1].initial, 0.3);  // units are converted
   EXPECT_EQ(m.extra_states()[1].info.unit, "m");
 
   const double th = 0.3, w = -1.2, z1 = 0.4, z2 = -0.7, r = 5.0;
@@ -83,7 +83,7 @@ TEST(ModelFileStates, JoinTheStateAfterQAndUAndFeedTheLoads) {
 TEST(ModelFileStates, MisuseIsRefusedWithThePlaceAndTheFix) {
   EXPECT_THAT(ErrorOf(Pendulum("states:\n  z: {initial: 0}\n")),
               AllOf(HasSubstr("m.yaml:16: states.z.rate: missing"), HasSubstr("ż")));
-  EXPECT_THAT(ErrorOf(Pendulum("states:\n  z: {rate: r1 - z}\n")),
+  EXPECT_THAT(ErrorOf(Pendulum("states:\n  z: {rate: 0.5 * r1 - z}\n")),
               AllOf(HasSubstr("m.yaml:16: states.z.rate"), HasSubstr("reads a slot"),
                     HasSubstr("as a load")));
   EXPECT_THAT(ErrorOf(Pendulum("states:\n  z: {rate: -z, unit: mm}\n")),
@@ -109,7 +109,7 @@ TEST(ModelFileStates, MisuseIsRefusedWithThePlaceAndTheFix) {
 
 TEST(ModelFileStates, TheJacobianIsExactInTheStates) {
   const models::BuiltModel b = Build(Pendulum(
-      "states:\n  z: {rate: \"atan2(velocity(P, N).x, 1) - z * th\"}\n",
+      "states:\n  z: {rate: \"(atan2(velocity(P, N).x, 1) - z * th) / 1 s\"}\n",
       "torques:\n  - {name: t, frame: A, value: [0, 0, \"-r1 - 3 * sin(z)\"]}\n"));
   Eigen::VectorXd x(3), r = Eigen::VectorXd::Constant(1, 2.0);
   x << 0.4, 0.9, -0.3;

@@ -17,8 +17,16 @@
 // Constant: pi. A table declared in the file is called like a function: Cp(lambda). In loads,
 // velocity(P, F).x and angular_velocity(A, F).z (kinematics_mirror.h).
 // Names resolve through a SymbolTable: time t [s], coordinates q_k, speeds u_k, slots r_k,
-// extra states z_k, time functions, and parameters (replaced by their SI value at parse time). Sub-trees
-// without variables are folded into constants.
+// extra states z_k, time functions, and parameters (replaced by their SI value at parse time).
+// Sub-trees without variables are folded into constants.
+//
+// Dimensions are followed through the tree as far as it allows (Dim): every name with a unit
+// (t, coordinates, speeds, slots, states, parameters declared with `unit:`), a number written
+// with a unit (`30 deg`) and velocity() carry one; a bare number, a parameter without a unit
+// and a table's value are unknown and match anything. +, −, min, max, comparisons, atan2 and
+// the branches of if() must agree; the arguments of sin, cos, exp, … must be dimensionless;
+// products and powers combine. A mismatch is a parse error naming both units.
+#include <array>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -77,12 +85,35 @@ struct Node {
 // stack. A formula this deep is better split into parameters or time functions.
 inline constexpr int kMaxExpressionDepth = 200;
 
+// A physical dimension: the exponents of m, kg and s, radians counting as 1 (so ω·R is a
+// speed and k·β with k in N·m/rad a moment); or unknown, which matches any dimension.
+struct Dim {
+  bool known = false;
+  std::array<int, 3> e{0, 0, 0};  // m, kg, s
+  // The dimension of a unit's exponents (m, kg, s, rad; units.h); `known` true.
+  static Dim FromUnit(const std::array<int, 4>& unit_dim) {
+    return {true, {unit_dim[0], unit_dim[1], unit_dim[2]}};
+  }
+  static Dim One() { return {true, {0, 0, 0}}; }
+  // The dimension of a unit written as text (`N·m/rad`), unknown if it does not parse.
+  static Dim OfUnit(std::string_view unit_text);
+  bool operator==(const Dim& o) const { return known == o.known && e == o.e; }
+};
+// The dimension as SI base units: "kg·m/s²", "m", "1"; "unknown".
+std::string DimName(const Dim& d);
+// The dimension of `op` applied to operands of dimensions a, b, c (c: if()'s else branch;
+// constant_b, b_value: a constant exponent of pow). On a mismatch, `error` gets what is wrong
+// (dimensions.cc).
+Dim CombineDims(Op op, const Dim& a, const Dim& b, const Dim& c, bool constant_b, double b_value,
+                std::string* error);
+
 // What a name means in an expression.
 struct Symbol {
   std::string name;
   Op kind = Op::kConst;  // kConst (parameter or constant), kTime, kCoordinate, kSpeed, ...
   int index = -1;
   double value = 0.0;  // kConst: SI value
+  Dim dim = {};        // its dimension, if known
 };
 
 class SymbolTable {
@@ -121,6 +152,8 @@ class Expression {
   int root() const { return root_; }
   bool is_constant() const { return nodes_[root_].op == Op::kConst; }
   double constant_value() const { return nodes_[root_].value; }
+  // The dimension of the value, as far as the tree tells (Dim).
+  const Dim& dim() const { return dim_; }
   // True if any node is of kind `op` (e.g. kSpeed: the expression reads a speed).
   bool Uses(Op op) const;
   // The tables kTable nodes index (shared with the symbol table it was parsed against).
@@ -131,6 +164,7 @@ class Expression {
   friend class Parser;
   std::vector<Node> nodes_;
   int root_ = 0;
+  Dim dim_;
   std::shared_ptr<const std::vector<Table>> tables_;
   std::shared_ptr<const Mirror> mirror_;
 };

@@ -48,10 +48,13 @@ void ReadExtraStates(FileContext& c, const YAML::Node& node) {
     const double initial =
         kv.second["initial"].IsDefined()
             ? c.Constant(kv.second["initial"], kp + ".initial",
-                         fmt::format("the state's value at t = 0 in {}", unit))
+                         fmt::format("the state's value at t = 0 in {}", unit),
+                         Dim::FromUnit(parsed->dim))
             : 0.0;
     const YAML::Node rate_node =
         c.Require(kv.second, "rate", kp, fmt::format("its rate of change ż in {}/s, a formula", unit));
+    Dim per_second = Dim::FromUnit(parsed->dim);
+    per_second.e[2] -= 1;
     Expression rate = c.Parse(rate_node, kp + ".rate");
     if (rate.Uses(Op::kSlot)) {
       throw ConfigError(fmt::format(
@@ -60,6 +63,7 @@ void ReadExtraStates(FileContext& c, const YAML::Node& node) {
           "need ż free of r); model the measured force as a load instead",
           c.Where(rate_node, kp + ".rate"), rate_node.Scalar()));
     }
+    c.CheckDim(rate_node, kp + ".rate", rate, per_second);
     auto compiled = std::make_shared<const CompiledScalar>(std::move(rate));
     c.builder->AddExtraState(
         {name, unit, c.in.ReadString(kv.second, kp, "description", "")}, initial,
