@@ -7,10 +7,12 @@ Point.locatenew, Particle, RigidBody) and derives Kane's equations with KanesMet
 code with the C++ engine. Then evaluates the mass matrix M and the forcing g (SymPy's
 convention M u' = forcing, the engine's too) at the states given in a JSON file:
 
-    [{"t": 0.3, "q": [...], "u": [...], "r": [...]}, ...]
+    [{"t": 0.3, "q": [...], "u": [...], "r": [...], "z": [...]}, ...]
 
-and prints one JSON object {"M": [n x n per state], "g": [n per state], "qdot": [n per state]}
-(q̇ = W(q) u) on stdout. Any failure: a message on stderr and exit status 3.
+(z: the extra first-order states of `states:`, in the file's order) and prints one JSON object
+{"M": [n x n per state], "g": [n per state], "qdot": [n per state], "zdot": [nz per state]}
+(q̇ = W(q) u, ż the states' rates) on stdout. Any failure: a message on stderr and exit
+status 3.
 
 Usage: check_model_sympy.py MODEL.yaml STATES.json
 The file is assumed valid (the C++ reader checked it first); parameters take their values
@@ -165,6 +167,11 @@ class Reader:
         self.r = [sp.Symbol(f'rr{k}') for k in range(len(slots))]
         for k, s in enumerate(slots):
             self.names[s['name']] = self.r[k]
+        # Extra states: plain symbols (their rates are read in build(), after velocity()).
+        states = doc.get('states') or {}
+        self.z = [sp.Symbol(f'zz{k}') for k in range(len(states))]
+        for k, name in enumerate(states):
+            self.names[name] = self.z[k]
         for name, table in (doc.get('tables') or {}).items():
             if 'csv' in table or 'csv_grid' in table:
                 rows = read_csv(self.directory / table.get('csv', table.get('csv_grid')))
@@ -298,6 +305,7 @@ class Reader:
 
         self.names['velocity_'] = velocity
         self.names['angular_velocity_'] = angular_velocity
+        self.zdot = sp.Matrix([self.expr(st['rate']) for st in (doc.get('states') or {}).values()])
         loads = []
         for f in doc.get('forces') or []:
             loads.append((points[f['point']],
@@ -348,16 +356,18 @@ def run():
     plain = {**dict(zip(reader.q, Q)), **dict(zip(reader.u, U))}
     M = me.msubs(M, plain)
     F = me.msubs(F, plain)
-    args = [reader.t, *Q, *U, *reader.r]
+    args = [reader.t, *Q, *U, *reader.r, *reader.z]
     fM = sp.lambdify(args, M.tolist(), 'math')
     fF = sp.lambdify(args, list(F), 'math')
     fQ = sp.lambdify(args, list(me.msubs(reader.qdot, plain)), 'math')
-    out = {'M': [], 'g': [], 'qdot': []}
+    fZ = sp.lambdify(args, list(me.msubs(reader.zdot, plain)), 'math')
+    out = {'M': [], 'g': [], 'qdot': [], 'zdot': []}
     for s in states:
-        values = [s['t'], *s['q'], *s['u'], *s['r']]
+        values = [s['t'], *s['q'], *s['u'], *s['r'], *s.get('z', [])]
         out['M'].append([[float(v) for v in row] for row in fM(*values)])
         out['g'].append([float(v) for v in fF(*values)])
         out['qdot'].append([float(v) for v in fQ(*values)])
+        out['zdot'].append([float(v) for v in fZ(*values)])
     print(json.dumps(out))
     return 0
 

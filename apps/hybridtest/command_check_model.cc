@@ -45,17 +45,18 @@ std::string CoordinatesIn(const multibody::Model& model, const Eigen::VectorXd& 
 }
 
 // A random state: q_k within ±1 rad for angles, ±0.1 in other units; u within ±1; r within
-// ±100 in the slot's unit; t in [0, 2] s.
+// ±100 in the slot's unit; extra states z within ±1; t in [0, 2] s.
 SympyState RandomState(const multibody::Model& model, std::mt19937& rng) {
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   const int n = model.num_coordinates();
   SympyState s{2.0 * std::abs(unit(rng)), Eigen::VectorXd(n), Eigen::VectorXd(n),
-               Eigen::VectorXd(model.num_slots())};
+               Eigen::VectorXd(model.num_slots()), Eigen::VectorXd(model.num_extra_states())};
   for (int k = 0; k < n; ++k) {
     s.q(k) = (model.coordinates()[k].unit == "rad" ? 1.0 : 0.1) * unit(rng);
     s.u(k) = unit(rng);
   }
   for (int i = 0; i < model.num_slots(); ++i) s.r(i) = 100.0 * unit(rng);
+  for (int i = 0; i < model.num_extra_states(); ++i) s.z(i) = unit(rng);
   return s;
 }
 
@@ -67,6 +68,14 @@ void PrintSummary(const models::BuiltModel& built, const std::string& path) {
     fmt::print("    {:<10} [{}] {}   speed {} [{}]\n", m.coordinates()[k].name,
                m.coordinates()[k].unit, m.coordinates()[k].description, m.speeds()[k].name,
                m.speeds()[k].unit);
+  }
+  if (m.num_extra_states() > 0) {
+    fmt::print("  extra states ({}), after q and u in the state x = [q; u; z]:\n",
+               m.num_extra_states());
+    for (const auto& z : m.extra_states()) {
+      fmt::print("    {:<10} [{}] {} (initial {:g})\n", z.info.name, z.info.unit,
+                 z.info.description, z.initial);
+    }
   }
   fmt::print("  kinematical equations: {}\n",
              m.has_identity_kinematics() ? "q̇ = u" : "q̇ = W(q) u (from the file)");
@@ -108,7 +117,7 @@ void RunCheckModel(const CheckModelOptions& opt) {
   for (int i = 0; i < opt.states; ++i) {
     const SympyState s = RandomState(model, rng);
     Eigen::VectorXd x(model.num_states());
-    x << s.q, s.u;
+    x << s.q, s.u, s.z;
     multibody::CalcKinematics<double>(model, data, s.t, x);
     multibody::CalcMassMatrix<double>(model, data);
     multibody::CalcForcing<double>(model, data, s.r);
@@ -169,22 +178,23 @@ void RunCheckModel(const CheckModelOptions& opt) {
     std::fflush(stdout);
     const std::vector<SympyState> some(states.begin(), states.begin() + static_cast<long>(count));
     const SympyResult ref = RunSympyReader(python, *script, opt.file, some, opt.sympy_timeout);
-    if (ref.M.size() != count || ref.g.size() != count || ref.qdot.size() != count) {
+    if (ref.M.size() != count || ref.g.size() != count || ref.qdot.size() != count ||
+        ref.zdot.size() != count) {
       throw Error(fmt::format("the SymPy reader answered for {} states, not {}", ref.M.size(), count));
     }
     double worst_M = 0.0, worst_g = 0.0, worst_xdot = 0.0;
     for (std::size_t i = 0; i < count; ++i) {
       if (ref.M[i].rows() != M[i].rows() || ref.g[i].size() != g[i].size() ||
-          ref.qdot[i].size() != g[i].size()) {
+          ref.qdot[i].size() != g[i].size() || ref.zdot[i].size() != model.num_extra_states()) {
         throw Error("the SymPy reader returned matrices of another size than the engine's");
       }
       worst_M = std::max(worst_M, (ref.M[i] - M[i]).cwiseAbs().maxCoeff() /
                                       std::max(1e-300, ref.M[i].cwiseAbs().maxCoeff()));
       worst_g = std::max(worst_g, (ref.g[i] - g[i]).cwiseAbs().maxCoeff() /
                                       std::max(1.0, ref.g[i].cwiseAbs().maxCoeff()));
-      // ẋ from SymPy's own M, g and q̇ = W(q) u.
-      Eigen::VectorXd x_ref(2 * ref.g[i].size());
-      x_ref << ref.qdot[i], ref.M[i].ldlt().solve(ref.g[i]);
+      // ẋ from SymPy's own M, g, q̇ = W(q) u and ż.
+      Eigen::VectorXd x_ref(model.num_states());
+      x_ref << ref.qdot[i], ref.M[i].ldlt().solve(ref.g[i]), ref.zdot[i];
       worst_xdot = std::max(worst_xdot, (x_ref - xdot[i]).cwiseAbs().maxCoeff() /
                                             std::max(1.0, x_ref.cwiseAbs().maxCoeff()));
     }

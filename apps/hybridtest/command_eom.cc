@@ -27,12 +27,15 @@ void RunEom(const EomOptions& opt) {
   const io::SimulationConfig cfg = io::LoadSimulationConfig(opt.config);
   const multibody::Model& model = cfg.model.model;
   const int n = model.num_coordinates();
+  const int nx = model.num_states();
   const std::vector<double> xs = ParseNumberList(opt.state, "--state");
-  if (static_cast<int>(xs.size()) != 2 * n) {
-    throw ConfigError(fmt::format("--state has {} values; the {} model needs 2n = {} (x = [q; u] "
-                                  "with n = {})", xs.size(), cfg.model.name, 2 * n, n));
+  if (static_cast<int>(xs.size()) != nx) {
+    throw ConfigError(fmt::format("--state has {} values; the {} model needs {} (x = [q; u{}] "
+                                  "with n = {}{})", xs.size(), cfg.model.name, nx,
+                                  nx > 2 * n ? "; z" : "", n,
+                                  nx > 2 * n ? fmt::format(" and {} extra states", nx - 2 * n) : ""));
   }
-  const Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(xs.data(), 2 * n);
+  const Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(xs.data(), nx);
   multibody::Data<double> data(model);
   Eigen::VectorXd r(model.num_slots());
   if (!opt.restoring.empty()) {
@@ -50,7 +53,7 @@ void RunEom(const EomOptions& opt) {
     multibody::CalcSlotDisplacements<double>(model, data, opt.time, x.head(n), d);
     for (int s = 0; s < model.num_slots(); ++s) r(s) = subs[s]->Trial(d(s), {0, 0, opt.time});
   }
-  Eigen::VectorXd xdot(2 * n);
+  Eigen::VectorXd xdot(nx);
   multibody::CalcStateDerivative<double>(model, data, opt.time, x, r, xdot);
 
   if (opt.json) {
@@ -62,7 +65,7 @@ void RunEom(const EomOptions& opt) {
       out["mass_matrix"].push_back(row);
     }
     out["forcing"] = std::vector<double>(data.g.data(), data.g.data() + n);
-    out["xdot"] = std::vector<double>(xdot.data(), xdot.data() + 2 * n);
+    out["xdot"] = std::vector<double>(xdot.data(), xdot.data() + nx);
     out["restoring"] = std::vector<double>(r.data(), r.data() + r.size());
     std::cout << out.dump() << "\n";
     return;
@@ -79,7 +82,7 @@ void RunEom(const EomOptions& opt) {
   fmt::print("\nrestoring forces r^s [N]:\n");
   for (int i = 0; i < r.size(); ++i) fmt::print(" {:>24.17g}", r(i));
   fmt::print("\nxdot:\n");
-  for (int i = 0; i < 2 * n; ++i) fmt::print(" {:>24.17g}", xdot(i));
+  for (int i = 0; i < nx; ++i) fmt::print(" {:>24.17g}", xdot(i));
   fmt::print("\n");
 }
 

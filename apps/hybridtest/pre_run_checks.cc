@@ -43,7 +43,8 @@ double CheckStepStability(const io::SimulationConfig& cfg) {
   const multibody::Model& model = cfg.model.model;
   const int n = model.num_coordinates();
   const int m = model.num_slots();
-  if (2 * n > multibody::kMaxDerivatives) return std::numeric_limits<double>::infinity();
+  const int nx = model.num_states();
+  if (nx > multibody::kMaxDerivatives) return std::numeric_limits<double>::infinity();
   const std::vector<double> k = SlotStiffnessForStability(cfg);
   const Eigen::VectorXd& x0 = cfg.x0;
   multibody::Data<double> data(model);
@@ -62,10 +63,10 @@ double CheckStepStability(const io::SimulationConfig& cfg) {
   // Jacobian, central differences).
   Eigen::MatrixXd jacobian = multibody::CalcStateJacobian(model, 0.0, x0, r0);
   if (m > 0) {
-    Eigen::VectorXd xdot(2 * n), q_scratch(n), d_plus(m), d_minus(m);
+    Eigen::VectorXd xdot(nx), q_scratch(n), d_plus(m), d_minus(m);
     multibody::CalcStateDerivative<double>(model, data, 0.0, x0, r0, xdot);  // fills data.M
-    Eigen::MatrixXd f_r = Eigen::MatrixXd::Zero(2 * n, m);
-    f_r.bottomRows(n) = data.M.llt().solve(multibody::CalcCouplingMatrix(model, 0.0, x0));
+    Eigen::MatrixXd f_r = Eigen::MatrixXd::Zero(nx, m);  // the rates ż do not read r
+    f_r.middleRows(n, n) = data.M.llt().solve(multibody::CalcCouplingMatrix(model, 0.0, x0));
     Eigen::MatrixXd d_q;
     schemes::CalcSlotJacobian(model, data, 0.0, q0, d_q, q_scratch, d_plus, d_minus);
     const Eigen::VectorXd kv = Eigen::Map<const Eigen::VectorXd>(k.data(), m);

@@ -102,7 +102,8 @@ SympyResult RunSympyReader(const std::string& python, const std::string& script,
     in.push_back({{"t", s.t},
                   {"q", std::vector<double>(s.q.data(), s.q.data() + s.q.size())},
                   {"u", std::vector<double>(s.u.data(), s.u.data() + s.u.size())},
-                  {"r", std::vector<double>(s.r.data(), s.r.data() + s.r.size())}});
+                  {"r", std::vector<double>(s.r.data(), s.r.data() + s.r.size())},
+                  {"z", std::vector<double>(s.z.data(), s.z.data() + s.z.size())}});
   }
   const std::filesystem::path states_file = std::filesystem::temp_directory_path() /
       fmt::format("hybridtest-check-model-{}.json", ::getpid());
@@ -143,12 +144,13 @@ SympyResult RunSympyReader(const std::string& python, const std::string& script,
       for (int k = 0; k < n; ++k) M(i, k) = m[i][k].get<double>();
     result.M.push_back(M);
   }
-  for (const char* key : {"g", "qdot"}) {
+  for (const char* key : {"g", "qdot", "zdot"}) {
     if (!j.contains(key)) throw Error(fmt::format("the SymPy reader printed no '{}'", key));
+    const std::string k(key);
+    auto& list = k == "g" ? result.g : k == "qdot" ? result.qdot : result.zdot;
     for (const auto& g : j[key]) {
       const std::vector<double> v = g.get<std::vector<double>>();
-      (std::string(key) == "g" ? result.g : result.qdot)
-          .push_back(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));
+      list.push_back(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));
     }
   }
   return result;

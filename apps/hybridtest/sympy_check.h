@@ -2,7 +2,8 @@
 // The SymPy half of `hybridtest check-model`: runs check_model_sympy.py (shipped beside the
 // binary as hybridtest_check_model_sympy.py), which reads the same model file on its own
 // (PyYAML + SymPy's KanesMethod, no code shared with the engine) and evaluates M and g at the
-// given states; the engine's M and g are compared with them.
+// given states, with the rates ż of the extra states; the engine's M, g and ẋ are compared
+// with them.
 #include <Eigen/Core>
 
 #include <optional>
@@ -16,12 +17,14 @@ struct SympyState {
   Eigen::VectorXd q;   // (n)
   Eigen::VectorXd u;   // (n)
   Eigen::VectorXd r;   // (num_slots)
+  Eigen::VectorXd z;   // (num_extra_states)
 };
 
 struct SympyResult {
   std::vector<Eigen::MatrixXd> M;  // one (n × n) per state
   std::vector<Eigen::VectorXd> g;  // one (n) per state
   std::vector<Eigen::VectorXd> qdot;  // one (n) per state: q̇ = W(q) u
+  std::vector<Eigen::VectorXd> zdot;  // one (nz) per state: the extra states' rates
 };
 
 // A wait status as words: "exit code 3", "killed by signal 9 (Killed)".

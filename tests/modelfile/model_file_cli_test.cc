@@ -164,5 +164,25 @@ TEST(ModelFileCliTest, WindTurbineDummyHybridTestEqualsItsSimulation) {
   EXPECT_EQ(meta["model"]["name"], "wind_turbine");
 }
 
+// Issue 19's turbine example: three flapping blades by repeat:, Cp/Ct tables, a PI generator
+// torque with its integrator and speed filter as extra states; the dummy hybrid test of blade
+// 1's root equals the simulation bit for bit, and the journal carries the extra states.
+TEST(ModelFileCliTest, TurbineLabDummyHybridTestEqualsItsSimulation) {
+  const fs::path sim = TempDir() / "tl_sim.csv", dummy = TempDir() / "tl_dummy.csv";
+  const std::string dir = kSource + "/examples/05_turbine_lab/";
+  const auto [s1, o1] = Hybridtest(fmt::format("simulate {}simulation.yaml --out {}", dir, sim.string()));
+  const auto [s2, o2] = Hybridtest(fmt::format("run {}dummy.yaml --out {}", dir, dummy.string()));
+  ASSERT_EQ(s1, 0) << o1;
+  ASSERT_EQ(s2, 0) << o2;
+  const std::string a = ReadFile(sim), b = ReadFile(dummy);
+  EXPECT_EQ(a, b);
+  const std::string header = a.substr(0, a.find('\n'));
+  EXPECT_NE(header.find("w3,w_f,z_q,r1,r2,r3"), std::string::npos) << header;
+  const nlohmann::json meta = nlohmann::json::parse(ReadFile(TempDir() / "tl_dummy.meta.json"));
+  ASSERT_EQ(meta["model"]["extra_states"].size(), 2u);
+  EXPECT_EQ(meta["model"]["extra_states"][1]["name"], "z_q");
+  EXPECT_EQ(meta["model"]["extra_states"][1]["unit"], "rad");
+}
+
 }  // namespace
 }  // namespace hybridtest

@@ -242,12 +242,12 @@ TEST(ModelFileContractTest, TheJetCapNamesTheNonAffineExpression) {
   s += "points:\n";                                                 // 36
   for (int k = 1; k <= 33; ++k) {
     s += fmt::format("  - {{name: P{0}, position: [{1}, 0, 0]}}\n", k,
-                     k == 20 ? "sin(q20)" : fmt::format("q{}", k));  // P20 on line 56
+                     k == 20 ? "0.1 * sin(10 * q20)" : fmt::format("q{}", k));  // P20 on line 56
   }
   s += "particles:\n";
   for (int k = 1; k <= 33; ++k) s += fmt::format("  - {{name: m{0}, point: P{0}, mass: 1}}\n", k);
   EXPECT_THAT(ErrorOf(s), AllOf(HasSubstr("at most 32"),
-                                HasSubstr("m.yaml:56: points[19].position[0] = 'sin(q20)'")));
+                                HasSubstr("m.yaml:56: points[19].position[0] = '0.1 * sin(10 * q20)'")));
 }
 
 // The exact state Jacobian and coupling matrix (AutoDiff) stay exact through the new functions,
@@ -258,20 +258,21 @@ TEST(ModelFileContractTest, JacobianAndCouplingStayExactThroughFunctionsTablesAn
     const ModelFile f = LoadModelFile(HYBRIDTEST_SOURCE_DIR "/tests/modelfile/data/" + name + ".yaml");
     const models::BuiltModel b = BuildModelFile(f, f.parameters);
     const int n = b.model.num_coordinates(), ns = b.model.num_slots();
+    const int nx = b.model.num_states();  // [q; u; z]: the extra states' columns too
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> d(-0.5, 0.5);
-    Eigen::VectorXd x(2 * n), r = Eigen::VectorXd::Constant(ns, 30.0);
-    for (int k = 0; k < 2 * n; ++k) x(k) = d(rng);
+    Eigen::VectorXd x(nx), r = Eigen::VectorXd::Constant(ns, 30.0);
+    for (int k = 0; k < nx; ++k) x(k) = d(rng);
     x(n + 1) += 2.0;  // away from the kinks of if(), sign() and the tables' knots
     multibody::Data<double> data(b.model);
     auto f_rhs = [&](const Eigen::VectorXd& xx, const Eigen::VectorXd& rr) {
-      Eigen::VectorXd out(2 * n);
+      Eigen::VectorXd out(nx);
       multibody::CalcStateDerivative<double>(b.model, data, 0.7, xx, rr, out);
       return out;
     };
     const Eigen::MatrixXd J = multibody::CalcStateJacobian(b.model, 0.7, x, r);
     const double h = 1e-6;
-    for (int k = 0; k < 2 * n; ++k) {
+    for (int k = 0; k < nx; ++k) {
       Eigen::VectorXd xp = x, xm = x;
       xp(k) += h;
       xm(k) -= h;
@@ -299,7 +300,7 @@ TEST(ModelFileContractTest, VelocitiesAreForLoadsOnly) {
               AllOf(HasSubstr("'Q' is not a point"), HasSubstr("velocity(P, F).x")));
   EXPECT_THAT(ErrorOf(Pendulum("  L: 0.6", "forces:\n  - {name: f, point: P, value: [\"velocity(P, N)\", 0, 0]}\n")),
               HasSubstr("component"));
-  EXPECT_EQ(ErrorOf(Pendulum("  L: 0.6", "forces:\n  - {name: f, point: P, value: [\"-velocity(P, A).y * angular_velocity(A, N).z\", 0, 0]}\n")),
+  EXPECT_EQ(ErrorOf(Pendulum("  L: 0.6", "forces:\n  - {name: f, point: P, value: [\"-1 kg * velocity(P, A).y * angular_velocity(A, N).z\", 0, 0]}\n")),
             "no error");
 }
 

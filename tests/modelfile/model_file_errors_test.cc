@@ -48,7 +48,7 @@ TEST(ModelFileErrorsTest, ErrorsNamePlaceTokenAndFix) {
   EXPECT_THAT(ErrorOf(s + "torques:\n  - {name: f, frame: A, value: [0, 0, sin(r9)]}\n"),
               AllOf(HasSubstr("m.yaml:13"), HasSubstr("torques[0].value[2]"), HasSubstr("'r9'")));
   EXPECT_THAT(ErrorOf(s + "slots:\n  - {name: r1, unit: N·m, displacement: th, stiffness: 1}\n"
-                          "torques:\n  - {name: f, frame: A, value: [0, 0, sin(r1)]}\n"),
+                          "torques:\n  - {name: f, frame: A, value: [0, 0, sin(0.001 * r1)]}\n"),
               HasSubstr("not linear in the slots"));
   EXPECT_THAT(ErrorOf(s + "slots:\n  - {name: r1, unit: kN, displacement: th}\n"),
               AllOf(HasSubstr("slots[0].unit"), HasSubstr("N·m")));

@@ -235,7 +235,10 @@ SimulationConfig ParseSimulationConfig(const YamlInput& in) {
   const int n = cfg.model.model.num_coordinates();
 
   // Initial state: zero unless given (the paper states none; see PAPER-NOTES).
-  cfg.x0.setZero(2 * n);
+  cfg.x0.setZero(cfg.model.model.num_states());
+  for (int k = 0; k < cfg.model.model.num_extra_states(); ++k) {
+    cfg.x0(2 * n + k) = cfg.model.model.extra_states()[k].initial;  // z(0) from the model
+  }
   const YAML::Node init = in.Mapping(root, "initial_state", "initial_state", false);
   if (init.IsDefined()) {
     in.CheckKeys(init, "initial_state", {"q", "u"});

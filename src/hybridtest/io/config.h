@@ -46,7 +46,7 @@ struct SimulationConfig {
   YamlInput input;                    // the parsed file (path, verbatim text, tree)
   models::BuiltModel model;           // built from name, blades and resolved parameters
   int blades = 0;                     // rotor only (0 otherwise)
-  Eigen::VectorXd x0;                 // (2n) initial state [q; u]
+  Eigen::VectorXd x0;                 // (2n + nz) initial state [q; u; z] (z(0) from the model)
   integrators::ButcherTableau tableau;  // runge-kutta scheme
   schemes::SchemeConfig scheme;         // integrator.scheme and its parameters
   double dt = 0.0;                    // [s]

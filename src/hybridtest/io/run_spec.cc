@@ -12,10 +12,10 @@ namespace hybridtest::io {
 
 void ValidateRunSpec(const RunSpec& spec) {
   const multibody::Model& model = spec.model.model;
-  const int n = model.num_coordinates();
-  if (spec.x0.size() != 2 * n) {
-    throw ConfigError(fmt::format("run spec: x0 has {} entries; the model '{}' needs 2n = {} "
-                                  "([q; u])", spec.x0.size(), spec.model.name, 2 * n));
+  if (spec.x0.size() != model.num_states()) {
+    throw ConfigError(fmt::format("run spec: x0 has {} entries; the model '{}' needs {} "
+                                  "([q; u; z])", spec.x0.size(), spec.model.name,
+                                  model.num_states()));
   }
   if (static_cast<int>(spec.substructures.size()) != model.num_slots()) {
     throw ConfigError(fmt::format("run spec: {} substructures for the {} slots of model '{}'; "

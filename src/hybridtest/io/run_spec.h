@@ -5,7 +5,7 @@
 // substructures and the scheme from it and never writes into it.
 //
 //   model          the built model (constant) and its resolved parameters
-//   x0             the initial state [q; u] (2n), SI
+//   x0             the initial state [q; u; z] (2n + extra states), SI
 //   scheme         which hybrid scheme, its tableau and steps
 //   substructures  one spec per slot of the model, in slot order
 //   output         where the run's files go, or none (in memory)
@@ -69,7 +69,7 @@ struct RunSpec {
   explicit RunSpec(models::BuiltModel built) : model(std::move(built)) {}
 
   models::BuiltModel model;
-  Eigen::VectorXd x0;  // (2n) [q; u], SI
+  Eigen::VectorXd x0;  // [q; u; z] (Model::num_states()), SI
   SchemeSpec scheme;
   std::vector<substructures::SubstructureSpec> substructures;  // one per slot
   OutputSpec output;

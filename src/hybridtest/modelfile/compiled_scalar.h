@@ -31,6 +31,7 @@ struct CompiledScalar {
       case Op::kSpeed: return v.u[k];
       case Op::kSlot: return v.r[k];
       case Op::kTimeFunction: return v.time_values[k];
+      case Op::kState: return v.z[k];
       default: return v.t;
     }
   }

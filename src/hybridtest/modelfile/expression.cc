@@ -166,6 +166,7 @@ class Parser {
     Skip();
     if (pos_ >= text_.size()) Fail("", "the expression is empty; write a number or a formula");
     e_.root_ = ParseExpr();
+    e_.dim_ = dims_[static_cast<std::size_t>(e_.root_)];
     Skip();
     if (pos_ < text_.size()) {
       Fail(std::string(1, text_[pos_]), "unexpected character after a complete expression; "
@@ -204,12 +205,33 @@ class Parser {
                      "a chain of operators); split it into parameters or time functions",
                      kMaxExpressionDepth));
   }
-  int Push(Node n) {
+  // The dimension of an operation from its operands' (dimensions.cc); fails on a mismatch at
+  // token_start_ (the operator or the function's name).
+  Dim NodeDim(const Node& n) {
+    const Dim none;
+    auto dim_of = [&](int k) { return k >= 0 ? dims_[static_cast<std::size_t>(k)] : none; };
+    const bool constant_b = n.b >= 0 && e_.nodes_[static_cast<std::size_t>(n.b)].op == Op::kConst;
+    std::string error;
+    const Dim d = CombineDims(n.op, dim_of(n.a), dim_of(n.b), dim_of(n.c), constant_b,
+                              constant_b ? e_.nodes_[static_cast<std::size_t>(n.b)].value : 0.0,
+                              &error);
+    if (!error.empty()) {
+      std::size_t end = token_start_;
+      while (end < text_.size() && IsNameChar(text_[end])) ++end;
+      Fail(std::string(text_.substr(token_start_, std::max<std::size_t>(1, end - token_start_))),
+           error);
+    }
+    return d;
+  }
+  // Appends a node (with `leaf`, the dimension of a node without operands) and returns its
+  // index.
+  int Push(Node n, Dim leaf = {}) {
     // Constant folding: operations on constants become constants; an `if` with a constant
     // condition becomes its branch.
     if (n.op == Op::kIf && e_.nodes_[n.a].op == Op::kConst) {
       return e_.nodes_[n.a].value != 0.0 ? n.b : n.c;
     }
+    const Dim dim = n.a >= 0 ? NodeDim(n) : leaf;
     const bool ca = n.a >= 0 && e_.nodes_[n.a].op == Op::kConst;
     const bool cb = n.b < 0 || e_.nodes_[n.b].op == Op::kConst;
     if (n.op != Op::kConst && n.op != Op::kIf && n.a >= 0 && ca && cb) {
@@ -223,6 +245,7 @@ class Parser {
     if (depth > kMaxExpressionDepth) FailDepth();
     e_.nodes_.push_back(n);
     depth_.push_back(depth);
+    dims_.push_back(dim);
     return static_cast<int>(e_.nodes_.size()) - 1;
   }
   // The condition of an `if`: two expressions compared.
@@ -246,15 +269,27 @@ class Parser {
            "the condition of if(cond, a, b) compares two expressions with < <= > >=, e.g. "
            "if(v < 0, a, b)");
     }
-    return Push({op, 0, -1, left, ParseExpr(), -1});
+    const std::size_t at = token_start_;
+    const int right = ParseExpr();
+    token_start_ = at;
+    return Push({op, 0, -1, left, right, -1});
+  }
+  // `left` op (the right operand `right()` parses), just after the operator was accepted: a
+  // dimension error points at the operator.
+  template <class Right>
+  int Binary(Op op, int left, const Right& right) {
+    const std::size_t at = token_start_;
+    const int r = right();
+    token_start_ = at;
+    return Push({op, 0, -1, left, r, -1});
   }
   int ParseExpr() {
     int left = ParseTerm();
     for (;;) {
       if (Accept("+")) {
-        left = Push({Op::kAdd, 0, -1, left, ParseTerm(), -1});
+        left = Binary(Op::kAdd, left, [&] { return ParseTerm(); });
       } else if (Accept("-")) {
-        left = Push({Op::kSub, 0, -1, left, ParseTerm(), -1});
+        left = Binary(Op::kSub, left, [&] { return ParseTerm(); });
       } else {
         return left;
       }
@@ -266,9 +301,9 @@ class Parser {
       Skip();
       if (text_.substr(pos_, 2) == "**") return left;
       if (Accept("*")) {
-        left = Push({Op::kMul, 0, -1, left, ParseUnary(), -1});
+        left = Binary(Op::kMul, left, [&] { return ParseUnary(); });
       } else if (Accept("/")) {
-        left = Push({Op::kDiv, 0, -1, left, ParseUnary(), -1});
+        left = Binary(Op::kDiv, left, [&] { return ParseUnary(); });
       } else {
         return left;
       }
@@ -289,7 +324,7 @@ class Parser {
     const int base = ParsePrimary();
     if (Accept("**") || Accept("^")) {
       const DepthGuard guard(*this);  // 2^2^2^…: right-associative, so recursive
-      return Push({Op::kPow, 0, -1, base, ParseUnary(), -1});
+      return Binary(Op::kPow, base, [&] { return ParseUnary(); });
     }
     return base;
   }
@@ -353,7 +388,7 @@ class Parser {
           k = w == k ? k + 1 : w;
         }
         pos_ = unit_end;
-        return Push({Op::kConst, v * unit->to_si, -1, -1, -1, -1});
+        return Push({Op::kConst, v * unit->to_si, -1, -1, -1, -1}, Dim::FromUnit(unit->dim));
       }
     }
     return Push({Op::kConst, v, -1, -1, -1, -1});
@@ -397,6 +432,7 @@ class Parser {
           Fail(name, fmt::format("{}() takes {} argument{}; close it with ')'", name, f.arity,
                                  f.arity >= 2 ? "s" : ""));
         }
+        token_start_ = name_start;  // a dimension error names the function
         return Push({f.op, 0, -1, a, b, c3});
       }
       if (const Symbol* table = symbols_.Find(name); table != nullptr && table->kind == Op::kTable) {
@@ -431,7 +467,7 @@ class Parser {
       token_start_ = name_start;
       Fail(name, fmt::format("unknown function; known: {} and the file's tables", kFunctionList));
     }
-    if (name == "pi") return Push({Op::kConst, std::numbers::pi, -1, -1, -1, -1});
+    if (name == "pi") return Push({Op::kConst, std::numbers::pi, -1, -1, -1, -1}, Dim::One());
     const Symbol* s = symbols_.Find(name);
     if (s != nullptr && s->kind == Op::kTable) {
       token_start_ = name_start;
@@ -442,10 +478,10 @@ class Parser {
       std::string hint;
       for (const std::string& c : symbols_.Closest(name)) hint += (hint.empty() ? "" : ", ") + c;
       Fail(name, fmt::format("unknown name; did you mean {}? (names are coordinates, speeds, "
-                             "slots, parameters, time functions, t and pi)", hint));
+                             "slots, states, parameters, time functions, t and pi)", hint));
     }
-    if (s->kind == Op::kConst) return Push({Op::kConst, s->value, -1, -1, -1, -1});
-    return Push({s->kind, 0, s->index, -1, -1, -1});
+    if (s->kind == Op::kConst) return Push({Op::kConst, s->value, -1, -1, -1, -1}, s->dim);
+    return Push({s->kind, 0, s->index, -1, -1, -1}, s->dim);
   }
 
   // velocity(P, F).x: the velocity of point P in N, its component along F's x̂ (y, z alike);
@@ -486,7 +522,8 @@ class Parser {
       fail(fmt::format("velocities in loads are supported up to {} coordinates", multibody::kMaxJetCoordinates));
     }
     return Push({angular ? Op::kAngularVelocity : Op::kVelocity,
-                 static_cast<double>(3 * frame->second + (axis - 'x')), it->second, -1, -1, -1});
+                 static_cast<double>(3 * frame->second + (axis - 'x')), it->second, -1, -1, -1},
+                angular ? Dim{true, {0, 0, -1}} : Dim{true, {1, 0, -1}});
   }
 
   std::string_view text_;
@@ -495,6 +532,7 @@ class Parser {
   std::size_t token_start_ = 0;
   int recursion_ = 0;
   std::vector<int> depth_;  // depth of each node's sub-tree
+  std::vector<Dim> dims_;   // dimension of each node's value
   Expression e_;
 };
 
@@ -514,6 +552,7 @@ Expression Expression::Parse(std::string_view text, const SymbolTable& symbols) 
     return map[i] = static_cast<int>(out.nodes_.size()) - 1;
   };
   out.root_ = copy(copy, e.root_);
+  out.dim_ = e.dim_;
   if (out.Uses(Op::kTable) || out.Uses(Op::kTable2)) out.tables_ = symbols.tables();
   if (out.Uses(Op::kVelocity) || out.Uses(Op::kAngularVelocity)) out.mirror_ = symbols.mirror();
   return out;
@@ -553,7 +592,7 @@ Affine LinearizeNode(const std::vector<Node>& nodes, int i) {
   switch (n.op) {
     case Op::kConst: r.c = n.value; return r;
     case Op::kTime: case Op::kCoordinate: case Op::kSpeed: case Op::kSlot:
-    case Op::kTimeFunction:
+    case Op::kTimeFunction: case Op::kState:
       r.terms[{static_cast<int>(n.op), n.op == Op::kTime ? -1 : n.index}] = 1.0;
       return r;
     case Op::kNeg: return Scale(LinearizeNode(nodes, n.a), -1.0);

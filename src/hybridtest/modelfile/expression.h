@@ -17,8 +17,16 @@
 // Constant: pi. A table declared in the file is called like a function: Cp(lambda). In loads,
 // velocity(P, F).x and angular_velocity(A, F).z (kinematics_mirror.h).
 // Names resolve through a SymbolTable: time t [s], coordinates q_k, speeds u_k, slots r_k,
-// time functions, and parameters (replaced by their SI value at parse time). Sub-trees
-// without variables are folded into constants.
+// extra states z_k, time functions, and parameters (replaced by their SI value at parse time).
+// Sub-trees without variables are folded into constants.
+//
+// Dimensions are followed through the tree as far as it allows (Dim): every name with a unit
+// (t, coordinates, speeds, slots, states, parameters declared with `unit:`), a number written
+// with a unit (`30 deg`) and velocity() carry one; a bare number, a parameter without a unit
+// and a table's value are unknown and match anything. +, −, min, max, comparisons, atan2 and
+// the branches of if() must agree; the arguments of sin, cos, exp, … must be dimensionless;
+// products and powers combine. A mismatch is a parse error naming both units.
+#include <array>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -37,6 +45,7 @@ enum class Op {
   kTable2,             // 2-D table `index` at (a, b): bilinear interpolation
   kVelocity,           // velocity of point `index` in N; value = 3 · frame + component
   kAngularVelocity,    // angular velocity of frame `index` in N; value as for kVelocity
+  kState,              // extra first-order state z_k (`states:`), k = index
 };
 
 // The frames and points of a model file as read, for velocity() and angular_velocity() in
@@ -65,7 +74,7 @@ bool IsFunctionName(std::string_view name);
 struct Node {
   Op op = Op::kConst;
   double value = 0.0;  // kConst
-  int index = -1;      // kCoordinate, kSpeed, kSlot, kTimeFunction: 0-based index
+  int index = -1;      // kCoordinate, kSpeed, kSlot, kTimeFunction, kState: 0-based index
   int a = -1;          // first operand (node index)
   int b = -1;          // second operand
   int c = -1;          // third operand (kIf)
@@ -76,12 +85,35 @@ struct Node {
 // stack. A formula this deep is better split into parameters or time functions.
 inline constexpr int kMaxExpressionDepth = 200;
 
+// A physical dimension: the exponents of m, kg and s, radians counting as 1 (so ω·R is a
+// speed and k·β with k in N·m/rad a moment); or unknown, which matches any dimension.
+struct Dim {
+  bool known = false;
+  std::array<int, 3> e{0, 0, 0};  // m, kg, s
+  // The dimension of a unit's exponents (m, kg, s, rad; units.h); `known` true.
+  static Dim FromUnit(const std::array<int, 4>& unit_dim) {
+    return {true, {unit_dim[0], unit_dim[1], unit_dim[2]}};
+  }
+  static Dim One() { return {true, {0, 0, 0}}; }
+  // The dimension of a unit written as text (`N·m/rad`), unknown if it does not parse.
+  static Dim OfUnit(std::string_view unit_text);
+  bool operator==(const Dim& o) const { return known == o.known && e == o.e; }
+};
+// The dimension as SI base units: "kg·m/s²", "m", "1"; "unknown".
+std::string DimName(const Dim& d);
+// The dimension of `op` applied to operands of dimensions a, b, c (c: if()'s else branch;
+// constant_b, b_value: a constant exponent of pow). On a mismatch, `error` gets what is wrong
+// (dimensions.cc).
+Dim CombineDims(Op op, const Dim& a, const Dim& b, const Dim& c, bool constant_b, double b_value,
+                std::string* error);
+
 // What a name means in an expression.
 struct Symbol {
   std::string name;
   Op kind = Op::kConst;  // kConst (parameter or constant), kTime, kCoordinate, kSpeed, ...
   int index = -1;
   double value = 0.0;  // kConst: SI value
+  Dim dim = {};        // its dimension, if known
 };
 
 class SymbolTable {
@@ -120,6 +152,8 @@ class Expression {
   int root() const { return root_; }
   bool is_constant() const { return nodes_[root_].op == Op::kConst; }
   double constant_value() const { return nodes_[root_].value; }
+  // The dimension of the value, as far as the tree tells (Dim).
+  const Dim& dim() const { return dim_; }
   // True if any node is of kind `op` (e.g. kSpeed: the expression reads a speed).
   bool Uses(Op op) const;
   // The tables kTable nodes index (shared with the symbol table it was parsed against).
@@ -130,15 +164,16 @@ class Expression {
   friend class Parser;
   std::vector<Node> nodes_;
   int root_ = 0;
+  Dim dim_;
   std::shared_ptr<const std::vector<Table>> tables_;
   std::shared_ptr<const Mirror> mirror_;
 };
 
-// An expression as c0 + Σ c_i v_i over variables (t, q_k, u_k, r_k, time functions), if it
+// An expression as c0 + Σ c_i v_i over variables (t, q_k, u_k, r_k, z_k, time functions), if it
 // is affine in them with constant coefficients; `affine` is false otherwise.
 struct LinearForm {
   struct Term {
-    Op kind;     // kTime, kCoordinate, kSpeed, kSlot, kTimeFunction
+    Op kind;     // kTime, kCoordinate, kSpeed, kSlot, kTimeFunction, kState
     int index;   // −1 for kTime
     double coefficient;
   };

@@ -21,6 +21,7 @@ struct Variables {
   std::span<const S> u;       // speeds
   std::span<const S> r;       // static restoring forces, one per slot
   std::span<const S> time_values;  // the model's time functions at t
+  std::span<const S> z = {};  // extra first-order states (`states:`); empty where unused
 };
 
 namespace eval_detail {
@@ -121,6 +122,7 @@ S Eval(const Node* nodes, const EvalData& d, int i, const Variables<S>& v) {
     case Op::kSpeed: return v.u[static_cast<std::size_t>(n.index)];
     case Op::kSlot: return v.r[static_cast<std::size_t>(n.index)];
     case Op::kTimeFunction: return v.time_values[static_cast<std::size_t>(n.index)];
+    case Op::kState: return v.z[static_cast<std::size_t>(n.index)];
     case Op::kNeg: return S(-Eval(nodes, d, n.a, v));
     case Op::kAdd: return S(Eval(nodes, d, n.a, v) + Eval(nodes, d, n.b, v));
     case Op::kSub: return S(Eval(nodes, d, n.a, v) - Eval(nodes, d, n.b, v));

@@ -13,6 +13,14 @@
 
 namespace hybridtest::modelfile::internal {
 
+// Dimensions where expressions are used.
+inline constexpr Dim kLength{true, {1, 0, 0}};
+inline constexpr Dim kMass{true, {0, 1, 0}};
+inline constexpr Dim kInertia{true, {2, 1, 0}};
+inline constexpr Dim kForce{true, {1, 1, -2}};
+inline constexpr Dim kMoment{true, {2, 1, -2}};
+inline constexpr Dim kDimensionless{true, {0, 0, 0}};
+
 struct FileContext {
   const YamlInput& in;
   SymbolTable symbols;
@@ -42,16 +50,22 @@ struct FileContext {
   void RequireVector3(const YAML::Node& node, const std::string& kp,
                       const std::string& expected) const;
   // The expression written at `node` (a number or a formula). Throws ConfigError naming the
-  // place, the token and the fix.
-  Expression Parse(const YAML::Node& node, const std::string& key_path) const;
+  // place, the token and the fix; also when `want` is known and the expression's dimension is
+  // known and another (expression.h, Dim).
+  Expression Parse(const YAML::Node& node, const std::string& key_path, Dim want = {}) const;
   // As Parse, for expressions of t and the coordinates only (angles, positions,
   // displacements, W(q)).
-  Expression ParseKinematic(const YAML::Node& node, const std::string& key_path) const;
+  Expression ParseKinematic(const YAML::Node& node, const std::string& key_path,
+                            Dim want = {}) const;
+  // Throws ConfigError if `want` and e's dimension are known and differ.
+  void CheckDim(const YAML::Node& node, const std::string& key_path, const Expression& e,
+                const Dim& want) const;
   // A value that must be constant (masses, inertias, stiffnesses): numbers and parameters.
   double Constant(const YAML::Node& node, const std::string& key_path,
-                  const std::string& expected) const;
+                  const std::string& expected, Dim want = {}) const;
   // A kinematic expression as the engine's ScalarField (affine when it can be).
-  multibody::ScalarField Field(const YAML::Node& node, const std::string& key_path) const;
+  multibody::ScalarField Field(const YAML::Node& node, const std::string& key_path,
+                               Dim want = {}) const;
   multibody::FrameId Frame(const YAML::Node& node, const std::string& key_path) const;
   multibody::PointId Point(const YAML::Node& node, const std::string& key_path) const;
 };
@@ -67,6 +81,8 @@ void ReadTimeFunctions(FileContext& c, const YAML::Node& node);
 // Slots: declares them in the builder; returns each slot's default stiffness.
 std::vector<double> ReadSlots(FileContext& c, const YAML::Node& node);
 void ReadLoads(FileContext& c, const YAML::Node& forces, const YAML::Node& torques);
+// `states:` (names already declared, in order): the rates and initial values, into the builder.
+void ReadExtraStates(FileContext& c, const YAML::Node& node);
 
 // The elements of the optional list section `node` at `key` (empty when absent), with
 // `repeat:` blocks expanded:

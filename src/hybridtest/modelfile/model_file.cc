@@ -76,7 +76,7 @@ ModelFile ParseModelFile(YamlInput input) {
   const YAML::Node& root = in.root();
   in.CheckKeys(root, "", {"name", "description", "parameters", "coordinates", "speeds",
                           "kinematical_equations", "tables", "time_functions", "frames", "points",
-                          "particles", "bodies", "slots", "forces", "torques"});
+                          "particles", "bodies", "slots", "states", "forces", "torques"});
   f.name = in.ReadString(root, "", "name",
                          std::filesystem::path(in.path()).stem().string());
   f.description = in.ReadString(root, "", "description", "model file " + in.path());
@@ -144,14 +144,14 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
   // Names: t, coordinates, speeds, parameters; each declared once.
   std::set<std::string> seen{"t", "pi", "N", "O"};
   auto declare = [&](const std::string& name, Op kind, int index, double value,
-                     const std::string& where) {
+                     const std::string& where, const std::string& unit) {
     if (!seen.insert(name).second) {
       throw ConfigError(fmt::format("{}: the name '{}' is already used (t, pi, N and O are "
                                     "reserved); rename it", where, name));
     }
-    c.symbols.Add({name, kind, index, value});
+    c.symbols.Add({name, kind, index, value, Dim::OfUnit(unit)});
   };
-  c.symbols.Add({"t", Op::kTime, -1, 0.0});
+  c.symbols.Add({"t", Op::kTime, -1, 0.0, Dim{true, {0, 0, 1}}});
   // The places of the names (after `repeat:` expansion: the copy's line and label).
   std::vector<std::string> coordinate_labels, speed_labels;
   const std::vector<YAML::Node> coordinate_items =
@@ -160,22 +160,37 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
       internal::ListItems(in, root["speeds"], "speeds", &speed_labels);
   for (std::size_t k = 0; k < coordinates.size(); ++k) {
     declare(coordinates[k].name, Op::kCoordinate, static_cast<int>(k), 0.0,
-            in.Where(coordinate_items[k]["name"], coordinate_labels[k] + ".name"));
+            in.Where(coordinate_items[k]["name"], coordinate_labels[k] + ".name"),
+            coordinates[k].unit);
   }
   for (std::size_t k = 0; k < speeds.size(); ++k) {
     declare(speeds[k].name, Op::kSpeed, static_cast<int>(k), 0.0,
-            in.Where(speed_items[k]["name"], speed_labels[k] + ".name"));
+            in.Where(speed_items[k]["name"], speed_labels[k] + ".name"), speeds[k].unit);
   }
   if (speeds.empty()) {
     for (std::size_t k = 0; k < coordinates.size(); ++k) {
       const std::string name = fmt::format("u{}", k + 1);
       speeds.push_back({name, coordinates[k].unit + "/s",
                         "time derivative of " + coordinates[k].name});
-      declare(name, Op::kSpeed, static_cast<int>(k), 0.0, in.Where(root, "speeds"));
+      declare(name, Op::kSpeed, static_cast<int>(k), 0.0, in.Where(root, "speeds"),
+              speeds.back().unit);
     }
   }
   for (const models::Parameter& p : parameters.all()) {
-    declare(p.name, Op::kConst, -1, p.value, in.Where(root["parameters"], "parameters." + p.name));
+    declare(p.name, Op::kConst, -1, p.value, in.Where(root["parameters"], "parameters." + p.name),
+            p.unit);
+  }
+  // Extra states: named now (so that an angle that reads one is told where states go), their
+  // rates read after the slots (a rate may use velocity()).
+  const YAML::Node states = in.Mapping(root, "states", "states", false);
+  if (states.IsDefined()) {
+    int k = 0;
+    for (const auto& kv : states) {
+      const std::string name = kv.first.as<std::string>();
+      const YAML::Node unit = kv.second.IsMap() ? kv.second["unit"] : YAML::Node();
+      declare(name, Op::kState, k++, 0.0, in.Where(kv.first, "states." + name),
+              unit.IsDefined() && unit.IsScalar() ? unit.Scalar() : "1");
+    }
   }
 
   try {
@@ -196,6 +211,7 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
     internal::ReadMasses(c, root["particles"], root["bodies"]);
     std::vector<double> stiffness = internal::ReadSlots(c, root["slots"]);
     c.symbols.SetMirror(c.mirror);  // velocity() and angular_velocity(): loads only
+    internal::ReadExtraStates(c, states);
     internal::ReadLoads(c, root["forces"], root["torques"]);
     return {file.name, file.description, parameters, std::move(builder).Build(),
             std::move(stiffness)};
@@ -215,103 +231,6 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
 }
 
 namespace internal {
-
-namespace {
-// Replaces $var and ${var} by `value` in every scalar under `node` (a clone: marks are kept).
-void Substitute(YAML::Node node, const std::string& var, const std::string& value) {
-  if (node.IsScalar()) {
-    const std::string& s = node.Scalar();
-    std::string out;
-    bool changed = false;
-    for (std::size_t k = 0; k < s.size();) {
-      if (s[k] == '$') {
-        if (s.compare(k + 1, var.size() + 2, "{" + var + "}") == 0) {
-          out += value;
-          k += var.size() + 3;
-          changed = true;
-          continue;
-        }
-        const std::size_t after = k + 1 + var.size();
-        if (s.compare(k + 1, var.size(), var) == 0 &&
-            (after >= s.size() || !(std::isalnum(static_cast<unsigned char>(s[after])) || s[after] == '_'))) {
-          out += value;
-          k = after;
-          changed = true;
-          continue;
-        }
-      }
-      out += s[k++];
-    }
-    if (changed) node = out;
-  } else if (node.IsSequence()) {
-    for (YAML::Node child : node) Substitute(child, var, value);
-  } else if (node.IsMap()) {
-    for (auto kv : node) Substitute(kv.second, var, value);
-  }
-}
-}  // namespace
-
-std::vector<YAML::Node> ListItems(const YamlInput& in, const YAML::Node& node,
-                                  const std::string& key, std::vector<std::string>* labels) {
-  std::vector<YAML::Node> out;
-  if (!node.IsDefined() || node.IsNull()) return out;
-  if (!node.IsSequence()) {
-    throw ConfigError(fmt::format("{}: expected a list (lines starting with '- ')",
-                                  in.Where(node, key)));
-  }
-  for (std::size_t i = 0; i < node.size(); ++i) {
-    const YAML::Node item = node[i];
-    const std::string kp = fmt::format("{}[{}]", key, i);
-    if (!item.IsMap() || !item["repeat"]) {
-      out.push_back(item);
-      if (labels != nullptr) labels->push_back(kp);
-      continue;
-    }
-    in.CheckKeys(item, kp, {"repeat", "items"});
-    const YAML::Node repeat = item["repeat"];
-    if (!repeat.IsMap() || repeat.size() != 1 || !repeat.begin()->second.IsSequence() ||
-        repeat.begin()->second.size() == 0) {
-      in.ThrowValue(repeat, kp + ".repeat", "one variable and its values, e.g. {i: [1, 2, 3]}");
-    }
-    const std::string var = repeat.begin()->first.as<std::string>();
-    bool name_ok = !var.empty() && !std::isdigit(static_cast<unsigned char>(var[0]));
-    for (char ch : var) name_ok = name_ok && (std::isalnum(static_cast<unsigned char>(ch)) || ch == '_');
-    if (!name_ok) {
-      throw ConfigError(fmt::format("{}: the repeat variable '{}' must be a name (letters, "
-                                    "digits, _), used as ${}", in.Where(repeat, kp + ".repeat"),
-                                    var, var));
-    }
-    const YAML::Node items = item["items"];
-    if (!items.IsDefined() || !items.IsSequence()) {
-      in.ThrowValue(item["items"], kp + ".items", "the list of elements to repeat");
-    }
-    for (const auto& v : repeat.begin()->second) {
-      if (!v.IsScalar()) in.ThrowValue(v, kp + ".repeat." + var, "a list of values (numbers or names)");
-      // A fresh copy of the items per value, parsed again from the file's text so that every
-      // copy keeps the file's line numbers (YAML::Clone loses them).
-      const YAML::Node fresh =
-          in.text().empty() ? YAML::Node() : static_cast<const YAML::Node>(YAML::Load(in.text()))[key][i]["items"];
-      for (std::size_t j = 0; j < items.size(); ++j) {
-        const std::string label = fmt::format("{}.items[{}] ({} = {})", kp, j, var, v.Scalar());
-        if (items[j].IsMap() && items[j]["repeat"]) {
-          throw ConfigError(fmt::format("{}: repeat blocks do not nest; list the combinations "
-                                        "in one repeat", in.Where(items[j], label)));
-        }
-        YAML::Node copy = fresh.IsDefined() && fresh.IsSequence() && fresh.size() == items.size()
-                              ? fresh[j]
-                              : YAML::Clone(items[j]);
-        Substitute(copy, var, v.Scalar());
-        out.push_back(copy);
-        if (labels != nullptr) labels->push_back(label);
-        if (out.size() > kMaxListLength) {
-          throw ConfigError(fmt::format("{}: more than {} elements after expansion",
-                                        in.Where(item, kp), kMaxListLength));
-        }
-      }
-    }
-  }
-  return out;
-}
 
 YAML::Node FileContext::Require(const YAML::Node& parent, const std::string& key,
                                const std::string& kp, const std::string& expected) const {
@@ -344,13 +263,15 @@ void FileContext::RequireVector3(const YAML::Node& node, const std::string& kp,
   throw ConfigError(fmt::format("{}: expected {}{}", Where(node, kp), expected, hint));
 }
 
-Expression FileContext::Parse(const YAML::Node& node, const std::string& key_path) const {
+Expression FileContext::Parse(const YAML::Node& node, const std::string& key_path, Dim want) const {
   if (!node.IsDefined() || node.IsNull() || !node.IsScalar()) {
     in.ThrowValue(node, key_path, "a number or a formula such as `l * cos(q1)`");
   }
   const std::string text = node.Scalar();
   try {
-    return Expression::Parse(text, symbols);
+    Expression e = Expression::Parse(text, symbols);
+    CheckDim(node, key_path, e, want);
+    return e;
   } catch (const ExpressionError& e) {
     std::string message = e.message;
     if (std::find(slot_names.begin(), slot_names.end(), e.token) != slot_names.end()) {
@@ -364,30 +285,46 @@ Expression FileContext::Parse(const YAML::Node& node, const std::string& key_pat
   }
 }
 
-Expression FileContext::ParseKinematic(const YAML::Node& node, const std::string& key_path) const {
+void FileContext::CheckDim(const YAML::Node& node, const std::string& key_path,
+                           const Expression& e, const Dim& want) const {
+  if (want.known && e.dim().known && e.dim().e != want.e) {
+    throw ConfigError(fmt::format("{} = '{}': is in {}, but {} is expected here (radians count "
+                                  "as 1); check the formula and its parameters' units",
+                                  Where(node, key_path), node.Scalar(), DimName(e.dim()),
+                                  DimName(want)));
+  }
+}
+
+Expression FileContext::ParseKinematic(const YAML::Node& node, const std::string& key_path,
+                                       Dim want) const {
   Expression e = Parse(node, key_path);
-  if (e.Uses(Op::kSpeed) || e.Uses(Op::kSlot) || e.Uses(Op::kTimeFunction)) {
-    throw ConfigError(fmt::format("{} = '{}': reads a speed, a slot or a time function; angles, "
-                                  "positions, displacements and W(q) may use only t, the "
-                                  "coordinates and parameters (write speeds into loads)",
+  if (e.Uses(Op::kSpeed) || e.Uses(Op::kSlot) || e.Uses(Op::kTimeFunction) ||
+      e.Uses(Op::kState)) {
+    throw ConfigError(fmt::format("{} = '{}': reads a speed, a slot, a state or a time function; "
+                                  "angles, positions, displacements and W(q) may use only t, the "
+                                  "coordinates and parameters (write speeds and states into "
+                                  "loads)",
                                   Where(node, key_path), node.Scalar()));
   }
+  CheckDim(node, key_path, e, want);
   return e;
 }
 
 double FileContext::Constant(const YAML::Node& node, const std::string& key_path,
-                             const std::string& expected) const {
+                             const std::string& expected, Dim want) const {
   const Expression e = Parse(node, key_path);
   if (!e.is_constant() || !std::isfinite(e.constant_value())) {
     throw ConfigError(fmt::format("{} = '{}': expected {}, a constant (numbers and parameters "
                                   "only, no t, coordinates, speeds or slots)",
                                   Where(node, key_path), node.Scalar(), expected));
   }
+  CheckDim(node, key_path, e, want);
   return e.constant_value();
 }
 
-multibody::ScalarField FileContext::Field(const YAML::Node& node, const std::string& key_path) const {
-  Expression e = ParseKinematic(node, key_path);
+multibody::ScalarField FileContext::Field(const YAML::Node& node, const std::string& key_path,
+                                          Dim want) const {
+  Expression e = ParseKinematic(node, key_path, want);
   const LinearForm f = Linearize(e);
   if (f.affine) {
     std::vector<multibody::ScalarField::Term> terms;

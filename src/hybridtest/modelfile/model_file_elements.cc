@@ -160,8 +160,9 @@ void ReadFrames(FileContext& c, const YAML::Node& root_frames) {
       const Eigen::Vector3d axis = f["axis"] ? Axis(c, f["axis"], kp + ".axis")
                                              : Eigen::Vector3d::UnitZ();
       CheckAngle(c, f["angle"], kp + ".angle");
-      mirror_frame(name, mirror_parent, axis, c.ParseKinematic(f["angle"], kp + ".angle"));
-      multibody::ScalarField angle = c.Field(f["angle"], kp + ".angle");
+      mirror_frame(name, mirror_parent, axis,
+                   c.ParseKinematic(f["angle"], kp + ".angle", kDimensionless));
+      multibody::ScalarField angle = c.Field(f["angle"], kp + ".angle", kDimensionless);
       id = AtPlace(where, [&] { return c.builder->AddFrameAboutAxis(name, parent, axis, angle); });
     } else if (f["euler"]) {
       // Body-fixed sequence: each rotation about an axis of the frame turned so far.
@@ -183,7 +184,8 @@ void ReadFrames(FileContext& c, const YAML::Node& root_frames) {
       for (int k = 0; k < 3; ++k) {
         const Eigen::Vector3d axis = Eigen::Vector3d::Unit(std::toupper(seq[k]) - 'X');
         CheckAngle(c, angles[k], fmt::format("{}.euler.angles[{}]", kp, k));
-        multibody::ScalarField angle = c.Field(angles[k], fmt::format("{}.euler.angles[{}]", kp, k));
+        multibody::ScalarField angle =
+            c.Field(angles[k], fmt::format("{}.euler.angles[{}]", kp, k), kDimensionless);
         const std::string part = k == 2 ? name : fmt::format("{}.{}", name, k + 1);
         mirror_prev = mirror_frame(part, mirror_prev, axis,
                                    c.ParseKinematic(angles[k], fmt::format("{}.euler.angles[{}]", kp, k)));
@@ -230,7 +232,9 @@ void ReadPoints(FileContext& c, const YAML::Node& node) {
     const YAML::Node pos = c.Require(p, "position", kp, "three components [x, y, z] in `frame`, in m");
     c.RequireVector3(pos, kp + ".position", "three components [x, y, z] in `frame`, in m");
     std::array<multibody::ScalarField, 3> position;
-    for (int k = 0; k < 3; ++k) position[k] = c.Field(pos[k], fmt::format("{}.position[{}]", kp, k));
+    for (int k = 0; k < 3; ++k) {
+      position[k] = c.Field(pos[k], fmt::format("{}.position[{}]", kp, k), kLength);
+    }
     Mirror::Point mirror_point;
     mirror_point.from = p["from"] ? c.mirror->point_ids.at(p["from"].Scalar()) : 0;
     mirror_point.frame = p["frame"] ? c.mirror->frame_ids.at(p["frame"].Scalar()) : 0;
@@ -256,7 +260,7 @@ void ReadMasses(FileContext& c, const YAML::Node& particles, const YAML::Node& b
     const std::string name = c.in.String(ps[i]["name"], kp + ".name", "a name");
     const PointId point = c.Point(ps[i]["point"], kp + ".point");
     const double mass = c.Constant(c.Require(ps[i], "mass", kp, "a positive mass in kg"),
-                                   kp + ".mass", "a positive mass in kg");
+                                   kp + ".mass", "a positive mass in kg", kMass);
     AtPlace(c.Where(ps[i]["mass"], kp + ".mass"),
             [&] { c.builder->AddParticle(name, point, mass); return 0; });
   }
@@ -272,7 +276,7 @@ void ReadMasses(FileContext& c, const YAML::Node& particles, const YAML::Node& b
     // Mass and inertia are required: a forgotten `mass:` must not make a body massless.
     const double mass = c.Constant(
         c.Require(bs[i], "mass", kp, "a non-negative mass in kg (write `mass: 0` for none)"),
-        kp + ".mass", "a non-negative mass in kg");
+        kp + ".mass", "a non-negative mass in kg", kMass);
     const YAML::Node in = c.Require(bs[i], "inertia", kp,
                                     "the inertia about the mass centre in `frame`, [Ixx, Iyy, "
                                     "Izz] or three rows, in kg·m² (write [0, 0, 0] for none)");
@@ -281,7 +285,8 @@ void ReadMasses(FileContext& c, const YAML::Node& particles, const YAML::Node& b
       c.RequireVector3(in, kp + ".inertia", "[Ixx, Iyy, Izz] or three rows [[...], [...], [...]]");
       I.setZero();
       for (int k = 0; k < 3; ++k) {
-        I(k, k) = c.Constant(in[k], fmt::format("{}.inertia[{}]", kp, k), "a principal moment in kg·m²");
+        I(k, k) = c.Constant(in[k], fmt::format("{}.inertia[{}]", kp, k), "a principal moment in kg·m²",
+                             kInertia);
       }
     } else {
       I = Matrix(c, in, kp + ".inertia", "an inertia entry in kg·m²");

@@ -212,7 +212,8 @@ void ReadTimeFunctions(FileContext& c, const YAML::Node& node) {
     const std::string kp = "time_functions." + name;
     auto e = std::make_shared<const CompiledScalar>(c.Parse(kv.second, kp));
     if (e->expression.Uses(Op::kCoordinate) || e->expression.Uses(Op::kSpeed) ||
-        e->expression.Uses(Op::kSlot) || e->expression.Uses(Op::kTimeFunction)) {
+        e->expression.Uses(Op::kSlot) || e->expression.Uses(Op::kTimeFunction) ||
+        e->expression.Uses(Op::kState)) {
       throw ConfigError(fmt::format("{} = '{}': a time function may use only t and parameters",
                                     c.Where(kv.second, kp), kv.second.Scalar()));
     }
@@ -221,7 +222,7 @@ void ReadTimeFunctions(FileContext& c, const YAML::Node& node) {
       const Variables<T> v{t, {}, {}, {}, {}};
       return e->Eval(v);
     });
-    Declare(c, {name, Op::kTimeFunction, index, 0.0}, c.Where(kv.first, kp));
+    Declare(c, {name, Op::kTimeFunction, index, 0.0, e->expression.dim()}, c.Where(kv.first, kp));
   }
 }
 
@@ -241,17 +242,19 @@ std::vector<double> ReadSlots(FileContext& c, const YAML::Node& node) {
       c.in.ThrowValue(s["unit"], kp + ".unit", "N (a force, displacement in m) or N·m (a "
                                                "moment, displacement in rad)");
     }
-    multibody::ScalarField d = c.Field(s["displacement"], kp + ".displacement");
+    multibody::ScalarField d =
+        c.Field(s["displacement"], kp + ".displacement", unit == "N" ? kLength : kDimensionless);
     // Required: a forgotten stiffness must not silently remove the default numerical spring.
     const std::string expected = unit == "N" ? "a stiffness in N/m" : "a stiffness in N·m/rad";
     stiffness.push_back(c.Constant(
         c.Require(s, "stiffness", kp, expected + " for the default numerical substructure "
                                       "(write `stiffness: 0` for none)"),
-        kp + ".stiffness", expected));
+        kp + ".stiffness", expected, unit == "N" ? Dim{true, {0, 1, -2}} : kMoment));
     try {
       const int index = c.builder->AddRestoringForceSlot(
           name, c.in.ReadString(s, kp, "description", ""), std::move(d), unit);
-      Declare(c, {name, Op::kSlot, index, 0.0}, c.Where(s["name"], kp + ".name"));
+      Declare(c, {name, Op::kSlot, index, 0.0, unit == "N" ? kForce : kMoment},
+              c.Where(s["name"], kp + ".name"));
     } catch (const ModelError& e) {
       throw ConfigError(fmt::format("{}: {}", c.Where(s, kp), e.what()));
     }
@@ -289,12 +292,13 @@ void ReadLoadList(FileContext& c, const YAML::Node& node, const std::string& key
                                       "through a function); the hybrid coupling needs loads "
                                       "affine in r", c.Where(value[k], vkp), value[k].Scalar()));
       }
+      c.CheckDim(value[k], vkp, e, force ? kForce : kMoment);
       parts.emplace_back(std::move(e));
     }
     auto load = std::make_shared<const std::vector<CompiledScalar>>(std::move(parts));
     auto f = [load](const auto& a) {
       using T = std::decay_t<decltype(a.t)>;
-      const Variables<T> v{a.t, a.q, a.u, a.r, a.time_values};
+      const Variables<T> v{a.t, a.q, a.u, a.r, a.time_values, a.z};
       return multibody::Vector3<T>((*load)[0].Eval(v), (*load)[1].Eval(v), (*load)[2].Eval(v));
     };
     try {

@@ -19,6 +19,7 @@ struct Data {
   T t{0.0};          // [s]
   VectorX<T> q;      // (n) generalized coordinates
   VectorX<T> u;      // (n) generalized speeds
+  VectorX<T> z;      // (nz) extra first-order states (Model::extra_states())
   VectorX<T> qdot;   // (n) q̇ = W(q) u
   VectorX<T> qddot_rem;  // (n) q̈ with u̇ = 0, i.e. Ẇ u
   MatrixX<T> W;      // (n × n) kinematical matrix (identity unless the model says otherwise)
@@ -39,6 +40,7 @@ struct Data {
   MatrixX<T> M;     // (n × n) mass matrix, symmetric positive definite
   VectorX<T> g;     // (n) forcing: M u̇ = g
   VectorX<T> udot;  // (n)
+  VectorX<T> zdot;  // (nz) rates of the extra states
   VectorX<T> r;     // (num_slots) restoring forces of the last CalcForcing [N]
   std::vector<T> time_values;  // (num_time_functions) f_k(t) of the last CalcForcing
 

@@ -57,12 +57,13 @@ void CalcStateJacobian(const Model& model, DerivativeWorkspace& ws, double t,
 void CalcCouplingMatrix(const Model& model, DerivativeWorkspace& ws, double t,
                         const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::MatrixXd> B) {
   const int n = model.num_coordinates();
+  const int nx = model.num_states();
   const int ns = model.num_slots();
-  CheckSize(x.size(), 1, 2 * n, 1, "CalcCouplingMatrix: x");
+  CheckSize(x.size(), 1, nx, 1, "CalcCouplingMatrix: x");
   CheckSize(B.rows(), B.cols(), n, ns, "CalcCouplingMatrix: B");
   for (int c0 = 0; c0 < ns; c0 += kMaxDerivatives) {
     const int m = std::min(kMaxDerivatives, ns - c0);
-    for (int i = 0; i < 2 * n; ++i) {
+    for (int i = 0; i < nx; ++i) {
       ws.x(i).value() = x(i);
       ws.x(i).derivatives().setZero(m);
     }

@@ -72,7 +72,8 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
   const LoadArgs<T> args{data.t, std::span<const T>(data.q.data(), n),
                          std::span<const T>(data.u.data(), n),
                          std::span<const T>(data.r.data(), data.r.size()),
-                         std::span<const T>(data.time_values.data(), data.time_values.size())};
+                         std::span<const T>(data.time_values.data(), data.time_values.size()),
+                         std::span<const T>(data.z.data(), data.z.size())};
   for (const LoadSpec& load : model.loads()) {
     Vector3<T> value = load.function.template get<T>()(args);
     if (load.expressed_in != 0) value = data.R_NF[load.expressed_in] * value;
@@ -213,8 +214,9 @@ void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
                          const Eigen::Ref<const VectorX<T>>& x,
                          const Eigen::Ref<const VectorX<T>>& r, Eigen::Ref<VectorX<T>> xdot) {
   const int n = data.n;
-  if (xdot.size() != 2 * n) {
-    throw ModelError(fmt::format("ẋ has {} entries; expected 2n = {}", xdot.size(), 2 * n));
+  if (xdot.size() != model.num_states()) {
+    throw ModelError(fmt::format("ẋ has {} entries; expected 2n + nz = {}", xdot.size(),
+                                 model.num_states()));
   }
   CalcKinematics(model, data, t, x);
   CalcMassMatrix(model, data);
@@ -225,7 +227,18 @@ void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
                                  "inertia is missing", ValueOf(t)));
   }
   xdot.head(n) = data.qdot;
-  xdot.tail(n) = data.udot;
+  xdot.segment(n, n) = data.udot;
+  if (model.num_extra_states() > 0) {
+    // ż = f_z(t, q, u, z): the loads' inputs with r left out.
+    const LoadArgs<T> args{data.t, std::span<const T>(data.q.data(), n),
+                           std::span<const T>(data.u.data(), n), std::span<const T>(),
+                           std::span<const T>(data.time_values.data(), data.time_values.size()),
+                           std::span<const T>(data.z.data(), data.z.size())};
+    for (int k = 0; k < model.num_extra_states(); ++k) {
+      data.zdot(k) = model.extra_states()[k].rate.template get<T>()(args);
+    }
+    xdot.tail(model.num_extra_states()) = data.zdot;
+  }
 }
 
 #define HYBRIDTEST_INSTANTIATE(T)                                                             \

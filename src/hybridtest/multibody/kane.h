@@ -10,9 +10,11 @@
 //
 // This is SymPy's convention (KanesMethod: mass_matrix · u̇ = forcing), M symmetric positive
 // definite. The paper's Eq. (18) writes M ẋ + g = 0 with M negative; convert at the boundary
-// with PaperFormFromKane() (paper_form.h). The state is x = [q; u] (2n), and
+// with PaperFormFromKane() (paper_form.h). The state is x = [q; u; z] (2n + nz; z the extra
+// first-order states of ModelBuilder::AddExtraState, often none), and
 //
-//   ẋ = f_rhs(t, x, r) = [ W(q) u ; M(q)⁻¹ g(t, q, u, r) ]          (the paper's Eq. 21)
+//   ẋ = f_rhs(t, x, r) = [ W(q) u ; M(q)⁻¹ g(t, q, u, z, r) ; f_z(t, q, u, z) ]
+//                                                                    (the paper's Eq. 21 + z)
 //
 // r are the static restoring forces r^s [N], one per restoring-force slot. g is affine in r;
 // the coupling matrix B = ∂g/∂r (n × num_slots) is exact (forward-mode AutoDiff).
@@ -23,7 +25,7 @@
 namespace hybridtest::multibody {
 
 // Kinematics at (t, x): rotations, angular velocities and accelerations, positions,
-// velocities, partial velocities and remainder accelerations. x = [q; u] (2n).
+// velocities, partial velocities and remainder accelerations. x = [q; u; z] (2n + nz).
 template <typename T>
 void CalcKinematics(const Model& model, Data<T>& data, const T& t,
                     const Eigen::Ref<const VectorX<T>>& x);
@@ -43,7 +45,7 @@ void CalcMassMatrixPairwise(const Model& model, Data<T>& data);
 template <typename T>
 void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const VectorX<T>>& r);
 
-// ẋ = f_rhs(t, x, r) (2n): kinematics, M, g, Cholesky solve. Throws ModelError if M is not
+// ẋ = f_rhs(t, x, r) (2n + nz): kinematics, M, g, Cholesky solve, then ż. Throws ModelError if M is not
 // positive definite at x (e.g. a singular configuration of the user's coordinates).
 template <typename T>
 void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
@@ -61,7 +63,7 @@ void CalcSlotDisplacements(const Model& model, Data<T>& data, const T& t,
 // allocation-free form with a DerivativeWorkspace is in derivatives.h.
 Eigen::MatrixXd CalcCouplingMatrix(const Model& model, double t, const Eigen::VectorXd& x);
 
-// J = ∂f_rhs/∂x (2n × 2n) at (t, x, r), exact. Allocates a workspace per call; the
+// J = ∂f_rhs/∂x (nx × nx, nx = 2n + nz) at (t, x, r), exact. Allocates a workspace per call; the
 // allocation-free form with a DerivativeWorkspace is in derivatives.h.
 Eigen::MatrixXd CalcStateJacobian(const Model& model, double t, const Eigen::VectorXd& x,
                                   const Eigen::VectorXd& r);

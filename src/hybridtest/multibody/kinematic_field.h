@@ -28,9 +28,11 @@ struct KinematicArgs {
 };
 
 // Inputs of a load: time [s], coordinates q, speeds u, static restoring forces r^s [N] (one
-// per slot), and the values of the model's time functions at t (ModelBuilder::
+// per slot), the values of the model's time functions at t (ModelBuilder::
 // AddTimeFunction, evaluated once per CalcForcing and shared by all loads; unit: whatever the
-// function returns). Loads must be linear in r (the hybrid coupling relies on it).
+// function returns), and the extra first-order states z (ModelBuilder::AddExtraState; each in
+// its own unit). Loads must be linear in r (the hybrid coupling relies on it). The rate of an
+// extra state gets the same inputs with r empty: ż may not depend on r.
 template <typename T>
 struct LoadArgs {
   T t;
@@ -38,6 +40,7 @@ struct LoadArgs {
   std::span<const T> u;
   std::span<const T> r;
   std::span<const T> time_values;  // (num_time_functions)
+  std::span<const T> z = {};       // (num_extra_states)
   // Value of time function k (the index AddTimeFunction returned) at t.
   const T& time_function(int k) const { return time_values[static_cast<std::size_t>(k)]; }
 };
@@ -72,6 +75,8 @@ template <typename T> using DcmSignature = void(const KinematicArgs<T>&, std::sp
 template <typename T> using KinematicMatrixSignature =
     void(const KinematicArgs<T>&, std::span<Jet<T>> W);
 template <typename T> using LoadSignature = Vector3<T>(const LoadArgs<T>&);
+// The rate ż_k of an extra first-order state (ModelBuilder::AddExtraState).
+template <typename T> using RateSignature = T(const LoadArgs<T>&);
 // A function of time alone, f(t) (ModelBuilder::AddTimeFunction).
 template <typename T> using TimeSignature = T(const T&);
 
@@ -116,5 +121,6 @@ using DcmFunction = MultiScalarFunction<DcmSignature>;
 using KinematicMatrixFunction = MultiScalarFunction<KinematicMatrixSignature>;
 using LoadFunction = MultiScalarFunction<LoadSignature>;
 using TimeFunction = MultiScalarFunction<TimeSignature>;
+using RateFunction = MultiScalarFunction<RateSignature>;
 
 }  // namespace hybridtest::multibody

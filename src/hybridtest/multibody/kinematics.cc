@@ -17,6 +17,8 @@ Data<T>::Data(const Model& model) : n(model.num_coordinates()) {
   const std::size_t np = model.points().size();
   q.setZero(n);
   u.setZero(n);
+  z.setZero(model.num_extra_states());
+  zdot.setZero(model.num_extra_states());
   qdot.setZero(n);
   qddot_rem.setZero(n);
   W = MatrixX<T>::Identity(n, n);
@@ -311,13 +313,14 @@ template <typename T>
 void CalcKinematics(const Model& model, Data<T>& data, const T& t,
                     const Eigen::Ref<const VectorX<T>>& x) {
   const int n = data.n;
-  if (x.size() != 2 * n) {
-    throw ModelError(fmt::format("state vector has {} entries; the model needs x = [q; u] with "
-                                 "2n = {}", x.size(), 2 * n));
+  if (x.size() != model.num_states()) {
+    throw ModelError(fmt::format("state vector has {} entries; the model needs x = [q; u; z] "
+                                 "with 2n + nz = {}", x.size(), model.num_states()));
   }
   data.t = t;
   data.q = x.head(n);
-  data.u = x.tail(n);
+  data.u = x.segment(n, n);
+  data.z = x.tail(model.num_extra_states());
   if (model.has_identity_kinematics()) {
     data.qdot = data.u;
   } else {

@@ -8,7 +8,9 @@
 // restoring-force slots name the hybrid unknowns r^s that loads may depend on.
 //
 // Coordinates q (n) and generalized speeds u (n) are related by the kinematical differential
-// equations q̇ = W(q) u, W = identity unless SetKinematicalEquations() says otherwise.
+// equations q̇ = W(q) u, W = identity unless SetKinematicalEquations() says otherwise. Extra
+// first-order states z (nz, AddExtraState: a controller's integrator, a filter) follow them in
+// the state x = [q; u; z] (2n + nz) with ż = f_z(t, q, u, z); loads may read z.
 //
 //   ModelBuilder b({{"q1", "m", "tip deflection"}, {"q2", "rad", "hub angle"}});
 //   FrameId H = b.AddFrameAboutAxis("H", b.newtonian(), {0, 0, 1}, ScalarField::Coordinate(1));
@@ -125,6 +127,14 @@ struct TimeFunctionSpec {
   TimeFunction function;  // f(t), any unit
 };
 
+// An extra first-order state z_k: ż_k = rate(t, q, u, z) (LoadArgs with r empty), and its
+// value at the start of a run.
+struct ExtraStateSpec {
+  QuantityInfo info;     // name "z_gen", unit "rad", description
+  double initial = 0.0;  // z_k(0), in info.unit
+  RateFunction rate;     // [info.unit / s]
+};
+
 struct SlotSpec {
   QuantityInfo info;         // name "r1", unit "N"
   ScalarField displacement;  // what the slot's substructure sees: d(q) [m] (or [rad])
@@ -197,6 +207,7 @@ struct ModelElements {
   std::vector<SlotSpec> slots;
   std::vector<TimeFunctionSpec> time_functions;
   KinematicMatrixFunction kinematic_matrix;  // empty: q̇ = u
+  std::vector<ExtraStateSpec> extra_states;
 };
 
 class Model;
@@ -247,6 +258,14 @@ class ModelBuilder {
   // displacement is in m) or "N·m" (a moment; the displacement is in rad).
   int AddRestoringForceSlot(std::string name, std::string description,
                             ScalarField displacement, std::string unit = "N");
+  // Declares an extra first-order state z_k with ż_k = rate(a) (a generic lambda of LoadArgs
+  // returning the scalar; a.r is empty) and z_k(0) = initial; returns k. Loads read it as
+  // a.z[k]. It joins the state after q and u: x = [q; u; z].
+  template <class F>
+  int AddExtraState(QuantityInfo info, double initial, const F& rate) {
+    elements_.extra_states.push_back({std::move(info), initial, RateFunction(rate)});
+    return static_cast<int>(elements_.extra_states.size()) - 1;
+  }
   // q̇ = W(q) u with W filled by f (see KinematicMatrixSignature).
   template <class F>
   void SetKinematicalEquations(const F& f) {
@@ -274,7 +293,10 @@ class Model {
  public:
   int num_coordinates() const { return static_cast<int>(elements_.coordinates.size()); }
   int num_speeds() const { return num_coordinates(); }
-  int num_states() const { return 2 * num_coordinates(); }
+  int num_extra_states() const { return static_cast<int>(elements_.extra_states.size()); }
+  // x = [q; u; z]: 2n + nz.
+  int num_states() const { return 2 * num_coordinates() + num_extra_states(); }
+  const std::vector<ExtraStateSpec>& extra_states() const { return elements_.extra_states; }
   int num_slots() const { return static_cast<int>(elements_.slots.size()); }
   const std::vector<QuantityInfo>& coordinates() const { return elements_.coordinates; }
   const std::vector<QuantityInfo>& speeds() const { return elements_.speeds; }

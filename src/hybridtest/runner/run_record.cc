@@ -33,6 +33,7 @@ std::vector<io::Channel> JournalChannels(const io::RunSpec& spec) {
   std::vector<io::Channel> channels{{"t", "s", "time"}};
   for (const auto& q : model.coordinates()) channels.push_back({q.name, q.unit, q.description});
   for (const auto& u : model.speeds()) channels.push_back({u.name, u.unit, u.description});
+  for (const auto& z : model.extra_states()) channels.push_back({z.info.name, z.info.unit, z.info.description});
   for (const auto& s : model.slots()) channels.push_back({s.info.name, s.info.unit, s.info.description});
   for (std::size_t s = 0; s < spec.substructures.size(); ++s) {
     if (spec.substructures[s].is_physical()) AddPhysicalChannels(model.slots()[s].info.name, channels);
@@ -93,6 +94,11 @@ io::JournalMetadata JournalMetadataFor(const io::RunSpec& spec,
                 {"blades", spec.source.blades},         {"parameters", parameters},
                 {"coordinates", infos(model.coordinates())},
                 {"speeds", infos(model.speeds())}, {"slots", slots}};
+  if (model.num_extra_states() > 0) {
+    std::vector<multibody::QuantityInfo> states;
+    for (const auto& z : model.extra_states()) states.push_back(z.info);
+    meta.model["extra_states"] = infos(states);
+  }
   for (std::size_t s = 0; s < subs.size(); ++s) {
     const std::string slot = model.slots()[s].info.name;
     nlohmann::json entry = {{"slot", slot},

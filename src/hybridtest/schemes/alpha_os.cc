@@ -18,21 +18,24 @@ AlphaOs::AlphaOs(const multibody::Model& model, const SchemeConfig& config, cons
       alpha_(config.alpha),
       beta_((1.0 - config.alpha) * (1.0 - config.alpha) / 4.0),
       gamma_(0.5 - config.alpha),
+      nv_(model.num_coordinates() + model.num_extra_states()),
       D_(model.num_slots(), model.num_coordinates()),
-      jac_(model.num_coordinates(), model.num_coordinates()),
-      J_(2 * model.num_coordinates(), 2 * model.num_coordinates()),
+      jac_(nv_, nv_),
+      J_(model.num_states(), model.num_states()),
       B_(model.num_coordinates(), model.num_slots()),
       dfdr_(model.num_coordinates(), model.num_slots()),
       derivatives_(model),
       mass_llt_(model.num_coordinates()),
-      newton_lu_(model.num_coordinates()) {
+      newton_lu_(nv_) {
   if (!model.has_identity_kinematics()) {
     throw ConfigError("integrator.scheme = alpha-os: this model has kinematical equations "
                       "q̇ = W(q) u with W ≠ I; α-OS needs q̇ = u. Use scheme: mr-os or "
                       "runge-kutta");
   }
-  for (Eigen::VectorXd* v : {&a_, &f_n_, &a_new_, &f_try_, &res_, &delta_, &q_scratch_}) v->setZero(n_);
-  for (Eigen::VectorXd* v : {&x_pred_, &x_try_, &xdot_}) v->setZero(2 * n_);
+  for (Eigen::VectorXd* v : {&a_, &f_n_, &a_new_, &f_try_, &res_, &delta_}) v->setZero(nv_);
+  q_scratch_.setZero(n_);
+  a_step_.setZero(n_);
+  for (Eigen::VectorXd* v : {&x_pred_, &x_try_, &xdot_}) v->setZero(model.num_states());
   for (Eigen::VectorXd* v : {&r_pred_, &r_try_, &d_pred_, &d_try_, &d_plus_, &d_minus_}) {
     v->setZero(m_);
   }
@@ -46,7 +49,7 @@ std::string AlphaOs::Describe() const {
 void AlphaOs::Acceleration(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& r,
                            Eigen::VectorXd& out) {
   multibody::CalcStateDerivative<double>(model_, data_, t, x, r, xdot_);
-  out = xdot_.tail(n_);
+  out = xdot_.tail(nv_);  // [u̇; ż]
 }
 
 void AlphaOs::OnStart() {
@@ -57,9 +60,9 @@ void AlphaOs::OnStart() {
 
 void AlphaOs::Predict(double h) {
   const auto q = point_.x.head(n_);
-  const auto u = point_.x.tail(n_);
-  x_pred_.head(n_) = q + h * u + (h * h * (0.5 - beta_)) * a_;
-  x_pred_.tail(n_) = u + (h * (1.0 - gamma_)) * a_;
+  const auto u = point_.x.segment(n_, n_);
+  x_pred_.head(n_) = q + h * u + (h * h * (0.5 - beta_)) * a_.head(n_);
+  x_pred_.tail(nv_) = point_.x.tail(nv_) + (h * (1.0 - gamma_)) * a_;
 }
 
 void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
@@ -94,19 +97,21 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
   mass_llt_.compute(data_.M);
   dfdr_ = B_;  // (n × m) ∂f_u/∂r = M⁻¹ B, a column at a time (no solver workspace)
   for (int s = 0; s < m_; ++s) mass_llt_.solveInPlace(dfdr_.col(s));
+  // Unknowns [a; w] (w = ż, the extra states' rates; none for most models): q moves with a,
+  // [u; z] with [a; w]; the rates do not read r, so only the u̇ rows see M⁻¹ B K0 D.
   jac_.setIdentity();
-  jac_.noalias() -= ((1.0 + alpha_) * beta_ * h * h) * J_.block(n_, 0, n_, n_);
+  jac_.leftCols(n_).noalias() -= ((1.0 + alpha_) * beta_ * h * h) * J_.block(n_, 0, nv_, n_);
   dfdr_ = dfdr_ * slots_.k0.asDiagonal();  // M⁻¹ B K0
-  jac_.noalias() -= ((1.0 + alpha_) * beta_ * h * h) * dfdr_ * D_;
-  jac_.noalias() -= ((1.0 + alpha_) * gamma_ * h) * J_.block(n_, n_, n_, n_);
+  jac_.topLeftCorner(n_, n_).noalias() -= ((1.0 + alpha_) * beta_ * h * h) * dfdr_ * D_;
+  jac_.noalias() -= ((1.0 + alpha_) * gamma_ * h) * J_.block(n_, n_, nv_, nv_);
   newton_lu_.compute(jac_);
   const auto& lu = newton_lu_;
   a_new_ = a_;
   double scale = 1.0;
   bool converged = false;
   for (int it = 0; it < 50 && !converged; ++it) {
-    x_try_.head(n_) = x_pred_.head(n_) + (beta_ * h * h) * a_new_;
-    x_try_.tail(n_) = x_pred_.tail(n_) + (gamma_ * h) * a_new_;
+    x_try_.head(n_) = x_pred_.head(n_) + (beta_ * h * h) * a_new_.head(n_);
+    x_try_.tail(nv_) = x_pred_.tail(nv_) + (gamma_ * h) * a_new_;
     multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_try_.head(n_), d_try_);
     r_try_ = r_pred_ + slots_.k0.cwiseProduct(d_try_ - d_pred_);
     Acceleration(t_next, x_try_, r_try_, f_try_);
@@ -122,13 +127,13 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
                             "(or adaptive.dt_max)", t_next, n + 1, h));
   }
   // Commit: the solution, its split restoring forces, F_{n+1} and the error estimate.
-  x_try_.head(n_) = x_pred_.head(n_) + (beta_ * h * h) * a_new_;
-  x_try_.tail(n_) = x_pred_.tail(n_) + (gamma_ * h) * a_new_;
+  x_try_.head(n_) = x_pred_.head(n_) + (beta_ * h * h) * a_new_.head(n_);
+  x_try_.tail(nv_) = x_pred_.tail(nv_) + (gamma_ * h) * a_new_;
   multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_try_.head(n_), d_try_);
   r_try_ = r_pred_ + slots_.k0.cwiseProduct(d_try_ - d_pred_);
   if (config_.adaptive.enabled) {
-    res_ = a_new_ - a_;
-    d_plus_.noalias() = D_ * res_;
+    a_step_ = (a_new_ - a_).head(n_);
+    d_plus_.noalias() = D_ * a_step_;
     const double e = h * h * std::abs(beta_ - 1.0 / 6.0) * d_plus_.lpNorm<Eigen::Infinity>();
     h_ = NextStepSize(config_.adaptive, h, e, 3.0);
   }
@@ -149,8 +154,8 @@ nlohmann::json AlphaOs::SaveOwnState() const {
 
 void AlphaOs::RestoreOwnState(const nlohmann::json& state) {
   RestoreSplittingState(state);
-  a_ = VectorFromJson(state.at("a"), n_, "alpha-os a");
-  f_n_ = VectorFromJson(state.at("f"), n_, "alpha-os f");
+  a_ = VectorFromJson(state.at("a"), nv_, "alpha-os a");
+  f_n_ = VectorFromJson(state.at("f"), nv_, "alpha-os f");
 }
 
 }  // namespace hybridtest::schemes

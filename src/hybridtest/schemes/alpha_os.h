@@ -33,6 +33,11 @@
 // (never below dt_min) if the predicted command would use more than 80 % of a slot's
 // max_increment.
 //
+// Extra first-order states z (model.h) ride with u: their rates w = ż take the place of a in
+// the same formulas (z̃ = z_n + h (1 − γ) w_n, z = z̃ + γ h w, w = (1 + α) f_z − α W_n), so
+// the corrector's unknowns are [a; w] and its Jacobian is the (n + nz) square of the same
+// expression, exact (AutoDiff); for a linear rate this is the generalized trapezoidal rule.
+//
 // Requires q̇ = u (identity kinematical equations); refused otherwise with ConfigError.
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -60,19 +65,21 @@ class AlphaOs final : public OperatorSplittingScheme {
   void RestoreOwnState(const nlohmann::json& state) override;
 
  private:
-  // f_u at (t, [q; u], r) into out (n).
+  // [f_u; f_z] at (t, [q; u; z], r) into out (n + nz).
   void Acceleration(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& r,
                     Eigen::VectorXd& out);
   // The predictor for a step of size h from the committed point into x_pred_.
   void Predict(double h);
 
   double alpha_, beta_, gamma_;
-  // Memory (part of the run state, with the base's): a_n and F_n.
+  int nv_;  // n + nz: the speeds and the extra states
+  // Memory (part of the run state, with the base's): [a_n; w_n] and F_n (n + nz each).
   Eigen::VectorXd a_, f_n_;
   // Workspaces.
   Eigen::VectorXd x_pred_, x_try_, xdot_, r_pred_, r_try_, d_pred_, d_try_, f_try_, a_new_, res_, delta_,
-      q_scratch_, d_plus_, d_minus_;
-  Eigen::MatrixXd D_, jac_, J_, B_, dfdr_;  // (m×n), (n×n), (2n×2n), (n×m), (n×m)
+      q_scratch_, d_plus_, d_minus_, a_step_;
+  // (m×n), (nv×nv), (nx×nx), (n×m), (n×m)
+  Eigen::MatrixXd D_, jac_, J_, B_, dfdr_;
   multibody::DerivativeWorkspace derivatives_;
   Eigen::LLT<Eigen::MatrixXd> mass_llt_;
   Eigen::PartialPivLU<Eigen::MatrixXd> newton_lu_;

@@ -15,11 +15,11 @@ namespace hybridtest::schemes {
 MrOs::MrOs(const multibody::Model& model, const SchemeConfig& config, const SlotInfo& slots,
            double dt, double duration, long steps)
     : OperatorSplittingScheme(model, config, slots, dt, duration, steps),
-      rk4_(integrators::FindTableau("rk4"), 2 * model.num_coordinates()) {
+      rk4_(integrators::FindTableau("rk4"), model.num_states()) {
   for (Eigen::VectorXd* v : {&rho_prev_, &rho_cur_, &rho_new_, &d_, &rho_, &r_, &r_sample_}) {
     v->setZero(m_);
   }
-  for (Eigen::VectorXd* v : {&x_pred_, &x_corr_, &x_sub_}) v->setZero(2 * n_);
+  for (Eigen::VectorXd* v : {&x_pred_, &x_corr_, &x_sub_}) v->setZero(model.num_states());
 }
 
 std::string MrOs::Describe() const {

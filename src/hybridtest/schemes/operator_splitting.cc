@@ -14,7 +14,7 @@ namespace hybridtest::schemes {
 OperatorSplittingScheme::OperatorSplittingScheme(const multibody::Model& model,
                                                  const SchemeConfig& config, const SlotInfo& slots,
                                                  double dt, double duration, long steps)
-    : HybridScheme(2 * model.num_coordinates(), model.num_slots()),
+    : HybridScheme(model.num_states(), model.num_slots()),
       model_(model),
       config_(config),
       slots_(slots),

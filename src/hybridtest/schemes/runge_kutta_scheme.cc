@@ -9,13 +9,13 @@ namespace hybridtest::schemes {
 
 RungeKuttaScheme::RungeKuttaScheme(const multibody::Model& model,
                                    integrators::ButcherTableau tableau, double h, long steps)
-    : HybridScheme(2 * model.num_coordinates(), model.num_slots()),
+    : HybridScheme(model.num_states(), model.num_slots()),
       model_(model),
       data_(model),
-      stepper_(std::move(tableau), 2 * model.num_coordinates()),
+      stepper_(std::move(tableau), model.num_states()),
       h_(h),
       steps_(steps),
-      x_next_(2 * model.num_coordinates()),
+      x_next_(model.num_states()),
       r_stage_(model.num_slots()),
       d_stage_(model.num_slots()) {}
 
