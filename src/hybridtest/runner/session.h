@@ -22,7 +22,7 @@
 //
 // Observers are called on the stepping thread, in the order they were added, and must not
 // throw (an observer's exception stops the run like any failure). The row an OnCommit carries
-// is the journal row: t, x (2n), r (m), then per physical slot command, position, force and
+// is the journal row: t, x ([q; u; z]), r (m), then per physical slot command, position, force and
 // lab time (SI, runner/run_record.h); intermediate rows (MR-OS's substeps) carry NaN there.
 #include <atomic>
 #include <chrono>
@@ -85,7 +85,7 @@ struct CommitEvent {
   RowKind kind = RowKind::kCommitted;
   long step = 0;                 // committed steps
   double t = 0.0;                // [s]
-  std::span<const double> x;     // (2n)
+  std::span<const double> x;     // [q; u; z]
   std::span<const double> r;     // (m)
   std::span<const double> row;   // the journal row (see above)
 };
