@@ -5,7 +5,9 @@
 //   - a dummy hybrid test through the physical path (loopback transfer, setup, safety) equals
 //     the numerical simulation bit for bit with every scheme;
 //   - `hybridtest plan examples/rotor/emulated.yaml` exits 0, prints the table and a
-//     recommendation that meets the tolerance.
+//     recommendation that meets the tolerance;
+//   - emulated-fast.yaml with K0 half the specimen's stiffness stays within 1 % error and
+//     1,000 evaluations over load-cell noise seeds 1–8 (the stability guard of the schemes).
 #include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -13,6 +15,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <sstream>
 #include <string>
 
 #include "hybridtest/io/config.h"
@@ -120,6 +124,51 @@ TEST(LabTime, PlanPrintsATableAndRecommendsASchemeThatMeetsTheTolerance) {
   EXPECT_THAT(output, ::testing::HasSubstr("scheme: mr-os"));
   // The configured Heun run makes 20,001 evaluations; the recommendation far fewer.
   EXPECT_THAT(output, ::testing::HasSubstr("20001"));
+}
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// K0 at half the cantilever's 5,250 N/m: the splitting is only conditionally stable, and the
+// step control alone used to step past the bound (a committed burst of the blade mode).
+TEST(LabTime, EmulatedFastWithHalfTheStiffnessAsK0StaysWithinOnePercentForEverySeed) {
+  const fs::path dir = OutDir() / "half_k0";
+  fs::create_directories(dir);
+  const fs::path ref_csv = dir / "reference.csv";
+  const auto [ref_status, ref_output] = RunCommand(
+      fmt::format("{} simulate {}/tests/data/lab-time-reference.yaml --quiet --out {}", kBinary,
+                  kSource, ref_csv.string()), 300);
+  ASSERT_EQ(ref_status, 0) << ref_output;
+  const io::RunData reference = io::LoadRun(ref_csv.string());
+  const io::SimulationConfig ref_cfg =
+      io::LoadSimulationConfig(kSource + "/tests/data/lab-time-reference.yaml");
+
+  const std::string bench = ReadText(kSource + "/examples/rotor/bench-cantilever.yaml");
+  std::string config = ReadText(kSource + "/examples/rotor/emulated-fast.yaml");
+  ASSERT_NE(config.find("initial_stiffness: measure"), std::string::npos);
+  config = std::regex_replace(config, std::regex("initial_stiffness: measure"),
+                              "initial_stiffness: 2625");
+  for (int seed = 1; seed <= 8; ++seed) {
+    const fs::path bench_file = dir / fmt::format("bench-{}.yaml", seed);
+    std::ofstream(bench_file) << std::regex_replace(bench, std::regex("seed: 1 "),
+                                                    fmt::format("seed: {} ", seed));
+    const fs::path config_file = dir / fmt::format("half-k0-{}.yaml", seed);
+    std::ofstream(config_file) << std::regex_replace(
+        config, std::regex("config: bench-cantilever.yaml"), "config: " + bench_file.string());
+    const fs::path csv = dir / fmt::format("half-k0-{}.csv", seed);
+    const auto [status, output] = RunCommand(
+        fmt::format("{} run {} --quiet --out {}", kBinary, config_file.string(), csv.string()), 300);
+    ASSERT_EQ(status, 0) << "seed " << seed << "\n" << output;
+    const io::RunData run = io::LoadRun(csv.string());
+    const long evaluations = run.metadata.at("statistics").at("physical_evaluations").get<long>();
+    EXPECT_LE(evaluations, 1000) << "seed " << seed;
+    const double error = runner::RelativeError(ref_cfg.model.model, run, reference, 0);
+    EXPECT_LE(error, 0.01) << "seed " << seed << ": " << evaluations << " evaluations";
+  }
 }
 
 }  // namespace
