@@ -199,7 +199,10 @@ RunStatistics HybridTest::Run() {
     for (const auto& s : subs_) {
       if (!s->is_physical()) continue;
       const auto e = s->last_exchange();
-      for (double v : {e.command, e.position, e.force, e.lab_time}) stage_values(c++) = v;
+      for (double v : {e.command, e.position, e.force, e.lab_time,
+                       static_cast<double>(e.force_reversals)}) {
+        stage_values(c++) = v;
+      }
     }
     stages->Append(std::span<const double>(stage_values.data(), stage_values.size()));
   };

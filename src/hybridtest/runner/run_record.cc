@@ -47,7 +47,12 @@ std::vector<io::Channel> StageChannels(const io::SimulationConfig& cfg,
                                     {"stage", "-", "Runge-Kutta stage (0-based)"},
                                     {"t", "s", "model time of the stage"}};
   for (std::size_t s = 0; s < subs.size(); ++s) {
-    if (subs[s]->is_physical()) AddPhysicalChannels(cfg.model.model.slots()[s].info.name, channels);
+    if (!subs[s]->is_physical()) continue;
+    const std::string& slot = cfg.model.model.slots()[s].info.name;
+    AddPhysicalChannels(slot, channels);
+    channels.push_back({slot + "_force_reversals", "-",
+                        "reversals of the specimen force within the move (emulated bench) for " +
+                            slot});
   }
   return channels;
 }

@@ -22,7 +22,8 @@ std::vector<io::Channel> JournalChannels(const io::SimulationConfig& cfg,
                                          const SubstructureList& subs);
 
 // Channels of the per-stage record of physical exchanges: step, stage, t, and for each
-// physical substructure its command, position, force and lab time.
+// physical substructure its command, position, force, lab time and the reversals of the
+// specimen force within the move (S_force_reversals; 0 where the bench cannot see them).
 std::vector<io::Channel> StageChannels(const io::SimulationConfig& cfg,
                                        const SubstructureList& subs);
 

@@ -119,7 +119,7 @@ double PhysicalSubstructure::Trial(double displacement, const TrialContext& ctx)
     ++evaluations_;
     const double position = setup_.PositionMetres(m.position, units);
     const double force = setup_.ForceNewtons(m.force, units);
-    last_ = {command, position, force, m.lab_time};
+    last_ = {command, position, force, m.lab_time, m.force_reversals};
     safety_.CheckMeasurement(command, position, force, ctx.step, ctx.stage);
     return setup_.RestoringForce(force);
   } catch (const transfer::SafetyStop&) {
