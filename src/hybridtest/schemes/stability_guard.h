@@ -16,13 +16,16 @@
 // linearisation is A = ∂ẋ/∂x + ∂ẋ/∂r diag(K0) ∂d/∂x at the committed point (by differences;
 // the model is linear in r), so a degree of freedom held by a stiff damper (the rotor's hub,
 // eigenvalue −958 1/s) does not count as mass the slot drives. An explicit treatment of a
-// stiffness is stable only while ω_Δ h stays below a constant c of the scheme; measured on the
-// single-degree-of-freedom oscillator with K0 between K_t/4 and K_t (the free vibration grows
-// by more than 1 % of ω0 per unit time beyond it; within ±5 % over that range):
+// stiffness is stable only while ω_Δ h stays below a constant c of the scheme, measured on the
+// undamped single-degree-of-freedom oscillator (beyond it the free vibration grows by more
+// than 1 % of ω0 per unit time):
 //
 //   MR-OS (linear extrapolation / quadratic correction of the residual)   c = 1.34
-//   α-OS (α ∈ [−1/3, 0], explicit predictor)                              c = 2.0
+//           (1.31–1.35 for K0 from K_t/4 to K_t/1.3; 1.20 at K_t/1.2)
+//   α-OS (α = −0.05, explicit predictor)                                  c = 2.0
+//           (2.02–2.04 for K0 from K_t/4 to K_t/1.2; 1.90 at K_t/1.1)
 //
+// The margin below covers the spread.
 // A step beyond it is not merely inaccurate: the blade mode grows by orders of magnitude
 // within a few steps, and the specimen cannot be un-moved. The guard caps the next step at
 //
