@@ -63,7 +63,10 @@ void OperatorSplittingScheme::ChooseNextStep(double h, double h_next, double e,
                                              const Eigen::VectorXd& d, const Eigen::VectorXd& r) {
   guard_.AddSample(d, r);
   guard_.AddErrorEstimate(e, h, config_.adaptive.tolerance);
-  guard_.UpdateModes(model_, data_, point_.t, point_.x, point_.r, slots_.k0);
+  // The modes (an eigenproblem of size 2n) only where a bound can arise.
+  if (guard_.HasExcess(slots_.k0)) {
+    guard_.UpdateModes(model_, data_, point_.t, point_.x, point_.r, slots_.k0);
+  }
   h_ = guard_.Limit(h_next, h, config_.adaptive.dt_min, slots_.k0);
 }
 

@@ -114,6 +114,14 @@ void StabilityGuard::UpdateModes(const multibody::Model& model, multibody::Data<
   modes_ = Q_.allFinite() && R_.allFinite();
 }
 
+bool StabilityGuard::HasExcess(const Eigen::VectorXd& k0) const {
+  for (int s = 0; s < m_; ++s) {
+    const double k = tangent_stiffness(s);
+    if (std::isfinite(k) && k - k0(s) - 2.0 * tangent_stiffness_error(s) > 0.0) return true;
+  }
+  return false;
+}
+
 double StabilityGuard::StableStep(const Eigen::VectorXd& k0) const {
   if (!modes_) return std::numeric_limits<double>::infinity();
   // ΔK⁺ per slot: the estimate less two standard errors, where it exceeds K0.

@@ -92,6 +92,9 @@ class StabilityGuard {
   // as the step controller chose it after a step of size `h` [s]; never below dt_min [s].
   double Limit(double h_next, double h, double dt_min, const Eigen::VectorXd& k0);
 
+  // True if some slot's tangent stiffness exceeds its K0 (m) by more than two standard
+  // errors: only then is there a bound, and only then do the modes need updating.
+  bool HasExcess(const Eigen::VectorXd& k0) const;
   // The current bound on the step [s] (+inf when none) for K0 (m).
   double StableStep(const Eigen::VectorXd& k0) const;
   // K̂_s [N/m] (NaN before three increments) and its standard error σ_s.
