@@ -17,6 +17,7 @@
 #include "hybridtest/runner/session.h"
 #include "hybridtest/substructures/numerical_substructure.h"
 #include "hybridtest/substructures/physical_substructure.h"
+#include "hybridtest/substructures/slot_law.h"
 #include "hybridtest/transfer/emulated_bench.h"
 
 namespace hybridtest::runner {
@@ -26,8 +27,9 @@ namespace fs = std::filesystem;
 
 constexpr double kReferenceStep = 1e-4;  // [s] RK4
 
-// The emulated specimen's law behind a physical substructure, as a numerical one; or a linear
-// spring of its K0 where the setup is not the identity or the bench is not emulated.
+// The emulated specimen's law behind a physical substructure, as a numerical one: the bench's
+// law itself for the identity setup, else that law seen through the setup
+// (substructures/slot_law.h); a linear spring of K0 where the bench is not emulated.
 std::shared_ptr<const constitutive::RestoringForceLaw> TwinLaw(
     const substructures::Substructure& s, const std::string& slot) {
   const auto* physical = dynamic_cast<const substructures::PhysicalSubstructure*>(&s);
@@ -39,6 +41,9 @@ std::shared_ptr<const constitutive::RestoringForceLaw> TwinLaw(
   if (bench != nullptr && identity && std::abs(setup.p0 - bench->config().p0) < 1e-12) {
     return bench->config().specimen->Clone();
   }
+  // Any other setup (a lever, flipped signs, a preload, a load-cell zero) or law: the
+  // emulated specimen's law seen at the slot, through the setup.
+  if (auto law = substructures::EmulatedSlotLaw(s)) return law;
   const auto k0 = physical->initial_stiffness();
   if (!k0) {
     throw ConfigError(fmt::format("plan: slot {} has no emulated specimen law that the reference "

@@ -5,8 +5,9 @@
 // every run with a fine numerical reference.
 //
 // Reference: the same model with every physical slot replaced by a numerical substructure of
-// its emulated specimen's law (for the default cantilever bench: the linear 5,250 N/m spring,
-// i.e. the paper's rotor with blade1.k_b = 5250), integrated with RK4 at h = 0.1 ms.
+// its emulated specimen's law seen through the slot's setup (scale, signs, p0, load-cell zero;
+// for the default cantilever bench: the linear 5,250 N/m spring, i.e. the paper's rotor with
+// blade1.k_b = 5250), integrated with RK4 at h = 0.1 ms.
 //
 // Error of a run (the definition of the lab-time study, docs/lab-time.md):
 //   e = max over every slot s and every journal row k of |d_s(t_k) − d_s,ref(t_k)|

@@ -53,7 +53,10 @@ void RunFiles::OnTrial(const TrialEvent& event) {
   stage_values_(c++) = event.at.stage;
   stage_values_(c++) = event.at.t;
   for (const auto& e : event.exchanges) {
-    for (double v : {e.command, e.position, e.force, e.lab_time}) stage_values_(c++) = v;
+    for (double v : {e.command, e.position, e.force, e.lab_time,
+                     static_cast<double>(e.force_reversals)}) {
+      stage_values_(c++) = v;
+    }
   }
   stages_->Append(std::span<const double>(stage_values_.data(), stage_values_.size()));
 }

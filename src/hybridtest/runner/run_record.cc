@@ -46,9 +46,12 @@ std::vector<io::Channel> StageChannels(const io::RunSpec& spec) {
                                     {"stage", "-", "Runge-Kutta stage (0-based)"},
                                     {"t", "s", "model time of the stage"}};
   for (std::size_t s = 0; s < spec.substructures.size(); ++s) {
-    if (spec.substructures[s].is_physical()) {
-      AddPhysicalChannels(spec.model.model.slots()[s].info.name, channels);
-    }
+    if (!spec.substructures[s].is_physical()) continue;
+    const std::string& slot = spec.model.model.slots()[s].info.name;
+    AddPhysicalChannels(slot, channels);
+    channels.push_back({slot + "_force_reversals", "-",
+                        "reversals of the specimen force within the move (emulated bench) for " +
+                            slot});
   }
   return channels;
 }

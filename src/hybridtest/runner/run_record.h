@@ -21,7 +21,8 @@ using SubstructureList = std::vector<std::unique_ptr<substructures::Substructure
 std::vector<io::Channel> JournalChannels(const io::RunSpec& spec);
 
 // Channels of the per-stage record of physical exchanges: step, stage, t, and for each
-// physical substructure its command, position, force and lab time.
+// physical substructure its command, position, force, lab time and the reversals of the
+// specimen force within the move (S_force_reversals; 0 where the bench cannot see them).
 std::vector<io::Channel> StageChannels(const io::RunSpec& spec);
 
 // An upper bound of the journal rows a run writes (adaptive schemes: at their smallest step;

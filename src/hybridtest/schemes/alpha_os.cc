@@ -14,7 +14,8 @@ namespace hybridtest::schemes {
 
 AlphaOs::AlphaOs(const multibody::Model& model, const SchemeConfig& config, const SlotInfo& slots,
                  double dt, double duration, long steps)
-    : OperatorSplittingScheme(model, config, slots, dt, duration, steps),
+    : OperatorSplittingScheme(model, config, slots, dt, duration, steps,
+                              kAlphaOsStabilityConstant),
       alpha_(config.alpha),
       beta_((1.0 - config.alpha) * (1.0 - config.alpha) / 4.0),
       gamma_(0.5 - config.alpha),
@@ -131,11 +132,12 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
   x_try_.tail(nv_) = x_pred_.tail(nv_) + (gamma_ * h) * a_new_;
   multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_try_.head(n_), d_try_);
   r_try_ = r_pred_ + slots_.k0.cwiseProduct(d_try_ - d_pred_);
+  double e = 0.0, h_next = h_;
   if (config_.adaptive.enabled) {
     a_step_ = (a_new_ - a_).head(n_);
     d_plus_.noalias() = D_ * a_step_;
-    const double e = h * h * std::abs(beta_ - 1.0 / 6.0) * d_plus_.lpNorm<Eigen::Infinity>();
-    h_ = NextStepSize(config_.adaptive, h, e, 3.0);
+    e = h * h * std::abs(beta_ - 1.0 / 6.0) * d_plus_.lpNorm<Eigen::Infinity>();
+    h_next = NextStepSize(config_.adaptive, h, e, 3.0);
   }
   Acceleration(t_next, x_try_, r_try_, f_n_);
   a_ = a_new_;
@@ -144,6 +146,8 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
   point_.t = t_next;
   point_.x = x_try_;
   point_.r = r_try_;
+  // The next step within the stability guard's bound.
+  if (config_.adaptive.enabled) ChooseNextStep(h, h_next, e, d_pred_, r_pred_);
 }
 
 nlohmann::json AlphaOs::SaveOwnState() const {

@@ -31,7 +31,11 @@
 //     e = h² |β − 1/6| max_s | D (a_{n+1} − a_n) |_s
 // sets the NEXT step (step_control.h, p = 3). Before the specimen moves, a step is shortened
 // (never below dt_min) if the predicted command would use more than 80 % of a slot's
-// max_increment.
+// max_increment. Stability with a stiffening specimen (tangent K_t > K0): the part ΔK = K_t − K0
+// is explicit in the predictor, stable only while ω_Δ h < 2 (ω_Δ² = ΔK / m for one mass; in
+// general the rise of λ² in the model's oscillatory modes); the adaptive step is capped at
+// 0.8 · 2 / ω_Δ with ΔK estimated online from the samples, and halved and held after a growing
+// error estimate (stability_guard.h).
 //
 // Extra first-order states z (model.h) ride with u: their rates w = ż take the place of a in
 // the same formulas (z̃ = z_n + h (1 − γ) w_n, z = z̃ + γ h w, w = (1 + α) f_z − α W_n), so

@@ -14,7 +14,8 @@ namespace hybridtest::schemes {
 
 MrOs::MrOs(const multibody::Model& model, const SchemeConfig& config, const SlotInfo& slots,
            double dt, double duration, long steps)
-    : OperatorSplittingScheme(model, config, slots, dt, duration, steps),
+    : OperatorSplittingScheme(model, config, slots, dt, duration, steps,
+                              kMrOsStabilityConstant),
       rk4_(integrators::FindTableau("rk4"), model.num_states()) {
   for (Eigen::VectorXd* v : {&rho_prev_, &rho_cur_, &rho_new_, &d_, &rho_, &r_, &r_sample_}) {
     v->setZero(m_);
@@ -107,10 +108,6 @@ void MrOs::Step(SubstructureSeam& seam, RowSink& rows) {
   // Correct, journalling the substeps.
   Integrate(h, true, x_corr_, &rows);
   multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_corr_.head(n_), d_);
-  if (config_.adaptive.enabled) {
-    const double e = (d_ - d_last_).lpNorm<Eigen::Infinity>();
-    h_ = NextStepSize(config_.adaptive, h, e, 3.0);
-  }
   // Commit and shift the samples.
   point_.r = slots_.k0.cwiseProduct(d_) + rho_new_;
   point_.x = x_corr_;
@@ -121,6 +118,12 @@ void MrOs::Step(SubstructureSeam& seam, RowSink& rows) {
   t_cur_ = t_new_;
   rho_cur_ = rho_new_;
   samples_ = 2;
+  // Control: the next macro step from the imposed − corrected difference, within the
+  // stability guard's bound.
+  if (config_.adaptive.enabled) {
+    const double e = (d_ - d_last_).lpNorm<Eigen::Infinity>();
+    ChooseNextStep(h, NextStepSize(config_.adaptive, h, e, 3.0), e, d_last_, r_sample_);
+  }
 }
 
 nlohmann::json MrOs::SaveOwnState() const {

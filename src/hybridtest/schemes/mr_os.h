@@ -21,6 +21,12 @@
 //             with p = 3, within [dt_min, dt_max]. Before the specimen moves, H is halved
 //             (down to dt_min) while the predicted command would use more than 80 % of a
 //             slot's max_increment.
+//   stability (adaptive) the residual ρ is extrapolated, so the stiffness K0 does not explain
+//             (ΔK = K_t − K0 > 0: K0 too soft, or a hardening specimen) is integrated
+//             explicitly: stable only while ω_Δ H < 1.34, ω_Δ² the rise of λ² that ΔK causes
+//             in the model's oscillatory modes (ΔK / m for one mass). The next H is capped at
+//             0.8 · 1.34 / ω_Δ with ΔK from the tangent stiffness estimated online from the
+//             samples, and halved and held after a growing error estimate (stability_guard.h).
 //
 // Numerical slots go through the same split (their law's K0 makes ρ ≡ 0 for a linear
 // spring, so they are then exact at every substep). Any kinematical equations q̇ = W(q) u.

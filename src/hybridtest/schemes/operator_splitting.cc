@@ -13,7 +13,8 @@ namespace hybridtest::schemes {
 
 OperatorSplittingScheme::OperatorSplittingScheme(const multibody::Model& model,
                                                  const SchemeConfig& config, const SlotInfo& slots,
-                                                 double dt, double duration, long steps)
+                                                 double dt, double duration, long steps,
+                                                 double stability_constant)
     : HybridScheme(model.num_states(), model.num_slots()),
       model_(model),
       config_(config),
@@ -25,7 +26,8 @@ OperatorSplittingScheme::OperatorSplittingScheme(const multibody::Model& model,
       n_(model.num_coordinates()),
       m_(model.num_slots()),
       data_(model),
-      d_last_(Eigen::VectorXd::Zero(model.num_slots())) {
+      d_last_(Eigen::VectorXd::Zero(model.num_slots())),
+      guard_(model.num_coordinates(), model.num_slots(), stability_constant) {
   for (int s = 0; s < m_; ++s) {
     if (!std::isfinite(slots_.k0(s))) {
       const std::string& slot = model.slots()[s].info.name;
@@ -57,8 +59,20 @@ double OperatorSplittingScheme::StepEnd(double h) const {
   return config_.adaptive.enabled ? point_.t + h : static_cast<double>(point_.step + 1) * h_;
 }
 
+void OperatorSplittingScheme::ChooseNextStep(double h, double h_next, double e,
+                                             const Eigen::VectorXd& d, const Eigen::VectorXd& r) {
+  guard_.AddSample(d, r);
+  guard_.AddErrorEstimate(e, h, config_.adaptive.tolerance);
+  // The modes (an eigenproblem of size 2n) only where a bound can arise.
+  if (guard_.HasExcess(slots_.k0)) {
+    guard_.UpdateModes(model_, data_, point_.t, point_.x, point_.r, slots_.k0);
+  }
+  h_ = guard_.Limit(h_next, h, config_.adaptive.dt_min, slots_.k0);
+}
+
 void OperatorSplittingScheme::SaveSplittingState(nlohmann::json& state) const {
   state["h"] = h_;
+  state["guard"] = guard_.SaveState();
   state["k0"] = ToJson(slots_.k0);
   state["d_last"] = ToJson(d_last_);
 }
@@ -67,6 +81,7 @@ void OperatorSplittingScheme::RestoreSplittingState(const nlohmann::json& state)
   h_ = state.at("h").get<double>();
   slots_.k0 = VectorFromJson(state.at("k0"), m_, "k0");
   d_last_ = VectorFromJson(state.at("d_last"), m_, "d_last");
+  guard_.RestoreState(state.contains("guard") ? state.at("guard") : nlohmann::json());
 }
 
 }  // namespace hybridtest::schemes

@@ -9,6 +9,7 @@
 #include "hybridtest/multibody/model.h"
 #include "hybridtest/schemes/hybrid_scheme.h"
 #include "hybridtest/schemes/scheme_config.h"
+#include "hybridtest/schemes/stability_guard.h"
 
 namespace hybridtest::schemes {
 
@@ -21,9 +22,10 @@ class OperatorSplittingScheme : public HybridScheme {
  protected:
   // dt [s]: the step (fixed) or the first step (adaptive, clamped to [dt_min, dt_max]);
   // `steps` = duration / dt when fixed. Throws ConfigError naming the slot and the fix when a
-  // slot has no finite K0.
+  // slot has no finite K0. `stability_constant`: the scheme's c of stability_guard.h.
   OperatorSplittingScheme(const multibody::Model& model, const SchemeConfig& config,
-                          const SlotInfo& slots, double dt, double duration, long steps);
+                          const SlotInfo& slots, double dt, double duration, long steps,
+                          double stability_constant);
 
   // "fixed step 0.005 s" or "adaptive step 0.001–0.05 s, tolerance 1e-06 m".
   std::string StepDescription() const;
@@ -32,7 +34,14 @@ class OperatorSplittingScheme : public HybridScheme {
   double StepToTake() const;
   double StepEnd(double h) const;
 
-  // The shared memory (h, K0, last command) into/from the scheme's own state.
+  // Adaptive steps, once the step's point is committed: after a step of size h [s] that
+  // imposed d (m) and measured r (m), with the local error estimate e [m] and
+  // the step controller's choice h_next [s], sets the next step h_ within the stability
+  // guard's bound (stability_guard.h).
+  void ChooseNextStep(double h, double h_next, double e, const Eigen::VectorXd& d,
+                      const Eigen::VectorXd& r);
+
+  // The shared memory (h, K0, last command, stability guard) into/from the scheme's own state.
   void SaveSplittingState(nlohmann::json& state) const;
   void RestoreSplittingState(const nlohmann::json& state);
 
@@ -45,6 +54,7 @@ class OperatorSplittingScheme : public HybridScheme {
   int n_, m_;
   multibody::Data<double> data_;
   Eigen::VectorXd d_last_;  // (m) slot displacements of the last command [m]
+  StabilityGuard guard_;
 };
 
 }  // namespace hybridtest::schemes

@@ -116,13 +116,13 @@ void PhysicalSubstructure::GatedMoveTo(double command, transfer::MoveLabel label
   } catch (...) {
     if (move_.executed) {
       ++evaluations_;
-      last_ = {command, move_.position, move_.force, move_.lab_time};
+      last_ = {command, move_.position, move_.force, move_.lab_time, move_.raw.force_reversals};
     }
     Hold();
     throw;
   }
   ++evaluations_;
-  last_ = {command, move_.position, move_.force, move_.lab_time};
+  last_ = {command, move_.position, move_.force, move_.lab_time, move_.raw.force_reversals};
 }
 
 double PhysicalSubstructure::Trial(double displacement, const TrialContext& ctx) {

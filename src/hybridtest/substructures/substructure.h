@@ -25,6 +25,7 @@ struct Exchange {
   double position = 0.0;  // measured actuator position [m]
   double force = 0.0;     // measured force, after the setup transform's zero [N]
   double lab_time = 0.0;  // bench lab time at the sample [s]
+  long force_reversals = 0;  // reversals of the specimen force within the move, if seen [-]
 };
 
 class Substructure {

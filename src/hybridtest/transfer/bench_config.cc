@@ -163,7 +163,7 @@ EmulatedBenchConfig ParseEmulatedBenchConfig(const YAML::Node& bench, std::strin
   // Actuator.
   if (auto n = SubMapping(in, bench, where, "actuator",
                           {"position_min_mm", "position_max_mm", "capacity_kN",
-                           "velocity_limit_mm_per_s", "lag", "delay_ms"})) {
+                           "velocity_limit_mm_per_s", "lag", "delay_ms", "approach"})) {
     const std::string path = JoinKeyPath(where, "actuator");
     c.position_min = ReadInUnit(in, n, path, "position_min_mm", "a position in mm",
                                 c.position_min, kMillimetre);
@@ -176,6 +176,20 @@ EmulatedBenchConfig ParseEmulatedBenchConfig(const YAML::Node& bench, std::strin
     if (n["lag"]) ParseLag(in, n["lag"], JoinKeyPath(path, "lag"), c.lag);
     c.delay =
         ReadInUnit(in, n, path, "delay_ms", "a non-negative delay in ms", c.delay, kMillisecond);
+    if (n["approach"]) {
+      const std::string approach = in.String(n["approach"], JoinKeyPath(path, "approach"),
+                                             "direct or monotone");
+      if (approach == "direct") {
+        c.approach = Approach::kDirect;
+      } else if (approach == "monotone") {
+        c.approach = Approach::kMonotone;
+      } else {
+        throw ConfigError(fmt::format(
+            "{} = '{}': expected direct (the servo follows the ramp; an underdamped lag "
+            "overshoots) or monotone (every target approached without overshoot)",
+            in.Where(n["approach"], JoinKeyPath(path, "approach")), approach));
+      }
+    }
   }
   // Load cell.
   if (auto n =

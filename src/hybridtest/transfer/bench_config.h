@@ -19,6 +19,8 @@
 //       lag: {type: second_order, natural_frequency_hz: 10, damping_ratio: 0.8}
 //            # or {type: first_order, time_constant_ms: 20} or {type: none}
 //       delay_ms: 2                   # pure transport delay of the servo loop [ms]
+//       approach: direct              # direct | monotone: how a move approaches its target
+//                                     # (actuator.h); monotone never overshoots it
 //     load_cell:
 //       noise_std_N: 0.2              # Gaussian noise of one raw sample, std dev [N]
 //       resolution_N: 0.01            # quantisation step of one raw sample [N]; 0: none
@@ -70,6 +72,14 @@ struct ServoLag {
   double damping_ratio = 0.8;       // second order: ζ [-].
 };
 
+// How the controller approaches a new target (actuator.h).
+//   kDirect     the servo follows the rate-limited reference; an underdamped second-order lag
+//               overshoots every move (ζ = 0.8: by ~1.5 %), a small load reversal each time;
+//   kMonotone   the reference is shaped for the servo lag (a zero-vibration input shaper), so
+//               the position approaches every target from the direction of motion, without
+//               overshoot (what a pseudo-dynamic test needs; one half period of the lag longer).
+enum class Approach { kDirect, kMonotone };
+
 struct EmulatedBenchConfig {
   BenchUnits units{1e-3, 1.0, "mm", "N"};  // wire units (default mm and N)
   unsigned long seed = 1;                  // load-cell RNG seed
@@ -85,6 +95,7 @@ struct EmulatedBenchConfig {
   double velocity_limit = 0.020;           // Unit: [m/s].
   ServoLag lag;
   double delay = 0.002;                    // pure delay. Unit: [s].
+  Approach approach = Approach::kDirect;    // actuator.approach
 
   double noise_std = 0.2;                  // load-cell noise per raw sample. Unit: [N].
   double resolution = 0.01;                // load-cell quantisation. Unit: [N]; 0 = none.

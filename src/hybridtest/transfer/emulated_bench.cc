@@ -9,6 +9,7 @@
 #include "hybridtest/transfer/actuator.h"
 #include "hybridtest/transfer/lab_clock.h"
 #include "hybridtest/transfer/load_cell.h"
+#include "hybridtest/transfer/reversal_counter.h"
 
 namespace hybridtest::transfer {
 namespace {
@@ -86,11 +87,19 @@ Measurement EmulatedBench::Execute(double command) {
   clock_->Advance(config_.overhead);
 
   // Advances the actuator one internal step, deforms the specimen along the path and returns
-  // the true specimen force [N]; trips the drive beyond its capacity.
+  // the true specimen force [N] (counting its reversals); trips the drive beyond its capacity.
+  ReversalCounter reversals(kForceReversalDeadband * config_.capacity);
+  bool first_step = true;
   auto advance = [&]() {
     actuator_->Step(target);
     const double force = specimen_->Trial(actuator_->position() - config_.p0);
     specimen_->Commit();
+    if (first_step) {
+      reversals.Reset(force);
+      first_step = false;
+    } else {
+      reversals.Add(force);
+    }
     if (!(std::abs(force) <= config_.capacity)) {
       Hold();
       throw SafetyStop("actuator_capacity", std::abs(force), config_.capacity, index, 0,
@@ -150,7 +159,8 @@ Measurement EmulatedBench::Execute(double command) {
   }
   // Position relative to the command, so that an exact arrival reports the command exactly.
   Measurement measurement{command + (position - target) / config_.units.metres_per_length_unit,
-                          force / config_.units.newtons_per_force_unit, clock_->lab_time()};
+                          force / config_.units.newtons_per_force_unit, clock_->lab_time(),
+                          reversals.count()};
   ApplyMeasurementFaults(config_.faults, fault_index, config_.units, measurement);
   clock_->Pace();
   return measurement;

@@ -13,7 +13,9 @@
 //   2. settle: continues until |target − p| < tolerance has held for the dwell time;
 //   3. sample: averages position and load-cell force over the sampling window; each raw
 //      sample is force + offset + N(0, noise_std²), quantised to the resolution;
-//   4. checks the measurement (finite, |force| ≤ force_hard) and returns it in bench units.
+//   4. checks the measurement (finite, |force| ≤ force_hard) and returns it in bench units,
+//      with the reversals of the true specimen force over steps 1–3 (reversal_counter.h,
+//      deadband kForceReversalDeadband × capacity).
 // Lab time advances by overhead + move + settle + window. The drive trips (SafetyStop,
 // limit "actuator_capacity") if the specimen force exceeds the actuator capacity on the way.
 // With pacing: realtime, Execute sleeps so that wall time since Activate follows lab time.
@@ -36,6 +38,11 @@ class LabClock;
 
 class EmulatedBench final : public TransferSystem {
  public:
+  // The smallest force retreat counted as a reversal, per unit of actuator capacity (1 mN for
+  // the paper's 10 kN actuator): the emulated force is noise-free, so this only keeps the
+  // settling's rounding out of the count.
+  static constexpr double kForceReversalDeadband = 1e-7;
+
   // Throws ConfigError if the configuration is inconsistent.
   explicit EmulatedBench(const EmulatedBenchConfig& config);
   ~EmulatedBench() override;

@@ -13,9 +13,14 @@
 namespace hybridtest::transfer {
 
 nlohmann::json Actuator::SaveState() const {
-  return {{"reference_m", reference_}, {"delayed_reference_m", delayed_reference_},
-          {"delay_line_m", std::vector<double>(delay_line_.begin(), delay_line_.end())},
-          {"position_m", position_}, {"velocity_m_per_s", velocity_}};
+  nlohmann::json state = {
+      {"reference_m", reference_}, {"delayed_reference_m", delayed_reference_},
+      {"delay_line_m", std::vector<double>(delay_line_.begin(), delay_line_.end())},
+      {"position_m", position_}, {"velocity_m_per_s", velocity_}};
+  if (shaped_) {
+    state["shaper_line_m"] = std::vector<double>(shaper_line_.begin(), shaper_line_.end());
+  }
+  return state;
 }
 
 void Actuator::RestoreState(const nlohmann::json& state) {
@@ -30,6 +35,15 @@ void Actuator::RestoreState(const nlohmann::json& state) {
   delay_line_.assign(line.begin(), line.end());
   position_ = state.at("position_m").get<double>();
   velocity_ = state.at("velocity_m_per_s").get<double>();
+  if (shaped_) {
+    const auto shaper = state.at("shaper_line_m").get<std::vector<double>>();
+    if (shaper.size() != shaper_line_.size()) {
+      throw Error(fmt::format("emulated actuator: the saved input shaper has {} entries, this "
+                              "actuator {}: the bench config changed", shaper.size(),
+                              shaper_line_.size()));
+    }
+    shaper_line_.assign(shaper.begin(), shaper.end());
+  }
 }
 
 std::string LoadCell::SaveState() const {

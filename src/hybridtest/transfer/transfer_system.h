@@ -26,6 +26,9 @@ struct Measurement {
   double position = 0.0;  // measured actuator position. Unit: bench length unit.
   double force = 0.0;     // measured force at the load cell. Unit: bench force unit.
   double lab_time = 0.0;  // lab time since Activate() when the sample was taken. Unit: [s].
+  // Reversals of the specimen force within this move (reversal_counter.h), if the transfer
+  // system can see them (the emulated bench); 0 otherwise.
+  long force_reversals = 0;
 };
 
 class TransferSystem {

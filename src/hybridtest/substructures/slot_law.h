@@ -1,0 +1,49 @@
+#pragma once
+// SlotLaw: an emulated specimen's restoring-force law as the model's slot sees it through the
+// setup (setup_transform.h) and the bench (bench_config.h), noise-free — what a numerical
+// reference of a hybrid test must use for a physical slot (`plan`, docs/lab-time.md):
+//
+//   command       c = p0 + sign · scale · d                [m]   (the setup)
+//   deformation   δ = c − p0_bench                          [m]   (the bench's zero-force position)
+//   force         F = law(δ) + offset_bench                 [N]   (the load cell, without noise)
+//   slot force    r = force_sign · force_scale · (F − load_cell_zero)
+//
+// so dr/dd = force_sign · force_scale · sign · scale · dlaw/dδ (initial_stiffness()). Trial and
+// Commit go to the wrapped law, so a hysteretic specimen keeps its path. Bench units cancel (the
+// setup converts to them and back). What it leaves out: the actuator's path between targets
+// (overshoot: actuator.approach), settling and load-cell noise.
+#include <memory>
+
+#include "hybridtest/constitutive/restoring_force_law.h"
+#include "hybridtest/substructures/setup_transform.h"
+#include "hybridtest/substructures/substructure.h"
+
+namespace hybridtest::substructures {
+
+class SlotLaw final : public constitutive::RestoringForceLaw {
+ public:
+  // bench_p0 [m], bench_offset [N]: the emulated bench's zero-force position and load-cell
+  // offset.
+  SlotLaw(std::unique_ptr<constitutive::RestoringForceLaw> specimen, const SetupTransform& setup,
+          double bench_p0, double bench_offset);
+
+  double Trial(double displacement) override;
+  void Commit() override { specimen_->Commit(); }
+  double initial_stiffness() const override;
+  std::unique_ptr<constitutive::RestoringForceLaw> Clone() const override;
+  std::string Describe() const override;
+  nlohmann::json SaveState() const override { return specimen_->SaveState(); }
+  void RestoreState(const nlohmann::json& state) override { specimen_->RestoreState(state); }
+
+ private:
+  std::unique_ptr<constitutive::RestoringForceLaw> specimen_;
+  SetupTransform setup_;
+  double bench_p0_, bench_offset_;
+};
+
+// The law at the slot of a physical substructure on an in-process emulated bench (a copy of
+// the configured specimen, virgin: the state a run starts from); nullptr for any other
+// substructure or transfer system.
+std::unique_ptr<constitutive::RestoringForceLaw> EmulatedSlotLaw(const Substructure& substructure);
+
+}  // namespace hybridtest::substructures
