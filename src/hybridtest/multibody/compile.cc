@@ -130,7 +130,7 @@ void FillIn(std::vector<char>& nz, std::size_t n) {
 }
 }  // namespace
 
-std::vector<char> CompileFactorPattern(const ModelElements& e,
+std::vector<char> CompileMassStructure(const ModelElements& e,
                                        const std::vector<CompiledFrame>& frames,
                                        const std::vector<MassTerm>& mass_terms,
                                        const TreeMassPlan& plan) {
@@ -145,20 +145,24 @@ std::vector<char> CompileFactorPattern(const ModelElements& e,
       for (int k : active) mark(j, k);
   }
   for (const TreeMassPlan::Pair& p : plan.pairs) mark(p.outer, p.inner);
-  FillIn(nz, n);
   return nz;
 }
 
-SparseFactorPlan CompileSparseFactor(const std::vector<char>& pattern, int n_int) {
+std::vector<char> CompileFactorPattern(std::vector<char> structure, int n) {
+  FillIn(structure, static_cast<std::size_t>(n));
+  return structure;
+}
+
+SparseFactorPlan CompileSparseFactor(const std::vector<char>& structure, int n_int) {
   const std::size_t n = static_cast<std::size_t>(n_int);
   if (n_int <= 6) return {};
-  // The reversed order's structure: M's non-zeros (the pattern's filled entries include
-  // them), permuted, then its own fill-in.
+  const std::vector<char> pattern = CompileFactorPattern(structure, n_int);
+  // The reversed order's structure: M's non-zeros permuted, then its own fill-in.
   std::vector<char> reversed(n * n, 0);
   for (std::size_t j = 0; j < n; ++j) reversed[j + j * n] = 1;
   for (std::size_t j = 0; j < n; ++j)
     for (std::size_t i = j + 1; i < n; ++i) {
-      if (!pattern[i + j * n]) continue;
+      if (!structure[i + j * n]) continue;
       const std::size_t a = n - 1 - i, b = n - 1 - j;  // a < b
       reversed[b + a * n] = 1;
     }

@@ -23,17 +23,19 @@ CompiledKinematics CompileKinematics(const ModelElements& elements);
 std::vector<MassTerm> CompileMassTerms(const ModelElements& elements,
                                        const std::vector<CompiledPoint>& points);
 
-// The structure of L in M = L Lᵀ (n × n column-major, lower triangle): the structurally
-// non-zero entries of M (mass terms, the bodies' rotational pairs, the tree plan's pairs),
-// then the fill-in of the elimination.
-std::vector<char> CompileFactorPattern(const ModelElements& elements,
+// The structurally non-zero entries of M (n × n column-major, lower triangle): the mass
+// terms, the bodies' rotational pairs, the tree plan's pairs.
+std::vector<char> CompileMassStructure(const ModelElements& elements,
                                        const std::vector<CompiledFrame>& frames,
                                        const std::vector<MassTerm>& mass_terms,
                                        const TreeMassPlan& plan);
 
-// The sparse factorisation's plan for `pattern` (CompileFactorPattern's, natural order), or an
+// The structure of L in M = L Lᵀ: `structure` and the fill-in of the elimination.
+std::vector<char> CompileFactorPattern(std::vector<char> structure, int n);
+
+// The sparse factorisation's plan for M's `structure` (CompileMassStructure's), or an
 // empty plan if the dense solve is the better choice (n ≤ 6, or L more than half full in
 // either order).
-SparseFactorPlan CompileSparseFactor(const std::vector<char>& pattern, int n);
+SparseFactorPlan CompileSparseFactor(const std::vector<char>& structure, int n);
 
 }  // namespace hybridtest::multibody::internal

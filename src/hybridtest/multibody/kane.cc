@@ -78,13 +78,13 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
     Vector3<T> value = load.function.template get<T>()(args);
     if (load.expressed_in != 0) value = internal::Multiply(data.R_NF[load.expressed_in], value);
     T* sum = (load.kind == LoadSpec::Kind::kForce ? data.force : data.torque)[load.target].data();
-    for (int c = 0; c < 3; ++c) sum[c] += value(c);
+    for (int c = 0; c < 3; ++c) sum[c] = internal::Add(sum[c], value(c));
   }
   // Inertia forces and torques (remainder parts: the u̇ parts are in M).
   auto subtract_inertia_force = [&](int point, double mass) {
     T* f = data.force[point].data();
     const T* a = data.a_rem[point].data();
-    for (int c = 0; c < 3; ++c) f[c] -= mass * a[c];
+    for (int c = 0; c < 3; ++c) f[c] = internal::Sub(f[c], internal::Scale(mass, a[c]));
   };
   for (const ParticleSpec& p : model.particles()) subtract_inertia_force(p.point, p.mass);
   for (const RigidBodySpec& body : model.bodies()) {
@@ -99,7 +99,7 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
     internal::Cross(w_B.data(), I_w.data(), gyro.data());
     const Vector3<T> torque = internal::Multiply(R, Vector3<T>(I_alpha + gyro));
     T* sum = data.torque[body.frame].data();
-    for (int c = 0; c < 3; ++c) sum[c] -= torque(c);
+    for (int c = 0; c < 3; ++c) sum[c] = internal::Sub(sum[c], torque(c));
   }
   // Projection onto the partial velocities (Kane's generalized forces).
   data.g.setZero();
@@ -107,12 +107,12 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
   for (int p : model.loaded_points()) {
     const T* V = data.v_partial[p].data();
     const T* f = data.force[p].data();
-    for (int j : model.compiled_points()[p].active) g[j] += internal::Dot(V + 3 * j, f);
+    for (int j : model.compiled_points()[p].active) g[j] = internal::Add(g[j], internal::Dot(V + 3 * j, f));
   }
   for (int f : model.loaded_frames()) {
     const T* W = data.w_partial[f].data();
     const T* tau = data.torque[f].data();
-    for (int j : model.compiled_frames()[f].active) g[j] += internal::Dot(W + 3 * j, tau);
+    for (int j : model.compiled_frames()[f].active) g[j] = internal::Add(g[j], internal::Dot(W + 3 * j, tau));
   }
 }
 
@@ -175,29 +175,29 @@ bool CholeskySolveFixed(const MatrixX<T>& M, const char* nz, const VectorX<T>& b
   for (int j = 0; j < N; ++j) {
     T d = m[j + j * N];
     for (int k = 0; k < j; ++k)
-      if (nz[j + k * N]) d -= L[j][k] * L[j][k];
+      if (nz[j + k * N]) d = internal::Sub(d, internal::Mul(L[j][k], L[j][k]));
     if (!(ValueOf(d) > 0.0)) return false;
     inv_diag[j] = T(1.0) / sqrt(d);
     for (int i = j + 1; i < N; ++i) {
       if (!nz[i + j * N]) continue;
       T s = m[i + j * N];
       for (int k = 0; k < j; ++k)
-        if (nz[i + k * N] && nz[j + k * N]) s -= L[i][k] * L[j][k];
-      L[i][j] = s * inv_diag[j];
+        if (nz[i + k * N] && nz[j + k * N]) s = internal::Sub(s, internal::Mul(L[i][k], L[j][k]));
+      L[i][j] = internal::Mul(s, inv_diag[j]);
     }
   }
   T* yv = y.data();
   for (int i = 0; i < N; ++i) {
     T s = b(i);
     for (int k = 0; k < i; ++k)
-      if (nz[i + k * N]) s -= L[i][k] * yv[k];
-    yv[i] = s * inv_diag[i];
+      if (nz[i + k * N]) s = internal::Sub(s, internal::Mul(L[i][k], yv[k]));
+    yv[i] = internal::Mul(s, inv_diag[i]);
   }
   for (int i = N - 1; i >= 0; --i) {
     T s = yv[i];
     for (int k = i + 1; k < N; ++k)
-      if (nz[k + i * N]) s -= L[k][i] * yv[k];
-    yv[i] = s * inv_diag[i];
+      if (nz[k + i * N]) s = internal::Sub(s, internal::Mul(L[k][i], yv[k]));
+    yv[i] = internal::Mul(s, inv_diag[i]);
   }
   return true;
 }
@@ -226,9 +226,10 @@ bool SparseCholeskySolve(const SparseFactorPlan& plan, const MatrixX<T>& M, Matr
       const int k = cols[a];
       const T* lk = u + static_cast<Eigen::Index>(k) * n;
       T s = m[pi + static_cast<Eigen::Index>(perm(k)) * n];
-      for (int c = start[k]; c < start[k + 1]; ++c) s -= li[cols[c]] * lk[cols[c]];
-      li[k] = s * id[k];
-      d -= li[k] * li[k];
+      for (int c = start[k]; c < start[k + 1]; ++c)
+        s = internal::Sub(s, internal::Mul(li[cols[c]], lk[cols[c]]));
+      li[k] = internal::Mul(s, id[k]);
+      d = internal::Sub(d, internal::Mul(li[k], li[k]));
     }
     if (!(ValueOf(d) > 0.0)) return false;
     id[i] = T(1.0) / sqrt(d);
@@ -238,13 +239,15 @@ bool SparseCholeskySolve(const SparseFactorPlan& plan, const MatrixX<T>& M, Matr
   for (int i = 0; i < n; ++i) {
     const T* li = u + static_cast<Eigen::Index>(i) * n;
     T s = b(perm(i));
-    for (int a = start[i]; a < start[i + 1]; ++a) s -= li[cols[a]] * z[cols[a]];
-    z[i] = s * id[i];
+    for (int a = start[i]; a < start[i + 1]; ++a)
+      s = internal::Sub(s, internal::Mul(li[cols[a]], z[cols[a]]));
+    z[i] = internal::Mul(s, id[i]);
   }
   for (int i = last; i >= 0; --i) {
     const T* li = u + static_cast<Eigen::Index>(i) * n;
-    z[i] *= id[i];
-    for (int a = start[i]; a < start[i + 1]; ++a) z[cols[a]] -= li[cols[a]] * z[i];
+    z[i] = internal::Mul(z[i], id[i]);
+    for (int a = start[i]; a < start[i + 1]; ++a)
+      z[cols[a]] = internal::Sub(z[cols[a]], internal::Mul(li[cols[a]], z[i]));
   }
   for (int i = 0; i < n; ++i) y(perm(i)) = z[i];
   return true;

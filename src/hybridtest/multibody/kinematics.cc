@@ -99,8 +99,8 @@ void RotateAboutParentAxis(const Matrix3<T>& R_NP, const T& c,
     const T b = R_NP(r, kB);
     const T d = R_NP(r, kD);
     R_NF(r, A) = R_NP(r, A);
-    R_NF(r, kB) = c * b + s * d;
-    R_NF(r, kD) = c * d - s * b;
+    R_NF(r, kB) = internal::Add(internal::Mul(c, b), internal::Mul(s, d));
+    R_NF(r, kD) = internal::Sub(internal::Mul(c, d), internal::Mul(s, b));
   }
 }
 
@@ -139,23 +139,24 @@ void CalcAffineAngleFrame(const Model& model, const FrameSpec& spec, const Compi
     data.R_NF[i] = R_NP * internal::RotationAboutAxis(f.axis, angle);
   }
   const T* a = axis_N.data();
-  const T w_rel[3] = {rate * a[0], rate * a[1], rate * a[2]};
+  const T w_rel[3] = {internal::Mul(rate, a[0]), internal::Mul(rate, a[1]),
+                      internal::Mul(rate, a[2])};
   const T* w_p = data.w_NF[p].data();
   T* w_i = data.w_NF[i].data();
-  for (int c = 0; c < 3; ++c) w_i[c] = w_p[c] + w_rel[c];
+  for (int c = 0; c < 3; ++c) w_i[c] = internal::Add(w_p[c], w_rel[c]);
   T* Wi = data.w_partial[i].data();
   const T* Wp = data.w_partial[p].data();
   for (int j : model.compiled_frames()[p].active) internal::Copy3(Wp + 3 * j, Wi + 3 * j);
   for (int j : f.fresh) Wi[3 * j] = Wi[3 * j + 1] = Wi[3 * j + 2] = T(0.0);
   for (const auto& term : field.terms()) {
     T* col = Wi + 3 * term.coordinate;
-    for (int c = 0; c < 3; ++c) col[c] += term.coefficient * a[c];
+    for (int c = 0; c < 3; ++c) col[c] = internal::Add(col[c], internal::Scale(term.coefficient, a[c]));
   }
   T wxw[3];
   internal::Cross(w_p, w_rel, wxw);
   const T* alpha_p = data.alpha_rem[p].data();
   T* alpha_i = data.alpha_rem[i].data();
-  for (int c = 0; c < 3; ++c) alpha_i[c] = alpha_p[c] + wxw[c];
+  for (int c = 0; c < 3; ++c) alpha_i[c] = internal::Add(alpha_p[c], wxw[c]);
 }
 
 template <typename T>
@@ -235,11 +236,14 @@ void CalcFrame(const Model& model, Data<T>& data, int i) {
       data.alpha_rem[p] + R_NP * Vee<T>(Cdd * C.transpose()) + data.w_NF[p].cross(w_rel);
 }
 
-// A point whose position components are all affine, with q̇ = u (PointSpec::affine): the
+// A point whose position components are all affine, with q̇ = u (CompiledPoint::affine): the
 // partial rates are constants, added column by column (R_NE e_c c_k) with no scratch.
 template <typename T>
 void CalcAffinePoint(const PointSpec& spec, const CompiledPoint& pt, Data<T>& data, int i) {
+  using internal::Add;
   using internal::Cross;
+  using internal::Mul;
+  using internal::Scale;
   const int o = spec.from;
   const int e = spec.frame;
   T r[3], rd[3];
@@ -248,20 +252,20 @@ void CalcAffinePoint(const PointSpec& spec, const CompiledPoint& pt, Data<T>& da
     rd[c] = T(pt.time_rate(c));
   }
   if (pt.has_time_rate) {
-    for (int c = 0; c < 3; ++c) r[c] += data.t * pt.time_rate(c);
+    for (int c = 0; c < 3; ++c) r[c] = Add(r[c], Scale(pt.time_rate(c), data.t));
   }
   const T* q = data.q.data();
   const T* qdot = data.qdot.data();
   for (const auto& term : pt.rate_terms) {
-    r[term.component] += term.coefficient * q[term.speed];
-    rd[term.component] += term.coefficient * qdot[term.speed];
+    r[term.component] = Add(r[term.component], Scale(term.coefficient, q[term.speed]));
+    rd[term.component] = Add(rd[term.component], Scale(term.coefficient, qdot[term.speed]));
   }
   const T* R = data.R_NF[e].data();  // column-major: R(a, b) = R[a + 3 b]
   const T* w = data.w_NF[e].data();
   T rho[3], rho_rel_dot[3];  // ρ, and its rate as seen in E (N components)
   for (int c = 0; c < 3; ++c) {
-    rho[c] = R[c] * r[0] + R[c + 3] * r[1] + R[c + 6] * r[2];
-    rho_rel_dot[c] = R[c] * rd[0] + R[c + 3] * rd[1] + R[c + 6] * rd[2];
+    rho[c] = Add(Add(Mul(R[c], r[0]), Mul(R[c + 3], r[1])), Mul(R[c + 6], r[2]));
+    rho_rel_dot[c] = Add(Add(Mul(R[c], rd[0]), Mul(R[c + 3], rd[1])), Mul(R[c + 6], rd[2]));
   }
   T w_rho[3];
   Cross(w, rho, w_rho);
@@ -270,8 +274,8 @@ void CalcAffinePoint(const PointSpec& spec, const CompiledPoint& pt, Data<T>& da
   T* p_i = data.p_OP[i].data();
   T* v_i = data.v_NP[i].data();
   for (int c = 0; c < 3; ++c) {
-    p_i[c] = p_o[c] + rho[c];
-    v_i[c] = v_o[c] + w_rho[c] + rho_rel_dot[c];
+    p_i[c] = Add(p_o[c], rho[c]);
+    v_i[c] = Add(Add(v_o[c], w_rho[c]), rho_rel_dot[c]);
   }
   // Columns: from's and/or ω_j × ρ (or zero), then the constant rates.
   T* V = data.v_partial[i].data();
@@ -282,13 +286,13 @@ void CalcAffinePoint(const PointSpec& spec, const CompiledPoint& pt, Data<T>& da
   for (int j : pt.from_and_frame) {
     T wj_rho[3];
     Cross(W_e + 3 * j, rho, wj_rho);
-    for (int c = 0; c < 3; ++c) V[3 * j + c] = V_o[3 * j + c] + wj_rho[c];
+    for (int c = 0; c < 3; ++c) V[3 * j + c] = Add(V_o[3 * j + c], wj_rho[c]);
   }
   for (int j : pt.fresh) V[3 * j] = V[3 * j + 1] = V[3 * j + 2] = T(0.0);
   for (const auto& term : pt.rate_terms) {
     T* col = V + 3 * term.speed;
     const T* axis = R + 3 * term.component;
-    for (int c = 0; c < 3; ++c) col[c] += term.coefficient * axis[c];
+    for (int c = 0; c < 3; ++c) col[c] = Add(col[c], Scale(term.coefficient, axis[c]));
   }
   T alpha_rho[3], w_w_rho[3], w_rho_dot[3];
   Cross(data.alpha_rem[e].data(), rho, alpha_rho);
@@ -296,7 +300,8 @@ void CalcAffinePoint(const PointSpec& spec, const CompiledPoint& pt, Data<T>& da
   Cross(w, rho_rel_dot, w_rho_dot);
   const T* a_o = data.a_rem[o].data();
   T* a_i = data.a_rem[i].data();
-  for (int c = 0; c < 3; ++c) a_i[c] = a_o[c] + alpha_rho[c] + w_w_rho[c] + 2.0 * w_rho_dot[c];
+  for (int c = 0; c < 3; ++c)
+    a_i[c] = Add(Add(Add(a_o[c], alpha_rho[c]), w_w_rho[c]), Scale(2.0, w_rho_dot[c]));
 }
 
 template <typename T>

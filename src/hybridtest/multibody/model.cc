@@ -296,9 +296,10 @@ Model ModelBuilder::Build() && {
           pairwise, tree);
     }
   }
-  m.factor_pattern_ =
-      internal::CompileFactorPattern(elements_, compiled.frames, m.mass_terms_, m.tree_mass_plan_);
-  m.sparse_factor_plan_ = internal::CompileSparseFactor(m.factor_pattern_, n);
+  const std::vector<char> structure =
+      internal::CompileMassStructure(elements_, compiled.frames, m.mass_terms_, m.tree_mass_plan_);
+  m.factor_pattern_ = internal::CompileFactorPattern(structure, n);
+  m.sparse_factor_plan_ = internal::CompileSparseFactor(structure, n);
   m.compiled_frames_ = std::move(compiled.frames);
   m.compiled_points_ = std::move(compiled.points);
   m.elements_ = std::move(elements_);
