@@ -107,12 +107,14 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
   for (int p : model.loaded_points()) {
     const T* V = data.v_partial[p].data();
     const T* f = data.force[p].data();
-    for (int j : model.compiled_points()[p].active) g[j] = internal::Add(g[j], internal::Dot(V + 3 * j, f));
+    for (int j : model.compiled_points()[p].active)
+      g[j] = internal::Add(g[j], internal::Dot(V + 3 * j, f));
   }
   for (int f : model.loaded_frames()) {
     const T* W = data.w_partial[f].data();
     const T* tau = data.torque[f].data();
-    for (int j : model.compiled_frames()[f].active) g[j] = internal::Add(g[j], internal::Dot(W + 3 * j, tau));
+    for (int j : model.compiled_frames()[f].active)
+      g[j] = internal::Add(g[j], internal::Dot(W + 3 * j, tau));
   }
 }
 

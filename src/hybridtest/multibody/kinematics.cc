@@ -106,7 +106,8 @@ void CalcAffineAngleFrame(const Model& model, const FrameSpec& spec, const Compi
   for (int j : f.fresh) Wi[3 * j] = Wi[3 * j + 1] = Wi[3 * j + 2] = T(0.0);
   for (const auto& term : field.terms()) {
     T* col = Wi + 3 * term.coordinate;
-    for (int c = 0; c < 3; ++c) col[c] = internal::Add(col[c], internal::Scale(term.coefficient, a[c]));
+    for (int c = 0; c < 3; ++c)
+      col[c] = internal::Add(col[c], internal::Scale(term.coefficient, a[c]));
   }
   T wxw[3];
   internal::Cross(w_p, w_rel, wxw);
