@@ -52,6 +52,7 @@ struct Data {
   VectorX<T> partial_rate;         // (n)
   Matrix3X<T> partial_rate3;       // (3 × n)
   MatrixX<T> cholesky_factor;      // (n × n) Lᵀ of M = L Lᵀ (upper triangle used)
+  VectorX<T> factor_work;          // (n) the sparse solve's permuted right-hand side
   // Tree mass matrix (Model::tree_mass_matrix()): per speed j, the joint axis (ω_j, v_j at O)
   // and the spatial momentum about O of everything u_j moves, per unit u_j.
   Matrix3X<T> joint_w;       // (3 × n) [rad/s per unit u_j]

@@ -29,6 +29,68 @@ inline Vector3<T> Multiply(const Matrix3<T>& R, const Vector3<T>& v) {
   return R.col(0) * v(0) + R.col(1) * v(1) + R.col(2) * v(2);
 }
 
+// Scalar 3-vector kernels on raw storage (column-major 3 × k blocks, Vector3 data()): on the
+// hot path, Eigen evaluates 3-element expressions with mixed packet and scalar stores that
+// stall the loads right after them. Same terms in the same order as the Eigen expressions.
+//
+// Every operation goes through Mul/Scale/Add/Sub, which return a plain T: AutoDiff's operators
+// return expressions whose derivative vectors must have equal sizes, which only plain values
+// make so (a value that depends on nothing has an empty vector, resized on first use). For
+// double they are the bare operations.
+template <typename T>
+inline T Mul(const T& a, const T& b) {
+  return a * b;
+}
+template <typename T>
+inline T Scale(double c, const T& a) {
+  return c * a;
+}
+template <typename T>
+inline T Add(const T& a, const T& b) {
+  return a + b;
+}
+template <typename T>
+inline T Sub(const T& a, const T& b) {
+  return a - b;
+}
+template <typename T>
+inline void Cross(const T* a, const T* b, T* out) {  // out = a × b; out must not alias a, b
+  out[0] = Sub(Mul(a[1], b[2]), Mul(a[2], b[1]));
+  out[1] = Sub(Mul(a[2], b[0]), Mul(a[0], b[2]));
+  out[2] = Sub(Mul(a[0], b[1]), Mul(a[1], b[0]));
+}
+template <typename T>
+inline T Dot(const T* a, const T* b) {
+  return Add(Add(Mul(a[0], b[0]), Mul(a[1], b[1])), Mul(a[2], b[2]));
+}
+template <typename T>
+inline void Copy3(const T* a, T* out) {
+  out[0] = a[0];
+  out[1] = a[1];
+  out[2] = a[2];
+}
+
+// Rᵀ v, inline (the same terms, in the same order, as Eigen's R.transpose() * v).
+template <typename T>
+inline Vector3<T> TransposeMultiply(const Matrix3<T>& R, const Vector3<T>& v) {
+  return Vector3<T>(Dot(R.data(), v.data()), Dot(R.data() + 3, v.data()),
+                    Dot(R.data() + 6, v.data()));
+}
+
+// I v for a constant inertia matrix (body axes) and a T-vector, with no cast of I to T. A
+// diagonal I (principal axes, the common case) skips the terms that are exact zeros.
+template <typename T>
+inline Vector3<T> InertiaTimes(const Eigen::Matrix3d& I, const Vector3<T>& v) {
+  if (I(0, 1) == 0.0 && I(0, 2) == 0.0 && I(1, 2) == 0.0 && I(1, 0) == 0.0 && I(2, 0) == 0.0 &&
+      I(2, 1) == 0.0) {
+    return Vector3<T>(Scale(I(0, 0), v(0)), Scale(I(1, 1), v(1)), Scale(I(2, 2), v(2)));
+  }
+  auto row = [&](int a) {
+    return Add(Add(Scale(I(a, 0), v(0)), Scale(I(a, 1), v(1))), Scale(I(a, 2), v(2)));
+  };
+  return Vector3<T>(row(0), row(1), row(2));
+}
+
 // Fills data.q_jets from data.q, data.qdot, data.qddot_rem (value-only seeds if `rates` is false).
 template <typename T>
 void SeedCoordinateJets(Data<T>& data, bool rates);

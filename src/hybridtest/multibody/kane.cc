@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/multibody/field_eval.h"
 #include "hybridtest/multibody/tree_mass.h"
 
 namespace hybridtest::multibody {
@@ -40,12 +41,12 @@ void CalcMassMatrixPairwise(const Model& model, Data<T>& data) {
     // avoids forming I_N = R I Rᵀ. The partial angular velocities of the active speeds are
     // rotated once, into the 3 × n scratch.
     const Matrix3<T>& R = data.R_NF[body.frame];
-    const std::vector<int>& active = model.frames()[body.frame].active;
+    const std::vector<int>& active = model.compiled_frames()[body.frame].active;
     const Matrix3X<T>& Wp = data.w_partial[body.frame];
     Matrix3X<T>& Wb = data.partial_rate3;
-    for (int j : active) Wb.col(j).noalias() = R.transpose() * Wp.col(j);
+    for (int j : active) Wb.col(j) = internal::TransposeMultiply(R, Vector3<T>(Wp.col(j)));
     for (std::size_t a = 0; a < active.size(); ++a) {
-      const Vector3<T> Iw = body.inertia.template cast<T>() * Wb.col(active[a]);
+      const Vector3<T> Iw = internal::InertiaTimes(body.inertia, Vector3<T>(Wb.col(active[a])));
       for (std::size_t b = a; b < active.size(); ++b) {
         const T value = Wb.col(active[b]).dot(Iw);
         M(active[a], active[b]) += value;
@@ -76,28 +77,45 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
                          std::span<const T>(data.z.data(), data.z.size())};
   for (const LoadSpec& load : model.loads()) {
     Vector3<T> value = load.function.template get<T>()(args);
-    if (load.expressed_in != 0) value = data.R_NF[load.expressed_in] * value;
-    (load.kind == LoadSpec::Kind::kForce ? data.force : data.torque)[load.target] += value;
+    if (load.expressed_in != 0) value = internal::Multiply(data.R_NF[load.expressed_in], value);
+    T* sum = (load.kind == LoadSpec::Kind::kForce ? data.force : data.torque)[load.target].data();
+    for (int c = 0; c < 3; ++c) sum[c] = internal::Add(sum[c], value(c));
   }
   // Inertia forces and torques (remainder parts: the u̇ parts are in M).
-  for (const ParticleSpec& p : model.particles()) data.force[p.point] -= p.mass * data.a_rem[p.point];
+  auto subtract_inertia_force = [&](int point, double mass) {
+    T* f = data.force[point].data();
+    const T* a = data.a_rem[point].data();
+    for (int c = 0; c < 3; ++c) f[c] = internal::Sub(f[c], internal::Scale(mass, a[c]));
+  };
+  for (const ParticleSpec& p : model.particles()) subtract_inertia_force(p.point, p.mass);
   for (const RigidBodySpec& body : model.bodies()) {
-    if (body.mass > 0.0) data.force[body.mass_center] -= body.mass * data.a_rem[body.mass_center];
+    if (body.mass > 0.0) subtract_inertia_force(body.mass_center, body.mass);
     // I α + ω × I ω in body components, back to N.
     const Matrix3<T>& R = data.R_NF[body.frame];
-    const Matrix3<double>& I = body.inertia;
-    const Vector3<T> w_B = R.transpose() * data.w_NF[body.frame];
-    const Vector3<T> alpha_B = R.transpose() * data.alpha_rem[body.frame];
-    const Vector3<T> I_w = I.template cast<T>() * w_B;
-    data.torque[body.frame] -= R * (I.template cast<T>() * alpha_B + w_B.cross(I_w));
+    const Vector3<T> w_B = internal::TransposeMultiply(R, data.w_NF[body.frame]);
+    const Vector3<T> alpha_B = internal::TransposeMultiply(R, data.alpha_rem[body.frame]);
+    const Vector3<T> I_w = internal::InertiaTimes(body.inertia, w_B);
+    const Vector3<T> I_alpha = internal::InertiaTimes(body.inertia, alpha_B);
+    Vector3<T> gyro;
+    internal::Cross(w_B.data(), I_w.data(), gyro.data());
+    const Vector3<T> torque = internal::Multiply(R, Vector3<T>(I_alpha + gyro));
+    T* sum = data.torque[body.frame].data();
+    for (int c = 0; c < 3; ++c) sum[c] = internal::Sub(sum[c], torque(c));
   }
   // Projection onto the partial velocities (Kane's generalized forces).
   data.g.setZero();
+  T* g = data.g.data();
   for (int p : model.loaded_points()) {
-    for (int j : model.points()[p].active) data.g(j) += data.v_partial[p].col(j).dot(data.force[p]);
+    const T* V = data.v_partial[p].data();
+    const T* f = data.force[p].data();
+    for (int j : model.compiled_points()[p].active)
+      g[j] = internal::Add(g[j], internal::Dot(V + 3 * j, f));
   }
   for (int f : model.loaded_frames()) {
-    for (int j : model.frames()[f].active) data.g(j) += data.w_partial[f].col(j).dot(data.torque[f]);
+    const T* W = data.w_partial[f].data();
+    const T* tau = data.torque[f].data();
+    for (int j : model.compiled_frames()[f].active)
+      g[j] = internal::Add(g[j], internal::Dot(W + 3 * j, tau));
   }
 }
 
@@ -146,35 +164,95 @@ bool CholeskySolve(const MatrixX<T>& M, MatrixX<T>& U, VectorX<T>& inv_diag, con
   return true;
 }
 
-// The same factorisation for a compile-time size N (the loops unroll; L lives on the stack).
+// The same factorisation for a compile-time size N (the loops unroll; L lives on the stack),
+// skipping the structural zeros of L (`nz`, Model::factor_pattern()): the terms it skips are
+// exact zeros, so the result is the dense one bit for bit, but columns that share no non-zero
+// no longer wait on each other's square root and division (a tree's branches factor in
+// parallel in the pipeline).
 template <int N, typename T>
-bool CholeskySolveFixed(const MatrixX<T>& M, const VectorX<T>& b, VectorX<T>& y) {
+bool CholeskySolveFixed(const MatrixX<T>& M, const char* nz, const VectorX<T>& b, VectorX<T>& y) {
   using std::sqrt;
   const T* m = M.data();
   T L[N][N];  // row i holds L(i, 0..i)
   T inv_diag[N];
   for (int j = 0; j < N; ++j) {
     T d = m[j + j * N];
-    for (int k = 0; k < j; ++k) d -= L[j][k] * L[j][k];
+    for (int k = 0; k < j; ++k)
+      if (nz[j + k * N]) d = internal::Sub(d, internal::Mul(L[j][k], L[j][k]));
     if (!(ValueOf(d) > 0.0)) return false;
     inv_diag[j] = T(1.0) / sqrt(d);
     for (int i = j + 1; i < N; ++i) {
+      if (!nz[i + j * N]) continue;
       T s = m[i + j * N];
-      for (int k = 0; k < j; ++k) s -= L[i][k] * L[j][k];
-      L[i][j] = s * inv_diag[j];
+      for (int k = 0; k < j; ++k)
+        if (nz[i + k * N] && nz[j + k * N]) s = internal::Sub(s, internal::Mul(L[i][k], L[j][k]));
+      L[i][j] = internal::Mul(s, inv_diag[j]);
     }
   }
   T* yv = y.data();
   for (int i = 0; i < N; ++i) {
     T s = b(i);
-    for (int k = 0; k < i; ++k) s -= L[i][k] * yv[k];
-    yv[i] = s * inv_diag[i];
+    for (int k = 0; k < i; ++k)
+      if (nz[i + k * N]) s = internal::Sub(s, internal::Mul(L[i][k], yv[k]));
+    yv[i] = internal::Mul(s, inv_diag[i]);
   }
   for (int i = N - 1; i >= 0; --i) {
     T s = yv[i];
-    for (int k = i + 1; k < N; ++k) s -= L[k][i] * yv[k];
-    yv[i] = s * inv_diag[i];
+    for (int k = i + 1; k < N; ++k)
+      if (nz[k + i * N]) s = internal::Sub(s, internal::Mul(L[k][i], yv[k]));
+    yv[i] = internal::Mul(s, inv_diag[i]);
   }
+  return true;
+}
+
+// M y = b by the sparse factorisation P M Pᵀ = L Lᵀ of the model's plan (row-oriented, L's
+// rows stored contiguously as the columns of `U`, whose structural zeros stay zero from Data's
+// constructor so the inner products may run over the other row's non-zeros alone).
+template <typename T>
+bool SparseCholeskySolve(const SparseFactorPlan& plan, const MatrixX<T>& M, MatrixX<T>& U,
+                         VectorX<T>& inv_diag, VectorX<T>& work, const VectorX<T>& b,
+                         VectorX<T>& y) {
+  using std::sqrt;
+  const int n = static_cast<int>(M.rows());
+  const int last = n - 1;
+  auto perm = [&](int i) { return plan.reversed ? last - i : i; };
+  const T* m = M.data();
+  T* u = U.data();
+  T* id = inv_diag.data();
+  const int* start = plan.row_start.data();
+  const int* cols = plan.columns.data();
+  for (int i = 0; i < n; ++i) {
+    T* li = u + static_cast<Eigen::Index>(i) * n;  // L(i, 0..i)
+    const int pi = perm(i);
+    T d = m[pi + static_cast<Eigen::Index>(pi) * n];
+    for (int a = start[i]; a < start[i + 1]; ++a) {
+      const int k = cols[a];
+      const T* lk = u + static_cast<Eigen::Index>(k) * n;
+      T s = m[pi + static_cast<Eigen::Index>(perm(k)) * n];
+      for (int c = start[k]; c < start[k + 1]; ++c)
+        s = internal::Sub(s, internal::Mul(li[cols[c]], lk[cols[c]]));
+      li[k] = internal::Mul(s, id[k]);
+      d = internal::Sub(d, internal::Mul(li[k], li[k]));
+    }
+    if (!(ValueOf(d) > 0.0)) return false;
+    id[i] = T(1.0) / sqrt(d);
+  }
+  // L z = P b, then Lᵀ w = z (in place), then y = Pᵀ w.
+  T* z = work.data();
+  for (int i = 0; i < n; ++i) {
+    const T* li = u + static_cast<Eigen::Index>(i) * n;
+    T s = b(perm(i));
+    for (int a = start[i]; a < start[i + 1]; ++a)
+      s = internal::Sub(s, internal::Mul(li[cols[a]], z[cols[a]]));
+    z[i] = internal::Mul(s, id[i]);
+  }
+  for (int i = last; i >= 0; --i) {
+    const T* li = u + static_cast<Eigen::Index>(i) * n;
+    z[i] = internal::Mul(z[i], id[i]);
+    for (int a = start[i]; a < start[i + 1]; ++a)
+      z[cols[a]] = internal::Sub(z[cols[a]], internal::Mul(li[cols[a]], z[i]));
+  }
+  for (int i = 0; i < n; ++i) y(perm(i)) = z[i];
   return true;
 }
 
@@ -185,7 +263,12 @@ constexpr int kBlockedCholeskyMin = 24;
 // M y = g: unrolled for the small sizes of typical models, the dynamic loop for medium ones,
 // Eigen's blocked LLT for large ones (doubles).
 template <typename T>
-bool SolveMassMatrix(Data<T>& data) {
+bool SolveMassMatrix(const Model& model, Data<T>& data) {
+  const char* nz = model.factor_pattern().data();
+  if (model.sparse_factor()) {
+    return SparseCholeskySolve(model.sparse_factor_plan(), data.M, data.cholesky_factor,
+                               data.partial_rate, data.factor_work, data.g, data.udot);
+  }
   if constexpr (std::is_same_v<T, double>) {
     if (data.n >= kBlockedCholeskyMin) {
       data.cholesky_factor.template triangularView<Eigen::Lower>() = data.M;
@@ -197,12 +280,12 @@ bool SolveMassMatrix(Data<T>& data) {
     }
   }
   switch (data.n) {
-    case 1: return CholeskySolveFixed<1>(data.M, data.g, data.udot);
-    case 2: return CholeskySolveFixed<2>(data.M, data.g, data.udot);
-    case 3: return CholeskySolveFixed<3>(data.M, data.g, data.udot);
-    case 4: return CholeskySolveFixed<4>(data.M, data.g, data.udot);
-    case 5: return CholeskySolveFixed<5>(data.M, data.g, data.udot);
-    case 6: return CholeskySolveFixed<6>(data.M, data.g, data.udot);
+    case 1: return CholeskySolveFixed<1>(data.M, nz, data.g, data.udot);
+    case 2: return CholeskySolveFixed<2>(data.M, nz, data.g, data.udot);
+    case 3: return CholeskySolveFixed<3>(data.M, nz, data.g, data.udot);
+    case 4: return CholeskySolveFixed<4>(data.M, nz, data.g, data.udot);
+    case 5: return CholeskySolveFixed<5>(data.M, nz, data.g, data.udot);
+    case 6: return CholeskySolveFixed<6>(data.M, nz, data.g, data.udot);
     default:
       return CholeskySolve(data.M, data.cholesky_factor, data.partial_rate, data.g, data.udot);
   }
@@ -221,7 +304,7 @@ void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
   CalcKinematics(model, data, t, x);
   CalcMassMatrix(model, data);
   CalcForcing(model, data, r);
-  if (!SolveMassMatrix(data)) {
+  if (!SolveMassMatrix(model, data)) {
     throw ModelError(fmt::format("the mass matrix is not positive definite at t = {} s: the "
                                  "generalized coordinates are singular there, or a mass or "
                                  "inertia is missing", ValueOf(t)));

@@ -1,5 +1,5 @@
-// Kinematics of the frame and point trees: CalcKinematics, CalcSlotDisplacements, and the
-// Data<T> constructor. See kane.h for the equations.
+// Kinematics of the frame and point trees: CalcKinematics and CalcSlotDisplacements. See
+// kane.h for the equations.
 #include <fmt/core.h>
 
 #include "hybridtest/common/error.h"
@@ -11,51 +11,6 @@ namespace hybridtest::multibody {
 using internal::EvalField;
 using internal::FieldEval;
 
-template <typename T>
-Data<T>::Data(const Model& model) : n(model.num_coordinates()) {
-  const std::size_t nf = model.frames().size();
-  const std::size_t np = model.points().size();
-  q.setZero(n);
-  u.setZero(n);
-  z.setZero(model.num_extra_states());
-  zdot.setZero(model.num_extra_states());
-  qdot.setZero(n);
-  qddot_rem.setZero(n);
-  W = MatrixX<T>::Identity(n, n);
-  R_NF.assign(nf, Matrix3<T>::Identity());
-  w_NF.assign(nf, Vector3<T>::Zero());
-  w_partial.assign(nf, Matrix3X<T>::Zero(3, n));
-  alpha_rem.assign(nf, Vector3<T>::Zero());
-  p_OP.assign(np, Vector3<T>::Zero());
-  v_NP.assign(np, Vector3<T>::Zero());
-  v_partial.assign(np, Matrix3X<T>::Zero(3, n));
-  a_rem.assign(np, Vector3<T>::Zero());
-  M.setZero(n, n);
-  g.setZero(n);
-  udot.setZero(n);
-  r.setZero(model.num_slots());
-  time_values.assign(model.time_functions().size(), T(0.0));
-  force.assign(np, Vector3<T>::Zero());
-  torque.assign(nf, Vector3<T>::Zero());
-  // Jets only for general fields, W(q) or DCM frames (a Jet<AutoDiff> is kilobytes).
-  if (model.has_general_fields()) {
-    q_jets.assign(n, Jet<T>());
-    jet_buffer.assign(std::max<std::size_t>(9, std::size_t(n) * n), Jet<T>());
-  }
-  partial_rate.setZero(n);
-  partial_rate3.setZero(3, n);
-  cholesky_factor.setZero(n, n);
-  joint_w.setZero(3, n);
-  joint_v.setZero(3, n);
-  momentum_lin.setZero(3, n);
-  momentum_ang.setZero(3, n);
-  composite_mass.setZero(n);
-  composite_moment.setZero(3, n);
-  composite_inertia.assign(n, Matrix3<T>::Zero());
-}
-
-template struct Data<double>;
-template struct Data<AutoDiff>;
 
 namespace {
 
@@ -91,17 +46,24 @@ void CalcKinematicalEquations(const Model& model, Data<T>& data) {
 // R_NF = R_NP · R_PF for a rotation about the parent's unit vector e_A by the angle with
 // cosine c and sine s: column A is kept, the other two rotate in their plane (no 3 × 3 product).
 template <int A, typename T>
-void RotateAboutParentAxis(const Matrix3<T>& R_NP, const T& c, const T& s, Matrix3<T>& R_NF) {
+void RotateAboutParentAxis(const Matrix3<T>& R_NP, const T& c,
+                                                         const T& s, Matrix3<T>& R_NF) {
   constexpr int kB = (A + 1) % 3;
   constexpr int kD = (A + 2) % 3;
-  R_NF.col(A) = R_NP.col(A);
-  R_NF.col(kB) = c * R_NP.col(kB) + s * R_NP.col(kD);
-  R_NF.col(kD) = c * R_NP.col(kD) - s * R_NP.col(kB);
+  // Scalar code: Eigen leaves these 3-element column expressions to out-of-line loops.
+  for (int r = 0; r < 3; ++r) {
+    const T b = R_NP(r, kB);
+    const T d = R_NP(r, kD);
+    R_NF(r, A) = R_NP(r, A);
+    R_NF(r, kB) = internal::Add(internal::Mul(c, b), internal::Mul(s, d));
+    R_NF(r, kD) = internal::Sub(internal::Mul(c, d), internal::Mul(s, b));
+  }
 }
 
 template <typename T>
-void RotateAboutParentAxis(const Matrix3<T>& R_NP, int a, const T& c, const T& s,
-                           Matrix3<T>& R_NF) {
+void RotateAboutParentAxis(const Matrix3<T>& R_NP, int a,
+                                                         const T& c, const T& s,
+                                                         Matrix3<T>& R_NF) {
   switch (a) {
     case 0: RotateAboutParentAxis<0>(R_NP, c, s, R_NF); break;
     case 1: RotateAboutParentAxis<1>(R_NP, c, s, R_NF); break;
@@ -110,11 +72,12 @@ void RotateAboutParentAxis(const Matrix3<T>& R_NP, int a, const T& c, const T& s
 }
 
 template <typename T>
-void CalcAffineAngleFrame(const Model& model, const FrameSpec& f, Data<T>& data, int i) {
+void CalcAffineAngleFrame(const Model& model, const FrameSpec& spec, const CompiledFrame& f,
+                          Data<T>& data, int i) {
   using std::cos;
   using std::sin;
-  const int p = f.parent;
-  const ScalarField& field = f.angle;
+  const int p = spec.parent;
+  const ScalarField& field = spec.angle;
   T angle = T(field.constant());
   T rate = T(field.time_rate());
   if (field.time_rate() != 0.0) angle += field.time_rate() * data.t;
@@ -125,28 +88,41 @@ void CalcAffineAngleFrame(const Model& model, const FrameSpec& f, Data<T>& data,
   const Matrix3<T>& R_NP = data.R_NF[p];
   Vector3<T> axis_N;
   if (f.axis_index >= 0) {
-    axis_N = R_NP.col(f.axis_index);
+    internal::Copy3(R_NP.data() + 3 * f.axis_index, axis_N.data());
     RotateAboutParentAxis(R_NP, f.axis_index, T(cos(angle)), T(sin(angle)), data.R_NF[i]);
   } else {
     axis_N = R_NP * f.axis.template cast<T>();
     data.R_NF[i] = R_NP * internal::RotationAboutAxis(f.axis, angle);
   }
-  const Vector3<T> w_rel = rate * axis_N;
-  data.w_NF[i] = data.w_NF[p] + w_rel;
-  Matrix3X<T>& Wi = data.w_partial[i];
-  const Matrix3X<T>& Wp = data.w_partial[p];
-  for (int j : model.frames()[p].active) Wi.col(j) = Wp.col(j);
-  for (int j : f.fresh) Wi.col(j).setZero();
-  for (const auto& term : field.terms()) Wi.col(term.coordinate) += term.coefficient * axis_N;
-  data.alpha_rem[i] = data.alpha_rem[p] + data.w_NF[p].cross(w_rel);
+  const T* a = axis_N.data();
+  const T w_rel[3] = {internal::Mul(rate, a[0]), internal::Mul(rate, a[1]),
+                      internal::Mul(rate, a[2])};
+  const T* w_p = data.w_NF[p].data();
+  T* w_i = data.w_NF[i].data();
+  for (int c = 0; c < 3; ++c) w_i[c] = internal::Add(w_p[c], w_rel[c]);
+  T* Wi = data.w_partial[i].data();
+  const T* Wp = data.w_partial[p].data();
+  for (int j : model.compiled_frames()[p].active) internal::Copy3(Wp + 3 * j, Wi + 3 * j);
+  for (int j : f.fresh) Wi[3 * j] = Wi[3 * j + 1] = Wi[3 * j + 2] = T(0.0);
+  for (const auto& term : field.terms()) {
+    T* col = Wi + 3 * term.coordinate;
+    for (int c = 0; c < 3; ++c)
+      col[c] = internal::Add(col[c], internal::Scale(term.coefficient, a[c]));
+  }
+  T wxw[3];
+  internal::Cross(w_p, w_rel, wxw);
+  const T* alpha_p = data.alpha_rem[p].data();
+  T* alpha_i = data.alpha_rem[i].data();
+  for (int c = 0; c < 3; ++c) alpha_i[c] = internal::Add(alpha_p[c], wxw[c]);
 }
 
 template <typename T>
 void CalcFrame(const Model& model, Data<T>& data, int i) {
-  const FrameSpec& f = model.frames()[i];
-  const int p = f.parent;
+  const FrameSpec& spec = model.frames()[i];
+  const CompiledFrame& f = model.compiled_frames()[i];
+  const int p = spec.parent;
   const Matrix3<T>& R_NP = data.R_NF[p];
-  if (f.kind == FrameSpec::Kind::kAxisAngle) {
+  if (spec.kind == FrameSpec::Kind::kAxisAngle) {
     if (f.constant_rotation) {
       if (f.axis_index >= 0) {
         RotateAboutParentAxis(R_NP, f.axis_index, T(f.constant_cos), T(f.constant_sin),
@@ -154,17 +130,19 @@ void CalcFrame(const Model& model, Data<T>& data, int i) {
       } else {
         data.R_NF[i] = R_NP * f.constant_R_PF.template cast<T>();
       }
-      data.w_NF[i] = data.w_NF[p];
-      for (int j : f.active) data.w_partial[i].col(j) = data.w_partial[p].col(j);
-      data.alpha_rem[i] = data.alpha_rem[p];
+      internal::Copy3(data.w_NF[p].data(), data.w_NF[i].data());
+      T* Wi = data.w_partial[i].data();
+      const T* Wp = data.w_partial[p].data();
+      for (int j : f.active) internal::Copy3(Wp + 3 * j, Wi + 3 * j);
+      internal::Copy3(data.alpha_rem[p].data(), data.alpha_rem[i].data());
       return;
     }
     if (f.affine_angle) {
-      CalcAffineAngleFrame(model, f, data, i);
+      CalcAffineAngleFrame(model, spec, f, data, i);
       return;
     }
     T* rate = data.partial_rate.data();
-    const FieldEval<T> angle = EvalField(model, data, f.angle, rate);
+    const FieldEval<T> angle = EvalField(model, data, spec.angle, rate);
     Vector3<T> axis_N;
     if (f.axis_index >= 0) {
       using std::cos;
@@ -188,7 +166,7 @@ void CalcFrame(const Model& model, Data<T>& data, int i) {
   time.v = data.t;
   time.d1 = T(1.0);
   const KinematicArgs<T> args{std::span<const Jet<T>>(data.q_jets.data(), n), time};
-  f.dcm.template get<T>()(args, c);
+  spec.dcm.template get<T>()(args, c);
   Matrix3<T> C, Cd, Cdd;
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) {
@@ -215,52 +193,89 @@ void CalcFrame(const Model& model, Data<T>& data, int i) {
       data.alpha_rem[p] + R_NP * Vee<T>(Cdd * C.transpose()) + data.w_NF[p].cross(w_rel);
 }
 
-// A point whose position components are all affine, with q̇ = u (PointSpec::affine): the
+// A point whose position components are all affine, with q̇ = u (CompiledPoint::affine): the
 // partial rates are constants, added column by column (R_NE e_c c_k) with no scratch.
 template <typename T>
-void CalcAffinePoint(const PointSpec& pt, Data<T>& data, int i) {
-  const int o = pt.from;
-  const int e = pt.frame;
-  Vector3<T> r = pt.offset.template cast<T>();
-  Vector3<T> rd = pt.time_rate.template cast<T>();
-  if (pt.has_time_rate) r += data.t * pt.time_rate.template cast<T>();
-  for (const auto& term : pt.rate_terms) {
-    r(term.component) += term.coefficient * data.q(term.speed);
-    rd(term.component) += term.coefficient * data.qdot(term.speed);
+void CalcAffinePoint(const PointSpec& spec, const CompiledPoint& pt, Data<T>& data, int i) {
+  using internal::Add;
+  using internal::Cross;
+  using internal::Mul;
+  using internal::Scale;
+  const int o = spec.from;
+  const int e = spec.frame;
+  T r[3], rd[3];
+  for (int c = 0; c < 3; ++c) {
+    r[c] = T(pt.offset(c));
+    rd[c] = T(pt.time_rate(c));
   }
-  const Matrix3<T>& R_NE = data.R_NF[e];
-  const Vector3<T>& w = data.w_NF[e];
-  const Vector3<T> rho = internal::Multiply(R_NE, r);
-  const Vector3<T> rho_rel_dot = internal::Multiply(R_NE, rd);  // rate of rho as seen in E, N components
-  data.p_OP[i] = data.p_OP[o] + rho;
-  data.v_NP[i] = data.v_NP[o] + w.cross(rho) + rho_rel_dot;
+  if (pt.has_time_rate) {
+    for (int c = 0; c < 3; ++c) r[c] = Add(r[c], Scale(pt.time_rate(c), data.t));
+  }
+  const T* q = data.q.data();
+  const T* qdot = data.qdot.data();
+  for (const auto& term : pt.rate_terms) {
+    r[term.component] = Add(r[term.component], Scale(term.coefficient, q[term.speed]));
+    rd[term.component] = Add(rd[term.component], Scale(term.coefficient, qdot[term.speed]));
+  }
+  const T* R = data.R_NF[e].data();  // column-major: R(a, b) = R[a + 3 b]
+  const T* w = data.w_NF[e].data();
+  T rho[3], rho_rel_dot[3];  // ρ, and its rate as seen in E (N components)
+  for (int c = 0; c < 3; ++c) {
+    rho[c] = Add(Add(Mul(R[c], r[0]), Mul(R[c + 3], r[1])), Mul(R[c + 6], r[2]));
+    rho_rel_dot[c] = Add(Add(Mul(R[c], rd[0]), Mul(R[c + 3], rd[1])), Mul(R[c + 6], rd[2]));
+  }
+  T w_rho[3];
+  Cross(w, rho, w_rho);
+  const T* p_o = data.p_OP[o].data();
+  const T* v_o = data.v_NP[o].data();
+  T* p_i = data.p_OP[i].data();
+  T* v_i = data.v_NP[i].data();
+  for (int c = 0; c < 3; ++c) {
+    p_i[c] = Add(p_o[c], rho[c]);
+    v_i[c] = Add(Add(v_o[c], w_rho[c]), rho_rel_dot[c]);
+  }
   // Columns: from's and/or ω_j × ρ (or zero), then the constant rates.
-  Matrix3X<T>& V = data.v_partial[i];
-  const Matrix3X<T>& V_o = data.v_partial[o];
-  const Matrix3X<T>& W_e = data.w_partial[e];
-  for (int j : pt.from_only) V.col(j) = V_o.col(j);
-  for (int j : pt.frame_only) V.col(j) = Vector3<T>(W_e.col(j)).cross(rho);
-  for (int j : pt.from_and_frame) V.col(j) = V_o.col(j) + Vector3<T>(W_e.col(j)).cross(rho);
-  for (int j : pt.fresh) V.col(j).setZero();
-  for (const auto& term : pt.rate_terms) V.col(term.speed) += term.coefficient * R_NE.col(term.component);
-  data.a_rem[i] = data.a_rem[o] + data.alpha_rem[e].cross(rho) + w.cross(w.cross(rho)) +
-                  2.0 * w.cross(rho_rel_dot);
+  T* V = data.v_partial[i].data();
+  const T* V_o = data.v_partial[o].data();
+  const T* W_e = data.w_partial[e].data();
+  for (int j : pt.from_only) internal::Copy3(V_o + 3 * j, V + 3 * j);
+  for (int j : pt.frame_only) Cross(W_e + 3 * j, rho, V + 3 * j);
+  for (int j : pt.from_and_frame) {
+    T wj_rho[3];
+    Cross(W_e + 3 * j, rho, wj_rho);
+    for (int c = 0; c < 3; ++c) V[3 * j + c] = Add(V_o[3 * j + c], wj_rho[c]);
+  }
+  for (int j : pt.fresh) V[3 * j] = V[3 * j + 1] = V[3 * j + 2] = T(0.0);
+  for (const auto& term : pt.rate_terms) {
+    T* col = V + 3 * term.speed;
+    const T* axis = R + 3 * term.component;
+    for (int c = 0; c < 3; ++c) col[c] = Add(col[c], Scale(term.coefficient, axis[c]));
+  }
+  T alpha_rho[3], w_w_rho[3], w_rho_dot[3];
+  Cross(data.alpha_rem[e].data(), rho, alpha_rho);
+  Cross(w, w_rho, w_w_rho);
+  Cross(w, rho_rel_dot, w_rho_dot);
+  const T* a_o = data.a_rem[o].data();
+  T* a_i = data.a_rem[i].data();
+  for (int c = 0; c < 3; ++c)
+    a_i[c] = Add(Add(Add(a_o[c], alpha_rho[c]), w_w_rho[c]), Scale(2.0, w_rho_dot[c]));
 }
 
 template <typename T>
 void CalcPoint(const Model& model, Data<T>& data, int i) {
-  const PointSpec& pt = model.points()[i];
+  const PointSpec& spec = model.points()[i];
+  const CompiledPoint& pt = model.compiled_points()[i];
   if (pt.affine) {
-    CalcAffinePoint(pt, data, i);
+    CalcAffinePoint(spec, pt, data, i);
     return;
   }
-  const int o = pt.from;
-  const int e = pt.frame;
+  const int o = spec.from;
+  const int e = spec.frame;
   Vector3<T> r, rd, rdd;
   Matrix3X<T>& rate = data.partial_rate3;
   bool has_rdd = false;  // r̈_rem ≠ 0 is possible (a general field or a kinematical matrix)
   for (int c = 0; c < 3; ++c) {
-    const ScalarField& field = pt.position[c];
+    const ScalarField& field = spec.position[c];
     if (field.is_constant()) {
       r(c) = T(field.constant());
       rd(c) = T(0.0);

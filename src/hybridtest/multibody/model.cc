@@ -9,6 +9,7 @@
 #include <set>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/multibody/compile.h"
 #include "hybridtest/multibody/tree_mass.h"
 
 namespace hybridtest::multibody {
@@ -40,17 +41,6 @@ int ScalarField::max_coordinate() const {
 }
 
 namespace {
-std::vector<int> Union(const std::vector<int>& a, const std::vector<int>& b) {
-  std::set<int> s(a.begin(), a.end());
-  s.insert(b.begin(), b.end());
-  return {s.begin(), s.end()};
-}
-// Elements of the sorted `a` that are not in the sorted `b`.
-std::vector<int> Difference(const std::vector<int>& a, const std::vector<int>& b) {
-  std::vector<int> d;
-  std::set_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(d));
-  return d;
-}
 // Evaluates every DCM frame at q = 0 and at two pseudo-random q (t = 0) and refuses one that
 // is not a rotation (RᵀR = I, det R = +1, to 1e-9): a wrong DCM would silently give wrong
 // equations of motion.
@@ -138,19 +128,6 @@ void ModelBuilder::CheckField(const ScalarField& field, const std::string& what)
   }
 }
 
-// Speeds whose partial rate of `field` may be non-zero.
-std::vector<int> ModelBuilder::FieldActive(const ScalarField& field) const {
-  const int n = static_cast<int>(elements_.coordinates.size());
-  std::vector<int> all(n);
-  for (int j = 0; j < n; ++j) all[j] = j;
-  if (!field.is_affine() || elements_.kinematic_matrix) {
-    return field.is_constant() ? std::vector<int>{} : all;
-  }
-  std::vector<int> active;
-  for (const auto& t : field.terms()) active.push_back(t.coordinate);
-  return Union(active, {});
-}
-
 FrameId ModelBuilder::AddFrameAboutAxis(std::string name, FrameId parent,
                                         const Eigen::Vector3d& axis, ScalarField angle) {
   const std::string what = "frame '" + name + "'";
@@ -164,7 +141,7 @@ FrameId ModelBuilder::AddFrameAboutAxis(std::string name, FrameId parent,
   f.name = std::move(name);
   f.kind = FrameSpec::Kind::kAxisAngle;
   f.parent = parent.index;
-  f.axis = axis / norm;
+  f.axis = axis;
   f.angle = std::move(angle);
   elements_.frames.push_back(std::move(f));
   return FrameId{static_cast<int>(elements_.frames.size()) - 1};
@@ -269,63 +246,8 @@ Model ModelBuilder::Build() && {
   if (elements_.particles.empty() && elements_.bodies.empty()) {
     throw ModelError("the model has no mass: add at least one particle or rigid body");
   }
-  auto is_general = [](const ScalarField& f) { return !f.is_affine(); };
-  bool general = static_cast<bool>(elements_.kinematic_matrix);
-  // Active speeds, frames first (parents precede children by construction).
-  for (std::size_t i = 1; i < elements_.frames.size(); ++i) {
-    FrameSpec& f = elements_.frames[i];
-    std::vector<int> own;
-    if (f.kind == FrameSpec::Kind::kAxisAngle) {
-      own = FieldActive(f.angle);
-      general = general || is_general(f.angle);
-      for (int a = 0; a < 3; ++a) {
-        if (f.axis == Eigen::Vector3d::Unit(a)) f.axis_index = a;
-      }
-      if (f.angle.is_constant()) {
-        f.constant_rotation = true;
-        f.constant_R_PF = Eigen::AngleAxisd(f.angle.constant(), f.axis).toRotationMatrix();
-        f.constant_cos = std::cos(f.angle.constant());
-        f.constant_sin = std::sin(f.angle.constant());
-      }
-    } else {
-      general = true;
-      for (int j = 0; j < static_cast<int>(elements_.coordinates.size()); ++j) own.push_back(j);
-    }
-    f.active = Union(elements_.frames[f.parent].active, own);
-    f.fresh = Difference(f.active, elements_.frames[f.parent].active);
-    f.affine_angle = f.kind == FrameSpec::Kind::kAxisAngle && f.angle.is_affine() &&
-                     !elements_.kinematic_matrix;
-  }
-  for (std::size_t i = 1; i < elements_.points.size(); ++i) {
-    PointSpec& p = elements_.points[i];
-    std::vector<int> active =
-        Union(elements_.points[p.from].active, elements_.frames[p.frame].active);
-    for (const auto& c : p.position) {
-      active = Union(active, FieldActive(c));
-      general = general || is_general(c);
-    }
-    p.active = std::move(active);
-    p.affine = !elements_.kinematic_matrix &&
-               std::all_of(p.position.begin(), p.position.end(),
-                           [](const ScalarField& c) { return c.is_affine(); });
-    {
-      const std::vector<int>& from = elements_.points[p.from].active;
-      const std::vector<int>& frame = elements_.frames[p.frame].active;
-      p.from_only = Difference(from, frame);
-      p.frame_only = Difference(frame, from);
-      p.from_and_frame = Difference(from, p.from_only);
-      p.fresh = Difference(Difference(p.active, from), frame);
-    }
-    if (p.affine) {
-      for (int c = 0; c < 3; ++c) {
-        p.offset(c) = p.position[c].constant();
-        p.time_rate(c) = p.position[c].time_rate();
-        for (const auto& term : p.position[c].terms())
-          p.rate_terms.push_back({c, term.coordinate, term.coefficient});
-      }
-      p.has_time_rate = !p.time_rate.isZero(0.0);
-    }
-  }
+  internal::CompiledKinematics compiled = internal::CompileKinematics(elements_);
+  const bool general = compiled.general;
   // Jets (general expressions, W(q), DCM frames) carry ∂/∂q inline for up to
   // kMaxJetCoordinates coordinates; affine models have no such cap.
   const int num_q = static_cast<int>(elements_.coordinates.size());
@@ -346,23 +268,13 @@ Model ModelBuilder::Build() && {
   for (const auto& l : elements_.loads) {
     (l.kind == LoadSpec::Kind::kForce ? loaded_points : loaded_frames).insert(l.target);
   }
-  // Translational mass terms: every pair j ≤ k of a point mass's active speeds.
   const int n = static_cast<int>(elements_.coordinates.size());
-  auto add_mass_terms = [&](int point, double mass) {
-    const std::vector<int>& active = elements_.points[point].active;
-    for (std::size_t a = 0; a < active.size(); ++a)
-      for (std::size_t b = a; b < active.size(); ++b)
-        m.mass_terms_.push_back({point, active[a], active[b], mass, 3 * active[a],
-                                 3 * active[b], active[a] + active[b] * n, active[b] + active[a] * n});
-  };
-  for (const auto& pa : elements_.particles) add_mass_terms(pa.point, pa.mass);
-  for (const auto& b : elements_.bodies) {
-    if (b.mass > 0.0) add_mass_terms(b.mass_center, b.mass);
-  }
+  m.mass_terms_ = internal::CompileMassTerms(elements_, compiled.points);
   m.loaded_points_.assign(loaded_points.begin(), loaded_points.end());
   m.loaded_frames_.assign(loaded_frames.begin(), loaded_frames.end());
   m.has_general_fields_ = general;
-  m.tree_mass_matrix_reason_ = internal::PlanTreeMassMatrix(elements_, m.tree_mass_plan_);
+  m.tree_mass_matrix_reason_ = internal::PlanTreeMassMatrix(elements_, compiled.frames,
+                                                            compiled.points, m.tree_mass_plan_);
   m.is_joint_tree_ = m.tree_mass_matrix_reason_.empty();
   if (!m.is_joint_tree_) {
     m.tree_mass_plan_ = TreeMassPlan{};
@@ -372,7 +284,7 @@ Model ModelBuilder::Build() && {
     // composite, momentum), ~45 per element and ~7 per pair.
     std::size_t pairwise = 6 * m.mass_terms_.size();
     for (const auto& b : elements_.bodies) {
-      const std::size_t a = elements_.frames[b.frame].active.size();
+      const std::size_t a = compiled.frames[b.frame].active.size();
       pairwise += 8 * a * (a + 1) / 2 + 30;
     }
     const std::size_t tree = 60 * static_cast<std::size_t>(n) +
@@ -385,6 +297,12 @@ Model ModelBuilder::Build() && {
           pairwise, tree);
     }
   }
+  const std::vector<char> structure =
+      internal::CompileMassStructure(elements_, compiled.frames, m.mass_terms_, m.tree_mass_plan_);
+  m.factor_pattern_ = internal::CompileFactorPattern(structure, n);
+  m.sparse_factor_plan_ = internal::CompileSparseFactor(structure, n);
+  m.compiled_frames_ = std::move(compiled.frames);
+  m.compiled_points_ = std::move(compiled.points);
   m.elements_ = std::move(elements_);
   return m;
 }

@@ -46,53 +46,63 @@ struct QuantityInfo {
   std::string description;  // "tip deflection of blade 1"
 };
 
+// The specs below are what the user wrote (through ModelBuilder); Build() never writes into
+// them. What it derives for the engine is in CompiledFrame, CompiledPoint and MassTerm.
 struct FrameSpec {
   enum class Kind { kNewtonian, kAxisAngle, kDcm };
   std::string name;
   Kind kind = Kind::kNewtonian;
   int parent = -1;
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // unit axis, in the parent frame
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // rotation axis, in the parent frame
   ScalarField angle;                                 // [rad]
   DcmFunction dcm;                                   // R_PF(q, t)
-  bool constant_rotation = false;                    // R_PF fixed: precomputed below
-  Eigen::Matrix3d constant_R_PF = Eigen::Matrix3d::Identity();
-  // Set by Build() for kAxisAngle: 0, 1 or 2 if `axis` is the parent's unit vector x, y or z
-  // (then R_NF is two column rotations of R_NP, no 3 × 3 product), −1 otherwise; and the
-  // cosine and sine of a constant angle.
-  int axis_index = -1;
-  double constant_cos = 1.0;
-  double constant_sin = 0.0;
-  std::vector<int> active;  // speeds u_j whose partial angular velocity may be non-zero
-  // Set by Build(): the angle is affine and q̇ = u (the engine evaluates it inline, writing its
-  // constant partial rates straight into the columns); and the active speeds that are not
-  // active in the parent (their columns start from zero instead of the parent's).
-  bool affine_angle = false;
-  std::vector<int> fresh;
 };
 
 struct PointSpec {
+  std::string name;
+  int from = -1;                       // parent point
+  int frame = 0;                       // frame the position vector is expressed in
+  std::array<ScalarField, 3> position; // components [m]
+};
+
+// What Build() derives from a FrameSpec (Model::compiled_frames(), indexed like frames()).
+struct CompiledFrame {
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // kAxisAngle: the spec's axis, unit length
+  // kAxisAngle: 0, 1 or 2 if `axis` is the parent's unit vector x, y or z (then R_NF is two
+  // column rotations of R_NP, no 3 × 3 product), −1 otherwise.
+  int axis_index = -1;
+  // A constant angle: R_PF, and its cosine and sine, precomputed.
+  bool constant_rotation = false;
+  Eigen::Matrix3d constant_R_PF = Eigen::Matrix3d::Identity();
+  double constant_cos = 1.0;
+  double constant_sin = 0.0;
+  // The angle is affine and q̇ = u: the engine evaluates it inline, writing its constant
+  // partial rates straight into the columns.
+  bool affine_angle = false;
+  std::vector<int> active;  // speeds u_j whose partial angular velocity may be non-zero
+  std::vector<int> fresh;   // active here but not in the parent (columns start from zero)
+};
+
+// What Build() derives from a PointSpec (Model::compiled_points(), indexed like points()).
+struct CompiledPoint {
   // One term c·q_k of an affine position component: its partial rate ∂ṙ_c/∂u_k = c.
   struct RateTerm {
     int component;       // 0, 1, 2
     int speed;           // k
     double coefficient;  // c [m per unit of q_k]
   };
-  std::string name;
-  int from = -1;                       // parent point
-  int frame = 0;                       // frame the position vector is expressed in
-  std::array<ScalarField, 3> position; // components [m]
-  std::vector<int> active;             // speeds whose partial velocity may be non-zero
-  // Set by Build(): every component affine and q̇ = u, so the relative position's partial
-  // rates are the constant `rate_terms` (the engine's fast path, no scratch to clear).
+  std::vector<int> active;  // speeds whose partial velocity may be non-zero
+  // Every component affine and q̇ = u: the relative position's partial rates are the
+  // constant `rate_terms` (the engine's fast path, no scratch to clear), the constant parts
+  // of the components are `offset` [m] and their time rates `time_rate` [m/s].
   bool affine = false;
   std::vector<RateTerm> rate_terms;
-  // Set by Build() for an affine point: the constant parts of the components [m] and their
-  // time rates [m/s]; and the active speeds split by where their partial velocity starts:
-  // active for `from` only (copy from's column), for `frame` only (ω_j × ρ), for both (the
-  // sum), or for neither (zero; only the rate terms contribute).
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();
   Eigen::Vector3d time_rate = Eigen::Vector3d::Zero();
   bool has_time_rate = false;
+  // The active speeds split by where their partial velocity starts: active for `from` only
+  // (copy from's column), for `frame` only (ω_j × ρ), for both (the sum), or for neither
+  // (zero; only the rate terms contribute).
   std::vector<int> from_only;
   std::vector<int> frame_only;
   std::vector<int> from_and_frame;
@@ -140,23 +150,23 @@ struct SlotSpec {
   ScalarField displacement;  // what the slot's substructure sees: d(q) [m] (or [rad])
 };
 
-// One term of the mass matrix from a point mass (a particle, or a rigid body's mass centre):
-// M_jk += mass v_j·v_k (and M_kj for j ≠ k). Listed by Build() for every pair j ≤ k of the
-// point's active speeds, so CalcMassMatrix runs one flat loop.
+// One term of the mass matrix from a point mass (a particle, or a rigid body's mass centre),
+// derived by Build(): M_jk += mass v_j·v_k (and M_kj for j ≠ k), one for every pair j ≤ k of
+// the point's active speeds, so CalcMassMatrix runs one flat loop. vj and vk are the offsets
+// of v_j and v_k in the point's 3 × n column-major partial velocities, m_jk and m_kj those of
+// M_jk and M_kj in the n × n column-major mass matrix.
 struct MassTerm {
   int point = -1;
   int j = -1;
   int k = -1;
   double mass = 0.0;  // [kg]
-  // Set by Build(): offsets of v_j and v_k in the point's 3 × n column-major partial
-  // velocities, and of M_jk and M_kj in the n × n column-major mass matrix.
   int vj = 0;
   int vk = 0;
   int m_jk = 0;
   int m_kj = 0;
 };
 
-// The mass matrix of a tree of joints (composite-rigid-body form; decision 0012), set by
+// The mass matrix of a tree of joints (composite-rigid-body form; decision 0012), derived by
 // Build() when the model qualifies (Model::tree_mass_matrix()). Each speed u_j is then a joint
 // with one spatial axis S_j = (ω_j, v_j(O)) in N shared by every mass element it moves: the
 // rotation axis of the one frame whose angle holds q_j (a revolute joint about a pivot), or
@@ -192,6 +202,18 @@ struct TreeMassPlan {
   std::vector<int> owner;   // (elements)
   std::vector<int> parent;  // (n)
   std::vector<int> order;
+};
+
+// A sparse Cholesky factorisation of M (Model::sparse_factor()), derived by Build() for models
+// whose factor is sparse enough to pay (a branched tree: the branches do not couple). M is
+// factored as P M Pᵀ = L Lᵀ, P reversing the speeds when that gives less fill-in (a tree listed
+// parents first then factors leaves first, with no fill-in: Featherstone's LTL). Row i of L
+// has its non-zeros left of the diagonal at columns `columns[row_start[i] .. row_start[i+1])`,
+// ascending.
+struct SparseFactorPlan {
+  bool reversed = false;
+  std::vector<int> row_start;  // (n + 1)
+  std::vector<int> columns;
 };
 
 // Everything a model is made of, as the builder collects it and the built model holds it
@@ -284,7 +306,6 @@ class ModelBuilder {
   void CheckFrame(FrameId f, const std::string& what) const;
   void CheckPoint(PointId p, const std::string& what) const;
   void CheckField(const ScalarField& field, const std::string& what) const;
-  std::vector<int> FieldActive(const ScalarField& field) const;
 
   ModelElements elements_;
 };
@@ -307,6 +328,9 @@ class Model {
   const std::vector<LoadSpec>& loads() const { return elements_.loads; }
   const std::vector<SlotSpec>& slots() const { return elements_.slots; }
   const std::vector<TimeFunctionSpec>& time_functions() const { return elements_.time_functions; }
+  // What Build() derived from frames() and points() for the engine, indexed like them.
+  const std::vector<CompiledFrame>& compiled_frames() const { return compiled_frames_; }
+  const std::vector<CompiledPoint>& compiled_points() const { return compiled_points_; }
   bool has_identity_kinematics() const { return !elements_.kinematic_matrix; }
   const KinematicMatrixFunction& kinematic_matrix() const { return elements_.kinematic_matrix; }
   // Translational mass-matrix terms of all particles and rigid-body mass centres.
@@ -325,11 +349,19 @@ class Model {
   const TreeMassPlan& tree_mass_plan() const { return tree_mass_plan_; }
   // Why the model takes the pairwise path (empty if it takes the tree path).
   const std::string& tree_mass_matrix_reason() const { return tree_mass_matrix_reason_; }
+  // Structure of the Cholesky factor L of M = L Lᵀ, fill-in included: n × n column-major,
+  // 1 where L_ij (i ≥ j) may be non-zero. The solve skips the structural zeros (exactly).
+  const std::vector<char>& factor_pattern() const { return factor_pattern_; }
+  // True if the solve takes the sparse factorisation (sparse_factor_plan()).
+  bool sparse_factor() const { return !sparse_factor_plan_.row_start.empty(); }
+  const SparseFactorPlan& sparse_factor_plan() const { return sparse_factor_plan_; }
 
  private:
   friend class ModelBuilder;
   Model() = default;
   ModelElements elements_;
+  std::vector<CompiledFrame> compiled_frames_;
+  std::vector<CompiledPoint> compiled_points_;
   std::vector<MassTerm> mass_terms_;
   std::vector<int> loaded_points_;
   std::vector<int> loaded_frames_;
@@ -338,6 +370,8 @@ class Model {
   bool tree_mass_matrix_ = false;
   TreeMassPlan tree_mass_plan_;
   std::string tree_mass_matrix_reason_;
+  std::vector<char> factor_pattern_;
+  SparseFactorPlan sparse_factor_plan_;
 };
 
 }  // namespace hybridtest::multibody

@@ -15,7 +15,8 @@ bool Has(const std::vector<int>& sorted, int j) {
 
 }  // namespace
 
-std::string PlanTreeMassMatrix(const ModelElements& e, TreeMassPlan& plan) {
+std::string PlanTreeMassMatrix(const ModelElements& e, const std::vector<CompiledFrame>& frames,
+                               const std::vector<CompiledPoint>& points, TreeMassPlan& plan) {
   plan = TreeMassPlan{};
   const int n = static_cast<int>(e.coordinates.size());
   if (e.kinematic_matrix) return "kinematical equations q̇ = W(q) u";
@@ -65,8 +66,8 @@ std::string PlanTreeMassMatrix(const ModelElements& e, TreeMassPlan& plan) {
     };
     for (std::size_t i = 1; i < e.points.size(); ++i) {
       const PointSpec& p = e.points[i];
-      const bool by_from = Has(e.points[p.from].active, j);
-      const bool by_frame = Has(e.frames[p.frame].active, j);
+      const bool by_from = Has(points[p.from].active, j);
+      const bool by_frame = Has(frames[p.frame].active, j);
       if (by_from && !by_frame) {
         return fmt::format("point '{}' moves with '{}' through point '{}' but is placed in a "
                            "frame that does not turn with it", p.name, e.coordinates[j].name,
@@ -78,8 +79,8 @@ std::string PlanTreeMassMatrix(const ModelElements& e, TreeMassPlan& plan) {
     }
     for (const RigidBodySpec& b : e.bodies) {
       if (!(b.mass > 0.0)) continue;
-      const bool by_frame = Has(e.frames[b.frame].active, j);
-      const bool by_centre = Has(e.points[b.mass_center].active, j);
+      const bool by_frame = Has(frames[b.frame].active, j);
+      const bool by_centre = Has(points[b.mass_center].active, j);
       if (by_centre && !by_frame) {
         return fmt::format("rigid body '{}': its mass centre moves with '{}' but its frame does "
                            "not turn with it", b.name, e.coordinates[j].name);
@@ -94,9 +95,9 @@ std::string PlanTreeMassMatrix(const ModelElements& e, TreeMassPlan& plan) {
   std::vector<std::vector<int>> element_active;
   auto add_element = [&](TreeMassPlan::Element el) {
     std::vector<int> active;
-    if (el.mass > 0.0) active = e.points[el.point].active;
+    if (el.mass > 0.0) active = points[el.point].active;
     if (el.has_inertia) {
-      const auto& fa = e.frames[el.frame].active;
+      const auto& fa = frames[el.frame].active;
       std::vector<int> u;
       std::set_union(active.begin(), active.end(), fa.begin(), fa.end(), std::back_inserter(u));
       active = std::move(u);

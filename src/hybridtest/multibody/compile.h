@@ -1,0 +1,41 @@
+#pragma once
+// What Build() derives from the user's specs (model.h) for the engine: the compiled frames and
+// points, the mass terms and the structure of the mass matrix's Cholesky factor. The specs
+// themselves are only read.
+#include <vector>
+
+#include "hybridtest/multibody/model.h"
+
+namespace hybridtest::multibody::internal {
+
+struct CompiledKinematics {
+  std::vector<CompiledFrame> frames;  // indexed like ModelElements::frames
+  std::vector<CompiledPoint> points;  // indexed like ModelElements::points
+  // Some expression is general (not affine), a frame has a DCM, or q̇ = W(q) u.
+  bool general = false;
+};
+
+// Active speeds (frames first: parents precede children by construction), the constant
+// rotations, and the affine fast paths.
+CompiledKinematics CompileKinematics(const ModelElements& elements);
+
+// Translational mass terms: every pair j ≤ k of each point mass's active speeds.
+std::vector<MassTerm> CompileMassTerms(const ModelElements& elements,
+                                       const std::vector<CompiledPoint>& points);
+
+// The structurally non-zero entries of M (n × n column-major, lower triangle): the mass
+// terms, the bodies' rotational pairs, the tree plan's pairs.
+std::vector<char> CompileMassStructure(const ModelElements& elements,
+                                       const std::vector<CompiledFrame>& frames,
+                                       const std::vector<MassTerm>& mass_terms,
+                                       const TreeMassPlan& plan);
+
+// The structure of L in M = L Lᵀ: `structure` and the fill-in of the elimination.
+std::vector<char> CompileFactorPattern(std::vector<char> structure, int n);
+
+// The sparse factorisation's plan for M's `structure` (CompileMassStructure's), or an
+// empty plan if the dense solve is the better choice (n ≤ 6, or L more than half full in
+// either order).
+SparseFactorPlan CompileSparseFactor(const std::vector<char>& structure, int n);
+
+}  // namespace hybridtest::multibody::internal

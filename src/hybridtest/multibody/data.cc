@@ -1,0 +1,55 @@
+// The Data<T> constructor: every workspace sized once. See data.h.
+#include "hybridtest/multibody/data.h"
+
+#include <algorithm>
+
+namespace hybridtest::multibody {
+
+template <typename T>
+Data<T>::Data(const Model& model) : n(model.num_coordinates()) {
+  const std::size_t nf = model.frames().size();
+  const std::size_t np = model.points().size();
+  q.setZero(n);
+  u.setZero(n);
+  z.setZero(model.num_extra_states());
+  zdot.setZero(model.num_extra_states());
+  qdot.setZero(n);
+  qddot_rem.setZero(n);
+  W = MatrixX<T>::Identity(n, n);
+  R_NF.assign(nf, Matrix3<T>::Identity());
+  w_NF.assign(nf, Vector3<T>::Zero());
+  w_partial.assign(nf, Matrix3X<T>::Zero(3, n));
+  alpha_rem.assign(nf, Vector3<T>::Zero());
+  p_OP.assign(np, Vector3<T>::Zero());
+  v_NP.assign(np, Vector3<T>::Zero());
+  v_partial.assign(np, Matrix3X<T>::Zero(3, n));
+  a_rem.assign(np, Vector3<T>::Zero());
+  M.setZero(n, n);
+  g.setZero(n);
+  udot.setZero(n);
+  r.setZero(model.num_slots());
+  time_values.assign(model.time_functions().size(), T(0.0));
+  force.assign(np, Vector3<T>::Zero());
+  torque.assign(nf, Vector3<T>::Zero());
+  // Jets only for general fields, W(q) or DCM frames (a Jet<AutoDiff> is kilobytes).
+  if (model.has_general_fields()) {
+    q_jets.assign(n, Jet<T>());
+    jet_buffer.assign(std::max<std::size_t>(9, std::size_t(n) * n), Jet<T>());
+  }
+  partial_rate.setZero(n);
+  partial_rate3.setZero(3, n);
+  cholesky_factor.setZero(n, n);  // the sparse solve relies on its structural zeros
+  factor_work.setZero(n);
+  joint_w.setZero(3, n);
+  joint_v.setZero(3, n);
+  momentum_lin.setZero(3, n);
+  momentum_ang.setZero(3, n);
+  composite_mass.setZero(n);
+  composite_moment.setZero(3, n);
+  composite_inertia.assign(n, Matrix3<T>::Zero());
+}
+
+template struct Data<double>;
+template struct Data<AutoDiff>;
+
+}  // namespace hybridtest::multibody
