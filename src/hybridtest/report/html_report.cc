@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <fstream>
@@ -173,7 +174,7 @@ std::string ComparisonSection(const io::RunData& run, const io::RunData& against
     html += "<tr><td>" + E(row.channel) + "</td><td>" + E(row.unit) + "</td>";
     for (double v : {row.max_abs_diff, row.rms_diff, row.mean_a, row.amplitude_a, row.mean_b,
                      row.amplitude_b}) {
-      html += "<td class=\"num\">" + E(FormatNumber(v)) + "</td>";
+      html += "<td class=\"num\">" + (std::isnan(v) ? "&ndash;" : E(FormatNumber(v))) + "</td>";
     }
     html += "</tr>\n";
   }
