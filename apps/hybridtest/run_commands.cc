@@ -87,6 +87,7 @@ void ExecuteRun(const RunCommandOptions& options) {
   auto subs = io::MakeSubstructures(
       cfg, {options.bench, options.allow_physical,
             "`simulate` is numerical only: use `hybridtest run` for a hybrid test"});
+  CheckPhysicalSlotsBeforeMoving(cfg, subs);  // p0 and limits against the bench's, nothing sent
   runner::RunOptions run;
   run.csv_path = runner::ResolveOutputPath(cfg, options.out);
   run.command = options.command;
