@@ -4,6 +4,8 @@
 #   scripts/install-deps.sh           everything: build, run, test, benchmark, fuzz and plot
 #   scripts/install-deps.sh --app     only what building and running the hybridtest binary needs
 #                                     (the main job: compiler, libraries, gnuplot)
+#   scripts/install-deps.sh --docs    also a headless browser, to render the HTML report to a PNG
+#                                     for the documentation (docs/results-format.md)
 #   scripts/install-deps.sh --print   print the packages of the chosen set and install nothing
 set -euo pipefail
 
@@ -23,16 +25,21 @@ test_packages=(
 
 app_only=0
 print_only=0
+docs=0
 for arg in "$@"; do
   case "$arg" in
     --app) app_only=1 ;;
     --print) print_only=1 ;;
-    *) echo "install-deps.sh: unknown option '$arg'; expected --app and/or --print" >&2; exit 2 ;;
+    --docs) docs=1 ;;
+    *) echo "install-deps.sh: unknown option '$arg'; expected --app, --docs or --print" >&2; exit 2 ;;
   esac
 done
 packages=("${app_packages[@]}")
 if ((app_only == 0)); then
   packages+=("${test_packages[@]}")
+fi
+if ((docs)); then
+  packages+=(chromium-headless-shell)
 fi
 if ((print_only)); then
   echo "${packages[*]}"
