@@ -22,7 +22,7 @@ std::string Script(const std::string& name) {
   return text.str();
 }
 
-std::string Run(const std::string& args) {
+std::string RunScript(const std::string& args) {
   const auto [status, out] = testing::RunCommand("bash " + kSource + "/scripts/" + args);
   EXPECT_EQ(status, 0) << args << ": " << out;
   return out;
@@ -30,10 +30,10 @@ std::string Run(const std::string& args) {
 
 TEST(MainJobScripts, TheMainJobBuildsOnlyTheBinary) {
   EXPECT_NE(Script("main-job.sh").find("\nscripts/build.sh --app\n"), std::string::npos);
-  const std::string build = Run("build.sh --app --print");
+  const std::string build = RunScript("build.sh --app --print");
   EXPECT_NE(build.find("scripts/install-deps.sh --app\n"), std::string::npos) << build;
   EXPECT_NE(build.find("--target hybridtest\n"), std::string::npos) << build;
-  const std::string packages = Run("install-deps.sh --app --print");
+  const std::string packages = RunScript("install-deps.sh --app --print");
   for (const char* test_only : {"libgtest-dev", "libbenchmark-dev", "clang", "python3-sympy"}) {
     EXPECT_EQ(packages.find(test_only), std::string::npos) << test_only;
   }
@@ -44,10 +44,10 @@ TEST(MainJobScripts, TheMainJobBuildsOnlyTheBinary) {
 
 TEST(MainJobScripts, TheTestCommandStillBuildsTheTests) {
   EXPECT_NE(Script("test.sh").find("\nscripts/build.sh\n"), std::string::npos);
-  const std::string build = Run("build.sh --print");
+  const std::string build = RunScript("build.sh --print");
   EXPECT_EQ(build.find("--target"), std::string::npos) << build;
   EXPECT_EQ(build.find("BUILD_TESTS=OFF"), std::string::npos) << build;
-  const std::string packages = Run("install-deps.sh --print");
+  const std::string packages = RunScript("install-deps.sh --print");
   for (const char* needed : {"libgtest-dev", "libbenchmark-dev", "clang", "python3-sympy",
                              "gnuplot-nox"}) {
     EXPECT_NE(packages.find(needed), std::string::npos) << needed;

@@ -102,7 +102,7 @@ TEST(ModelFileFigures, ReportLeadsWithTheSummary) {
   EXPECT_LT(summary, figures);
   EXPECT_LT(figures, configuration);
   EXPECT_NE(text.find("Initial stiffness K0"), std::string::npos);
-  EXPECT_NE(text.find("2e+05 N\u00b7m/rad"), std::string::npos);  // the law's K0 of r1
+  EXPECT_NE(text.find("200000 N\u00b7m/rad"), std::string::npos);  // the law's K0 of r1
   EXPECT_EQ(text.find("\"k0\""), std::string::npos);                // not raw JSON
 }
 

@@ -107,12 +107,12 @@ TEST(PreMoveChecks, ProbeReadsTheEmulatedBenchAndFindsAMismatch) {
 }
 
 TEST(PreMoveChecks, ProbeReadsAModbusControllerWithoutWritingAnything) {
-  if (!PymodbusAvailable()) GTEST_SKIP() << kPymodbusMissing;
+  if (!testing::PymodbusAvailable()) GTEST_SKIP() << testing::kPymodbusMissing;
   const fs::path log = TempDir() / "modbus-commands.log";
   for (const char* start : {"0", "30"}) {
     SCOPED_TRACE(start);
     fs::remove(log);
-    auto server = ModbusServerProcess::Pymodbus(
+    auto server = testing::ModbusServerProcess::Pymodbus(
         {"--stiffness", "5.25", "--start-mm", start, "--log-commands", log.string()});
     const auto [status, out] = Hybridtest(fmt::format(
         "probe {}/examples/rotor/modbus.yaml --bench {}", kSource, server.address()));
