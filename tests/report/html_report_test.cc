@@ -64,10 +64,10 @@ TEST(WriteHtmlReport, IsSelfContainedEscapedAndHoldsTablesAndFigures) {
   EXPECT_EQ(html.find("<link"), std::string::npos);
   EXPECT_EQ(html.find("<script"), std::string::npos);
   EXPECT_EQ(html.find("url("), std::string::npos);
-  // Figures: 6 of the run (blades, hub, restoring forces; r1's tracking, force and loop) + 2
-  // overlays, each a PNG data URI with a real PNG inside.
-  EXPECT_EQ(Count(html, "<img "), 8u);
-  EXPECT_EQ(Count(html, "src=\"data:image/png;base64,iVBORw0KGgo"), 8u);
+  // Figures: 7 of the run (blades, hub, restoring forces; r1's tracking, force, loop and lab
+  // time) + 2 overlays, each a PNG data URI with a real PNG inside.
+  EXPECT_EQ(Count(html, "<img "), 9u);
+  EXPECT_EQ(Count(html, "src=\"data:image/png;base64,iVBORw0KGgo"), 9u);
   // Every src= is a data URI (std::regex would overflow the stack on the long base64 text).
   for (std::size_t at = html.find("src=\""); at != std::string::npos;
        at = html.find("src=\"", at + 1)) {

@@ -45,7 +45,8 @@ TEST(WritePlots, RotorWithPhysicalBladeWritesFigure6LikeImages) {
   const auto files = WritePlots(run, dir / "fig");
   for (const char* name : {"displacements.png", "displacements.svg", "hub-speed.png",
                            "hub-speed.svg", "r1-command-position.png", "r1-command-position.svg",
-                           "r1-force-displacement.png", "r1-force-displacement.svg"}) {
+                           "r1-force-displacement.png", "r1-force-displacement.svg",
+                           "r1-force-time.png", "r1-lab-time.png", "restoring-forces.png"}) {
     SCOPED_TRACE(name);
     const std::string path = Find(files, name);
     ASSERT_FALSE(path.empty());

@@ -17,6 +17,7 @@
 //                             tracking error (measured − command)
 //   <slot>-force-time         measured force against time
 //   <slot>-force-displacement measured restoring force against measured position (hysteresis)
+//   <slot>-lab-time           the bench's lab time against simulated time (the test's pace)
 //   <slot>-limits             the use of each safety limit in % against time (limit_use.h)
 // Values are drawn in display units (plot_units.h; SI by default). Lines over kMaxPlotPoints
 // samples are decimated for drawing only (plot_decimate.h).

@@ -88,6 +88,17 @@ void AddPhysicalFigures(const io::RunData& run, const RunLayout& layout, const E
           {p.slot + "-force-displacement", who + ": force against displacement" + run_name,
            {panel}});
     }
+    // Lab time against simulated time: the pace of the test.
+    if (!p.lab_time.empty()) {
+      PlotPanel panel;
+      panel.x_label = kTimeLabel;
+      panel.y_label = "lab time " + p.lab_time + DisplaySuffix(run, p.lab_time, units);
+      panel.series.push_back({p.lab_time, t, DisplayValues(run, p.lab_time, units), color, 1.5,
+                              false});
+      figures.push_back({p.slot + "-lab-time", who + ": lab time against simulated time" +
+                                                   run_name,
+                         {panel}});
+    }
     // The use of each safety limit.
     const std::vector<LimitUse> uses = CalcLimitUse(run, p);
     if (!uses.empty()) {
