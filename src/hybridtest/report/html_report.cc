@@ -6,17 +6,17 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <memory>
 #include <fstream>
+#include <memory>
 #include <sstream>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/version.h"
 #include "hybridtest/report/compare.h"
 #include "hybridtest/report/compare_plot.h"
+#include "hybridtest/report/html_report_resumes.h"
 #include "hybridtest/report/html_report_style.h"
 #include "hybridtest/report/html_report_summary.h"
-#include "hybridtest/report/html_report_resumes.h"
 #include "hybridtest/report/html_report_text.h"
 #include "hybridtest/report/plot.h"
 #include "hybridtest/report/plot_layout.h"
