@@ -1,11 +1,39 @@
 #!/usr/bin/env bash
 # Installs the dependencies if needed, then configures and builds the optimised tree
 # (build/release). Incremental: a second call only rebuilds what changed.
+#   scripts/build.sh          everything: the hybridtest binary, the test suite, the benchmarks
+#   scripts/build.sh --app    only the hybridtest binary and what it links (the main job); a
+#                             fresh tree is configured without tests and benchmarks, so their
+#                             packages are not needed either
+#   --print                   print the commands instead of running them
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
-scripts/install-deps.sh
-if [[ ! -f build/release/build.ninja ]]; then
-  cmake --preset release >/dev/null
+app_only=0
+print_only=0
+for arg in "$@"; do
+  case "$arg" in
+    --app) app_only=1 ;;
+    --print) print_only=1 ;;
+    *) echo "build.sh: unknown option '$arg'; expected --app and/or --print" >&2; exit 2 ;;
+  esac
+done
+run() {
+  if ((print_only)); then echo "$*"; else "$@"; fi
+}
+cache=build/release/CMakeCache.txt
+if ((app_only)); then
+  run scripts/install-deps.sh --app
+  if [[ ! -f build/release/build.ninja ]]; then
+    run cmake --preset release -DHYBRIDTEST_BUILD_TESTS=OFF -DHYBRIDTEST_BUILD_BENCH=OFF
+  fi
+  run cmake --build --preset release -j "${HYBRIDTEST_JOBS:-$(nproc)}" --target hybridtest
+  exit 0
 fi
-cmake --build --preset release -j "${HYBRIDTEST_JOBS:-$(nproc)}"
+run scripts/install-deps.sh
+# A tree first configured by --app has the tests and benchmarks off: turn them on.
+if [[ ! -f build/release/build.ninja ]] || grep -q "^HYBRIDTEST_BUILD_TESTS:BOOL=OFF" "$cache" ||
+   grep -q "^HYBRIDTEST_BUILD_BENCH:BOOL=OFF" "$cache"; then
+  run cmake --preset release -DHYBRIDTEST_BUILD_TESTS=ON -DHYBRIDTEST_BUILD_BENCH=ON
+fi
+run cmake --build --preset release -j "${HYBRIDTEST_JOBS:-$(nproc)}"

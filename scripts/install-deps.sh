@@ -1,19 +1,50 @@
 #!/usr/bin/env bash
-# Installs, with apt-get, every Debian 12 package that hybridtest needs to build, test and plot.
-# Does nothing when they are all present already. Run as root (or with sudo available).
+# Installs, with apt-get, the Debian 12 packages that hybridtest needs. Does nothing when they
+# are all present already. Run as root (or with sudo available).
+#   scripts/install-deps.sh           everything: build, run, test, benchmark, fuzz and plot
+#   scripts/install-deps.sh --app     only what building and running the hybridtest binary needs
+#                                     (the main job: compiler, libraries, gnuplot)
+#   scripts/install-deps.sh --docs    also a headless browser, to render the HTML report to a PNG
+#                                     for the documentation (docs/results-format.md)
+#   scripts/install-deps.sh --print   print the packages of the chosen set and install nothing
 set -euo pipefail
 
-packages=(
+app_packages=(
   build-essential cmake ninja-build git pkg-config
   libeigen3-dev libyaml-cpp-dev libcli11-dev libfmt-dev nlohmann-json3-dev zlib1g-dev libssl-dev
   libhdf5-dev hdf5-tools
   libmodbus-dev
+  gnuplot-nox
+)
+test_packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-sympy python3-yaml python3-h5py python3-numpy
   python3-pymodbus python3-serial python3-serial-asyncio   # the Modbus test controller
-  gnuplot-nox
   clang libclang-rt-14-dev
 )
+
+app_only=0
+print_only=0
+docs=0
+for arg in "$@"; do
+  case "$arg" in
+    --app) app_only=1 ;;
+    --print) print_only=1 ;;
+    --docs) docs=1 ;;
+    *) echo "install-deps.sh: unknown option '$arg'; expected --app, --docs or --print" >&2; exit 2 ;;
+  esac
+done
+packages=("${app_packages[@]}")
+if ((app_only == 0)); then
+  packages+=("${test_packages[@]}")
+fi
+if ((docs)); then
+  packages+=(chromium-headless-shell)
+fi
+if ((print_only)); then
+  echo "${packages[*]}"
+  exit 0
+fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# The README's main job: builds if needed, then runs the paper's scenario end to end and writes
+# The README's main job: builds the hybridtest binary if needed (only it: not the test suite nor
+# the benchmarks, whose packages it does not install either; scripts/test.sh builds those), then
+# runs the paper's scenario end to end and writes
 # everything under results/:
 #   1. the pure numerical simulation (Fig. 7)            results/numerical.csv
 #   2. the hybrid test on the emulated bench (Fig. 6):
@@ -12,7 +14,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
-scripts/build.sh
+scripts/build.sh --app
 bin=build/release/apps/hybridtest/hybridtest
 mkdir -p results
 # --overwrite: each run of this script replaces the previous one's results/ (without it, `run`

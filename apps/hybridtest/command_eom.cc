@@ -79,9 +79,13 @@ void RunEom(const EomOptions& opt) {
   }
   fmt::print("forcing g:\n");
   for (int i = 0; i < n; ++i) fmt::print(" {:>24.17g}", data.g(i));
-  fmt::print("\nrestoring forces r^s [N]:\n");
-  for (int i = 0; i < r.size(); ++i) fmt::print(" {:>24.17g}", r(i));
-  fmt::print("\nxdot:\n");
+  // Each slot with its name and unit: a moment slot is in N·m, not N.
+  fmt::print("\nrestoring forces r^s:\n");
+  for (int i = 0; i < r.size(); ++i) {
+    const auto& info = model.slots()[static_cast<std::size_t>(i)].info;
+    fmt::print(" {:>24.17g} [{}] {}\n", r(i), info.unit.empty() ? "N" : info.unit, info.name);
+  }
+  fmt::print("xdot:\n");
   for (int i = 0; i < nx; ++i) fmt::print(" {:>24.17g}", xdot(i));
   fmt::print("\n");
 }
@@ -94,8 +98,9 @@ void AddEomCommand(CLI::App& root) {
   cmd->add_option("--time", opt->time, "time t [s]")->required()->check(FiniteNumber());
   cmd->add_option("--state", opt->state, "x = [q; u], 2n comma-separated SI values")->required();
   cmd->add_option("--restoring", opt->restoring,
-                  "static restoring forces r^s [N], one per slot (default: computed by the "
-                  "configured numerical substructures)");
+                  "static restoring forces r^s, one per slot, each in its slot's unit (N, or "
+                  "N·m for a moment slot; default: computed by the configured numerical "
+                  "substructures)");
   cmd->add_flag("--json", opt->json, "print one JSON object {mass_matrix, forcing, xdot}");
   cmd->callback([opt] { RunEom(*opt); });
 }

@@ -1,6 +1,7 @@
-// hybridtest plot RUN.csv [--out DIR]: the run's figures (blade displacements with the physical
-// blade in red, hub speed, actuator command/position and force-displacement of each physical
-// substructure) as PNG and SVG. Default DIR: <CSV directory>/<run name>-figures.
+// hybridtest plot RUN.csv [--out DIR] [--units mm,kN]: the run's figures as PNG and SVG (every
+// coordinate, speed and restoring force of the model, named from the model; for each physical
+// substructure its tracking, force, hysteresis and use of the limits; report/plot.h). Default
+// DIR: <CSV directory>/<run name>-figures.
 #include <fmt/core.h>
 
 #include <memory>
@@ -15,6 +16,7 @@ namespace {
 struct PlotOptions {
   std::string run_csv;
   std::string out_dir;
+  std::string units;
 };
 
 void AddPlotCommand(CLI::App& root) {
@@ -26,7 +28,11 @@ void AddPlotCommand(CLI::App& root) {
       ->check(CLI::ExistingFile);
   command->add_option("--out", options->out_dir,
                       "Directory for the figures (default: <CSV directory>/<run name>-figures)");
+  command->add_option("--units", options->units,
+                      "Display units of lengths and forces, e.g. mm,kN or length=mm,force=kN "
+                      "(default: SI, m and N)");
   command->callback([options] {
+    const report::PlotUnits units = report::ParsePlotUnits(options->units);
     const std::string out_dir =
         options->out_dir.empty() ? report::DefaultPlotDir(options->run_csv) : options->out_dir;
     const io::RunData run = io::LoadRun(options->run_csv);
@@ -36,7 +42,12 @@ void AddPlotCommand(CLI::App& root) {
                  "warning: {}: no sidecar; plain figures (no physical substructure known)\n",
                  io::SidecarPath(options->run_csv));
     }
-    for (const std::string& file : report::WritePlots(run, out_dir)) fmt::print("{}\n", file);
+    const auto files = report::WritePlots(run, out_dir, {}, units);
+    for (const std::string& file : files) fmt::print("{}\n", file);
+    if (files.empty()) {
+      fmt::print(stderr, "warning: {}: no plottable channel; no figure written\n",
+                 options->run_csv);
+    }
   });
 }
 

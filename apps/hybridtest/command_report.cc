@@ -1,4 +1,5 @@
-// hybridtest report RUN.csv [--against RUN_B.csv] [--out FILE.html] [--transient SECONDS]:
+// hybridtest report RUN.csv [--against RUN_B.csv] [--out FILE.html] [--transient SECONDS]
+// [--units mm,kN]:
 // one self-contained HTML report (report/html_report.h). Default FILE: <CSV directory>/<run
 // name>-report.html.
 #include <fmt/core.h>
@@ -19,13 +20,15 @@ struct ReportOptions {
   std::string against_csv;
   std::string out_path;
   double transient = -1;  // [s]; < 0: 30 % of the run's duration
+  std::string units;      // display units, e.g. "mm,kN"
 };
 
 void AddReportCommand(CLI::App& root) {
   auto options = std::make_shared<ReportOptions>();
   CLI::App* command = root.add_subcommand(
-      "report", "Write a self-contained HTML report of a run (statistics, configuration, model "
-                "parameters, figures; with --against, a comparison with another run)");
+      "report", "Write a self-contained HTML report of a run: the result first (summary, limits "
+                "used; with --against, the comparison's headline errors), then the figures, then "
+                "configuration and model parameters");
   command->add_option("run", options->run_csv, "The run's CSV file, e.g. results/run.csv")
       ->required()
       ->check(CLI::ExistingFile);
@@ -38,7 +41,12 @@ void AddReportCommand(CLI::App& root) {
                       "With --against: initial transient excluded from means and amplitudes, in "
                       "seconds (default: 30 % of the run's duration)")
       ->check(NonNegativeFiniteNumber());
+  command->add_option("--units", options->units,
+                      "Display units of lengths and forces in figures and the summary, e.g. "
+                      "mm,kN or length=mm,force=kN (default: SI, m and N)");
   command->callback([options] {
+    report::HtmlReportOptions report_options;
+    report_options.units = report::ParsePlotUnits(options->units);
     const io::RunData run = io::LoadRun(options->run_csv);
     for (const auto& w : run.warnings) fmt::print(stderr, "warning: {}\n", w);
     std::unique_ptr<io::RunData> against;
@@ -51,7 +59,6 @@ void AddReportCommand(CLI::App& root) {
     // Like `run`: the folders of --out are created.
     const auto parent = std::filesystem::path(out).parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent);
-    report::HtmlReportOptions report_options;
     report_options.transient = options->transient;
     report::WriteHtmlReport(run, against.get(), out, report_options);
     fmt::print("{}\n", out);

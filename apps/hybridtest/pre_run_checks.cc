@@ -16,6 +16,8 @@
 #include "hybridtest/multibody/data.h"
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/schemes/step_control.h"
+#include "hybridtest/substructures/physical_substructure.h"
+#include "hybridtest/transfer/limits_check.h"
 
 namespace hybridtest::app {
 
@@ -112,6 +114,53 @@ double CheckSchemeStability(const io::SimulationConfig& cfg) {
       break;
   }
   return std::numeric_limits<double>::infinity();
+}
+
+namespace {
+
+// " (about 1000 times ...: ...)" when a/b is near 1000 or 1/1000; empty otherwise.
+std::string P0SlipHint(double runner, double bench) {
+  if (runner == 0.0 || bench == 0.0) return "";
+  const double ratio = std::abs(runner / bench);
+  if (ratio > 300 && ratio < 3000) {
+    return " (about 1000 times the bench's: a p0 in mm typed into setup.p0, which is in m?)";
+  }
+  if (ratio > 1.0 / 3000 && ratio < 1.0 / 300) {
+    return " (about 1/1000 of the bench's: the bench's p0_mm given in m?)";
+  }
+  return "";
+}
+
+}  // namespace
+
+void CheckPhysicalSlotsBeforeMoving(
+    const io::SimulationConfig& cfg,
+    const std::vector<std::unique_ptr<substructures::Substructure>>& subs) {
+  const auto& slots = cfg.model.model.slots();
+  for (std::size_t s = 0; s < subs.size() && s < slots.size(); ++s) {
+    const auto* physical = dynamic_cast<const substructures::PhysicalSubstructure*>(subs[s].get());
+    if (physical == nullptr) continue;
+    const std::string where = "substructures." + slots[s].info.name;
+    const transfer::BenchAnnouncement announced = physical->transfer().Announce();
+    const transfer::SafetyLimits& limits = physical->safety().limits();
+    if (announced.p0) {
+      const double runner = physical->setup().p0, bench = *announced.p0;
+      const double tolerance = kP0Tolerance * limits.max_increment;
+      if (std::abs(runner - bench) > tolerance) {
+        throw ConfigError(fmt::format(
+            "{}.setup.p0 = {} m, but {} announces p0 = {} m (p0_mm: {}), its zero-force "
+            "position{}: {} m apart (more than {} m, a tenth of safety.max_increment), the test "
+            "would start with a jump or a loaded specimen. Nothing was sent to the bench. Set "
+            "{}.setup.p0: {} (the bench's p0_mm / 1000), or correct the bench's p0_mm",
+            where, runner, announced.source, bench, bench * 1e3, P0SlipHint(runner, bench),
+            std::abs(runner - bench), tolerance, where, bench));
+      }
+    }
+    if (announced.limits) {
+      transfer::CheckLimitsAgainstBench(limits, *announced.limits, where + ".safety",
+                                        announced.source);
+    }
+  }
 }
 
 }  // namespace hybridtest::app

@@ -2,9 +2,12 @@
 // Checks made before a run starts, so that a slip (a step beyond the scheme's stability limit,
 // a run that would fill the disk) is refused with exit 2 instead of producing diverged results
 // or failing hours later.
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "hybridtest/io/config.h"
+#include "hybridtest/substructures/substructure.h"
 
 namespace hybridtest::app {
 
@@ -28,5 +31,19 @@ double CheckSchemeStability(const io::SimulationConfig& cfg);
 
 // The per-slot stiffness used above (m entries). Unit: [N/m].
 std::vector<double> SlotStiffnessForStability(const io::SimulationConfig& cfg);
+
+// Before anything moves: each physical slot's setup against what its transfer system announces
+// (TransferSystem::Announce; an emulated bench announces its p0 and limits, a remote bench its
+// limits only after connecting, where the client checks them itself):
+//   - p0: |setup.p0 − the bench's p0| must not exceed kP0Tolerance × safety.max_increment;
+//     else the first command would jump, or the specimen start loaded. The ConfigError names
+//     substructures.<slot>.setup.p0, both values (the bench's also in mm) and, for a ratio
+//     near 1000, the unit slip;
+//   - limits: transfer::CheckLimitsAgainstBench, both directions.
+// Throws ConfigError (exit 2). Sends nothing to any bench.
+inline constexpr double kP0Tolerance = 0.1;
+void CheckPhysicalSlotsBeforeMoving(
+    const io::SimulationConfig& cfg,
+    const std::vector<std::unique_ptr<substructures::Substructure>>& subs);
 
 }  // namespace hybridtest::app

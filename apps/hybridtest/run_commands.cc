@@ -161,6 +161,12 @@ void ExecuteRun(const RunCommandOptions& options) {
   if (!options.out.empty()) spec.output.csv_path = options.out;
   spec.output.command = options.command;
   const std::string& csv = spec.output.csv_path;
+  {
+    // p0 and limits against the bench's, before anything is sent (fresh, unconnected copies).
+    std::vector<std::unique_ptr<substructures::Substructure>> subs;
+    for (const auto& s : spec.substructures) subs.push_back(s.Build());
+    CheckPhysicalSlotsBeforeMoving(cfg, subs);
+  }
   // One master per run: the lock is taken before any file of the run is looked at or touched.
   const auto parent = std::filesystem::path(csv).parent_path();
   if (!parent.empty()) std::filesystem::create_directories(parent);

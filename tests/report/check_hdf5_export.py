@@ -3,11 +3,14 @@
 Usage: check_hdf5_export.py RUN.h5 RUN.csv [SIDECAR.json]
 Reads the CSV with Python, maps every column to its dataset by the layout of
 docs/results-format.md, and checks values (bit for bit), units and descriptions (against the
-sidecar when given) and the /metadata group. Prints every mismatch; exit status 1 if any.
+sidecar when given), the /metadata group, the provenance root attributes (every sidecar key
+but its channel list, flattened here on their own) and, when RUN.stages.csv exists, the
+/stages datasets. Prints every mismatch; exit status 1 if any.
 """
 import csv
 import json
 import math
+import os
 import re
 import sys
 
@@ -27,6 +30,41 @@ def dataset_path(name):
     if m:
         return "/%s/%s" % (GROUPS[m.group(1)], name)
     return "/other/" + name
+
+
+def flatten(value, name, out):
+    """The sidecar's provenance as the exporter should write it: name -> expected value."""
+    if isinstance(value, dict) and value:
+        for key, item in value.items():
+            flatten(item, key if not name else name + "." + key, out)
+    elif isinstance(value, list) and value and all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) for v in value):
+        out[name.replace("/", "_")] = [float(v) for v in value]
+    elif isinstance(value, list) and value:
+        for i, item in enumerate(value):
+            flatten(item, "%s.%d" % (name, i), out)
+    elif isinstance(value, bool):
+        out[name.replace("/", "_")] = "true" if value else "false"
+    elif isinstance(value, (int, float, str)):
+        out[name.replace("/", "_")] = value
+    else:
+        out[name.replace("/", "_")] = json.dumps(value, separators=(",", ":"))
+
+
+def check_columns(h5, csv_path, path_of, errors):
+    """Every column of csv_path against its dataset, bit for bit."""
+    with open(csv_path, newline="") as f:
+        rows = list(csv.reader(f))
+    header, data = rows[0], [[float(x) for x in r] for r in rows[1:]]
+    for j, name in enumerate(header):
+        path = path_of(name)
+        if path not in h5:
+            errors.append("missing dataset %s for %s" % (path, name))
+            continue
+        values = h5[path][()]
+        if len(values) != len(data) or any(
+                not same(float(values[i]), data[i][j]) for i in range(len(data))):
+            errors.append("%s differs from column %s of %s" % (path, name, csv_path))
 
 
 def same(a, b):
@@ -80,6 +118,28 @@ def main():
                 errors.append("/metadata run_software_version mismatch")
         elif stored is not None:
             errors.append("/metadata/sidecar should be null for a run without a sidecar")
+        if sidecar is not None:
+            expected = {}
+            flatten({k: v for k, v in sidecar.items() if k != "channels"}, "", expected)
+            for key, want in expected.items():
+                got = h5.attrs.get(key)
+                if isinstance(want, list):
+                    ok = got is not None and list(map(float, got)) == want
+                elif isinstance(want, float):
+                    ok = got is not None and same(float(got), want)
+                else:
+                    ok = got == want
+                if not ok:
+                    errors.append("root attribute %s = %r, sidecar says %r"
+                                  % (key, got, want))
+            extra = set(h5.attrs.keys()) - set(expected.keys())
+            if extra:
+                errors.append("root attributes not in the sidecar: %s" % sorted(extra))
+        stages = re.sub(r"\.csv$", "", csv_path) + ".stages.csv"
+        if os.path.exists(stages):
+            check_columns(h5, stages, lambda name: "/stages/" + name.replace("/", "_"), errors)
+        elif "stages" in h5:
+            errors.append("/stages exists but %s does not" % stages)
         for key in ("format", "software_version", "source_csv"):
             if not isinstance(meta.attrs.get(key), str):
                 errors.append("/metadata: no string attribute %s" % key)

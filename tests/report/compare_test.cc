@@ -158,5 +158,49 @@ TEST(CompareCommand, PrintsTheTableAndWritesCsvAndOverlayFigures) {
   EXPECT_GT(Slurp(dir / "cmp/compare-hub-speed.png").size(), 5000u);
 }
 
+// A multi-rate run: rows every 0.1 s, but the specimen's force r1_force only every row up to
+// 5 s and every 10th row after. f = 1 up to 5 s, 3 after; B's force is A's plus d, d = 1 up
+// to 5 s and 2 after; r1_lab_time is a clock.
+io::RunData SparseRun(const std::string& path, bool b) {
+  const int n = 101;
+  Eigen::MatrixXd v(n, 3);
+  for (int k = 0; k < n; ++k) {
+    const double t = 0.1 * k;
+    const bool sampled = k <= 50 || k % 10 == 0;
+    const double f = k <= 50 ? 1.0 : 3.0;
+    const double d = k <= 50 ? 1.0 : 2.0;
+    v(k, 0) = t;
+    v(k, 1) = sampled ? f + (b ? d : 0.0) : NAN;
+    v(k, 2) = sampled ? 1.13 * k : NAN;
+  }
+  testing::WriteRunFiles(path, {{"t", "s", "time"}, {"r1_force", "N", "force"},
+                                {"r1_lab_time", "s", "lab time"}},
+                         v, nlohmann::json{{"model", {{"name", "mr-os"}}}});
+  return io::LoadRun(path);
+}
+
+TEST(CompareRuns, SparseChannelsAreWeightedByTimeAndClocksHaveNoLevel) {
+  const ScratchDir dir("compare-sparse");
+  const io::RunData a = SparseRun(dir / "a.csv", false);
+  const io::RunData b = SparseRun(dir / "b.csv", true);
+  const ComparisonTable table = CompareRuns(a, b, 0.0);
+  ASSERT_EQ(table.rows.size(), 2u);
+  const ChannelComparison& f = table.rows[0];
+  // Trapezoid over the samples A has: 5·1 + (1+3)/2·1 + 4·3 = 19 over 10 s. Counting samples
+  // would give (51·1 + 5·3)/56 = 1.18.
+  EXPECT_NEAR(f.mean_a, 1.9, 1e-12);
+  EXPECT_NEAR(f.amplitude_a, 1.0, 1e-12);
+  // d²: 5·1 + (1+4)/2·1 + 4·4 = 23.5 over 10 s.
+  EXPECT_NEAR(f.rms_diff, std::sqrt(2.35), 1e-12);
+  EXPECT_NEAR(f.max_abs_diff, 2.0, 1e-12);
+  const ChannelComparison& clock = table.rows[1];
+  EXPECT_EQ(clock.channel, "r1_lab_time");
+  EXPECT_TRUE(std::isnan(clock.mean_a) && std::isnan(clock.amplitude_a));
+  EXPECT_TRUE(std::isnan(clock.mean_b) && std::isnan(clock.amplitude_b));
+  EXPECT_EQ(clock.max_abs_diff, 0.0);
+  const std::string text = FormatComparisonText(table);
+  EXPECT_EQ(text.find("nan"), std::string::npos) << text;
+}
+
 }  // namespace
 }  // namespace hybridtest::report

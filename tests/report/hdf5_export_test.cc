@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/journal.h"
@@ -118,6 +119,34 @@ TEST(Hdf5Export, RunWithoutSidecarAndWithoutRows) {
   std::ofstream(dir + "/small.csv") << "t,q1,r1_force,x\n0,1,2,3\n0.5,nan,-inf,1e-300\n";
   ExportHdf5(io::LoadRun(dir + "/small.csv"), dir + "/small.h5");
   EXPECT_EQ(RunChecker(dir + "/small.h5", dir + "/small.csv", ""), 0);
+}
+
+// The provenance a lab signs (a test block, host, command line, inputs with their text and
+// sha256: whatever keys the sidecar holds) becomes root attributes; the stage record joins.
+TEST(Hdf5Export, SidecarProvenanceBecomesRootAttributesAndStagesJoin) {
+  if (!HaveH5py()) GTEST_SKIP() << "python3-h5py is not installed";
+  const std::string dir = TempDir("provenance");
+  const std::string csv = WriteHybridRun(dir, 30);
+  nlohmann::json sidecar = io::ReadSidecar(csv);
+  sidecar["test"] = {{"specimen", "S-0421"}, {"operator", "A. Lab"}, {"notes", "first article"},
+                     {"batch", 7}, {"witnessed", true}};
+  sidecar["host"] = "rig-3";
+  sidecar["command_line"] = {"hybridtest", "run", "x.yaml", "--out", "r/run.csv"};
+  const std::string long_text(100000, 'y');  // beyond an object header's 64 KiB
+  sidecar["inputs"] = {{{"role", "config"}, {"sha256", std::string(64, 'a')}, {"text", long_text}},
+                       {{"role", "bench"}, {"sha256", std::string(64, 'b')}, {"text", ""}}};
+  sidecar["limits_m"] = {-0.1, 0.1};
+  sidecar["unset"] = nullptr;
+  std::ofstream(io::SidecarPath(csv)) << sidecar.dump(2);
+  std::ofstream(dir + "/run.stages.csv")
+      << "step,stage,t,r1_command,r1_position,r1_force,r1_lab_time\n"
+         "0,0,0,0.1,0.1,1.5,0\n0,1,0.0005,0.1001,0.1001,1.75,1.13\n1,0,0.001,0.1002,0.1002,2,2.26\n";
+  ExportHdf5(io::LoadRun(csv), dir + "/run.h5");
+  EXPECT_EQ(RunChecker(dir + "/run.h5", csv, io::SidecarPath(csv)), 0);
+  // The checker fails on a provenance the file does not carry.
+  sidecar["test"]["specimen"] = "S-0422";
+  std::ofstream(dir + "/other.meta.json") << sidecar.dump(2);
+  EXPECT_EQ(RunChecker(dir + "/run.h5", csv, dir + "/other.meta.json"), 1);
 }
 
 TEST(Hdf5Export, UnwritablePathIsAClearIoError) {

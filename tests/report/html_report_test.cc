@@ -64,9 +64,10 @@ TEST(WriteHtmlReport, IsSelfContainedEscapedAndHoldsTablesAndFigures) {
   EXPECT_EQ(html.find("<link"), std::string::npos);
   EXPECT_EQ(html.find("<script"), std::string::npos);
   EXPECT_EQ(html.find("url("), std::string::npos);
-  // Figures: 4 of the run + 2 overlays, each a PNG data URI with a real PNG inside.
-  EXPECT_EQ(Count(html, "<img "), 6u);
-  EXPECT_EQ(Count(html, "src=\"data:image/png;base64,iVBORw0KGgo"), 6u);
+  // Figures: 7 of the run (blades, hub, restoring forces; r1's tracking, force, loop and lab
+  // time) + 2 overlays, each a PNG data URI with a real PNG inside.
+  EXPECT_EQ(Count(html, "<img "), 9u);
+  EXPECT_EQ(Count(html, "src=\"data:image/png;base64,iVBORw0KGgo"), 9u);
   // Every src= is a data URI (std::regex would overflow the stack on the long base64 text).
   for (std::size_t at = html.find("src=\""); at != std::string::npos;
        at = html.find("src=\"", at + 1)) {
@@ -96,7 +97,8 @@ TEST(WriteHtmlReport, RunWithoutSidecarStillReports) {
   EXPECT_NE(html.find("No sidecar"), std::string::npos);
   EXPECT_NE(html.find("lists no model parameters"), std::string::npos);
   EXPECT_EQ(html.find("id=\"comparison\""), std::string::npos);
-  EXPECT_EQ(Count(html, "src=\"data:image/png;base64,"), 2u);  // coordinates and speeds
+  // q1..q3 and q4, u1..u3 and u4 (their scales differ), the restoring forces.
+  EXPECT_EQ(Count(html, "src=\"data:image/png;base64,"), 5u);
 }
 
 TEST(ReportCommand, WritesTheFileItPrints) {

@@ -39,6 +39,28 @@ TEST(LimitsCheck, MillimetresTypedIntoMetresAreAUnitSlip) {
   EXPECT_NE(msg.find("about 1000 times"), std::string::npos) << msg;
 }
 
+TEST(LimitsCheck, KilonewtonsTypedIntoNewtonsAreAUnitSlipToo) {
+  // The other direction: far inside the bench's by a factor of 1000.
+  SafetyLimits bench;
+  bench.force_soft = 250;
+  bench.force_hard = 300;
+  SafetyLimits runner = bench;
+  runner.force_soft = 0.25;
+  runner.force_hard = 0.3;
+  const std::string msg = ErrorOf(runner, bench);
+  EXPECT_NE(msg.find("substructures.r1.safety.force_hard = 0.3 N is about 1/1000"),
+            std::string::npos) << msg;
+  EXPECT_NE(msg.find("300 N"), std::string::npos) << msg;
+  // A specimen limit 1/10 or 1/100 of the bench's is ordinary, and so is 1/10^4.
+  for (double f : {30.0, 3.0, 0.03}) {
+    runner.force_hard = f;
+    EXPECT_EQ(ErrorOf(runner, bench), "") << f;
+  }
+  runner = bench;
+  runner.stroke_max = bench.stroke_max / 1000;
+  EXPECT_NE(ErrorOf(runner, bench).find("stroke_max"), std::string::npos);
+}
+
 TEST(LimitsCheck, EachLimitIsCompared) {
   for (int which = 0; which < 4; ++which) {
     SafetyLimits runner;

@@ -37,17 +37,37 @@ import argparse
 import asyncio
 import logging
 import math
+import os
 import struct
 import sys
 import time
+
+def pymodbus_advice(error):
+    """Why pymodbus could not be imported by this interpreter, and the fix."""
+    here = f"{sys.executable} (Python {sys.version.split()[0]})"
+    debian = "/usr/lib/python3/dist-packages/pymodbus"
+    try:
+        import pymodbus  # noqa: F401  (present, but not the API this script needs)
+        return (f"the pymodbus {getattr(pymodbus, '__version__', '?')} that {here} imports "
+                f"from {pymodbus.__file__} lacks what this script needs ({error}); run it with "
+                f"Debian's /usr/bin/python3 and python3-pymodbus 3.0")
+    except ImportError:
+        pass
+    if os.path.isdir(debian) and os.path.dirname(debian) not in sys.path:
+        return (f"python3-pymodbus is installed ({debian}) but {here} does not see Debian's "
+                f"packages ({os.path.dirname(debian)} is not on its sys.path); run the script "
+                f"with Debian's interpreter, as its first line says: /usr/bin/python3 "
+                f"{sys.argv[0]}")
+    return (f"pymodbus is missing for {here} ({error}); install python3-pymodbus "
+            f"(scripts/install-deps.sh) and run the script with /usr/bin/python3")
+
 
 try:
     from pymodbus.datastore import (ModbusSequentialDataBlock, ModbusServerContext,
                                     ModbusSlaveContext)
     from pymodbus.server.async_io import ModbusTcpServer
 except ImportError as error:  # pragma: no cover
-    print(f"modbus_server: pymodbus is missing ({error}); install python3-pymodbus "
-          "(scripts/install-deps.sh)", file=sys.stderr)
+    print(f"modbus_server: {pymodbus_advice(error)}", file=sys.stderr)
     sys.exit(3)
 
 CMD, SEQ = 0, 2                  # holding registers

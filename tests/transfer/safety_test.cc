@@ -70,7 +70,22 @@ TEST(SafetyMonitor, MaxIncrementFromLastAcceptedCommand) {
 TEST(SafetyMonitor, FirstCommandIncrementCheckedAgainstStartPosition) {
   SafetyMonitor monitor(SafetyLimits{});
   monitor.SetStartPosition(0.050);
-  EXPECT_EQ(CatchStop([&] { monitor.CheckCommand(0.0, 0, 0); }).limit(), "max_increment");
+  const SafetyStop stop = CatchStop([&] { monitor.CheckCommand(0.0, 0, 0); });
+  EXPECT_EQ(stop.limit(), "max_increment");
+  // A jump at the first command is a p0 or unit mismatch, never a step size.
+  EXPECT_THAT(stop.what(), HasSubstr("The first command 0 m is 0.05 m from the start position"));
+  EXPECT_THAT(stop.what(), HasSubstr("setup.p0"));
+  EXPECT_THAT(stop.what(), HasSubstr("p0_mm / 1000"));
+  EXPECT_THAT(stop.what(), ::testing::Not(HasSubstr("reduce the time step")));
+}
+
+TEST(SafetyMonitor, LaterIncrementsKeepTheStepSizeAdvice) {
+  SafetyMonitor monitor(SafetyLimits{});
+  monitor.SetStartPosition(0.050);
+  monitor.CheckCommand(0.051, 0, 0);  // the first command is fine: from now on, step sizes
+  const SafetyStop stop = CatchStop([&] { monitor.CheckCommand(0.070, 1, 0); });
+  EXPECT_THAT(stop.what(), HasSubstr("reduce the time step"));
+  EXPECT_THAT(stop.what(), ::testing::Not(HasSubstr("first command")));
 }
 
 TEST(SafetyMonitor, ForceSoftUsesInitialStiffnessBeforeTwoSamples) {

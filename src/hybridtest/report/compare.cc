@@ -52,20 +52,51 @@ std::vector<Sample> AlignOnA(const Eigen::VectorXd& ta, const Eigen::VectorXd& t
   return samples;
 }
 
-// Mean and half range of v over the samples with t ≥ t_from.
+// Trapezoid weights of the finite samples listed in `index` (times t): half the time to the
+// previous plus half the time to the next finite sample. Σ w v is then the integral of the
+// piecewise-linear line through the samples.
+std::vector<double> TimeWeights(const Eigen::VectorXd& t, const std::vector<Eigen::Index>& index) {
+  std::vector<double> w(index.size(), 0.0);
+  for (std::size_t k = 0; k + 1 < index.size(); ++k) {
+    const double half = 0.5 * (t[index[k + 1]] - t[index[k]]);
+    w[k] += half;
+    w[k + 1] += half;
+  }
+  if (index.size() == 1) w[0] = 1.0;
+  return w;
+}
+
+// Mean and half range of v over the finite samples with t ≥ t_from. A sparse channel (some
+// rows NaN) is averaged over time, each sample weighted by the time it stands for; a dense
+// one by sample.
 std::pair<double, double> SteadyStats(const Eigen::VectorXd& t, const Eigen::VectorXd& v,
                                       double t_from) {
-  double sum = 0, lo = INFINITY, hi = -INFINITY;
-  long n = 0;
+  std::vector<Eigen::Index> finite;
+  bool sparse = false;
   for (Eigen::Index i = 0; i < t.size(); ++i) {
-    if (t[i] < t_from || !std::isfinite(v[i])) continue;  // rows without the quantity
-    sum += v[i];
-    lo = std::min(lo, v[i]);
-    hi = std::max(hi, v[i]);
-    ++n;
+    if (t[i] < t_from) continue;
+    if (std::isfinite(v[i])) {
+      finite.push_back(i);
+    } else {
+      sparse = true;  // rows without the quantity
+    }
   }
-  return {sum / static_cast<double>(n), 0.5 * (hi - lo)};
+  if (finite.empty()) return {NAN, NAN};
+  const std::vector<double> w =
+      sparse ? TimeWeights(t, finite) : std::vector<double>(finite.size(), 1.0);
+  double sum = 0, weight = 0, lo = INFINITY, hi = -INFINITY;
+  for (std::size_t k = 0; k < finite.size(); ++k) {
+    const double x = v[finite[k]];
+    sum += w[k] * x;
+    weight += w[k];
+    lo = std::min(lo, x);
+    hi = std::max(hi, x);
+  }
+  return {weight > 0 ? sum / weight : NAN, 0.5 * (hi - lo)};
 }
+
+// A lab-time channel is a clock: its level and swing say nothing about the test.
+bool IsClock(const std::string& channel) { return channel.ends_with("_lab_time"); }
 
 void CheckWindow(const io::RunData& run, const Eigen::VectorXd& t, double transient,
                  const char* which) {
@@ -135,22 +166,38 @@ ComparisonTable CompareRuns(const io::RunData& a, const io::RunData& b, double t
     ChannelComparison row;
     row.channel = channel.name;
     row.unit = channel.unit;
-    double sum_sq = 0;
-    long compared = 0;
+    // Rows where a run has no such value (NaN: a substep without a specimen sample, a failed
+    // trial) are not compared; when there are such rows, each difference is weighted by the
+    // time it stands for.
+    std::vector<Eigen::Index> rows;
+    std::vector<double> diffs;
+    bool sparse = false;
     for (const Sample& s : samples) {
       const double b_value = s.w == 0.0 ? vb[s.j] : (1 - s.w) * vb[s.j] + s.w * vb[s.j + 1];
       const double d = va[s.a] - b_value;
-      // Rows where a run has no such value (NaN: a substep without a specimen sample, a failed
-      // trial) are not compared.
-      if (!std::isfinite(d)) continue;
+      if (!std::isfinite(d)) {
+        sparse = true;
+        continue;
+      }
       row.max_abs_diff = std::max(row.max_abs_diff, std::abs(d));
-      sum_sq += d * d;
-      ++compared;
+      rows.push_back(s.a);
+      diffs.push_back(d);
     }
-    row.rms_diff = compared > 0 ? std::sqrt(sum_sq / static_cast<double>(compared))
-                                : std::numeric_limits<double>::quiet_NaN();
-    std::tie(row.mean_a, row.amplitude_a) = SteadyStats(ta, va, ta[0] + transient);
-    std::tie(row.mean_b, row.amplitude_b) = SteadyStats(tb, vb, tb[0] + transient);
+    const std::vector<double> w =
+        sparse ? TimeWeights(ta, rows) : std::vector<double>(rows.size(), 1.0);
+    double sum_sq = 0, weight = 0;
+    for (std::size_t k = 0; k < diffs.size(); ++k) {
+      sum_sq += w[k] * diffs[k] * diffs[k];
+      weight += w[k];
+    }
+    row.rms_diff = weight > 0 ? std::sqrt(sum_sq / weight)
+                              : std::numeric_limits<double>::quiet_NaN();
+    if (IsClock(channel.name)) {
+      row.mean_a = row.amplitude_a = row.mean_b = row.amplitude_b = NAN;
+    } else {
+      std::tie(row.mean_a, row.amplitude_a) = SteadyStats(ta, va, ta[0] + transient);
+      std::tie(row.mean_b, row.amplitude_b) = SteadyStats(tb, vb, tb[0] + transient);
+    }
     table.rows.push_back(row);
   }
   if (table.rows.empty()) {
@@ -176,10 +223,14 @@ std::string FormatComparisonText(const ComparisonTable& table) {
   out += fmt::format("{:<{}} {:<{}} {:>13} {:>13} {:>13} {:>13} {:>13} {:>13}\n", "channel",
                      name_width, "unit", unit_width, "max|A-B|", "RMS(A-B)", "mean A", "amp A",
                      "mean B", "amp B");
+  const auto cell = [](double v) {
+    return std::isnan(v) ? fmt::format("{:>13}", "-") : fmt::format("{:>13.6g}", v);
+  };
   for (const ChannelComparison& row : table.rows) {
-    out += fmt::format("{:<{}} {:<{}} {:>13.6g} {:>13.6g} {:>13.6g} {:>13.6g} {:>13.6g} {:>13.6g}\n",
-                       row.channel, name_width, "[" + row.unit + "]", unit_width, row.max_abs_diff,
-                       row.rms_diff, row.mean_a, row.amplitude_a, row.mean_b, row.amplitude_b);
+    out += fmt::format("{:<{}} {:<{}} {} {} {} {} {} {}\n", row.channel, name_width,
+                       "[" + row.unit + "]", unit_width, cell(row.max_abs_diff),
+                       cell(row.rms_diff), cell(row.mean_a), cell(row.amplitude_a),
+                       cell(row.mean_b), cell(row.amplitude_b));
   }
   return out;
 }

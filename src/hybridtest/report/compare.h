@@ -13,7 +13,13 @@
 //
 // Missing values. A NaN sample (a scheme's substep row carries no specimen sample; a failed
 // trial has no force) is left out of every statistic; a channel with no finite sample in the
-// window reports NaN.
+// window reports NaN. A sparse channel (one with such rows) is weighted by time: its mean and
+// RMS(A − B) weight each remaining sample by half the time to its finite neighbours (the
+// trapezoid rule over the samples it has), so a stretch of rare samples counts for its
+// duration, not its sample count. A dense channel is weighted by sample.
+//
+// Clocks. A `*_lab_time` channel gets no mean and no amplitude (NaN): a clock's level says
+// nothing about the test. Its max |A − B| and RMS are kept.
 //
 // Common channels are those in both runs except t, in A's order.
 #include <iosfwd>

@@ -4,11 +4,15 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
 #include <set>
 #include <vector>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/version.h"
+#include "hybridtest/io/journal.h"
 
 namespace hybridtest::report {
 namespace {
@@ -93,6 +97,19 @@ class Writer {
     Check(H5Awrite(attribute.get(), type.get(), &data), "write attribute", name);
   }
 
+  // Writes a scalar (count 0) or 1-D (count ≥ 1) attribute of `type` on `object`.
+  void WriteAttribute(hid_t object, const std::string& name, hid_t file_type, hid_t memory_type,
+                      const void* data, hsize_t count, bool scalar) {
+    const Handle space(Check(scalar ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &count, nullptr),
+                             "create a dataspace"),
+                       H5Sclose);
+    const Handle attribute(Check(H5Acreate2(object, name.c_str(), file_type, space.get(),
+                                            H5P_DEFAULT, H5P_DEFAULT),
+                                 "create attribute " + name),
+                           H5Aclose);
+    Check(H5Awrite(attribute.get(), memory_type, data), "write attribute", name);
+  }
+
   // Writes a scalar variable-length UTF-8 string dataset at `name` in `group`.
   void WriteStringDataset(hid_t group, const std::string& name, const std::string& value) {
     const Handle type(Check(H5Tcopy(H5T_C_S1), "copy a string type"), H5Tclose);
@@ -144,6 +161,68 @@ std::string SafeName(const std::string& name) {
   return safe;
 }
 
+// The provenance of the run as attributes of `object`: every key of `value` (the sidecar)
+// under its name, nested keys joined with '.', array elements by index (test.specimen,
+// extra.inputs.0.sha256). Strings stay strings, integers become int64, other numbers double,
+// an array of numbers one 1-D double attribute, booleans "true"/"false", null "null", an
+// empty array or object "[]"/"{}".
+void WriteJsonAttributes(Writer& writer, hid_t object, const nlohmann::json& value,
+                         const std::string& name) {
+  const std::string key = SafeName(name);
+  if (value.is_object() && !value.empty()) {
+    for (const auto& [child, item] : value.items()) {
+      WriteJsonAttributes(writer, object, item, name.empty() ? child : name + "." + child);
+    }
+  } else if (value.is_array() && !value.empty() &&
+             std::all_of(value.begin(), value.end(),
+                         [](const nlohmann::json& v) { return v.is_number(); })) {
+    std::vector<double> numbers;
+    for (const auto& v : value) numbers.push_back(v.get<double>());
+    writer.WriteAttribute(object, key, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, numbers.data(),
+                          numbers.size(), false);
+  } else if (value.is_array() && !value.empty()) {
+    for (std::size_t i = 0; i < value.size(); ++i) {
+      WriteJsonAttributes(writer, object, value[i], name + "." + std::to_string(i));
+    }
+  } else if (value.is_number_integer()) {
+    const std::int64_t v = value.get<std::int64_t>();
+    writer.WriteAttribute(object, key, H5T_STD_I64LE, H5T_NATIVE_INT64, &v, 0, true);
+  } else if (value.is_number()) {
+    const double v = value.get<double>();
+    writer.WriteAttribute(object, key, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &v, 0, true);
+  } else if (value.is_string()) {
+    writer.WriteStringAttribute(object, key, value.get<std::string>());
+  } else if (value.is_boolean()) {
+    writer.WriteStringAttribute(object, key, value.get<bool>() ? "true" : "false");
+  } else {
+    writer.WriteStringAttribute(object, key, value.dump());  // null, [] or {}
+  }
+}
+
+// One 1-D dataset per channel under `prefix`, with the units, description and channel
+// attributes.
+void WriteChannels(Writer& writer, hid_t file, const io::RunData& run,
+                   const std::function<std::string(const std::string&)>& path_of,
+                   const std::string& h5_path) {
+  const auto rows = static_cast<hsize_t>(run.values.rows());
+  std::set<std::string> used;
+  for (int j = 0; j < run.num_channels(); ++j) {
+    const io::Channel& channel = run.channels[static_cast<std::size_t>(j)];
+    const std::string path = path_of(channel.name);
+    if (!used.insert(path).second) {
+      throw IoError(fmt::format("{}: channels '{}' and an earlier one both map to {}; rename "
+                                "one of them",
+                                h5_path, channel.name, path));
+    }
+    // Eigen's default column-major storage keeps each column contiguous.
+    const Handle dataset(
+        writer.CreateDoubleDataset(file, path, run.values.col(j).data(), rows), H5Dclose);
+    writer.WriteStringAttribute(dataset.get(), "units", channel.unit);
+    writer.WriteStringAttribute(dataset.get(), "description", channel.description);
+    writer.WriteStringAttribute(dataset.get(), "channel", channel.name);
+  }
+}
+
 }  // namespace
 
 std::string Hdf5DatasetPath(const std::string& channel_name) {
@@ -162,28 +241,41 @@ std::string Hdf5DatasetPath(const std::string& channel_name) {
 void ExportHdf5(const io::RunData& run, const std::string& h5_path) {
   const QuietHdf5Errors quiet;
   Writer writer(h5_path);
+  // Dense attribute storage on the root group, so that a provenance attribute (an input file's
+  // text) may exceed the 64 KiB of an object header.
+  const Handle create(writer.Check(H5Pcreate(H5P_FILE_CREATE), "create a property list"),
+                      H5Pclose);
+  writer.Check(H5Pset_attr_phase_change(create.get(), 0, 0), "configure attributes of", "/");
+  const Handle access(writer.Check(H5Pcreate(H5P_FILE_ACCESS), "create a property list"),
+                      H5Pclose);
+  writer.Check(H5Pset_libver_bounds(access.get(), H5F_LIBVER_V18, H5F_LIBVER_LATEST),
+               "set the format version of", h5_path);
   const Handle file(
-      writer.Check(H5Fcreate(h5_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
+      writer.Check(H5Fcreate(h5_path.c_str(), H5F_ACC_TRUNC, create.get(), access.get()),
                    "create the HDF5 file"),
       H5Fclose);
 
-  // Channels: Eigen's default column-major storage keeps each column contiguous.
-  const Eigen::MatrixXd& values = run.values;
-  const auto rows = static_cast<hsize_t>(values.rows());
-  std::set<std::string> used;
-  for (int j = 0; j < run.num_channels(); ++j) {
-    const io::Channel& channel = run.channels[static_cast<std::size_t>(j)];
-    const std::string path = Hdf5DatasetPath(channel.name);
-    if (!used.insert(path).second) {
-      throw IoError(fmt::format("{}: channels '{}' and an earlier one both map to {}; rename "
-                                "one of them",
-                                h5_path, channel.name, path));
-    }
-    const Handle dataset(writer.CreateDoubleDataset(file.get(), path, values.col(j).data(), rows),
-                         H5Dclose);
-    writer.WriteStringAttribute(dataset.get(), "units", channel.unit);
-    writer.WriteStringAttribute(dataset.get(), "description", channel.description);
-    writer.WriteStringAttribute(dataset.get(), "channel", channel.name);
+  WriteChannels(writer, file.get(), run, Hdf5DatasetPath, h5_path);
+
+  // The stage record (<run>.stages.csv), when the run has one.
+  const std::string stages_path = io::StagesPath(run.csv_path);
+  std::error_code missing;
+  if (std::filesystem::is_regular_file(stages_path, missing)) {
+    const io::RunData stages = io::LoadRun(stages_path);
+    WriteChannels(
+        writer, file.get(), stages,
+        [](const std::string& name) { return "/stages/" + SafeName(name); }, h5_path);
+    const Handle group(writer.Check(H5Gopen2(file.get(), "/stages", H5P_DEFAULT),
+                                    "open group /stages"),
+                       H5Gclose);
+    writer.WriteStringAttribute(group.get(), "source_csv", stages_path);
+  }
+
+  // Provenance: the sidecar's keys as root attributes (its channel list is on the datasets).
+  if (run.metadata.is_object()) {
+    nlohmann::json provenance = run.metadata;
+    provenance.erase("channels");
+    WriteJsonAttributes(writer, file.get(), provenance, "");
   }
 
   // Metadata: config text, the whole sidecar, versions.

@@ -8,12 +8,21 @@
 //   /restoring_forces/r1, r2, ...
 //   /physical/<slot>/command, position, force, lab_time   (from <slot>_command, ...)
 //   /other/<name>                                         (every other channel)
+//   /stages/<name>      the stage record <run>.stages.csv, one dataset per column (step,
+//                       stage, t, <slot>_command, ...), when the run has one; the group's
+//                       attribute source_csv names the file
 //   /metadata/config    string dataset: the config file's text ("" if unknown)
 //   /metadata/sidecar   string dataset: the sidecar JSON ("null" if the run has none)
 // Every channel dataset carries the string attributes `units`, `description` and `channel`
 // (the CSV column name; a '/' in it becomes '_' in the dataset name). /metadata carries the
 // attributes `format` ("hybridtest-hdf5/1"), `software_version` (of the exporter),
 // `run_software_version` (from the sidecar, "" if unknown) and `source_csv`.
+// The root group carries the run's provenance as attributes: every key of the sidecar except
+// its channel list, whatever keys the sidecar has (status, command, config_path, config,
+// software_version, start_time, a test block, host, inputs with their sha256, ...), nested
+// keys joined with '.' and array elements by index (test.specimen, extra.inputs.0.sha256);
+// strings as strings, integers as int64, other numbers as double, an array of numbers as one
+// 1-D double attribute, booleans as "true"/"false".
 // Strings are variable-length UTF-8. Datasets are gzip-compressed when the filter exists.
 #include <string>
 

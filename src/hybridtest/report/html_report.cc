@@ -3,16 +3,20 @@
 #include <fmt/core.h>
 #include <stdlib.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/version.h"
 #include "hybridtest/report/compare.h"
 #include "hybridtest/report/compare_plot.h"
-#include "hybridtest/report/html_report_style.h"
 #include "hybridtest/report/html_report_resumes.h"
+#include "hybridtest/report/html_report_style.h"
+#include "hybridtest/report/html_report_summary.h"
 #include "hybridtest/report/html_report_text.h"
 #include "hybridtest/report/plot.h"
 #include "hybridtest/report/plot_layout.h"
@@ -83,58 +87,23 @@ std::string KeyValueTable(const std::vector<std::pair<std::string, std::string>>
   return html + "</table>\n";
 }
 
-std::string StatusBadge(const std::string& status) {
-  const char* kind = status == "completed" ? "ok" : status == "running" ? "busy" : "bad";
-  return fmt::format("<span class=\"badge {}\">{}</span>", kind,
-                     E(status.empty() ? "unknown (no sidecar)" : status));
-}
-
-std::string StatisticsSection(const io::RunData& run) {
-  const json& meta = run.metadata;
-  const json stats = Member(meta, "statistics");
-  const Eigen::VectorXd t = RunTime(run);
+// Statistics the summary does not show (initial_stiffness has its own table).
+std::string FurtherStatistics(const io::RunData& run) {
+  const json stats = Member(run.metadata, "statistics");
+  if (!stats.is_object()) return "";
+  static const std::vector<std::string> kShown{
+      "steps", "physical_evaluations", "wall_time_s", "lab_time_s", "slowdown", "rows",
+      "sim_time_s", "stop", "initial_stiffness"};
   std::vector<std::pair<std::string, std::string>> rows;
-  auto stat = [&](const char* key) { return Member(stats, key); };
-  auto number = [&](const char* key, const char* suffix) {
-    const json v = stat(key);
-    return v.is_number() ? E(FormatNumber(v.get<double>()) + suffix) : std::string("&ndash;");
-  };
-  auto duration = [&](const char* key) {
-    const json v = stat(key);
-    return v.is_number() ? E(FormatDuration(v.get<double>())) : std::string("&ndash;");
-  };
-  rows.push_back({"Status", StatusBadge(FormatJson(Member(meta, "status")))});
-  rows.push_back({"Simulated time", E(fmt::format("{} s to {} s ({} rows)", FormatNumber(t[0]),
-                                                  FormatNumber(t[t.size() - 1]), t.size()))});
-  rows.push_back({"Steps", number("steps", "")});
-  rows.push_back({"Physical evaluations", number("physical_evaluations", "")});
-  rows.push_back({"Wall time", duration("wall_time_s")});
-  rows.push_back({"Lab time", duration("lab_time_s")});
-  rows.push_back({"Slowdown against real time (lab)", number("slowdown", " \u00d7")});
-  rows.push_back({"Wall time against real time", number("wall_slowdown", " \u00d7")});
-  if (stats.is_object() && stats.contains("stop")) {
-    rows.push_back({"Stop", E(FormatJson(Member(stats["stop"], "message")))});
+  for (const auto& [key, value] : stats.items()) {
+    if (std::find(kShown.begin(), kShown.end(), key) != kShown.end()) continue;
+    rows.push_back({key, E(FormatJson(value))});
   }
-  // Anything else the runner recorded (rows and sim_time_s are shown above).
-  if (stats.is_object()) {
-    for (const auto& [key, value] : stats.items()) {
-      if (key == "steps" || key == "physical_evaluations" || key == "wall_time_s" ||
-          key == "lab_time_s" || key == "slowdown" || key == "wall_slowdown" || key == "rows" ||
-          key == "sim_time_s" || key == "stop") {
-        continue;
-      }
-      rows.push_back({key, E(FormatJson(value))});
-    }
-  }
-  std::string html = "<section id=\"statistics\"><h2>Run statistics</h2>\n" + KeyValueTable(rows);
-  if (!stats.is_object()) {
-    html += "<p class=\"note\">The sidecar holds no statistics (the run did not finish, or has no "
-            "sidecar).</p>\n";
-  }
-  return html + "</section>\n";
+  return rows.empty() ? "" : "<h3>Further statistics</h3>\n" + KeyValueTable(rows);
 }
 
-std::string ConfigurationSection(const io::RunData& run, const RunLayout& layout) {
+std::string ConfigurationSection(const io::RunData& run, const RunLayout& layout,
+                                 const PlotUnits& units) {
   const json& meta = run.metadata;
   std::vector<std::pair<std::string, std::string>> rows;
   rows.push_back({"Model", E(layout.model_name.empty() ? "unknown" : layout.model_name)});
@@ -161,6 +130,8 @@ std::string ConfigurationSection(const io::RunData& run, const RunLayout& layout
     }
     html += "</table>\n";
   }
+  html += InitialStiffnessSection(run, units);
+  html += FurtherStatistics(run);
   const json config = Member(meta, "config");
   if (config.is_string() && !config.get<std::string>().empty()) {
     html += "<details open><summary>Configuration file (verbatim)</summary><pre>" +
@@ -188,9 +159,7 @@ std::string ParametersSection(const io::RunData& run) {
 }
 
 std::string ComparisonSection(const io::RunData& run, const io::RunData& against,
-                              const HtmlReportOptions& options) {
-  const double transient = options.transient >= 0 ? options.transient : DefaultTransient(run);
-  const ComparisonTable table = CompareRuns(run, against, transient);
+                              const ComparisonTable& table, const HtmlReportOptions& options) {
   std::string html = "<section id=\"comparison\"><h2>Comparison: " + E(table.name_a) +
                      " against " + E(table.name_b) + "</h2>\n";
   html += fmt::format(
@@ -205,7 +174,7 @@ std::string ComparisonSection(const io::RunData& run, const io::RunData& against
     html += "<tr><td>" + E(row.channel) + "</td><td>" + E(row.unit) + "</td>";
     for (double v : {row.max_abs_diff, row.rms_diff, row.mean_a, row.amplitude_a, row.mean_b,
                      row.amplitude_b}) {
-      html += "<td class=\"num\">" + E(FormatNumber(v)) + "</td>";
+      html += "<td class=\"num\">" + (std::isnan(v) ? "&ndash;" : E(FormatNumber(v))) + "</td>";
     }
     html += "</tr>\n";
   }
@@ -237,17 +206,23 @@ std::string MakeHtmlReport(const io::RunData& run, const io::RunData* against,
   html += "<header class=\"top\"><div><h1>Run report: " + E(layout.name) + "</h1><p>" +
           E(run.csv_path) + (layout.model_name.empty() ? "" : " &middot; model " +
           E(layout.model_name)) + "</p></div></header>\n<main>\n";
-  html += StatisticsSection(run);
-  html += ResumesSection(run.metadata);
-  html += ConfigurationSection(run, layout);
-  html += ParametersSection(run);
-  html += "<section id=\"figures\"><h2>Figures</h2>\n";
-  if (!layout.physical_coordinates.empty()) {
-    html += "<p class=\"note\">Coordinates of physical substructures are drawn in "
-            "<span class=\"physical\">red</span>.</p>\n";
+  // The result first: the summary, then the figures, then how the run was made.
+  std::unique_ptr<ComparisonTable> comparison;
+  if (against != nullptr) {
+    const double transient = options.transient >= 0 ? options.transient : DefaultTransient(run);
+    comparison = std::make_unique<ComparisonTable>(CompareRuns(run, *against, transient));
   }
-  html += EmbedFigures(MakeRunFigures(run), options.gnuplot) + "</section>\n";
-  if (against != nullptr) html += ComparisonSection(run, *against, options);
+  html += SummarySection(run, layout, comparison.get(), options.units);
+  html += "<section id=\"figures\"><h2>Figures</h2>\n";
+  if (!layout.physical.empty()) {
+    html += "<p class=\"note\">Physical substructures are drawn thick, each in its own warm "
+            "colour (the first in <span class=\"physical\">red</span>).</p>\n";
+  }
+  html += EmbedFigures(MakeRunFigures(run, options.units), options.gnuplot) + "</section>\n";
+  if (comparison) html += ComparisonSection(run, *against, *comparison, options);
+  html += ConfigurationSection(run, layout, options.units);
+  html += ParametersSection(run);
+  html += ResumesSection(run.metadata);
   html += ChannelsSection(run);
   html += std::string("<footer>Generated by hybridtest ") + E(kVersion) +
           ". Self-contained: figures are embedded; nothing is loaded from the network.</footer>\n";

@@ -1,26 +1,32 @@
 #pragma once
 // One self-contained HTML report of a run: opens offline, with no external asset (inline CSS,
-// figures as base64 PNG data URIs). Sections:
-//   - header: run name, CSV path, model, status;
-//   - run statistics: steps, physical evaluations, wall time, lab time, slowdown against real
-//     time, status, simulated time span, and any further sidecar statistics;
+// figures as base64 PNG data URIs). It leads with the result; sections in order:
+//   - header: run name, CSV path, model;
+//   - summary (html_report_summary.h): status and stop, simulated time, steps, physical
+//     evaluations, lab and wall time, slowdown, resumes; with `against`, the comparison's
+//     headline errors; the peak use of each safety limit;
+//   - figures of the run (plot.h), in the display units asked for;
+//   - with `against`: the full comparison table (compare.h) and the overlay figures
+//     (compare_plot.h);
 //   - configuration: command, config path, software version, substructures (slot, kind,
-//     coordinate, description), and the config file verbatim;
+//     coordinate, description), the K0 table, further statistics, the config file verbatim;
 //   - model parameters: name, value, unit, description;
-//   - figures of the run (plot.h);
-//   - with `against`: the comparison table (compare.h) and the overlay figures (compare_plot.h);
+//   - resumes (when the run was resumed);
 //   - channels: name, unit, description.
+// Numbers are rounded to what they mean (html_report_text.h).
 // Every piece of text from the run is HTML-escaped.
 #include <string>
 
 #include "hybridtest/io/run_reader.h"
 #include "hybridtest/report/gnuplot.h"
+#include "hybridtest/report/plot_units.h"
 
 namespace hybridtest::report {
 
 struct HtmlReportOptions {
   double transient = -1;   // for the comparison; < 0: DefaultTransient(run). Unit: [s]
   GnuplotOptions gnuplot;  // png is forced on, svg off (figures are embedded as PNG)
+  PlotUnits units;         // display units of figures and summary values (SI by default)
 };
 
 // The report as one HTML document.

@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <cmath>
+#include <string>
 
 namespace hybridtest::report {
 
@@ -56,19 +57,38 @@ std::string FormatNumber(double value) {
 }
 
 std::string FormatDuration(double seconds) {
-  std::string out = FormatNumber(seconds) + " s";
-  if (!std::isfinite(seconds) || seconds < 60) return out;
+  if (!std::isfinite(seconds)) return FormatNumber(seconds) + " s";
+  std::string out = (std::abs(seconds) >= 1000 ? fmt::format("{:.0f}", seconds)
+                                               : fmt::format("{:.4g}", seconds)) + " s";
+  if (seconds < 60) return out;
   const long total = std::lround(seconds);
   const long h = total / 3600, min = (total % 3600) / 60, s = total % 60;
   if (h > 0) return out + fmt::format(" ({} h {} min)", h, min);
   return out + fmt::format(" ({} min {} s)", min, s);
 }
 
+namespace {
+
+// A copy with every number rounded as FormatNumber rounds it (6 significant digits), so that
+// nested records read without float noise (2.5140000000000002 → 2.514).
+nlohmann::json Rounded(const nlohmann::json& value) {
+  if (value.is_number_float()) {
+    const double v = value.get<double>();
+    return std::isfinite(v) ? nlohmann::json(std::stod(fmt::format("{:.6g}", v))) : value;
+  }
+  if (!value.is_structured()) return value;
+  nlohmann::json out = value;
+  for (auto& item : out) item = Rounded(item);
+  return out;
+}
+
+}  // namespace
+
 std::string FormatJson(const nlohmann::json& value) {
   if (value.is_number()) return FormatNumber(value.get<double>());
   if (value.is_string()) return value.get<std::string>();
   if (value.is_null()) return "";
-  return value.dump();
+  return Rounded(value).dump();
 }
 
 }  // namespace hybridtest::report

@@ -39,14 +39,20 @@ struct PlotFigure {
   std::vector<PlotPanel> panels;
 };
 
-// Colours used across figures. Physical substructures are red, as in the paper's Fig. 6a; the
-// palette for everything else contains no red.
+// Colours used across figures. Physical substructures are warm and thick (the first is red, as
+// in the paper's Fig. 6a; each further physical slot its own colour); the palette for
+// everything else contains none of them.
 inline constexpr const char* kPhysicalColor = "#d62728";
 inline constexpr double kPhysicalLineWidth = 3.0;
 inline constexpr double kNormalLineWidth = 1.5;
+inline const std::vector<std::string>& PhysicalPalette() {
+  static const std::vector<std::string> palette{kPhysicalColor, "#ff7f0e", "#e377c2", "#8c564b",
+                                                "#bcbd22"};
+  return palette;
+}
 inline const std::vector<std::string>& NonPhysicalPalette() {
-  static const std::vector<std::string> palette{"#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e",
-                                                "#17becf", "#8c564b", "#7f7f7f", "#bcbd22"};
+  static const std::vector<std::string> palette{"#1f77b4", "#2ca02c", "#9467bd", "#17becf",
+                                                "#7f7f7f", "#393b79", "#637939", "#6b6ecf"};
   return palette;
 }
 

@@ -98,14 +98,26 @@ std::string RunName(const io::RunData& run) {
 RunLayout DescribeRun(const io::RunData& run) {
   RunLayout layout;
   layout.name = RunName(run);
-  for (const io::Channel& channel : run.channels) {
-    if (IsIndexed(channel.name, 'q')) layout.coordinates.push_back(channel.name);
-    if (IsIndexed(channel.name, 'u')) layout.speeds.push_back(channel.name);
-    if (IsIndexed(channel.name, 'r')) layout.restoring.push_back(channel.name);
-  }
   const nlohmann::json& meta = run.metadata;
+  const nlohmann::json model =
+      meta.is_object() && meta.contains("model") ? meta["model"] : nlohmann::json();
+  // The model's own names where the sidecar lists them, else the q/u/r naming convention.
+  const auto named = [&](const char* key, char prefix, std::vector<std::string>& out) {
+    if (model.is_object() && model.contains(key) && model[key].is_array()) {
+      for (const nlohmann::json& entry : model[key]) {
+        const std::string name = StringOr(entry, "name", "");
+        if (!name.empty() && FindChannel(run, name) >= 0) out.push_back(name);
+      }
+    }
+    if (!out.empty()) return;
+    for (const io::Channel& channel : run.channels) {
+      if (IsIndexed(channel.name, prefix)) out.push_back(channel.name);
+    }
+  };
+  named("coordinates", 'q', layout.coordinates);
+  named("speeds", 'u', layout.speeds);
+  named("slots", 'r', layout.restoring);
   if (!meta.is_object()) return layout;
-  const nlohmann::json model = meta.contains("model") ? meta["model"] : nlohmann::json();
   layout.model_name = StringOr(model, "name", "");
 
   // The rotor: blades q1..qN and hub speed u<N+1>.

@@ -5,7 +5,9 @@
 // and which channels record each physical substructure's actuator.
 //
 // Rules, in order:
-//  - coordinates are the channels named q<k>, speeds u<k>, restoring forces r<k>;
+//  - coordinates, speeds and restoring forces are the channels the sidecar's model.coordinates,
+//    model.speeds and model.slots name (a model file's own names: x_t, psi, beta1, ...);
+//    without them, the channels named q<k>, u<k> and r<k>;
 //  - the model is the rotor when sidecar model.name contains "rotor" (any case); its blades
 //    are q1..qN and its hub speed is u<N+1>, where N is the number of model.slots (or, without
 //    slots, the number of coordinates minus one);
@@ -41,9 +43,9 @@ struct RunLayout {
   std::string name;                         // run name: the CSV file name without extension
   std::string model_name;                   // sidecar model.name; empty without one
   bool is_rotor = false;
-  std::vector<std::string> coordinates;     // q channels, in CSV order
-  std::vector<std::string> speeds;          // u channels
-  std::vector<std::string> restoring;       // r channels
+  std::vector<std::string> coordinates;     // coordinate channels, in the model's order
+  std::vector<std::string> speeds;          // speed channels
+  std::vector<std::string> restoring;       // restoring-force (slot) channels
   std::vector<std::string> blades;          // rotor only: q1..qN
   std::string hub_speed;                    // rotor only: u<N+1>; empty when absent
   std::set<std::string> physical_coordinates;

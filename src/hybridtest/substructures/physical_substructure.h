@@ -41,6 +41,8 @@ class PhysicalSubstructure final : public Substructure {
   std::string Describe() const override;
   const transfer::SafetyMonitor& safety() const { return gate_.monitor(); }
   const transfer::TransferSystem& transfer() const { return *transfer_; }
+  // For a look without moving (TransferSystem::Probe, `hybridtest probe`).
+  transfer::TransferSystem& transfer() { return *transfer_; }
   // Resume: see TransferSystem::NoteCommandsBeforeResume.
   void NoteCommandsBeforeResume(long count) { transfer_->NoteCommandsBeforeResume(count); }
   const SetupTransform& setup() const { return setup_; }

@@ -124,6 +124,11 @@ void BenchClient::Activate() {
   }
 }
 
+BenchAnnouncement BenchClient::Announce() const {
+  if (!welcome_) return {};
+  return {std::nullopt, welcome_->limits, "the bench at " + Endpoint()};
+}
+
 Measurement BenchClient::Execute(double command) {
   const std::uint32_t sequence = next_sequence_++;
   const std::string what = fmt::format("the measurement of COMMAND sequence {} (position {} {})",

@@ -60,6 +60,8 @@ class BenchClient final : public TransferSystem {
   // The server's units; valid after Activate() (defaults before).
   BenchUnits bench_units() const override;
   std::string Describe() const override;
+  // The limits of the WELCOME, after Activate(); empty before.
+  BenchAnnouncement Announce() const override;
 
   // HEARTBEAT → HEARTBEAT_ACK round trip. Throws TransferError.
   void Heartbeat();

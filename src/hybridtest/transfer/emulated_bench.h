@@ -75,6 +75,10 @@ class EmulatedBench final : public TransferSystem {
   // The actuator position [bench length unit] and the true specimen force plus the load-cell
   // offset [bench force unit], read without moving, without noise and without lab time.
   std::optional<Measurement> Read() const override;
+  // The configured p0 and the bench's own safety limits.
+  BenchAnnouncement Announce() const override;
+  // Read() with the bench's state in words; the in-process bench always answers.
+  std::optional<ProbeReading> Probe() override;
 
  private:
   enum class State { kConfigured, kActive, kHolding, kDeactivated };

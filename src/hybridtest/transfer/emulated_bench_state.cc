@@ -105,4 +105,18 @@ std::optional<Measurement> EmulatedBench::Read() const {
                      force / config_.units.newtons_per_force_unit, clock_->lab_time()};
 }
 
+BenchAnnouncement EmulatedBench::Announce() const {
+  return {config_.p0, config_.safety, "the emulated bench"};
+}
+
+std::optional<ProbeReading> EmulatedBench::Probe() {
+  const std::optional<Measurement> read = Read();
+  if (!read) return std::nullopt;
+  const char* state = state_ == State::kHolding       ? "holding"
+                      : state_ == State::kActive      ? "active"
+                      : state_ == State::kDeactivated ? "deactivated"
+                                                      : "configured, not yet activated";
+  return ProbeReading{*read, std::string("emulated bench ") + state, ""};
+}
+
 }  // namespace hybridtest::transfer

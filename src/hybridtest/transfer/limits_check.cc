@@ -14,6 +14,17 @@ constexpr double kRelativeTolerance = 1e-9;
 
 // " (a factor of 1000: a value in mm typed into a field in m?)" when runner/bench is close to
 // 1e3 or 1e6; empty otherwise.
+// True when runner/bench lies within a factor 2 of 1/1000 or 1/10^6: the runner's limit is
+// far inside the bench's by what a unit slip gives (0.3 meant as kN typed into a field in N).
+bool FarInsideByAUnit(double runner, double bench) {
+  if (bench == 0.0 || runner == 0.0) return false;
+  const double ratio = std::abs(runner / bench);
+  for (const double factor : {1e-3, 1e-6}) {
+    if (ratio > 0.5 * factor && ratio < 2.0 * factor) return true;
+  }
+  return false;
+}
+
 std::string UnitSlipHint(double runner, double bench) {
   if (bench == 0.0 || runner == 0.0) return {};
   const double ratio = std::abs(runner / bench);
@@ -45,6 +56,15 @@ void CheckLimitsAgainstBench(const SafetyLimits& runner, const SafetyLimits& ben
   for (const Check& c : checks) {
     const double slack = kRelativeTolerance * std::max(std::abs(c.runner), std::abs(c.bench));
     const bool beyond = c.upper ? c.runner > c.bench + slack : c.runner < c.bench - slack;
+    if (!beyond && FarInsideByAUnit(c.runner, c.bench)) {
+      throw ConfigError(fmt::format(
+          "{}.{} = {} {} is about 1/{:g} of the limit {} announces, {} = {} {}: a value meant in "
+          "kN or mm typed into a field in N or m? The runner's limits are SI (m and N): fix "
+          "{}.{}; if the specimen's limit really is that far inside the bench's, lower the "
+          "bench's {} to match",
+          where, c.name, c.runner, c.unit, std::abs(c.bench / c.runner) > 3e4 ? 1e6 : 1e3,
+          bench_name, c.name, c.bench, c.unit, where, c.name, c.name));
+    }
     if (!beyond) continue;
     throw ConfigError(fmt::format(
         "{}.{} = {} {} is beyond the limit {} announces, {} = {} {}{}; the runner's limits "

@@ -7,6 +7,9 @@
 // relative tolerance of 1e-9 absorbs unit conversions). A runner limit beyond the bench's is
 // at best a command the bench will refuse mid-test, and typically a unit slip: a stroke of
 // ±150 typed in a field in metres (meant as mm) against a bench announcing ±0.15 m. The
+// other direction is checked for the same slip: a runner limit within a factor 2 of 1/1000
+// (or 1/10^6) of the bench's is refused as a unit slip (force_hard: 0.3 meant as kN against a
+// bench announcing 300 N), before anything moves. The
 // timeouts are not compared (the runner's is wall time per reply, the bench's lab time).
 #include <string>
 

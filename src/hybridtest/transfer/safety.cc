@@ -80,6 +80,7 @@ void SafetyMonitor::SetStartPosition(double position) {
   }
   last_safe_command_ = position;
   has_safe_command_ = true;
+  from_start_ = true;
 }
 
 void SafetyMonitor::SetInitialStiffness(double stiffness) {
@@ -125,6 +126,20 @@ void SafetyMonitor::CheckCommand(double command, long step, int stage) {
   // 3. Increment from the last accepted command.
   if (has_safe_command_) {
     const double increment = std::abs(command - last_safe_command_);
+    if (increment > limits_.max_increment && from_start_) {
+      // The first command: the model starts at rest at d = 0, so a jump here is not a step
+      // size but a start position that is not where the runner thinks (p0, units).
+      Stop("max_increment", increment, limits_.max_increment, step, stage,
+           fmt::format("The first command {:.6g} m is {:.6g} m from the start position {:.6g} m "
+                       "and was not sent. A jump at the first command is not a step-size "
+                       "problem: the runner's p0 (setup.p0, where the specimen carries no force) "
+                       "and where the actuator stands disagree, or a unit slipped (a p0 in mm "
+                       "typed into a field in m, or the bench's p0_mm given in m). To proceed: "
+                       "compare setup.p0 [m] with the bench's p0 (p0_mm / 1000) and the units "
+                       "of both; do not raise safety.max_increment or shrink the time step for "
+                       "this.",
+                       command, increment, last_safe_command_));
+    }
     if (increment > limits_.max_increment) {
       Stop("max_increment", increment, limits_.max_increment, step, stage,
            fmt::format("The command {:.6g} m jumps {:.6g} m from the last accepted command and "
@@ -146,6 +161,7 @@ void SafetyMonitor::CheckCommand(double command, long step, int stage) {
   }
   last_safe_command_ = command;
   has_safe_command_ = true;
+  from_start_ = false;
   Remember({step, stage, command, 0.0, 0.0, false});
 }
 

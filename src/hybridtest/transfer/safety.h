@@ -74,8 +74,9 @@ class SafetyMonitor {
   void CheckMeasurement(double command, double position, double force, long step, int stage);
 
   // Declares where the actuator is before the first command [m] (it becomes the last safe
-  // command, so the first command's increment is checked against it). Throws ConfigError if
-  // it is not finite or outside the stroke.
+  // command, so the first command's increment is checked against it). A first command beyond
+  // max_increment from it is reported as a p0 or unit mismatch, not as a step size. Throws
+  // ConfigError if it is not finite or outside the stroke.
   void SetStartPosition(double position);
 
   // Stiffness used to predict the force of a command before two measurements with distinct
@@ -110,6 +111,7 @@ class SafetyMonitor {
 
   bool has_safe_command_ = false;
   double last_safe_command_ = 0.0;   // [m]
+  bool from_start_ = false;          // the last safe command is SetStartPosition's
   bool has_measurement_ = false;
   double last_position_ = 0.0;       // [m]
   double last_force_ = 0.0;          // [N]

@@ -11,6 +11,8 @@
 #include <optional>
 #include <string>
 
+#include "hybridtest/transfer/safety.h"
+
 namespace hybridtest::transfer {
 
 // The units a bench speaks on the wire.
@@ -29,6 +31,22 @@ struct Measurement {
   // Reversals of the specimen force within this move (reversal_counter.h), if the transfer
   // system can see them (the emulated bench); 0 otherwise.
   long force_reversals = 0;
+};
+
+// What a bench tells about itself before anything moves, where it knows it: the actuator
+// position of zero specimen force and its own safety limits, SI. The runner checks its setup
+// against these before the first command (docs/safety.md, "Before anything moves").
+struct BenchAnnouncement {
+  std::optional<double> p0;            // zero-force actuator position. Unit: [m].
+  std::optional<SafetyLimits> limits;  // the bench's own limits, SI (timeout not compared)
+  std::string source;                  // who announced it, for messages
+};
+
+// One look at the bench without moving it (no command written, no drive enabled).
+struct ProbeReading {
+  Measurement measurement;  // position and force, bench units; lab_time 0
+  std::string status;       // the controller's status in words, e.g. "enabled, no fault"
+  std::string problem;      // "" if the bench is fit to start; else what is wrong
 };
 
 class TransferSystem {
@@ -60,6 +78,13 @@ class TransferSystem {
   // transfer system cannot be queried without a command (resume then re-imposes the last
   // committed command at once). Never throws.
   virtual std::optional<Measurement> Read() const { return std::nullopt; }
+  // What the bench announces about itself (see BenchAnnouncement); may be empty. For a remote
+  // bench, known only after Activate() (its WELCOME). Never throws.
+  virtual BenchAnnouncement Announce() const { return {}; }
+  // Reads position, force and status without moving and without enabling a drive, before
+  // Activate(): nullopt if this transfer system cannot. Throws TransferError when it can but
+  // the bench does not answer.
+  virtual std::optional<ProbeReading> Probe() { return std::nullopt; }
   // State of an in-process bench for a run's checkpoint (runner/run_state.h); null if the
   // bench's state lives outside this process (a remote bench keeps its own and is not
   // restored). Throws hybridtest::Error on a state that does not fit.

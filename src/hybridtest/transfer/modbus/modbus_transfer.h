@@ -99,6 +99,12 @@ class ModbusTransfer final : public TransferSystem {
   // command. nullopt (and the next Execute() refuses) if not connected, the read fails, a value
   // is not finite, or the status shows fault, no enable or holding. Never throws.
   std::optional<Measurement> Read() const override;
+  // Connects if needed (bounded by connect_timeout) and reads the readout registers once:
+  // no write, no coil, so nothing moves and no drive is enabled (modbus_probe.cc). The
+  // problem names a fault, holding, or a value that is not a number (a word or byte order
+  // slip). The connection stays open for Activate(). Throws TransferError when the controller
+  // cannot be reached or read.
+  std::optional<ProbeReading> Probe() override;
 
   const ModbusOptions& options() const { return options_; }
   bool is_connected() const { return ctx_ != nullptr; }

@@ -1,0 +1,125 @@
+// hybridtest probe CONFIG [--bench HOST:PORT]: before a test, look at every physical slot's
+// bench without moving it. First the checks of CheckPhysicalSlotsBeforeMoving (p0 and limits
+// against what the bench announces); then, where the transfer system can read without a
+// command (TransferSystem::Probe: the emulated bench, a Modbus controller; not a remote bench
+// server), one reading of position, force and status, checked in SI against the slot's setup
+// and limits:
+//   - the bench reports no problem (fault, a value that is not a number);
+//   - the position lies inside the stroke [safety.stroke_min, stroke_max];
+//   - |position − setup.p0| ≤ safety.max_increment: the first command starts from p0, so an
+//     actuator elsewhere would jump (a hint names a factor of 1000 as a unit slip);
+//   - |force| ≤ safety.force_soft: the specimen must be unloaded at rest.
+// Prints one block per slot and exits 0 when every check passes, 2 (ConfigError) otherwise.
+// Nothing is written to the bench: no command, no coil, no drive enabled.
+#include <fmt/core.h>
+
+#include <cmath>
+#include <memory>
+#include <optional>
+
+#include "command.h"
+#include "hybridtest/common/error.h"
+#include "hybridtest/io/config.h"
+#include "hybridtest/io/substructure_config.h"
+#include "hybridtest/substructures/physical_substructure.h"
+#include "pre_run_checks.h"
+
+namespace hybridtest::app {
+namespace {
+
+struct ProbeOptions {
+  std::string config;
+  std::optional<std::string> bench;
+};
+
+// What is wrong with one reading (SI), or "" when it passes.
+std::vector<std::string> ProbeProblems(const transfer::ProbeReading& reading,
+                                       const substructures::PhysicalSubstructure& slot,
+                                       double position, double force) {
+  std::vector<std::string> problems;
+  const transfer::SafetyLimits& l = slot.safety().limits();
+  const double p0 = slot.setup().p0;
+  if (!reading.problem.empty()) problems.push_back(reading.problem);
+  if (!std::isfinite(position) || !std::isfinite(force)) return problems;
+  if (position < l.stroke_min || position > l.stroke_max) {
+    problems.push_back(fmt::format("position {} m is outside the stroke [{}, {}] m", position,
+                                   l.stroke_min, l.stroke_max));
+  }
+  if (std::abs(position - p0) > l.max_increment) {
+    const double ratio = p0 != 0.0 ? std::abs(position / p0) : 0.0;
+    problems.push_back(fmt::format(
+        "position {} m is {} m from setup.p0 = {} m, more than safety.max_increment = {} m: the "
+        "first command would jump{}; move the actuator to p0, or correct setup.p0",
+        position, std::abs(position - p0), p0, l.max_increment,
+        (ratio > 300 && ratio < 3000) || (ratio > 1.0 / 3000 && ratio < 1.0 / 300)
+            ? " (a factor of about 1000: a unit slip between mm and m?)"
+            : ""));
+  }
+  if (std::abs(force) > l.force_soft) {
+    problems.push_back(fmt::format(
+        "force {} N at rest exceeds safety.force_soft = {} N: the specimen is loaded before the "
+        "test; check p0, the load-cell zero (setup.load_cell_zero) and the force unit",
+        force, l.force_soft));
+  }
+  return problems;
+}
+
+void RunProbe(const ProbeOptions& options) {
+  const io::SimulationConfig cfg = io::LoadSimulationConfig(options.config);
+  auto subs = io::MakeSubstructures(cfg, {options.bench, true, ""});
+  CheckPhysicalSlotsBeforeMoving(cfg, subs);
+  const auto& slots = cfg.model.model.slots();
+  long failed = 0, probed = 0, physical = 0;
+  for (std::size_t s = 0; s < subs.size() && s < slots.size(); ++s) {
+    auto* slot = dynamic_cast<substructures::PhysicalSubstructure*>(subs[s].get());
+    if (slot == nullptr) continue;
+    ++physical;
+    const std::string name = slots[s].info.name;
+    fmt::print("{}: {}\n", name, slot->transfer().Describe());
+    const std::optional<transfer::ProbeReading> reading = slot->transfer().Probe();
+    if (!reading) {
+      fmt::print("  not probed: this transfer system cannot read without moving; its checks "
+                 "run when the test connects\n");
+      continue;
+    }
+    ++probed;
+    const transfer::BenchUnits units = slot->transfer().bench_units();
+    const double position = slot->setup().PositionMetres(reading->measurement.position, units);
+    const double force = slot->setup().ForceNewtons(reading->measurement.force, units);
+    fmt::print("  position {} {} = {} m (setup.p0 = {} m)\n", reading->measurement.position,
+               units.length_name, position, slot->setup().p0);
+    fmt::print("  force    {} {} = {} N (load-cell zero removed)\n", reading->measurement.force,
+               units.force_name, force);
+    if (!reading->status.empty()) fmt::print("  status   {}\n", reading->status);
+    const std::vector<std::string> problems = ProbeProblems(*reading, *slot, position, force);
+    for (const std::string& p : problems) fmt::print("  PROBLEM: {}\n", p);
+    if (problems.empty()) fmt::print("  ok: at p0, unloaded, inside the limits\n");
+    failed += problems.empty() ? 0 : 1;
+  }
+  if (physical == 0) {
+    fmt::print("{}: no physical slot; nothing to probe\n", options.config);
+    return;
+  }
+  if (failed > 0) {
+    throw ConfigError(fmt::format("{}: {} of {} probed slots are not ready (see above); nothing "
+                                  "was moved", options.config, failed, probed));
+  }
+  fmt::print("probe: {} of {} physical slots read and ready; nothing was moved\n", probed,
+             physical);
+}
+
+void AddProbeCommand(CLI::App& root) {
+  auto options = std::make_shared<ProbeOptions>();
+  CLI::App* command = root.add_subcommand(
+      "probe", "Before a test: read each physical slot's position, force and status without "
+               "moving, and check them against p0 and the limits");
+  command->add_option("config", options->config, "run configuration (YAML)")->required();
+  command->add_option("--bench", options->bench,
+                      "HOST:PORT of a bench server (remote) or a Modbus/TCP controller (modbus)");
+  command->callback([options] { RunProbe(*options); });
+}
+
+const CommandRegistration kRegistration{"probe", &AddProbeCommand};
+
+}  // namespace
+}  // namespace hybridtest::app
