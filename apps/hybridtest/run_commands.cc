@@ -202,6 +202,13 @@ void ExecuteResume(const ResumeCommandOptions& options) {
                  std::nullopt});
   spec.output.csv_path = options.csv;
   spec.output.command = plan.command;
+  {
+    // The bench may have been replaced or reconfigured since the run stopped: p0 and limits
+    // against what it announces, before anything is sent (pre_run_checks.h).
+    std::vector<std::unique_ptr<substructures::Substructure>> subs;
+    for (const auto& s : spec.substructures) subs.push_back(s.Build());
+    CheckPhysicalSlotsBeforeMoving(plan.cfg, subs);
+  }
   spec.source.inputs = plan.state.inputs;
   if (options.force_tolerance) spec.resume.force_tolerance = options.force_tolerance;
   if (options.position_tolerance) spec.resume.position_tolerance = options.position_tolerance;
