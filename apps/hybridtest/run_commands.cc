@@ -202,13 +202,6 @@ void ExecuteResume(const ResumeCommandOptions& options) {
                  std::nullopt});
   spec.output.csv_path = options.csv;
   spec.output.command = plan.command;
-  {
-    // The bench may have been replaced or reconfigured since the run stopped: p0 and limits
-    // against what it announces, before anything is sent (pre_run_checks.h).
-    std::vector<std::unique_ptr<substructures::Substructure>> subs;
-    for (const auto& s : spec.substructures) subs.push_back(s.Build());
-    CheckPhysicalSlotsBeforeMoving(plan.cfg, subs);
-  }
   spec.source.inputs = plan.state.inputs;
   if (options.force_tolerance) spec.resume.force_tolerance = options.force_tolerance;
   if (options.position_tolerance) spec.resume.position_tolerance = options.position_tolerance;
@@ -218,6 +211,13 @@ void ExecuteResume(const ResumeCommandOptions& options) {
     session_options.resume_record["changes"] = ApplyResumeChanges(spec, options.set);
   }
   session_options.resume_record["command_line"] = command_line();
+  {
+    // The bench may have been replaced or reconfigured since the run stopped (and --set may have changed a limit): p0 and limits
+    // against what it announces, before anything is sent (pre_run_checks.h).
+    std::vector<std::unique_ptr<substructures::Substructure>> subs;
+    for (const auto& s : spec.substructures) subs.push_back(s.Build());
+    CheckPhysicalSlotsBeforeMoving(plan.cfg, subs);
+  }
   session_options.commands_received_at_stop = plan.commands_received_at_stop;
   if (!options.quiet) {
     fmt::print("hybridtest resume: {} from step {} (t = {} s, journal row {}); previous status: "
