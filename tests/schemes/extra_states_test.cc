@@ -61,7 +61,7 @@ Eigen::VectorXd Integrate(const SchemeConfig& c, double h, double k0, long stop_
   CollectRows rows;
   Eigen::VectorXd x0(3), r0(1);
   x0 << 0.01, 0.0, 0.002;
-  seam.Trial(0, 0, 0.0, x0, r0);
+  seam.Trial({0, 0, 0.0}, x0.head(1), r0);
   scheme->Start(0.0, x0, r0);
   while (!scheme->finished()) {
     scheme->Step(seam, rows);

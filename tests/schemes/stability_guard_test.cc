@@ -126,7 +126,7 @@ TEST(StabilityGuard, AdaptiveStepsStayInsideTheBoundWithAK0FourTimesTooSoft) {
     CollectRows rows;
     Eigen::VectorXd x0(2), r0(1);
     x0 << 0.01, 0.0;
-    seam.Trial(0, 0, 0.0, x0, r0);
+    seam.Trial({0, 0, 0.0}, x0.head(1), r0);
     scheme->Start(0.0, x0, r0);
     double peak = 0.0, t_last = 0.0, longest = 0.0;
     while (!scheme->finished()) {
