@@ -95,7 +95,8 @@ nlohmann::json Provenance(const io::SimulationConfig& cfg, const std::string& cs
 }
 
 // The loop and the summary, shared by run, simulate and resume.
-void RunAndReport(io::RunSpec spec, runner::SessionOptions session_options,
+void RunAndReport(const io::SimulationConfig& cfg, io::RunSpec spec,
+                  runner::SessionOptions session_options,
                   const runner::RunState* resume_from, bool quiet) {
   // A file-size limit makes a write fail (EFBIG, reported with the run's status) instead of
   // killing the process mid-row.
@@ -105,6 +106,9 @@ void RunAndReport(io::RunSpec spec, runner::SessionOptions session_options,
   const std::string command = spec.output.command;
   const std::string csv = spec.output.csv_path;
   runner::Session session(std::move(spec), std::move(session_options));
+  // p0 and limits against what each bench announces (after any --set), on the session's own
+  // substructures before anything is activated or sent (pre_run_checks.h).
+  CheckPhysicalSlotsBeforeMoving(cfg, session.substructures());
   if (resume_from != nullptr) session.SetState(*resume_from);
   ProgressObserver progress_observer(session, progress);
   session.AddObserver(progress_observer);
@@ -161,12 +165,6 @@ void ExecuteRun(const RunCommandOptions& options) {
   if (!options.out.empty()) spec.output.csv_path = options.out;
   spec.output.command = options.command;
   const std::string& csv = spec.output.csv_path;
-  {
-    // p0 and limits against the bench's, before anything is sent (fresh, unconnected copies).
-    std::vector<std::unique_ptr<substructures::Substructure>> subs;
-    for (const auto& s : spec.substructures) subs.push_back(s.Build());
-    CheckPhysicalSlotsBeforeMoving(cfg, subs);
-  }
   // One master per run: the lock is taken before any file of the run is looked at or touched.
   const auto parent = std::filesystem::path(csv).parent_path();
   if (!parent.empty()) std::filesystem::create_directories(parent);
@@ -185,7 +183,7 @@ void ExecuteRun(const RunCommandOptions& options) {
   io::CheckRunOutputs(csv, io::RunInputFiles(cfg), options.overwrite);
   spec.source.inputs = io::RecordRunInputs(cfg, csv);
   spec.source.provenance = Provenance(cfg, csv);
-  RunAndReport(std::move(spec), {}, nullptr, options.quiet);
+  RunAndReport(cfg, std::move(spec), {}, nullptr, options.quiet);
 }
 
 void ExecuteResume(const ResumeCommandOptions& options) {
@@ -211,20 +209,14 @@ void ExecuteResume(const ResumeCommandOptions& options) {
     session_options.resume_record["changes"] = ApplyResumeChanges(spec, options.set);
   }
   session_options.resume_record["command_line"] = command_line();
-  {
-    // The bench may have been replaced or reconfigured since the run stopped (and --set may have changed a limit): p0 and limits
-    // against what it announces, before anything is sent (pre_run_checks.h).
-    std::vector<std::unique_ptr<substructures::Substructure>> subs;
-    for (const auto& s : spec.substructures) subs.push_back(s.Build());
-    CheckPhysicalSlotsBeforeMoving(plan.cfg, subs);
-  }
   session_options.commands_received_at_stop = plan.commands_received_at_stop;
   if (!options.quiet) {
     fmt::print("hybridtest resume: {} from step {} (t = {} s, journal row {}); previous status: "
                "{}\n", options.csv, plan.step, plan.t, plan.state.rows - 1, plan.previous_status);
     std::fflush(stdout);
   }
-  RunAndReport(std::move(spec), std::move(session_options), &plan.state, options.quiet);
+  RunAndReport(plan.cfg, std::move(spec), std::move(session_options), &plan.state,
+               options.quiet);
 }
 
 }  // namespace hybridtest::app
