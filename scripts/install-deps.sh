@@ -13,7 +13,7 @@ app_packages=(
   build-essential cmake ninja-build git pkg-config
   libeigen3-dev libyaml-cpp-dev libcli11-dev libfmt-dev nlohmann-json3-dev zlib1g-dev libssl-dev
   libhdf5-dev hdf5-tools
-  libmodbus-dev
+  libmodbus-dev libcpp-httplib-dev
   gnuplot-nox
 )
 test_packages=(
@@ -21,6 +21,9 @@ test_packages=(
   python3 python3-sympy python3-yaml python3-h5py python3-numpy
   python3-pymodbus python3-serial python3-serial-asyncio   # the Modbus test controller
   clang libclang-rt-14-dev
+  pybind11-dev python3-dev python3-pytest                  # the Python package and its tests
+  libopenmpi-dev openmpi-bin                               # campaigns on a cluster (MPI)
+  chromium                                                 # the monitor's page test
 )
 
 app_only=0
