@@ -1,4 +1,5 @@
-// hybridtest plan CONFIG [--tolerance 0.01] [--emulate BENCH.yaml] [--keep DIR] [--quiet]
+// hybridtest plan CONFIG [--tolerance 0.01] [--seeds 3] [--emulate BENCH.yaml] [--keep DIR]
+//                       [--quiet]
 // The day before a test: candidate schemes against emulated specimens, their specimen
 // evaluations, lab time and error against a fine numerical reference, and the cheapest one
 // that meets the tolerance (runner/plan.h).
@@ -22,6 +23,7 @@ struct PlanCommandOptions {
   double tolerance = 0.01;
   std::string emulate;
   std::string keep;
+  int seeds = 3;
   bool quiet = false;
 };
 
@@ -32,8 +34,9 @@ std::string Duration(double seconds) {
 
 std::string Row(const runner::PlanResult& r) {
   if (!r.ok) return fmt::format("{:<44} failed: {}", r.candidate.label, r.failure);
-  return fmt::format("{:<44} {:>11} {:>11} {:>8.3f} % {:>9}", r.candidate.label, r.evaluations,
-                     Duration(r.lab_time), 100.0 * r.error, r.reversals);
+  return fmt::format("{:<48} {:>11} {:>11} {:>8.3f} % {:>9} {:>11}", r.candidate.label,
+                     r.evaluations, Duration(r.lab_time), 100.0 * r.error, r.reversals,
+                     r.force_reversals);
 }
 
 // The configured test with the candidate's scheme, as a complete config: the integrator
@@ -83,14 +86,25 @@ void ExecutePlan(const PlanCommandOptions& opt) {
   options.tolerance = opt.tolerance;
   if (!opt.emulate.empty()) options.emulate_bench = opt.emulate;
   options.work_dir = opt.keep;
-  const std::string header = fmt::format("{:<44} {:>11} {:>11} {:>10} {:>9}", "scheme",
-                                         "evaluations", "lab time", "error", "reversals");
-  if (!opt.quiet) {
-    fmt::print("hybridtest plan {}: candidate schemes on emulated specimens against RK4 at "
-               "0.1 ms (error: max slot-displacement difference / peak-to-peak of the first "
-               "physical slot after 20 % of the run)\n{}\n", opt.config, header);
+  options.seeds.clear();
+  for (int k = 1; k <= opt.seeds; ++k) options.seeds.push_back(static_cast<unsigned long>(k));
+  const std::string header =
+      fmt::format("{:<48} {:>11} {:>11} {:>10} {:>9} {:>11}", "scheme", "evaluations",
+                  "lab time", "error", "reversals", "force rev.");
+  std::vector<runner::PlanWarning> warnings;
+  options.on_warnings = [&](const std::vector<runner::PlanWarning>& w) {
+    warnings = w;
+    for (const auto& x : w) fmt::print("warning: {}\n", x.message);
+    if (!opt.quiet) {
+      fmt::print("hybridtest plan {}: candidate schemes on emulated specimens against RK4 at "
+                 "0.1 ms (error: max slot-displacement difference / peak-to-peak of the first "
+                 "physical slot after 20 % of the run; where the bench has load-cell noise, "
+                 "each row is the worst of {} noise seeds; reversals: of the command's "
+                 "direction; force rev.: of the specimen force within moves)\n{}\n",
+                 opt.config, opt.seeds, header);
+    }
     std::fflush(stdout);
-  }
+  };
   options.on_result = [&](std::size_t i, std::size_t n, const runner::PlanResult& r) {
     if (opt.quiet) return;
     fmt::print("{}   [{}/{}]\n", Row(r), i + 1, n);
@@ -99,8 +113,23 @@ void ExecutePlan(const PlanCommandOptions& opt) {
   const auto results = runner::PlanTest(spec, options);
   const auto best = runner::Recommend(results, opt.tolerance);
   if (!best) {
-    fmt::print("no candidate met the tolerance of {} %; tighten the steps or check the "
-               "specimen's K0\n", 100.0 * opt.tolerance);
+    fmt::print("no candidate met the tolerance of {} %.\n", 100.0 * opt.tolerance);
+    if (!warnings.empty()) {
+      fmt::print("The reference itself passes a safety limit (see the warning above): no scheme "
+                 "can run this test as configured.\n");
+      return;
+    }
+    bool reversed = false;
+    for (const auto& r : results) {
+      if (const std::string advice = runner::ForceReversalAdvice(r); !advice.empty() && r.ok) {
+        if (!reversed) fmt::print("{}\n", advice);
+        reversed = true;
+      }
+    }
+    if (!reversed) {
+      fmt::print("Tighten the steps (smaller dt or adaptive tolerance), or check the "
+                 "specimen's K0 (initial_stiffness: measure)\n");
+    }
     return;
   }
   fmt::print("\nrecommended (fewest specimen evaluations with error ≤ {} %): {}\n  {} "
@@ -109,6 +138,9 @@ void ExecutePlan(const PlanCommandOptions& opt) {
              Duration(best->lab_time),
              results.front().ok ? Duration(results.front().lab_time) : std::string("failed"),
              100.0 * best->error, runner::IntegratorYaml(best->candidate));
+  if (const std::string advice = runner::ForceReversalAdvice(*best); !advice.empty()) {
+    fmt::print("note: {}\n", advice);
+  }
   fmt::print("\nthe configured test with this scheme, complete (save it beside {} and run it):\n"
              "---\n{}", opt.config, RecommendedConfig(spec, best->candidate));
 }
@@ -129,6 +161,10 @@ void AddPlanCommand(CLI::App& root) {
   cmd->add_option("--keep", opt->keep,
                   "also write every run's files into this folder (without it, plan writes "
                   "nothing: runs are held in memory)");
+  cmd->add_option("--seeds", opt->seeds,
+                  "load-cell noise seeds per candidate where the bench has noise (1..N; each "
+                  "row reports the worst; default 3)")
+      ->check(CLI::Range(1, 100));
   cmd->add_flag("--quiet", opt->quiet, "print only the recommendation");
   cmd->callback([opt] { ExecutePlan(*opt); });
 }
