@@ -87,6 +87,36 @@ TEST(PlanSetups, OnALeverTheRecommendationRunsAsPastedAndMeetsTheTolerance) {
   EXPECT_GT(error, 0.0);
 }
 
+// The yielding example: plan's recommendation, pasted and run, reaches 1 % against
+// `simulate` with the same Bouc–Wen law as a numerical substructure (RK4 at 0.1 ms).
+TEST(PlanSetups, OnTheYieldingExampleTheRecommendationMeetsTheNumericalReference) {
+  const fs::path dir = OutDir() / "yielding";
+  fs::create_directories(dir);
+  const auto [status, output] = RunCommand(
+      fmt::format("{} plan {}/examples/rotor/yielding.yaml --seeds 2", kBinary, kSource), 900);
+  ASSERT_EQ(status, 0) << output;
+  const auto start = output.find("\n---\n");
+  ASSERT_NE(start, std::string::npos) << output;
+  fs::copy_file(kSource + "/examples/rotor/bench-bouc-wen.yaml", dir / "bench-bouc-wen.yaml",
+                fs::copy_options::overwrite_existing);
+  const fs::path recommended = dir / "recommended.yaml";
+  std::ofstream(recommended) << output.substr(start + 5);
+  const fs::path csv = dir / "recommended.csv", ref = dir / "reference.csv";
+  const auto [run_status, run_output] = RunCommand(
+      fmt::format("{} run {} --out {} --quiet", kBinary, recommended.string(), csv.string()), 600);
+  ASSERT_EQ(run_status, 0) << run_output;
+  const auto [ref_status, ref_output] = RunCommand(
+      fmt::format("{} simulate {}/examples/rotor/yielding-reference.yaml --out {} --quiet",
+                  kBinary, kSource, ref.string()), 600);
+  ASSERT_EQ(ref_status, 0) << ref_output;
+  const io::RunSpec spec = io::LoadRunSpec(recommended.string());
+  const double error = runner::RelativeError(spec.model.model, io::LoadRun(csv.string()),
+                                             io::LoadRun(ref.string()), 0);
+  EXPECT_LE(error, 0.01) << output;
+  // The monotone approach of this bench: no force reversal within any move.
+  EXPECT_THAT(output, Not(HasSubstr("the specimen force reversed")));
+}
+
 TEST(PlanSetups, AReferenceBeyondTheForceLimitIsNamedBeforeTheCandidates) {
   const fs::path dir = OutDir() / "limit";
   // The blade tip carries ~120 N in this test: a 100 N hard limit stops every scheme.
