@@ -1,5 +1,7 @@
-// hybridtest export RUN.csv --hdf5 FILE.h5: a run (CSV + sidecar) as one HDF5 file, laid out
-// as docs/results-format.md describes. Without --hdf5 the file goes beside the CSV (run.h5).
+// hybridtest export RUN.csv [--hdf5 FILE.h5] [--csv FILE.csv [--units mm,kN]]: a run (CSV +
+// sidecar) as one HDF5 file, laid out as docs/results-format.md describes (without --hdf5 or
+// --csv: beside the CSV, run.h5), and/or as a CSV with a units row for lab tools
+// (report/csv_export.h), optionally in lab units.
 #include <fmt/core.h>
 
 #include <filesystem>
@@ -7,6 +9,8 @@
 
 #include "command.h"
 #include "hybridtest/io/run_reader.h"
+#include "hybridtest/common/error.h"
+#include "hybridtest/report/csv_export.h"
 #include "hybridtest/report/hdf5_export.h"
 
 namespace hybridtest::app {
@@ -15,19 +19,41 @@ namespace {
 struct ExportOptions {
   std::string run_csv;
   std::string h5_path;
+  std::string csv_path;
+  std::string units;
 };
 
 void AddExportCommand(CLI::App& root) {
   auto options = std::make_shared<ExportOptions>();
   CLI::App* command = root.add_subcommand(
-      "export", "Convert a run (CSV + .meta.json sidecar) to another format (HDF5)");
+      "export", "Convert a run (CSV + .meta.json sidecar) to another format: HDF5, or a CSV "
+                "with a units row (optionally in lab units)");
   command->add_option("run", options->run_csv, "The run's CSV file, e.g. results/run.csv")
       ->required()
       ->check(CLI::ExistingFile);
   command->add_option("--hdf5", options->h5_path,
                       "HDF5 file to write (default: the CSV's path with extension .h5)");
+  command->add_option("--csv", options->csv_path,
+                      "CSV to write with the channel names on line 1 and their units on line 2 "
+                      "(for spreadsheets and lab tools)");
+  command->add_option("--units", options->units,
+                      "units of the --csv export, e.g. mm,kN (lengths m|cm|mm|um, forces "
+                      "N|kN|MN; default SI)");
   command->callback([options] {
+    if (!options->units.empty() && options->csv_path.empty()) {
+      throw ConfigError("--units " + options->units + " applies to the --csv export only (the "
+                        "HDF5 file keeps SI); add --csv FILE.csv");
+    }
     std::string h5_path = options->h5_path;
+    if (!options->csv_path.empty()) {
+      const report::PlotUnits units = report::ParsePlotUnits(options->units);
+      const io::RunData run = io::LoadRun(options->run_csv);
+      for (const auto& warning : run.warnings) fmt::print(stderr, "warning: {}\n", warning);
+      report::ExportCsvWithUnits(run, options->csv_path, units);
+      fmt::print("exported {} rows x {} channels with a units row to {}\n", run.num_rows(),
+                 run.num_channels(), options->csv_path);
+      if (h5_path.empty()) return;
+    }
     if (h5_path.empty()) {
       h5_path = std::filesystem::path(options->run_csv).replace_extension(".h5").string();
     }
