@@ -10,6 +10,8 @@ Every quantity is SI. Errors are hybridtest.Error and its subclasses ConfigError
 TransferError, IoError and SafetyStop, with the C++ library's messages. docs/python.md has the
 whole API.
 """
+import os
+
 from ._core import (  # noqa: F401
     ConfigError,
     Error,
@@ -85,6 +87,7 @@ class Session(_CoreSession):
 
 
 def _execute(config, command, transfers, laws, out, overwrite, observers):
+    out = None if out is None else os.fspath(out)
     with Session(config, transfers=dict(transfers or {}), laws=dict(laws or {}), out=out,
                  overwrite=overwrite, command=command) as session:
         for observer in observers:
