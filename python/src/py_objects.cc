@@ -31,13 +31,13 @@ transfer::BenchUnits ReadUnits(const py::object& driver, const std::string& wher
                                   std::string(py::repr(given))));
   }
   if (length == "mm") {
-    units.metres_per_length_unit = kMillimetre;
+    units.metres_per_length_unit = units::kMillimetre;
   } else if (length != "m") {
     throw ConfigError(fmt::format("{}: units length \"{}\": expected \"m\" or \"mm\"", where,
                                   length));
   }
   if (force == "kN") {
-    units.newtons_per_force_unit = kKilonewton;
+    units.newtons_per_force_unit = units::kKilonewton;
   } else if (force != "N") {
     throw ConfigError(fmt::format("{}: units force \"{}\": expected \"N\" or \"kN\"", where,
                                   force));

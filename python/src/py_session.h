@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "bindings.h"
+#include "hybridtest/io/journal.h"
 #include "hybridtest/io/run_lock.h"
 #include "hybridtest/runner/session.h"
 #include "py_objects.h"

@@ -20,8 +20,9 @@ py::array Values(py::object self) {
   const py::ssize_t rows = s.recorder().rows();
   const auto cols = static_cast<py::ssize_t>(s.channels().size());
   const std::vector<py::ssize_t> shape{rows, cols};
-  const std::vector<py::ssize_t> strides{cols * static_cast<py::ssize_t>(sizeof(double)),
-                                         static_cast<py::ssize_t>(sizeof(double))};
+  const std::vector<py::ssize_t> strides{
+      static_cast<py::ssize_t>(cols * static_cast<py::ssize_t>(sizeof(double))),
+      static_cast<py::ssize_t>(sizeof(double))};
   if (!s.done()) return py::array_t<double>(shape, strides, v.data());
   py::array_t<double> a(shape, strides, v.data(), self);
   py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
