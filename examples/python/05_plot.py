@@ -1,4 +1,4 @@
-"""05: plot the hybrid test of 04 against the simulation, if matplotlib is installed."""
+"""05: plot a hybrid test through a Python bench against the simulation (with matplotlib)."""
 import pathlib
 
 import hybridtest as ht
@@ -12,14 +12,22 @@ except ImportError:
     print("matplotlib is not installed (Debian: python3-matplotlib): no figure")
     raise SystemExit(0)
 
+
+
+class Spring:
+    """An ideal bench in SI: force = k (command − p0)."""
+    def activate(self): pass
+    def execute(self, command): return command, 7200.0 * (command - 0.02)
+    def hold(self): pass
+    def deactivate(self): pass
+
+
 sim = ht.simulate(ROOT / "examples/rotor/numerical.yaml")
-path = ROOT / "results/python-bench.csv"
-run = ht.read_run(path) if path.exists() else None
+run = ht.run(ROOT / "examples/rotor/remote.yaml", transfers={"r1": Spring()})
 fig, axes = plt.subplots(2, 1, sharex=True, figsize=(8, 6))
 for k in range(1, 4):
     axes[0].plot(sim["t"], sim[f"q{k}"], label=f"q{k} simulation")
-if run is not None:
-    axes[0].plot(run["t"], run["q1"], "k--", label="q1 hybrid (Python bench)")
+axes[0].plot(run["t"], run["q1"], "k--", label="q1 hybrid (Python bench)")
 axes[0].set_ylabel("tip deflection [m]")
 axes[0].legend()
 axes[1].plot(sim["t"], sim["u4"])

@@ -6,6 +6,7 @@
 //   without r, each slot's default numerical spring gives r = k_s · d_s(t, q).
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include <fmt/core.h>
 
@@ -39,7 +40,9 @@ class PyModel {
   explicit PyModel(models::BuiltModel built)
       : built_(std::make_shared<models::BuiltModel>(std::move(built))), data_(built_->model) {}
 
-  static PyModel FromFile(const std::string& path, const std::optional<py::dict>& parameters) {
+  static PyModel FromFile(const std::filesystem::path& file_path,
+                          const std::optional<py::dict>& parameters) {
+    const std::string path = file_path.string();
     const modelfile::ModelFile file = modelfile::LoadModelFile(path);
     models::ParameterSet set = file.parameters;
     Override(set, parameters, path);

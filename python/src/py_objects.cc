@@ -78,8 +78,8 @@ void PyTransfer::Call(const char* method, const std::string& what) {
   try {
     driver_->get().attr(method)();
   } catch (py::error_already_set& e) {
-    throw TransferError(fmt::format("slot {}: the Python transfer system's {} raised {}",
-                                    slot_, what, DescribePythonError(e)));
+    throw TransferError(fmt::format("the Python transfer system's {} raised {}", what,
+                                    DescribePythonError(e)));
   }
 }
 
@@ -95,6 +95,9 @@ transfer::Measurement PyTransfer::Execute(double command) {
   bool lab_time_given = false;
   try {
     const py::object reply = driver_->get().attr("execute")(command);
+    if (!py::isinstance<py::sequence>(reply) || py::isinstance<py::str>(reply)) {
+      throw py::cast_error("got " + std::string(py::repr(reply)));
+    }
     const py::tuple values = py::tuple(reply);
     if (values.size() != 2 && values.size() != 3) {
       problem = fmt::format("returned {} values; expected (position, force[, lab_time])",
@@ -114,14 +117,13 @@ transfer::Measurement PyTransfer::Execute(double command) {
                           "numbers ({})", e.what());
   }
   if (!problem.empty()) {
-    throw TransferError(fmt::format("slot {}: the Python transfer system's execute({} {}) {}",
-                                    slot_, command, units_.length_name, problem));
+    throw TransferError(fmt::format("the Python transfer system's execute({} {}) {}", command,
+                                    units_.length_name, problem));
   }
   if (!std::isfinite(m.position) || !std::isfinite(m.force) || !std::isfinite(m.lab_time)) {
-    throw TransferError(fmt::format("slot {}: the Python transfer system's execute({} {}) "
-                                    "returned a value that is not finite (position {}, force "
-                                    "{})", slot_, command, units_.length_name, m.position,
-                                    m.force));
+    throw TransferError(fmt::format("the Python transfer system's execute({} {}) returned a "
+                                    "value that is not finite (position {}, force {})", command,
+                                    units_.length_name, m.position, m.force));
   }
   if (!lab_time_given) {
     m.lab_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - activated_)

@@ -217,6 +217,7 @@ void PySession::AddObserver(py::object observer) {
 }
 
 bool PySession::done() const {
+  if (!session_) return true;  // closed: the record is final
   return initialized_ && session().result().status != runner::SessionStatus::kWorking;
 }
 

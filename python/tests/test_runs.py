@@ -104,14 +104,15 @@ def test_an_exception_in_execute_is_a_transfer_error_and_holds(tmp_path):
     out = tmp_path / "failing.csv"
     with pytest.raises(ht.TransferError, match="lost the ADS route") as caught:
         ht.run(REMOTE, transfers={"r1": bench}, out=out)
-    assert "ConnectionError" in str(caught.value) and "slot r1" in str(caught.value)
+    assert "ConnectionError" in str(caught.value) and str(caught.value).startswith("r1: ")
     assert bench.calls == ["activate", "hold"]
-    # Heun: two trials a step; the 101st fails in step 50. Rows 0..50 are committed, then the
-    # uncommitted row; the record on disk says the same.
+    # Heun: trial 1 is row 0, then two a step; the 101st is the one at the end of step 50. Rows
+    # 0..49 are committed, then the state of step 50 without its forces; the file says the same.
     result = caught.value.result
-    assert len(result) == 52 and np.isnan(result["r1"][-1])
+    assert len(result) == 51 and np.isnan(result["r1"][-1]) and not np.isnan(result["r1"][-2])
+    assert result["t"][-1] == pytest.approx(0.050)
     saved = ht.read_run(out)
-    np.testing.assert_array_equal(saved.values[:51], result.values[:51])
+    np.testing.assert_array_equal(saved.values[:50], result.values[:50])
     assert saved.metadata["status"].startswith("stopped")
     assert (tmp_path / "failing.state.json").exists()
 
@@ -201,7 +202,7 @@ def test_out_writes_the_command_lines_files_and_never_replaces_them(tmp_path):
     first = ht.simulate(NUMERICAL, out=out)
     np.testing.assert_array_equal(ht.read_run(out).values, first.values)
     meta = json.loads((tmp_path / "sim.meta.json").read_text())
-    assert meta["status"] == "finished"
+    assert meta["status"] == "completed"
     with pytest.raises(ht.ConfigError, match="sim.csv"):
         ht.simulate(NUMERICAL, out=out)
     ht.simulate(NUMERICAL, out=out, overwrite=True)
