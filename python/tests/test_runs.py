@@ -224,3 +224,17 @@ def test_result_channels_units_and_dataframe(sim):
 def test_cost_of_a_python_transfer_evaluation_is_measured():
     timing = ht.time_transfer(Spring(), n=2000)
     assert timing["python_seconds"] > 0 and timing["cpp_seconds"] > 0
+
+
+def test_ctrl_c_holds_the_run_after_the_step_in_progress():
+    import os
+    import signal
+    import threading
+
+    s = ht.Session(SHORT | {"duration": 500.0}, command="simulate")
+    threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT)).start()
+    with pytest.raises(KeyboardInterrupt):
+        s.run()
+    assert s.status == "held"
+    assert 1 < len(s.result()) < 500001
+    np.testing.assert_array_equal(s.x, s.result().values[-1, 1:9])
