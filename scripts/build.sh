@@ -5,17 +5,20 @@
 #   scripts/build.sh --app    only the hybridtest binary and what it links (the main job); a
 #                             fresh tree is configured without tests and benchmarks, so their
 #                             packages are not needed either
+#   scripts/build.sh --python only the Python package (build/release/python/hybridtest)
 #   --print                   print the commands instead of running them
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
 app_only=0
+python_only=0
 print_only=0
 for arg in "$@"; do
   case "$arg" in
     --app) app_only=1 ;;
+    --python) python_only=1 ;;
     --print) print_only=1 ;;
-    *) echo "build.sh: unknown option '$arg'; expected --app and/or --print" >&2; exit 2 ;;
+    *) echo "build.sh: unknown option '$arg'; expected --app, --python and/or --print" >&2; exit 2 ;;
   esac
 done
 run() {
@@ -28,6 +31,12 @@ if ((app_only)); then
     run cmake --preset release -DHYBRIDTEST_BUILD_TESTS=OFF -DHYBRIDTEST_BUILD_BENCH=OFF
   fi
   run cmake --build --preset release -j "${HYBRIDTEST_JOBS:-$(nproc)}" --target hybridtest
+  exit 0
+fi
+if ((python_only)); then
+  run scripts/install-deps.sh
+  [[ -f build/release/build.ninja ]] || run cmake --preset release
+  run cmake --build --preset release -j "${HYBRIDTEST_JOBS:-$(nproc)}" --target hybridtest_python
   exit 0
 fi
 run scripts/install-deps.sh

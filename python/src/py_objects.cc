@@ -1,0 +1,198 @@
+// See py_objects.h.
+#include "py_objects.h"
+
+#include <fmt/core.h>
+
+#include <cmath>
+
+#include "bindings.h"
+#include "hybridtest/common/error.h"
+#include "hybridtest/common/units.h"
+
+namespace hybridtest::python {
+namespace {
+
+std::string TypeName(const py::object& o) {
+  return py::str(py::type::handle_of(o).attr("__name__"));
+}
+
+transfer::BenchUnits ReadUnits(const py::object& driver, const std::string& where) {
+  transfer::BenchUnits units;
+  if (!py::hasattr(driver, "units")) return units;
+  const py::object given = driver.attr("units");
+  std::string length, force;
+  try {
+    const auto pair = given.cast<std::pair<std::string, std::string>>();
+    length = pair.first;
+    force = pair.second;
+  } catch (const py::cast_error&) {
+    throw ConfigError(fmt::format("{}: units = {}: expected a pair of names such as (\"mm\", "
+                                  "\"kN\") (length m | mm, force N | kN)", where,
+                                  std::string(py::repr(given))));
+  }
+  if (length == "mm") {
+    units.metres_per_length_unit = units::kMillimetre;
+  } else if (length != "m") {
+    throw ConfigError(fmt::format("{}: units length \"{}\": expected \"m\" or \"mm\"", where,
+                                  length));
+  }
+  if (force == "kN") {
+    units.newtons_per_force_unit = units::kKilonewton;
+  } else if (force != "N") {
+    throw ConfigError(fmt::format("{}: units force \"{}\": expected \"N\" or \"kN\"", where,
+                                  force));
+  }
+  units.length_name = length;
+  units.force_name = force;
+  return units;
+}
+
+}  // namespace
+
+SharedObject::SharedObject(py::object object) : object_(std::move(object)) {}
+
+SharedObject::~SharedObject() {
+  py::gil_scoped_acquire gil;
+  object_ = py::object();
+}
+
+PyTransfer::PyTransfer(SharedPy driver, std::string slot)
+    : driver_(std::move(driver)), slot_(std::move(slot)) {
+  py::gil_scoped_acquire gil;
+  const py::object& d = driver_->get();
+  const std::string where = fmt::format("transfers[\"{}\"] ({})", slot_, TypeName(d));
+  for (const char* method : {"activate", "execute", "hold", "deactivate"}) {
+    if (!py::hasattr(d, method)) {
+      throw ConfigError(fmt::format("{}: a Python transfer system needs the methods activate(), "
+                                    "execute(command), hold() and deactivate(); {}() is "
+                                    "missing", where, method));
+    }
+  }
+  units_ = ReadUnits(d, where);
+  description_ = fmt::format("Python transfer system {} ({}, {})", TypeName(d),
+                             units_.length_name, units_.force_name);
+}
+
+void PyTransfer::Call(const char* method, const std::string& what) {
+  py::gil_scoped_acquire gil;
+  try {
+    driver_->get().attr(method)();
+  } catch (py::error_already_set& e) {
+    throw TransferError(fmt::format("the Python transfer system's {} raised {}", what,
+                                    DescribePythonError(e)));
+  }
+}
+
+void PyTransfer::Activate() {
+  Call("activate", "activate()");
+  activated_ = std::chrono::steady_clock::now();
+}
+
+transfer::Measurement PyTransfer::Execute(double command) {
+  py::gil_scoped_acquire gil;
+  transfer::Measurement m;
+  std::string problem;
+  bool lab_time_given = false;
+  try {
+    const py::object reply = driver_->get().attr("execute")(command);
+    if (!py::isinstance<py::sequence>(reply) || py::isinstance<py::str>(reply)) {
+      throw py::cast_error("got " + std::string(py::repr(reply)));
+    }
+    const py::tuple values = py::tuple(reply);
+    if (values.size() != 2 && values.size() != 3) {
+      problem = fmt::format("returned {} values; expected (position, force[, lab_time])",
+                            values.size());
+    } else {
+      m.position = values[0].cast<double>();
+      m.force = values[1].cast<double>();
+      if (values.size() == 3) {
+        m.lab_time = values[2].cast<double>();
+        lab_time_given = true;
+      }
+    }
+  } catch (py::error_already_set& e) {
+    problem = "raised " + DescribePythonError(e);
+  } catch (const py::cast_error& e) {
+    problem = fmt::format("returned something that is not (position, force[, lab_time]) "
+                          "numbers ({})", e.what());
+  }
+  if (!problem.empty()) {
+    throw TransferError(fmt::format("the Python transfer system's execute({} {}) {}", command,
+                                    units_.length_name, problem));
+  }
+  if (!std::isfinite(m.position) || !std::isfinite(m.force) || !std::isfinite(m.lab_time)) {
+    throw TransferError(fmt::format("the Python transfer system's execute({} {}) returned a "
+                                    "value that is not finite (position {}, force {})", command,
+                                    units_.length_name, m.position, m.force));
+  }
+  if (!lab_time_given) {
+    m.lab_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - activated_)
+                     .count();
+  }
+  return m;
+}
+
+void PyTransfer::Hold() noexcept {
+  try {
+    py::gil_scoped_acquire gil;
+    try {
+      driver_->get().attr("hold")();
+    } catch (py::error_already_set& e) {
+      // Hold never throws; the error is reported as an unraisable exception.
+      e.discard_as_unraisable(fmt::format("hold() of the Python transfer system of slot {}",
+                                          slot_).c_str());
+    }
+  } catch (...) {
+  }
+}
+
+void PyTransfer::Deactivate() { Call("deactivate", "deactivate()"); }
+
+PyLaw::PyLaw(SharedPy law, std::string slot) : law_(std::move(law)), slot_(std::move(slot)) {
+  py::gil_scoped_acquire gil;
+  const py::object& f = law_->get();
+  if (!PyCallable_Check(f.ptr())) {
+    throw ConfigError(fmt::format("laws[\"{}\"]: expected a callable r = law(d) [m] -> [N], "
+                                  "got {}", slot_, std::string(py::repr(f))));
+  }
+  description_ = "Python law " + (py::hasattr(f, "__qualname__")
+                                      ? std::string(py::str(f.attr("__qualname__")))
+                                      : TypeName(f));
+  if (py::hasattr(f, "initial_stiffness")) {
+    k0_ = f.attr("initial_stiffness").cast<double>();
+  } else {
+    const double h = 1e-6;  // [m]
+    k0_ = (Evaluate(h) - Evaluate(-h)) / (2.0 * h);
+  }
+}
+
+double PyLaw::Evaluate(double displacement) const {
+  try {
+    return law_->get()(displacement).cast<double>();
+  } catch (py::error_already_set& e) {
+    throw Error(fmt::format("slot {}: the Python law raised {} at d = {} m", slot_,
+                            DescribePythonError(e), displacement));
+  } catch (const py::cast_error&) {
+    throw Error(fmt::format("slot {}: the Python law returned something that is not a number "
+                            "at d = {} m: return the force in N", slot_, displacement));
+  }
+}
+
+double PyLaw::Trial(double displacement) {
+  py::gil_scoped_acquire gil;
+  return Evaluate(displacement);
+}
+
+void PyLaw::Commit() {
+  py::gil_scoped_acquire gil;
+  const py::object& f = law_->get();
+  if (!py::hasattr(f, "commit")) return;
+  try {
+    f.attr("commit")();
+  } catch (py::error_already_set& e) {
+    throw Error(fmt::format("slot {}: the Python law's commit() raised {}", slot_,
+                            DescribePythonError(e)));
+  }
+}
+
+}  // namespace hybridtest::python

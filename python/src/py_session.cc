@@ -1,0 +1,258 @@
+// See py_session.h.
+#include "py_session.h"
+
+#include <fmt/core.h>
+#include <pybind11/numpy.h>
+
+#include <filesystem>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/common/version.h"
+#include "hybridtest/io/config.h"
+#include "hybridtest/io/run_inputs.h"
+#include "hybridtest/io/run_outputs.h"
+#include "hybridtest/io/run_spec_yaml.h"
+#include "hybridtest/runner/run_record.h"
+
+namespace hybridtest::python {
+namespace {
+
+// A read-only float64 view of `values`, no copy.
+py::array View(std::span<const double> values) {
+  py::array_t<double> a({static_cast<py::ssize_t>(values.size())},
+                        {static_cast<py::ssize_t>(sizeof(double))}, values.data(), py::none());
+  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return a;
+}
+
+const char* KindName(runner::RowKind kind) {
+  switch (kind) {
+    case runner::RowKind::kCommitted: return "committed";
+    case runner::RowKind::kIntermediate: return "intermediate";
+    case runner::RowKind::kUncommitted: return "uncommitted";
+  }
+  return "";
+}
+
+// Calls `f(args...)` with the GIL; a Python exception stops the run as an Error.
+template <typename... Args>
+void CallObserver(const SharedPy& f, const char* what, Args&&... args) {
+  py::gil_scoped_acquire gil;
+  try {
+    f->get()(std::forward<Args>(args)...);
+  } catch (py::error_already_set& e) {
+    throw Error(fmt::format("a Python observer's {} raised {}", what, DescribePythonError(e)));
+  }
+}
+
+SharedPy Method(const py::object& o, const char* name) {
+  if (!py::hasattr(o, name)) return nullptr;
+  return std::make_shared<SharedObject>(o.attr(name));
+}
+
+int SlotIndex(const io::RunSpec& spec, const std::string& slot, const char* argument) {
+  std::string names;
+  for (std::size_t i = 0; i < spec.substructures.size(); ++i) {
+    if (spec.substructures[i].slot == slot) return static_cast<int>(i);
+    names += (names.empty() ? "" : ", ") + spec.substructures[i].slot;
+  }
+  throw ConfigError(fmt::format("{}[\"{}\"]: the {} model has no such slot; its slots are: {}",
+                                argument, slot, spec.model.name, names));
+}
+
+// Python transfer systems and laws in place of the configured slots.
+void Substitute(io::RunSpec& spec, const py::dict& transfers, const py::dict& laws) {
+  for (const auto& [key, value] : transfers) {
+    const std::string slot = py::str(key);
+    auto& sub = spec.substructures[static_cast<std::size_t>(SlotIndex(spec, slot, "transfers"))];
+    if (!sub.physical) {
+      throw ConfigError(fmt::format(
+          "transfers[\"{}\"]: slot {} is numerical in the config; a transfer system serves a "
+          "physical slot: declare it under substructures.{} with type: physical (setup, "
+          "safety)", slot, slot, slot));
+    }
+    auto driver = std::make_shared<SharedObject>(py::reinterpret_borrow<py::object>(value));
+    PyTransfer check(driver, slot);  // the methods and units, before anything is built
+    sub.physical->transfer = {"python", [driver, slot] {
+                                return std::make_unique<PyTransfer>(driver, slot);
+                              }};
+  }
+  for (const auto& [key, value] : laws) {
+    const std::string slot = py::str(key);
+    auto& sub = spec.substructures[static_cast<std::size_t>(SlotIndex(spec, slot, "laws"))];
+    auto law = std::make_shared<SharedObject>(py::reinterpret_borrow<py::object>(value));
+    sub = substructures::NumericalSpec(slot, std::make_unique<PyLaw>(law, slot));
+  }
+}
+
+nlohmann::json Provenance(const io::SimulationConfig& cfg, const std::string& csv,
+                          const std::string& command) {
+  std::error_code ec;
+  const auto output = std::filesystem::absolute(csv, ec);
+  return {{"software", {{"name", "hybridtest"}, {"version", kVersion},
+                        {"git", kGitDescribe}, {"build_type", kBuildType}}},
+          {"command_line", fmt::format("python: hybridtest.{}(...)", command)},
+          {"working_directory", std::filesystem::current_path(ec).string()},
+          {"output", ec ? csv : output.lexically_normal().string()},
+          {"inputs", io::InputTexts(cfg)}};
+}
+
+}  // namespace
+
+PyObserver::PyObserver(py::object observer) {
+  on_commit_ = Method(observer, "on_commit");
+  on_trial_ = Method(observer, "on_trial");
+  on_stop_ = Method(observer, "on_stop");
+  if (!on_commit_ && !on_trial_ && !on_stop_) {
+    if (!PyCallable_Check(observer.ptr())) {
+      throw ConfigError(fmt::format("observer {}: expected a callable (called with each commit) "
+                                    "or an object with on_commit, on_trial or on_stop",
+                                    std::string(py::repr(observer))));
+    }
+    on_commit_ = std::make_shared<SharedObject>(observer);
+  }
+}
+
+void PyObserver::OnCommit(const runner::CommitEvent& e) {
+  if (!on_commit_) return;
+  py::gil_scoped_acquire gil;
+  py::dict c;
+  c["kind"] = KindName(e.kind);
+  c["step"] = e.step;
+  c["t"] = e.t;
+  c["x"] = View(e.x);
+  c["r"] = View(e.r);
+  c["row"] = View(e.row);
+  CallObserver(on_commit_, "on_commit", py::module_::import("types").attr("SimpleNamespace")(**c));
+}
+
+void PyObserver::OnTrial(const runner::TrialEvent& e) {
+  if (!on_trial_) return;
+  py::gil_scoped_acquire gil;
+  py::dict c;
+  c["step"] = e.at.step;
+  c["stage"] = e.at.stage;
+  c["t"] = e.at.t;
+  c["d"] = View(e.d);
+  c["r"] = View(e.r);
+  // (physical slots × 4): command [m], position [m], force [N], lab time [s]
+  py::array_t<double> ex({static_cast<py::ssize_t>(e.exchanges.size()), py::ssize_t{4}});
+  auto w = ex.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < e.exchanges.size(); ++i) {
+    const auto& x = e.exchanges[i];
+    const auto k = static_cast<py::ssize_t>(i);
+    w(k, 0) = x.command;
+    w(k, 1) = x.position;
+    w(k, 2) = x.force;
+    w(k, 3) = x.lab_time;
+  }
+  c["exchanges"] = ex;
+  CallObserver(on_trial_, "on_trial", py::module_::import("types").attr("SimpleNamespace")(**c));
+}
+
+void PyObserver::OnStop(const runner::StopEvent& e) {
+  if (!on_stop_) return;
+  CallObserver(on_stop_, "on_stop", runner::StatusName(e.status), e.reason);
+}
+
+PySession::PySession(const SessionArguments& args) {
+  if (args.command != "run" && args.command != "simulate") {
+    throw ConfigError(fmt::format("command \"{}\": expected \"run\" or \"simulate\"",
+                                  args.command));
+  }
+  // The config: a file, or a dict with the same keys (as JSON text, which is YAML).
+  const bool from_dict = py::isinstance<py::dict>(args.config);
+  io::SimulationConfig cfg =
+      from_dict ? io::ParseSimulationConfig(YamlInput::FromText(
+                      py::str(py::module_::import("json").attr("dumps")(args.config,
+                                                                         py::arg("indent") = 2)),
+                      "<config dict>"))
+                : io::LoadSimulationConfig(py::str(py::module_::import("os").attr("fspath")(
+                      args.config)));
+  io::SubstructureOptions options;
+  options.allow_physical = args.command == "run";
+  options.physical_hint = "simulate() is numerical only: use hybridtest.run() for a hybrid test";
+  if (args.command == "simulate" && py::len(args.transfers) > 0) {
+    throw ConfigError("simulate(): transfers are for a hybrid test: use hybridtest.run()");
+  }
+  io::RunSpec spec = io::CompileRunSpec(cfg, options);
+  Substitute(spec, args.transfers, args.laws);
+  spec.output.command = args.command;
+  spec.output.files = args.out.has_value();
+  if (args.out) {
+    // The command line's guards: the lock first, then nothing is replaced or read back.
+    const std::string& csv = *args.out;
+    spec.output.csv_path = csv;
+    const auto parent = std::filesystem::path(csv).parent_path();
+    if (!parent.empty()) std::filesystem::create_directories(parent);
+    lock_.emplace(io::RunLock::Acquire(csv, args.command));
+    io::CheckRunOutputs(csv, from_dict ? std::vector<std::string>{} : io::RunInputFiles(cfg),
+                        args.overwrite);
+    if (!from_dict) spec.source.inputs = io::RecordRunInputs(cfg, csv);
+    spec.source.provenance = Provenance(cfg, csv, args.command);
+  }
+  channels_ = runner::JournalChannels(spec);
+  session_ = std::make_unique<runner::Session>(std::move(spec));
+  session_->AddObserver(recorder_);
+}
+
+PySession::~PySession() { Close(); }
+
+void PySession::Close() {
+  session_.reset();
+  lock_.reset();
+}
+
+runner::Session& PySession::session() const {
+  if (!session_) throw ConfigError("this Session is closed: make a new one");
+  return *session_;
+}
+
+void PySession::AddObserver(py::object observer) {
+  if (initialized_) {
+    throw ConfigError("add_observer(): add observers before initialize(), step() or run()");
+  }
+  observers_.push_back(std::make_unique<PyObserver>(std::move(observer)));
+  session().AddObserver(*observers_.back());
+}
+
+bool PySession::done() const {
+  if (!session_) return true;  // closed: the record is final
+  return initialized_ && session().result().status != runner::SessionStatus::kWorking;
+}
+
+std::string PySession::Advance(bool initialize) {
+  runner::Session& s = session();
+  runner::StepResult result;
+  {
+    py::gil_scoped_release release;
+    result = initialize ? s.Initialize() : s.Step();
+  }
+  initialized_ = true;
+  return runner::StatusName(result.status);
+}
+
+std::string PySession::Initialize() { return Advance(true); }
+
+std::string PySession::Step() { return Advance(!initialized_); }
+
+std::string PySession::Run() {
+  runner::Session& s = session();
+  if (!initialized_) Advance(true);
+  std::optional<py::error_already_set> interrupt;
+  while (s.result().status == runner::SessionStatus::kWorking) {
+    Advance(false);
+    if (!interrupt && PyErr_CheckSignals() != 0) {
+      interrupt.emplace();  // fetched: the run holds after this step
+      s.RequestStop();
+    }
+  }
+  if (interrupt) throw *interrupt;
+  return runner::StatusName(s.result().status);
+}
+
+void PySession::RaiseError() const {
+  if (const std::exception_ptr e = session().error()) std::rethrow_exception(e);
+}
+
+}  // namespace hybridtest::python

@@ -1,0 +1,89 @@
+#pragma once
+// hybridtest.Session: a run compiled from a config file or a dict (the same keys), with Python
+// transfer systems and laws in place of configured slots, stepped from Python, observed by
+// Python callbacks, recorded in memory (and in files when `out` is given, with the same guards
+// as the command line: one master per run, results never replaced without overwrite).
+//
+// The C++ loop runs without the GIL (initialize, step, run); Python code (transfer systems,
+// laws, observers) takes it when called. run() checks for Ctrl-C after every step: the run
+// holds after the step in progress, every committed step is kept, and KeyboardInterrupt is
+// raised.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bindings.h"
+#include "hybridtest/io/journal.h"
+#include "hybridtest/io/run_lock.h"
+#include "hybridtest/runner/session.h"
+#include "py_objects.h"
+
+namespace hybridtest::python {
+
+// Keeps every journal row in memory (rows × channels, row-major), as the journal would.
+class Recorder final : public runner::SessionObserver {
+ public:
+  void OnCommit(const runner::CommitEvent& e) override {
+    values_.insert(values_.end(), e.row.begin(), e.row.end());
+    ++rows_;
+  }
+  const std::vector<double>& values() const { return values_; }
+  long rows() const { return rows_; }
+
+ private:
+  std::vector<double> values_;
+  long rows_ = 0;
+};
+
+// A Python observer: a callable (called per commit) or an object with any of
+// on_commit(commit), on_trial(trial), on_stop(status, reason). The arrays it receives are
+// read-only views into the run's buffers, valid during the call only (copy to keep them).
+class PyObserver final : public runner::SessionObserver {
+ public:
+  explicit PyObserver(py::object observer);  // GIL held
+  void OnCommit(const runner::CommitEvent& e) override;
+  void OnTrial(const runner::TrialEvent& e) override;
+  void OnStop(const runner::StopEvent& e) override;
+
+ private:
+  SharedPy on_commit_, on_trial_, on_stop_;
+};
+
+struct SessionArguments {
+  py::object config;  // a path (str or os.PathLike) or a dict
+  py::dict transfers;
+  py::dict laws;
+  std::optional<std::string> out;
+  bool overwrite = false;
+  std::string command = "run";  // "run" or "simulate" (numerical only)
+};
+
+class PySession {
+ public:
+  explicit PySession(const SessionArguments& args);
+  ~PySession();
+  void AddObserver(py::object observer);
+  std::string Initialize();
+  std::string Step();
+  std::string Run();
+  void RequestStop() { session().RequestStop(); }
+  void RaiseError() const;
+  void Close();
+
+  runner::Session& session() const;
+  const Recorder& recorder() const { return recorder_; }
+  const std::vector<io::Channel>& channels() const { return channels_; }
+  bool done() const;
+
+ private:
+  std::string Advance(bool initialize);
+  std::optional<io::RunLock> lock_;
+  std::unique_ptr<runner::Session> session_;
+  Recorder recorder_;
+  std::vector<std::unique_ptr<PyObserver>> observers_;
+  std::vector<io::Channel> channels_;
+  bool initialized_ = false;
+};
+
+}  // namespace hybridtest::python
