@@ -330,6 +330,7 @@ StepResult Session::Finish() {
   event.statistics["initial_stiffness"] = stiffness_record_;
   result_ = {SessionStatus::kFinished, ""};
   try {
+    for (SessionObserver* o : observers_) o->AddStatistics(event.statistics);
     for (SessionObserver* o : observers_) o->OnStop(event);
   } catch (const std::exception& e) {
     // The run is complete, but its record could not be finished.
@@ -370,6 +371,13 @@ StepResult Session::Fail(const std::exception& e) {
     received.push_back(count ? nlohmann::json(*count) : nlohmann::json(nullptr));
   }
   event.statistics["stop"]["commands_received"] = received;
+  for (SessionObserver* o : observers_) {
+    try {
+      o->AddStatistics(event.statistics);
+    } catch (const std::exception&) {
+      // The run's own error is the one reported.
+    }
+  }
   for (SessionObserver* o : observers_) {
     try {
       o->OnStop(event);

@@ -122,6 +122,9 @@ class SessionObserver {
   virtual void OnCommit(const CommitEvent& /*event*/) {}
   virtual void OnResume(const ResumeEvent& /*event*/) {}
   virtual void OnStop(const StopEvent& /*event*/) {}
+  // Before OnStop (every observer first): add this observer's own fields to the statistics
+  // the sidecar records (e.g. a paced loop's `real_time`).
+  virtual void AddStatistics(nlohmann::json& /*statistics*/) {}
 };
 
 struct SessionOptions {
