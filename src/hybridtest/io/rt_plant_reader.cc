@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/transfer/delay_compensator.h"
 
 namespace hybridtest::io {
 
@@ -65,6 +66,67 @@ transfer::RtPlantConfig ReadRtPlantConfig(const TransferReadContext& c) {
 substructures::TransferSpec ReadRtPlant(const TransferReadContext& c) {
   const transfer::RtPlantConfig p = ReadRtPlantConfig(c);
   return {"rt_plant", [p] { return std::make_unique<transfer::RtPlant>(p); }};
+}
+
+substructures::TransferSpec ReadCompensated(const TransferReadContext& c) {
+  const YamlInput& in = c.in;
+  in.CheckKeys(c.node, c.kp, {"type", "method", "delay", "order", "window", "update_every",
+                              "threshold", "bounds", "rate_limits", "inner"});
+  transfer::CompensatorConfig k;
+  const std::string method = in.ReadString(c.node, c.kp, "method", "ats");
+  if (method == "ats") {
+    k.method = transfer::CompensationMethod::kAts;
+  } else if (method == "polynomial") {
+    k.method = transfer::CompensationMethod::kPolynomial;
+  } else {
+    in.ThrowValue(c.node["method"], c.kp + ".method", "ats or polynomial");
+  }
+  k.delay = in.ReadNumber(c.node, c.kp, "delay", "the actuator's delay in s", k.delay);
+  if (c.node["order"]) {
+    k.order = static_cast<int>(in.Count(c.node["order"], c.kp + ".order",
+                                        "a polynomial order 1..4", 1, 4));
+  }
+  k.window = in.ReadNumber(c.node, c.kp, "window", "the ATS window in s", k.window);
+  if (c.node["update_every"]) {
+    k.update_every = static_cast<int>(in.Count(c.node["update_every"], c.kp + ".update_every",
+                                               "ticks between ATS updates", 1, 1000000));
+  }
+  k.threshold = in.ReadNumber(c.node, c.kp, "threshold", "the smallest amplitude in m",
+                              k.threshold);
+  if (const YAML::Node b = c.node["bounds"]) {
+    const std::string bkp = c.kp + ".bounds";
+    in.RequireMapping(b, bkp);
+    in.CheckKeys(b, bkp, {"a0", "a1", "a2"});
+    const char* names[] = {"a0", "a1", "a2"};
+    for (std::size_t i = 0; i < 3; ++i) {
+      if (!b[names[i]]) continue;
+      const auto v = in.Numbers(b[names[i]], bkp + "." + names[i], "[lower, upper]");
+      if (v.size() != 2) in.ThrowValue(b[names[i]], bkp + "." + names[i], "[lower, upper]");
+      k.lower[i] = v[0];
+      k.upper[i] = v[1];
+    }
+  }
+  if (c.node["rate_limits"]) {
+    const auto v = in.Numbers(c.node["rate_limits"], c.kp + ".rate_limits",
+                              "[a0 per s, a1 per s, a2 per s], e.g. [2, 0.05, 0.001]");
+    if (v.size() != 3) {
+      in.ThrowValue(c.node["rate_limits"], c.kp + ".rate_limits", "three rate limits");
+    }
+    k.rate_limit = {v[0], v[1], v[2]};
+  }
+  transfer::ValidateCompensatorConfig(k, in.Where(c.node, c.kp));
+  if (!c.node["inner"] || !c.node["inner"].IsMap()) {
+    throw ConfigError(fmt::format("{}: a compensated transfer needs `inner:`, the transfer it "
+                                  "wraps (e.g. {{type: rt_plant, ...}})", in.Where(c.node, c.kp)));
+  }
+  const std::string ikp = c.kp + ".inner";
+  TransferReadContext inner_context{in, c.node["inner"], ikp, c.bench_address, c.reply_timeout,
+                                    c.limits};
+  substructures::TransferSpec inner = ReadTransfer(inner_context);
+  auto make = inner.make;
+  return {"compensated", [make, k] {
+            return std::make_unique<transfer::DelayCompensator>(make(), k);
+          }};
 }
 
 }  // namespace hybridtest::io

@@ -124,7 +124,8 @@ std::map<std::string, TransferReader>& Readers() {
                                                        {"remote", ReadRemote},
                                                        {"modbus", ReadModbus},
                                                        {"openfresco", ReadOpenFresco},
-                                                       {"rt_plant", ReadRtPlant}};
+                                                       {"rt_plant", ReadRtPlant},
+                                                       {"compensated", ReadCompensated}};
   return readers;
 }
 

@@ -7,6 +7,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/substructures/physical_substructure.h"
+#include "hybridtest/transfer/delay_compensator.h"
 
 namespace hybridtest::runner {
 namespace {
@@ -121,6 +122,17 @@ nlohmann::json PacedLoop::ToJson() const {
                       {"compute_s",
                        {{"p50", s.compute_p50}, {"p99", s.compute_p99}, {"max", s.compute_max}}}};
   j["setup"] = setup_notes_;
+  // The compensators' estimates (delay, amplitude) per slot.
+  nlohmann::json compensators = nlohmann::json::object();
+  const auto& subs = session_.substructures();
+  for (std::size_t s = 0; s < subs.size(); ++s) {
+    const auto* p = dynamic_cast<const substructures::PhysicalSubstructure*>(subs[s].get());
+    if (p == nullptr) continue;
+    if (const auto* c = dynamic_cast<const transfer::DelayCompensator*>(&p->transfer())) {
+      compensators[session_.model().slots()[s].info.name] = c->ToJson();
+    }
+  }
+  if (!compensators.empty()) j["compensation"] = compensators;
   j.update(criteria_.ToJson());
   return j;
 }

@@ -51,21 +51,26 @@ double TrackingCriteria::J3() const {
 double TrackingCriteria::J1_ms() const {
   const long n = std::min<long>(n_, static_cast<long>(xc_.size()));
   if (n < 4 || !(tick_ > 0.0)) return std::numeric_limits<double>::quiet_NaN();
-  double mc = 0.0, mm = 0.0;
-  for (long i = 0; i < n; ++i) {
-    mc += xc_[static_cast<std::size_t>(i)];
-    mm += xm_[static_cast<std::size_t>(i)];
-  }
-  mc /= static_cast<double>(n);
-  mm /= static_cast<double>(n);
-  const long max_lag = std::min(n - 2, static_cast<long>(std::ceil(max_lag_ / tick_)) + 1);
-  // R(L) = Σ (x_c(i) − x̄_c)(x_m(i + L) − x̄_m) / (n − L): x_m lags x_c by L ticks.
+  const long max_lag = std::min(n - 4, static_cast<long>(std::ceil(max_lag_ / tick_)) + 1);
+  // R(L): the correlation coefficient of x_c(i) and x_m(i + L) over their overlap (x_m lags
+  // x_c by L ticks); normalised per lag, so a growing or decaying response does not bias it.
   auto corr = [&](long lag) {
-    double s = 0.0;
-    for (long i = 0; i + lag < n; ++i) {
-      s += (xc_[static_cast<std::size_t>(i)] - mc) * (xm_[static_cast<std::size_t>(i + lag)] - mm);
+    const long len = n - lag;
+    double sc = 0.0, sm = 0.0;
+    for (long i = 0; i < len; ++i) {
+      sc += xc_[static_cast<std::size_t>(i)];
+      sm += xm_[static_cast<std::size_t>(i + lag)];
     }
-    return s / static_cast<double>(n - lag);
+    const double mc = sc / static_cast<double>(len), mm = sm / static_cast<double>(len);
+    double scm = 0.0, scc = 0.0, smm = 0.0;
+    for (long i = 0; i < len; ++i) {
+      const double a = xc_[static_cast<std::size_t>(i)] - mc;
+      const double b = xm_[static_cast<std::size_t>(i + lag)] - mm;
+      scm += a * b;
+      scc += a * a;
+      smm += b * b;
+    }
+    return scc > 0.0 && smm > 0.0 ? scm / std::sqrt(scc * smm) : 0.0;
   };
   long best = 0;
   double best_r = corr(0);

@@ -2,8 +2,9 @@
 // TrackingCriteria: the vRTHS benchmark's tracking criteria (Silva et al. 2020) of one
 // actuator, from its command x_c and measured position x_m sampled once per tick:
 //
-//   J1  tracking delay: the lag of the peak of the cross-correlation of x_m against x_c
-//       (searched over 0 … max_lag, refined by a parabola through the peak). Unit: [ms]
+//   J1  tracking delay: the lag of the peak of the cross-correlation of x_m against x_c (the
+//       correlation coefficient over the overlap at each lag,
+//       searched over 0 … max_lag, refined by a parabola through the peak). Unit: [ms]
 //   J2  normalised RMS tracking error  σ(x_m − x_c) / σ(x_c) · 100. Unit: [%]
 //   J3  peak tracking error  max|x_m − x_c| / max|x_c| · 100. Unit: [%]
 //

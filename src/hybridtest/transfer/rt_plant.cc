@@ -83,6 +83,26 @@ double RtPlant::SettledDisplacement(double u) const {
          (k.a1_beta0 + k.beta2 * k.a3 * config_.specimen.stiffness);
 }
 
+std::complex<double> RtPlant::FrequencyResponse(double omega) const {
+  using cd = std::complex<double>;
+  const cd s(0.0, omega);
+  const cd delay = std::exp(-s * config_.delay);
+  switch (config_.kind) {
+    case PlantKind::kIdeal: return delay;
+    case PlantKind::kElectromechanical: return delay / (1.0 + s * config_.lag);
+    case PlantKind::kServoHydraulic: {
+      const auto& k = config_.servo;
+      const auto& sp = config_.specimen;
+      const cd gsp = 1.0 / (sp.mass * s * s + sp.damping * s + sp.stiffness);
+      const cd ga = 1.0 / (s + k.a3);
+      const cd gs = k.a1_beta0 / (s * s + k.beta1 * s + k.beta2);
+      const cd h = ga * gsp / (1.0 + k.a2 * s * ga * gsp);
+      return delay * k.gain * gs * h / (1.0 + gs * h);
+    }
+  }
+  return delay;
+}
+
 void RtPlant::StartPaced(double tick, const Clock& clock) {
   if (!(tick > 0.0)) throw ConfigError(fmt::format("rt_plant: tick = {}: expected > 0 s", tick));
   clock_ = &clock;

@@ -27,6 +27,7 @@
 // equal substeps no longer than 1/rate_hz. The delayed command is sampled at the start of each
 // substep, so τ is resolved to one substep.
 #include <array>
+#include <complex>
 #include <string>
 #include <vector>
 
@@ -86,6 +87,9 @@ class RtPlant final : public TransferSystem {
   // Static (settled) displacement from p0 for a command displacement u from p0. Unit: [m].
   double SettledDisplacement(double u) const;
   const RtPlantConfig& config() const { return config_; }
+  // The plant's command → position response at ω [rad/s], its delay included (the linear
+  // damper, α = 1, for the servo plant's specimen).
+  std::complex<double> FrequencyResponse(double omega) const;
 
  private:
   using State = std::array<double, 5>;  // servo: w, ẇ, F, x, v; lag: -, -, -, x, v
