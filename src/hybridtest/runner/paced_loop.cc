@@ -122,6 +122,7 @@ nlohmann::json PacedLoop::ToJson() const {
                       {"compute_s",
                        {{"p50", s.compute_p50}, {"p99", s.compute_p99}, {"max", s.compute_max}}}};
   j["setup"] = setup_notes_;
+  j["stability"] = stability_;
   // The compensators' estimates (delay, amplitude) per slot.
   nlohmann::json compensators = nlohmann::json::object();
   const auto& subs = session_.substructures();

@@ -52,6 +52,8 @@ class PacedLoop final : public SessionObserver {
   const TrackingCriteria& criteria() const { return criteria_; }
   // What the process setup did (memory lock, scheduling, affinity), for the sidecar.
   void AddSetupNote(std::string note) { setup_notes_.push_back(std::move(note)); }
+  // The delay stability check's margins (delay_stability.h), for the sidecar.
+  void SetStability(nlohmann::json margins) { stability_ = std::move(margins); }
   nlohmann::json ToJson() const;
 
   void OnTrial(const TrialEvent& event) override;
@@ -70,6 +72,7 @@ class PacedLoop final : public SessionObserver {
   TrackingCriteria criteria_;
   std::vector<double> late_, compute_;  // per tick, preallocated
   std::vector<std::string> setup_notes_;
+  nlohmann::json stability_ = nlohmann::json::array();
 };
 
 }  // namespace hybridtest::runner

@@ -10,6 +10,7 @@
 #include <cstring>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/runner/delay_stability.h"
 
 namespace hybridtest::runner {
 
@@ -68,6 +69,19 @@ RealTimeRun::RealTimeRun(Session& session, const std::string& clock, bool quiet)
   }
   clock_ = MakeClock(clock);
   loop_ = std::make_unique<PacedLoop>(session, *clock_);
+  // Before anything moves: the delay each physical slot can bear (delay_stability.h).
+  const std::vector<SlotDelayMargin> margins = CheckDelayStability(session);
+  if (!quiet_) {
+    for (const SlotDelayMargin& g : margins) {
+      fmt::print("hybridtest: real time: {}{}\n", Describe(g),
+                 g.unstable() ? (session.spec().real_time.force ? " — UNSTABLE, run forced"
+                                                                : " — UNSTABLE")
+                              : "");
+    }
+    std::fflush(stdout);
+  }
+  loop_->SetStability(ToJson(margins));
+  RefuseUnstable(session, margins);
 }
 
 StepResult RealTimeRun::Run() {
