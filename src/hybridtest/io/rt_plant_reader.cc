@@ -71,7 +71,7 @@ substructures::TransferSpec ReadRtPlant(const TransferReadContext& c) {
 substructures::TransferSpec ReadCompensated(const TransferReadContext& c) {
   const YamlInput& in = c.in;
   in.CheckKeys(c.node, c.kp, {"type", "method", "delay", "order", "window", "update_every",
-                              "threshold", "bounds", "rate_limits", "inner"});
+                              "threshold", "bounds", "rate_limits", "inner", "spacing"});
   transfer::CompensatorConfig k;
   const std::string method = in.ReadString(c.node, c.kp, "method", "ats");
   if (method == "ats") {
@@ -85,6 +85,11 @@ substructures::TransferSpec ReadCompensated(const TransferReadContext& c) {
   if (c.node["order"]) {
     k.order = static_cast<int>(in.Count(c.node["order"], c.kp + ".order",
                                         "a polynomial order 1..4", 1, 4));
+  }
+  if (c.node["spacing"]) {
+    k.spacing = static_cast<int>(in.Count(c.node["spacing"], c.kp + ".spacing",
+                                          "ticks between the polynomial's nodes (0: automatic)",
+                                          0, 100000));
   }
   k.window = in.ReadNumber(c.node, c.kp, "window", "the ATS window in s", k.window);
   if (c.node["update_every"]) {

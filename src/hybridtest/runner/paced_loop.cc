@@ -88,7 +88,9 @@ StepResult PacedLoop::Run() {
     if (hold_after_ > 0 && consecutive >= hold_after_ && r.status == SessionStatus::kWorking &&
         !stats_.held_on_misses) {
       stats_.held_on_misses = true;
-      session_.RequestStop();
+      session_.RequestStop(fmt::format(
+          "held after {} consecutive missed deadlines (real_time.hold_after_misses; a tick later "
+          "than {} s is a miss)", consecutive, miss_tolerance_));
     }
   }
   return r;

@@ -303,8 +303,10 @@ StepResult Session::Step() {
     Publish(RowKind::kCommitted, p.step, p.t, p.x, p.r);
     if (scheme_->finished()) return Finish();
     if (stop_requested_.load(std::memory_order_relaxed)) {
-      throw Interrupted(fmt::format("interrupted by the operator at t = {} s after {} steps; "
-                                    "every committed step is kept{}", p.t, p.step,
+      throw Interrupted(fmt::format("{} at t = {} s after {} steps; "
+                                    "every committed step is kept{}",
+                                    stop_reason_.empty() ? "interrupted by the operator"
+                                                         : stop_reason_, p.t, p.step,
                                     spec_.output.files ? " in " + spec_.output.csv_path : ""));
     }
   } catch (const std::exception& e) {

@@ -16,6 +16,7 @@ void ValidateCompensatorConfig(const CompensatorConfig& c, const std::string& wh
     fail(fmt::format("delay = {}: expected the actuator's delay ≥ 0 in s", c.delay));
   }
   if (c.order < 1 || c.order > 4) fail(fmt::format("order = {}: expected 1..4", c.order));
+  if (c.spacing < 0) fail(fmt::format("spacing = {}: expected ≥ 1 tick, or 0 (automatic)", c.spacing));
   if (!(c.window > 0.0)) fail(fmt::format("window = {}: expected > 0 s", c.window));
   if (c.update_every < 1) fail(fmt::format("update_every = {}: expected ≥ 1 tick", c.update_every));
   if (!(c.threshold >= 0.0)) fail("threshold: expected ≥ 0 m");
@@ -53,8 +54,13 @@ void DelayCompensator::StartPaced(double tick, const Clock& clock) {
   paced_ = true;
   ticks_ = 0;
   targets_.fill(0.0);
-  // Lagrange weights at ξ = τ/h on the nodes 0, −1, …, −p.
-  const double xi = config_.delay / tick;
+  // Lagrange weights at ξ = τ/(Δh) on the nodes 0, −1, …, −p (in units of Δ ticks).
+  spacing_ = config_.spacing > 0
+                 ? config_.spacing
+                 : std::max(1, static_cast<int>(std::lround(config_.delay / (config_.order * tick))));
+  const double xi = config_.delay / (spacing_ * tick);
+  history_.assign(static_cast<std::size_t>(config_.order * spacing_ + 1), 0.0);
+  history_head_ = 0;
   poly_.assign(static_cast<std::size_t>(config_.order) + 1, 1.0);
   for (int i = 0; i <= config_.order; ++i) {
     for (int j = 0; j <= config_.order; ++j) {
@@ -72,9 +78,14 @@ double DelayCompensator::Compensate(double x) {
   for (std::size_t i = targets_.size() - 1; i > 0; --i) targets_[i] = targets_[i - 1];
   targets_[0] = x;
   if (config_.method == CompensationMethod::kPolynomial) {
-    if (ticks_ < config_.order) return x;  // not enough history yet
+    const std::size_t n = history_.size();
+    history_head_ = (history_head_ + 1) % n;
+    history_[history_head_] = x;
+    if (ticks_ < config_.order * spacing_) return x;  // not enough history yet
     double c = 0.0;
-    for (std::size_t i = 0; i < poly_.size(); ++i) c += poly_[i] * targets_[i];
+    for (std::size_t i = 0; i < poly_.size(); ++i) {
+      c += poly_[i] * history_[(history_head_ + n - i * static_cast<std::size_t>(spacing_)) % n];
+    }
     return c;
   }
   if (ticks_ < 2) return a_[0] * x;
@@ -139,6 +150,7 @@ Measurement DelayCompensator::Execute(double command) {
 
 nlohmann::json DelayCompensator::ToJson() const {
   return {{"method", config_.method == CompensationMethod::kAts ? "ats" : "polynomial"},
+          {"spacing_ticks", spacing_},
           {"a0", a_[0]}, {"a1_s", a_[1]}, {"a2_s2", a_[2]},
           {"estimated_delay_s", estimated_delay()},
           {"updates", updates_},

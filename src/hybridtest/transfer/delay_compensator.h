@@ -7,9 +7,11 @@
 //   polynomial  Horiuchi, Inoue, Konno & Namita (1999, "Real-time hybrid experimental system
 //               with actuator delay compensation and its application to a piping system with
 //               energy absorber", Earthquake Eng. Struct. Dyn. 28): the target is extrapolated
-//               τ ahead by the Lagrange polynomial of order p through the last p + 1 targets
-//               (ticks of h):  x_c,k = Σ_{i=0..p} L_i(τ/h) x_t,k−i,
-//               L_i(ξ) = Π_{j≠i} (ξ + j)/(j − i).  τ is fixed (`delay`).
+//               τ ahead by the Lagrange polynomial of order p through p + 1 past targets Δ
+//               ticks apart:  x_c,k = Σ_{i=0..p} L_i(ξ) x_t,k−iΔ,  ξ = τ/(Δh),
+//               L_i(ξ) = Π_{j≠i} (ξ + j)/(j − i).  τ is fixed (`delay`); Δ (`spacing`, default
+//               round(τ/(p h)) ≥ 1) keeps ξ near p: nodes one tick apart extrapolated over many
+//               ticks would amplify the tick-to-tick noise by the weights' size.
 //   ats         the adaptive time series of Chae, Kazemibidokhti & Ricles (2013, "Adaptive time
 //               series compensator for delay compensation of servo-hydraulic actuator systems
 //               for real-time hybrid simulation", Earthquake Eng. Struct. Dyn. 42):
@@ -44,6 +46,7 @@ struct CompensatorConfig {
   CompensationMethod method = CompensationMethod::kAts;
   double delay = 0.02;    // τ [s]: the extrapolation (polynomial), the initial a1 (ats)
   int order = 2;          // polynomial order p (1..4)
+  int spacing = 0;        // polynomial: ticks between the nodes, 0: round(τ/(p h)) ≥ 1
   double window = 1.0;    // ats: least-squares window [s]
   int update_every = 16;  // ats: ticks between updates
   double threshold = 2.54e-4;  // ats: smallest max |x_m| in the window that updates [m]
@@ -88,8 +91,11 @@ class DelayCompensator final : public TransferSystem {
   double tick_ = 0.0;
   double origin_ = 0.0;  // the settled command: positions are relative to it
   bool have_origin_ = false;
-  std::vector<double> poly_;                 // L_i(τ/h), i = 0..p
-  std::array<double, 5> targets_{};          // the last targets, newest first
+  std::vector<double> poly_;                 // L_i(ξ), i = 0..p
+  int spacing_ = 1;                          // Δ [ticks]
+  std::vector<double> history_;              // the last p Δ + 1 targets (a ring)
+  std::size_t history_head_ = 0;
+  std::array<double, 3> targets_{};          // the last three targets, newest first
   long ticks_ = 0;
   std::array<double, 3> a_{1.0, 0.0, 0.0};
   // ATS window: commands sent and measured positions (relative), a ring.
