@@ -41,18 +41,18 @@ nlohmann::json RealTime(const fs::path& csv) {
   return nlohmann::json::parse(Slurp(meta))["statistics"]["real_time"];
 }
 
-std::pair<int, std::string> Run(const std::string& config, const fs::path& out,
+std::pair<int, std::string> RunHybrid(const std::string& config, const fs::path& out,
                                 const std::string& clock = "virtual", int timeout = 120) {
   return RunCommand(fmt::format("{} run {} --clock {} --out {} --quiet 2>&1", kBinary, config,
                                 clock, out.string()), timeout);
 }
 
 TEST(RealTime, StoreyWithAtsIsReproducibleAndMeetsTheTarget) {
-  const fs::path dir = testing::FreshTempDir("real_time_storey");
+  const fs::path dir = test_support::FreshTempDir("real_time_storey");
   const std::string ats = kSource + "/examples/real-time/storey-ats.yaml";
-  const auto [s1, o1] = Run(ats, dir / "a.csv");
+  const auto [s1, o1] = RunHybrid(ats, dir / "a.csv");
   ASSERT_EQ(s1, 0) << o1;
-  const auto [s2, o2] = Run(ats, dir / "b.csv");
+  const auto [s2, o2] = RunHybrid(ats, dir / "b.csv");
   ASSERT_EQ(s2, 0) << o2;
   EXPECT_EQ(Slurp(dir / "a.csv"), Slurp(dir / "b.csv"));
   const nlohmann::json rt = RealTime(dir / "a.csv");
@@ -63,7 +63,7 @@ TEST(RealTime, StoreyWithAtsIsReproducibleAndMeetsTheTarget) {
   EXPECT_EQ(rt["ticks"].get<long>(), 10240);
   EXPECT_EQ(rt["misses"].get<long>(), 0);
   // The uncompensated run: predicted unstable, and it is (a safety stop, exit 3).
-  const auto [s3, o3] = Run(kSource + "/examples/real-time/storey.yaml", dir / "plain.csv");
+  const auto [s3, o3] = RunHybrid(kSource + "/examples/real-time/storey.yaml", dir / "plain.csv");
   EXPECT_EQ(s3, 3) << o3;
   const nlohmann::json plain = RealTime(dir / "plain.csv");
   EXPECT_TRUE(plain["stability"][0]["unstable"].get<bool>());
@@ -75,8 +75,8 @@ TEST(RealTime, StoreyWithAtsIsReproducibleAndMeetsTheTarget) {
 }
 
 TEST(RealTime, RotorIsRefusedBeforeAnyCommandNamingBothDelays) {
-  const fs::path dir = testing::FreshTempDir("real_time_rotor");
-  const auto [status, output] = Run(kSource + "/examples/real-time/rotor.yaml", dir / "r.csv");
+  const fs::path dir = test_support::FreshTempDir("real_time_rotor");
+  const auto [status, output] = RunHybrid(kSource + "/examples/real-time/rotor.yaml", dir / "r.csv");
   EXPECT_EQ(status, 2) << output;
   EXPECT_NE(output.find("critical delay"), std::string::npos) << output;
   EXPECT_NE(output.find("plant's delay"), std::string::npos) << output;
@@ -86,14 +86,14 @@ TEST(RealTime, RotorIsRefusedBeforeAnyCommandNamingBothDelays) {
 TEST(RealTime, WallClockRunRecordsItsMisses) {
   // The same run paced on the wall clock for 10 s, with the miss policy off so that a loaded
   // machine records its misses instead of holding.
-  const fs::path dir = testing::FreshTempDir("real_time_wall");
+  const fs::path dir = test_support::FreshTempDir("real_time_wall");
   std::string config = Slurp(kSource + "/examples/real-time/storey-ats.yaml");
   const std::string from = "hold_after_misses: 10";
   config.replace(config.find(from), from.size(), "hold_after_misses: 0");
   config.replace(config.find("file: storey.model.yaml"), 23,
                  "file: " + kSource + "/examples/real-time/storey.model.yaml");
   std::ofstream(dir / "wall.yaml") << config;
-  const auto [status, output] = Run((dir / "wall.yaml").string(), dir / "w.csv", "wall", 120);
+  const auto [status, output] = RunHybrid((dir / "wall.yaml").string(), dir / "w.csv", "wall", 120);
   ASSERT_EQ(status, 0) << output;
   const nlohmann::json rt = RealTime(dir / "w.csv");
   EXPECT_EQ(rt["clock"], "wall");
