@@ -4,8 +4,8 @@
 //     ATS target against storey.yaml, whose uncompensated run the stability check predicts
 //     unstable (and which does go unstable: the safety limits stop it);
 //   - rotor.yaml is refused with exit 2 before any command, naming both delays;
-//   - the same storey-ats run paced on the wall clock exits 0 and records its misses (no
-//     timing is asserted).
+//   - the same storey-ats run paced on the wall clock records its misses and, without any,
+//     exits 0 (no timing is asserted; a loaded machine's late ticks may end it on a limit).
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -93,12 +93,20 @@ TEST(RealTime, WallClockRunRecordsItsMisses) {
   config.replace(config.find("file: storey.model.yaml"), 23,
                  "file: " + kSource + "/examples/real-time/storey.model.yaml");
   std::ofstream(dir / "wall.yaml") << config;
-  const auto [status, output] = RunHybrid((dir / "wall.yaml").string(), dir / "w.csv", "wall", 120);
-  ASSERT_EQ(status, 0) << output;
+  const auto [status, output] = RunHybrid((dir / "wall.yaml").string(), dir / "w.csv", "wall",
+                                          120);
   const nlohmann::json rt = RealTime(dir / "w.csv");
   EXPECT_EQ(rt["clock"], "wall");
-  EXPECT_EQ(rt["ticks"].get<long>(), 10240);
-  EXPECT_TRUE(rt["misses"].is_number_integer());
+  ASSERT_TRUE(rt["misses"].is_number_integer());
+  if (rt["misses"].get<long>() == 0) {
+    // On time throughout, the run is the virtual-time run's physics: it completes.
+    EXPECT_EQ(status, 0) << output;
+    EXPECT_EQ(rt["ticks"].get<long>(), 10240);
+  } else {
+    // Late ticks let the plant run on between commands (a loaded machine): the run may end
+    // on a safety limit, never otherwise.
+    EXPECT_TRUE(status == 0 || status == 3) << output;
+  }
   std::printf("wall clock, 1024 Hz, 10 s: misses %ld, late p50/p99/max %g/%g/%g s, compute "
               "p50/p99 %g/%g s\n", rt["misses"].get<long>(), rt["late_s"]["p50"].get<double>(),
               rt["late_s"]["p99"].get<double>(), rt["late_s"]["max"].get<double>(),

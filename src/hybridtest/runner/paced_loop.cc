@@ -67,15 +67,10 @@ StepResult PacedLoop::Run() {
     const double deadline = t0 + static_cast<double>(k) * tick_;
     clock_.WaitUntil(deadline);
     const double late = clock_.Now() - deadline;
-    const auto start = std::chrono::steady_clock::now();
-    r = session_.Step();
-    const double compute =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // The tick counts before its step: the last step's statistics (AddStatistics, inside the
+    // step that finishes the run) include it.
     const auto i = static_cast<std::size_t>(stats_.ticks);
-    if (i < late_.size()) {
-      late_[i] = late;
-      compute_[i] = compute;
-    }
+    if (i < late_.size()) late_[i] = late;
     ++stats_.ticks;
     if (late > miss_tolerance_) {
       ++stats_.misses;
@@ -84,6 +79,11 @@ StepResult PacedLoop::Run() {
     } else {
       consecutive = 0;
     }
+    const auto start = std::chrono::steady_clock::now();
+    r = session_.Step();
+    const double compute =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (i < compute_.size()) compute_[i] = compute;
     if (compute > tick_) ++stats_.overruns;
     if (hold_after_ > 0 && consecutive >= hold_after_ && r.status == SessionStatus::kWorking &&
         !stats_.held_on_misses) {
