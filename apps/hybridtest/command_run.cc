@@ -1,4 +1,5 @@
 // hybridtest run CONFIG [--out FILE.csv] [--bench HOST:PORT] [--quiet] [--overwrite]
+//                  [--clock virtual|wall]
 // A hybrid test: physical substructures through their transfer systems, numerical ones in the
 // loop. Exits non-zero on a safety stop or a lost bench, after writing every committed step.
 #include "command.h"
@@ -19,6 +20,9 @@ void AddRunCommand(CLI::App& root) {
   cmd->add_flag("--quiet", opt->quiet, "no progress output and no summary");
   cmd->add_flag("--overwrite", opt->overwrite,
                 "replace an earlier run at the output path (refused without it: exit 2)");
+  cmd->add_option("--clock", opt->clock, "a real-time config's clock: wall (default, paced) or "
+                                       "virtual (simulated time, no sleeping, reproducible)")
+      ->check(CLI::IsMember({"virtual", "wall"}));
   cmd->callback([opt] { ExecuteRun(*opt); });
 }
 

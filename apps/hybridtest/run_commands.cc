@@ -22,6 +22,7 @@
 #include "hybridtest/io/output_budget.h"
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/runner/progress.h"
+#include "hybridtest/runner/real_time_run.h"
 #include "hybridtest/runner/session.h"
 #include "hybridtest/transfer/safety.h"
 #include "hybridtest/runner/run_record.h"
@@ -97,7 +98,8 @@ nlohmann::json Provenance(const io::SimulationConfig& cfg, const std::string& cs
 // The loop and the summary, shared by run, simulate and resume.
 void RunAndReport(const io::SimulationConfig& cfg, io::RunSpec spec,
                   runner::SessionOptions session_options,
-                  const runner::RunState* resume_from, bool quiet) {
+                  const runner::RunState* resume_from, bool quiet,
+                  const std::string& clock = "") {
   // A file-size limit makes a write fail (EFBIG, reported with the run's status) instead of
   // killing the process mid-row.
   std::signal(SIGXFSZ, SIG_IGN);
@@ -113,7 +115,9 @@ void RunAndReport(const io::SimulationConfig& cfg, io::RunSpec spec,
   ProgressObserver progress_observer(session, progress);
   session.AddObserver(progress_observer);
   const StopOnSignal stop_on_signal(session);
-  const runner::StepResult result = session.Run();
+  // A `real_time:` config runs paced on its clock (runner/real_time_run.h).
+  runner::RealTimeRun real_time(session, clock, quiet || session.spec().quiet);
+  const runner::StepResult result = real_time.enabled() ? real_time.Run() : session.Run();
   if (result.status != runner::SessionStatus::kFinished) {
     // How to go on comes first: every committed step is kept, and resume continues from it.
     if (session.statistics().rows > 0 && session.spec().output.files) {
@@ -183,7 +187,7 @@ void ExecuteRun(const RunCommandOptions& options) {
   io::CheckRunOutputs(csv, io::RunInputFiles(cfg), options.overwrite);
   spec.source.inputs = io::RecordRunInputs(cfg, csv);
   spec.source.provenance = Provenance(cfg, csv);
-  RunAndReport(cfg, std::move(spec), {}, nullptr, options.quiet);
+  RunAndReport(cfg, std::move(spec), {}, nullptr, options.quiet, options.clock);
 }
 
 void ExecuteResume(const ResumeCommandOptions& options) {

@@ -15,6 +15,7 @@ struct RunCommandOptions {
   bool overwrite = false;  // --overwrite: a run may replace an earlier run at the same path
   bool allow_physical = true;
   std::string command = "run";
+  std::string clock;  // --clock virtual|wall for a real-time config ("" = wall)
 };
 
 // Runs and prints a summary. Returns normally on success; throws on failure (after the

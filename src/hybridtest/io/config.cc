@@ -225,7 +225,7 @@ nlohmann::json TestRecord(const YamlInput& in, const YAML::Node& node, const std
 SimulationConfig ParseSimulationConfig(const YamlInput& in) {
   const YAML::Node& root = in.root();
   in.CheckKeys(root, "", {"model", "initial_state", "integrator", "duration", "output",
-                          "substructures", "progress", "resume", "test"});
+                          "substructures", "progress", "resume", "test", "real_time"});
   int blades = 0;
   models::BuiltModel model = ParseModel(in, in.Mapping(root, "model", "model", true), &blades);
   SimulationConfig cfg{.input = in, .model = std::move(model), .blades = blades, .x0 = {},

@@ -55,6 +55,7 @@ RunSpec CompileRunSpec(const SimulationConfig& cfg, const SubstructureOptions& o
       !cfg.output_csv.empty() ? cfg.output_csv : "results/" + spec.source.name + ".csv";
   spec.quiet = cfg.quiet;
   spec.source.test = cfg.test;
+  spec.real_time = ReadRealTime(cfg.input);
   return spec;
 }
 

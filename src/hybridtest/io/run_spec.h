@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "hybridtest/integrators/butcher_tableau.h"
+#include "hybridtest/io/real_time_spec.h"
 #include "hybridtest/models/catalogue.h"
 #include "hybridtest/schemes/scheme_config.h"
 #include "hybridtest/substructures/substructure_spec.h"
@@ -75,6 +76,7 @@ struct RunSpec {
   OutputSpec output;
   ResumeSpec resume;
   SourceSpec source;
+  RealTimeSpec real_time;  // `real_time:`; disabled: the run is paced by its benches
   bool quiet = false;  // progress: {quiet: true}
 };
 

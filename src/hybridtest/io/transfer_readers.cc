@@ -9,6 +9,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/constitutive/parse_law.h"
+#include "hybridtest/io/rt_plant_reader.h"
 #include "hybridtest/transfer/auth.h"
 #include "hybridtest/transfer/bench_client.h"
 #include "hybridtest/transfer/emulated_bench.h"
@@ -122,7 +123,9 @@ std::map<std::string, TransferReader>& Readers() {
                                                        {"loopback", ReadLoopback},
                                                        {"remote", ReadRemote},
                                                        {"modbus", ReadModbus},
-                                                       {"openfresco", ReadOpenFresco}};
+                                                       {"openfresco", ReadOpenFresco},
+                                                       {"rt_plant", ReadRtPlant},
+                                                       {"compensated", ReadCompensated}};
   return readers;
 }
 

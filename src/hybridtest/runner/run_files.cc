@@ -20,7 +20,10 @@ void RunFiles::OnStart(const Session& session) {
   const std::string& csv = spec_.output.csv_path;
   const auto& subs = session.substructures();
   const bool physical = session.has_physical();
-  const io::SyncPolicy policy = physical ? io::SyncPolicy::kEveryRow : io::SyncPolicy::kBuffered;
+  // A paced (real-time) run cannot wait for a sync between ticks: its specimen moves on its
+  // own clock, so its rows are buffered like a numerical run's (docs/real-time.md).
+  const io::SyncPolicy policy = physical && !spec_.real_time.enabled ? io::SyncPolicy::kEveryRow
+                                                                     : io::SyncPolicy::kBuffered;
   const RunState* resume = session.resume_state();
   if (resume != nullptr) {
     rows_cut_ = CutJournalToRows(csv, resume->rows);
@@ -79,7 +82,8 @@ void RunFiles::OnCommit(const CommitEvent& event) {
 
 void RunFiles::SaveState(bool always, long rows_after, std::span<const double> row) {
   if (!spec_.output.save_state) return;
-  if (!always && !session_->has_physical() && rows_after / 1000 == state_rows_ / 1000) return;
+  const bool every_row = session_->has_physical() && !spec_.real_time.enabled;
+  if (!always && !every_row && rows_after / 1000 == state_rows_ / 1000) return;
   journal_->Flush();  // its rows before the state's are in the kernel (kBuffered holds some)
   RunState state = session_->GetState();
   state.rows = rows_after;

@@ -303,8 +303,10 @@ StepResult Session::Step() {
     Publish(RowKind::kCommitted, p.step, p.t, p.x, p.r);
     if (scheme_->finished()) return Finish();
     if (stop_requested_.load(std::memory_order_relaxed)) {
-      throw Interrupted(fmt::format("interrupted by the operator at t = {} s after {} steps; "
-                                    "every committed step is kept{}", p.t, p.step,
+      throw Interrupted(fmt::format("{} at t = {} s after {} steps; "
+                                    "every committed step is kept{}",
+                                    stop_reason_.empty() ? "interrupted by the operator"
+                                                         : stop_reason_, p.t, p.step,
                                     spec_.output.files ? " in " + spec_.output.csv_path : ""));
     }
   } catch (const std::exception& e) {
@@ -330,6 +332,7 @@ StepResult Session::Finish() {
   event.statistics["initial_stiffness"] = stiffness_record_;
   result_ = {SessionStatus::kFinished, ""};
   try {
+    for (SessionObserver* o : observers_) o->AddStatistics(event.statistics);
     for (SessionObserver* o : observers_) o->OnStop(event);
   } catch (const std::exception& e) {
     // The run is complete, but its record could not be finished.
@@ -370,6 +373,13 @@ StepResult Session::Fail(const std::exception& e) {
     received.push_back(count ? nlohmann::json(*count) : nlohmann::json(nullptr));
   }
   event.statistics["stop"]["commands_received"] = received;
+  for (SessionObserver* o : observers_) {
+    try {
+      o->AddStatistics(event.statistics);
+    } catch (const std::exception&) {
+      // The run's own error is the one reported.
+    }
+  }
   for (SessionObserver* o : observers_) {
     try {
       o->OnStop(event);

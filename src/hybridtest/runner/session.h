@@ -122,6 +122,9 @@ class SessionObserver {
   virtual void OnCommit(const CommitEvent& /*event*/) {}
   virtual void OnResume(const ResumeEvent& /*event*/) {}
   virtual void OnStop(const StopEvent& /*event*/) {}
+  // Before OnStop (every observer first): add this observer's own fields to the statistics
+  // the sidecar records (e.g. a paced loop's `real_time`).
+  virtual void AddStatistics(nlohmann::json& /*statistics*/) {}
 };
 
 struct SessionOptions {
@@ -157,6 +160,12 @@ class Session {
   StepResult Run();
   // Thread- and async-signal-safe.
   void RequestStop() noexcept { stop_requested_.store(true, std::memory_order_relaxed); }
+  // The same from the stepping thread, with the reason the stop reports instead of the
+  // operator (e.g. a paced loop's missed deadlines). Not signal-safe.
+  void RequestStop(std::string reason) {
+    stop_reason_ = std::move(reason);
+    RequestStop();
+  }
 
   const io::RunSpec& spec() const { return spec_; }
   const multibody::Model& model() const { return spec_.model.model; }
@@ -205,6 +214,7 @@ class Session {
   std::unique_ptr<Rows> rows_sink_;
   std::optional<RunState> resume_;
   std::atomic<bool> stop_requested_{false};
+  std::string stop_reason_;  // RequestStop(reason); "" for the operator
   StepResult result_;
   bool initialized_ = false;
   int physical_count_ = 0;

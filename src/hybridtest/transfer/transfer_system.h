@@ -11,6 +11,8 @@
 #include <optional>
 #include <string>
 
+#include "hybridtest/common/clock.h"
+#include "hybridtest/common/error.h"
 #include "hybridtest/transfer/safety.h"
 
 namespace hybridtest::transfer {
@@ -97,6 +99,14 @@ class TransferSystem {
   // of them has fired already and does not fire again.
   virtual void NoteCommandsBeforeResume(long /*count*/) {}
   virtual void RestoreState(const nlohmann::json& /*state*/) {}
+  // Real time (decision 0015): from now on Execute() sends the command of the current tick
+  // and returns the measurement of that tick at once, without settling; an emulated plant
+  // advances its state to clock.Now() on every Execute. tick: the loop's step [s]; `clock`
+  // must outlive the run. A transfer system that cannot run paced refuses with ConfigError.
+  virtual void StartPaced(double /*tick*/, const Clock& /*clock*/) {
+    throw ConfigError(Describe() + ": this transfer system cannot run in real time (paced); "
+                      "use `transfer: {type: rt_plant, ...}` or remove the `real_time:` block");
+  }
 };
 
 }  // namespace hybridtest::transfer

@@ -1,0 +1,137 @@
+// See rt_plant_reader.h.
+#include "hybridtest/io/rt_plant_reader.h"
+
+#include <fmt/core.h>
+
+#include <cmath>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/transfer/delay_compensator.h"
+
+namespace hybridtest::io {
+
+transfer::RtPlantConfig ReadRtPlantConfig(const TransferReadContext& c) {
+  const YamlInput& in = c.in;
+  in.CheckKeys(c.node, c.kp, {"type", "plant", "delay", "lag", "rate_hz", "p0", "specimen",
+                              "servo"});
+  transfer::RtPlantConfig p;
+  const std::string plant = in.ReadString(c.node, c.kp, "plant", "ideal");
+  if (plant == "ideal") {
+    p.kind = transfer::PlantKind::kIdeal;
+  } else if (plant == "electromechanical") {
+    p.kind = transfer::PlantKind::kElectromechanical;
+  } else if (plant == "servo_hydraulic") {
+    p.kind = transfer::PlantKind::kServoHydraulic;
+  } else {
+    in.ThrowValue(c.node["plant"], c.kp + ".plant", "ideal, electromechanical or servo_hydraulic");
+  }
+  p.delay = in.ReadNumber(c.node, c.kp, "delay", "a pure delay ≥ 0 in s", 0.0);
+  p.lag = in.ReadNumber(c.node, c.kp, "lag", "the lag's time constant in s", 0.0);
+  p.rate_hz = in.ReadNumber(c.node, c.kp, "rate_hz", "the plant's rate in Hz", 4096.0);
+  p.p0 = in.ReadNumber(c.node, c.kp, "p0", "the zero-force position in m", 0.0);
+  const std::string skp = c.kp + ".specimen";
+  const YAML::Node s = in.Mapping(c.node, "specimen", skp, true);
+  in.CheckKeys(s, skp, {"mass", "stiffness", "damping", "zeta", "damping_exponent"});
+  auto& law = p.specimen;
+  law.mass = in.ReadNumber(s, skp, "mass", "the specimen's mass in kg", 0.0);
+  law.stiffness = in.ReadNumber(s, skp, "stiffness", "the specimen's stiffness in N/m", 0.0);
+  law.damping_exponent =
+      in.ReadNumber(s, skp, "damping_exponent", "the damper's exponent α > 0", 1.0);
+  if (s["zeta"] && s["damping"]) {
+    throw ConfigError(fmt::format("{}: give `zeta` (a damping ratio) or `damping` (c), not both",
+                                  in.Where(s, skp)));
+  }
+  if (s["zeta"]) {
+    const double zeta = in.Number(s["zeta"], skp + ".zeta", "a damping ratio ≥ 0");
+    law.damping = 2.0 * zeta * std::sqrt(std::max(0.0, law.stiffness * law.mass));
+  } else {
+    law.damping = in.ReadNumber(s, skp, "damping", "c in N·(s/m)^α", 0.0);
+  }
+  if (const YAML::Node k = c.node["servo"]) {
+    const std::string kkp = c.kp + ".servo";
+    in.RequireMapping(k, kkp);
+    in.CheckKeys(k, kkp, {"a1_beta0", "a2", "beta1", "beta2", "a3", "gain"});
+    auto& v = p.servo;
+    v.a1_beta0 = in.ReadNumber(k, kkp, "a1_beta0", "a number", v.a1_beta0);
+    v.a2 = in.ReadNumber(k, kkp, "a2", "a number", v.a2);
+    v.beta1 = in.ReadNumber(k, kkp, "beta1", "a number", v.beta1);
+    v.beta2 = in.ReadNumber(k, kkp, "beta2", "a number", v.beta2);
+    v.a3 = in.ReadNumber(k, kkp, "a3", "a number", v.a3);
+    v.gain = in.ReadNumber(k, kkp, "gain", "a number", v.gain);
+  }
+  transfer::ValidateRtPlantConfig(p, in.Where(c.node, c.kp));
+  return p;
+}
+
+substructures::TransferSpec ReadRtPlant(const TransferReadContext& c) {
+  const transfer::RtPlantConfig p = ReadRtPlantConfig(c);
+  return {"rt_plant", [p] { return std::make_unique<transfer::RtPlant>(p); }};
+}
+
+substructures::TransferSpec ReadCompensated(const TransferReadContext& c) {
+  const YamlInput& in = c.in;
+  in.CheckKeys(c.node, c.kp, {"type", "method", "delay", "order", "window", "update_every",
+                              "threshold", "bounds", "rate_limits", "inner", "spacing"});
+  transfer::CompensatorConfig k;
+  const std::string method = in.ReadString(c.node, c.kp, "method", "ats");
+  if (method == "ats") {
+    k.method = transfer::CompensationMethod::kAts;
+  } else if (method == "polynomial") {
+    k.method = transfer::CompensationMethod::kPolynomial;
+  } else {
+    in.ThrowValue(c.node["method"], c.kp + ".method", "ats or polynomial");
+  }
+  k.delay = in.ReadNumber(c.node, c.kp, "delay", "the actuator's delay in s", k.delay);
+  if (c.node["order"]) {
+    k.order = static_cast<int>(in.Count(c.node["order"], c.kp + ".order",
+                                        "a polynomial order 1..4", 1, 4));
+  }
+  if (c.node["spacing"]) {
+    k.spacing = static_cast<int>(in.Count(c.node["spacing"], c.kp + ".spacing",
+                                          "ticks between the polynomial's nodes (0: automatic)",
+                                          0, 100000));
+  }
+  k.window = in.ReadNumber(c.node, c.kp, "window", "the ATS window in s", k.window);
+  if (c.node["update_every"]) {
+    k.update_every = static_cast<int>(in.Count(c.node["update_every"], c.kp + ".update_every",
+                                               "ticks between ATS updates", 1, 1000000));
+  }
+  k.threshold = in.ReadNumber(c.node, c.kp, "threshold", "the smallest amplitude in m",
+                              k.threshold);
+  if (const YAML::Node b = c.node["bounds"]) {
+    const std::string bkp = c.kp + ".bounds";
+    in.RequireMapping(b, bkp);
+    in.CheckKeys(b, bkp, {"a0", "a1", "a2"});
+    const char* names[] = {"a0", "a1", "a2"};
+    for (std::size_t i = 0; i < 3; ++i) {
+      if (!b[names[i]]) continue;
+      const auto v = in.Numbers(b[names[i]], bkp + "." + names[i], "[lower, upper]");
+      if (v.size() != 2) in.ThrowValue(b[names[i]], bkp + "." + names[i], "[lower, upper]");
+      k.lower[i] = v[0];
+      k.upper[i] = v[1];
+    }
+  }
+  if (c.node["rate_limits"]) {
+    const auto v = in.Numbers(c.node["rate_limits"], c.kp + ".rate_limits",
+                              "[a0 per s, a1 per s, a2 per s], e.g. [2, 0.05, 0.001]");
+    if (v.size() != 3) {
+      in.ThrowValue(c.node["rate_limits"], c.kp + ".rate_limits", "three rate limits");
+    }
+    k.rate_limit = {v[0], v[1], v[2]};
+  }
+  transfer::ValidateCompensatorConfig(k, in.Where(c.node, c.kp));
+  if (!c.node["inner"] || !c.node["inner"].IsMap()) {
+    throw ConfigError(fmt::format("{}: a compensated transfer needs `inner:`, the transfer it "
+                                  "wraps (e.g. {{type: rt_plant, ...}})", in.Where(c.node, c.kp)));
+  }
+  const std::string ikp = c.kp + ".inner";
+  TransferReadContext inner_context{in, c.node["inner"], ikp, c.bench_address, c.reply_timeout,
+                                    c.limits};
+  substructures::TransferSpec inner = ReadTransfer(inner_context);
+  auto make = inner.make;
+  return {"compensated", [make, k] {
+            return std::make_unique<transfer::DelayCompensator>(make(), k);
+          }};
+}
+
+}  // namespace hybridtest::io

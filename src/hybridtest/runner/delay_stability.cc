@@ -1,0 +1,170 @@
+// See delay_stability.h.
+#include "hybridtest/runner/delay_stability.h"
+
+#include <fmt/core.h>
+
+#include <Eigen/LU>
+#include <cmath>
+#include <complex>
+#include <numbers>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/multibody/derivatives.h"
+#include "hybridtest/multibody/kane.h"
+#include "hybridtest/schemes/step_control.h"
+#include "hybridtest/substructures/physical_substructure.h"
+#include "hybridtest/transfer/delay_compensator.h"
+#include "hybridtest/transfer/rt_plant.h"
+
+namespace hybridtest::runner {
+namespace {
+
+using cd = std::complex<double>;
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+// The rt_plant behind a transfer (through a compensator), and what the compensator removes.
+const transfer::RtPlant* PlantOf(const transfer::TransferSystem& t, double* compensation) {
+  *compensation = 0.0;
+  if (const auto* c = dynamic_cast<const transfer::DelayCompensator*>(&t)) {
+    *compensation = c->estimated_delay();
+    return dynamic_cast<const transfer::RtPlant*>(&c->inner());
+  }
+  return dynamic_cast<const transfer::RtPlant*>(&t);
+}
+
+}  // namespace
+
+std::vector<SlotDelayMargin> CheckDelayStability(const Session& session) {
+  const multibody::Model& model = session.model();
+  const io::RunSpec& spec = session.spec();
+  const int n = model.num_coordinates();
+  const int m = model.num_slots();
+  const auto& subs = session.substructures();
+  // Every slot's K0.
+  Eigen::VectorXd k(m);
+  for (int j = 0; j < m; ++j) k(j) = subs[static_cast<std::size_t>(j)]->initial_stiffness().value_or(0.0);
+  // The linearisation at x_0: J (r fixed), b = ∂u̇/∂r (affine in r: one difference is exact),
+  // D = ∂d/∂q.
+  multibody::Data<double> data(model);
+  Eigen::VectorXd d0(m), q_scratch(n), dp(m), dm(m);
+  multibody::CalcSlotDisplacements<double>(model, data, 0.0, spec.x0.head(n), d0);
+  const Eigen::VectorXd r0 = k.cwiseProduct(d0);
+  const auto nx = spec.x0.size();
+  Eigen::MatrixXd J(nx, nx);
+  multibody::DerivativeWorkspace ws(model);
+  multibody::CalcStateJacobian(model, ws, 0.0, spec.x0, r0, J);
+  Eigen::VectorXd f0(nx), f1(nx);
+  multibody::CalcStateDerivative<double>(model, data, 0.0, spec.x0, r0, f0);
+  Eigen::MatrixXd b(n, m);
+  for (int j = 0; j < m; ++j) {
+    Eigen::VectorXd r = r0;
+    r(j) += 1.0;
+    multibody::CalcStateDerivative<double>(model, data, 0.0, spec.x0, r, f1);
+    b.col(j) = (f1 - f0).segment(n, n);
+  }
+  Eigen::MatrixXd D(m, n);
+  schemes::CalcSlotJacobian(model, data, 0.0, spec.x0.head(n), D, q_scratch, dp, dm);
+  const Eigen::MatrixXd Fq = J.block(n, 0, n, n), Fu = J.block(n, n, n, n);
+  const double dt = spec.scheme.dt;
+
+  std::vector<SlotDelayMargin> out;
+  for (int s = 0; s < m; ++s) {
+    const auto* p = dynamic_cast<const substructures::PhysicalSubstructure*>(
+        subs[static_cast<std::size_t>(s)].get());
+    if (p == nullptr) continue;
+    SlotDelayMargin margin;
+    margin.slot = model.slots()[static_cast<std::size_t>(s)].info.name;
+    margin.k0 = k(s);
+    // The undelayed slots stiffen the model.
+    Eigen::MatrixXd K = -Fq;
+    for (int j = 0; j < m; ++j) {
+      if (j != s) K -= b.col(j) * k(j) * D.row(j);
+    }
+    auto kg = [&](double w) {
+      Eigen::MatrixXcd P = (-w * w) * Eigen::MatrixXcd::Identity(n, n) -
+                           cd(0.0, w) * Fu.cast<cd>() + K.cast<cd>();
+      const Eigen::VectorXcd y = P.partialPivLu().solve(b.col(s).cast<cd>());
+      return k(s) * (D.row(s).cast<cd>() * y)(0);
+    };
+    // Scan ω (log-spaced up to the Nyquist frequency of the step) for |k g| = 1.
+    const double w_lo = 1e-2, w_hi = std::numbers::pi / dt;
+    const int points = 20000;
+    double w_prev = w_lo, e_prev = std::abs(kg(w_lo)) - 1.0;
+    for (int i = 1; i <= points && margin.k0 > 0.0; ++i) {
+      const double w = w_lo * std::pow(w_hi / w_lo, static_cast<double>(i) / points);
+      const double e = std::abs(kg(w)) - 1.0;
+      if ((e_prev < 0.0) != (e < 0.0)) {
+        double a = w_prev, c = w;  // bisection on |k g| − 1
+        for (int it = 0; it < 60; ++it) {
+          const double mid = 0.5 * (a + c);
+          if ((std::abs(kg(mid)) - 1.0 < 0.0) == (e_prev < 0.0)) a = mid; else c = mid;
+        }
+        const double wc = 0.5 * (a + c);
+        double phase = std::arg(kg(wc));
+        if (phase < 0.0) phase += kTwoPi;
+        const double tau = phase / wc;
+        if (tau < margin.critical_delay) {
+          margin.critical_delay = tau;
+          margin.crossing_hz = wc / kTwoPi;
+        }
+      }
+      w_prev = w;
+      e_prev = e;
+    }
+    double compensation = 0.0;
+    if (const transfer::RtPlant* plant = PlantOf(p->transfer(), &compensation)) {
+      margin.known_plant = true;
+      const double wc = std::isfinite(margin.critical_delay) ? kTwoPi * margin.crossing_hz
+                                                              : kTwoPi * 1.0;
+      const double hold = plant->config().kind == transfer::PlantKind::kIdeal ? 0.0 : 0.5 * dt;
+      margin.plant_delay = -std::arg(plant->FrequencyResponse(wc)) / wc + hold;
+      margin.compensation = compensation;
+      margin.remaining_delay = std::max(0.0, margin.plant_delay - compensation);
+    }
+    out.push_back(margin);
+  }
+  return out;
+}
+
+std::string Describe(const SlotDelayMargin& g) {
+  const std::string critical =
+      std::isfinite(g.critical_delay)
+          ? fmt::format("critical delay {:.3f} ms (at {:.2f} Hz)", 1e3 * g.critical_delay,
+                        g.crossing_hz)
+          : std::string("no critical delay (stable for any delay)");
+  if (!g.known_plant) {
+    return fmt::format("slot {}: K0 = {:.6g} N/m, {}; the transfer's delay is not known here",
+                       g.slot, g.k0, critical);
+  }
+  return fmt::format("slot {}: K0 = {:.6g} N/m, {}; plant delay {:.3f} ms, compensated {:.3f} "
+                     "ms, remaining {:.3f} ms", g.slot, g.k0, critical, 1e3 * g.plant_delay,
+                     1e3 * g.compensation, 1e3 * g.remaining_delay);
+}
+
+void RefuseUnstable(const Session& session, const std::vector<SlotDelayMargin>& margins) {
+  if (session.spec().real_time.force) return;
+  for (const SlotDelayMargin& g : margins) {
+    if (!g.unstable()) continue;
+    throw ConfigError(fmt::format(
+        "real time: slot {}: the plant's delay after compensation, {:.3f} ms (plant {:.3f} ms, "
+        "compensated {:.3f} ms), exceeds the critical delay {:.3f} ms (at {:.2f} Hz, K0 = {:.6g} "
+        "N/m): the test would go unstable. Compensate the delay (transfer: {{type: compensated, "
+        "...}}), add damping to the numerical model, or set real_time.force: true to run it "
+        "anyway (docs/real-time.md)", g.slot, 1e3 * g.remaining_delay, 1e3 * g.plant_delay,
+        1e3 * g.compensation, 1e3 * g.critical_delay, g.crossing_hz, g.k0));
+  }
+}
+
+nlohmann::json ToJson(const std::vector<SlotDelayMargin>& margins) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const SlotDelayMargin& g : margins) {
+    auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+    out.push_back({{"slot", g.slot}, {"k0", g.k0}, {"critical_delay_s", num(g.critical_delay)},
+                   {"crossing_hz", g.crossing_hz}, {"plant_delay_s", g.plant_delay},
+                   {"compensation_s", g.compensation}, {"remaining_delay_s", g.remaining_delay},
+                   {"unstable", g.unstable()}});
+  }
+  return out;
+}
+
+}  // namespace hybridtest::runner

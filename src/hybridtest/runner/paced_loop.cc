@@ -1,0 +1,148 @@
+// See paced_loop.h.
+#include "hybridtest/runner/paced_loop.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/substructures/physical_substructure.h"
+#include "hybridtest/transfer/delay_compensator.h"
+
+namespace hybridtest::runner {
+namespace {
+
+double Percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  const auto k = static_cast<std::size_t>(p * static_cast<double>(v.size() - 1) + 0.5);
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+}  // namespace
+
+PacedLoop::PacedLoop(Session& session, Clock& clock)
+    : session_(session), clock_(clock), tick_(session.spec().scheme.dt) {
+  const io::SchemeSpec& scheme = session.spec().scheme;
+  if (scheme.config.kind != schemes::SchemeKind::kAlphaOs || scheme.config.adaptive.enabled) {
+    throw ConfigError(fmt::format(
+        "real_time: integrator.scheme = {}{}: a real-time run needs one specimen evaluation per "
+        "fixed step; use `scheme: alpha-os` without `adaptive:`",
+        schemes::SchemeKindName(scheme.config.kind),
+        scheme.config.adaptive.enabled ? " with an adaptive step" : ""));
+  }
+  const io::RealTimeSpec& rt = session.spec().real_time;
+  miss_tolerance_ = rt.miss_tolerance.value_or(0.25 * tick_);
+  hold_after_ = rt.hold_after_misses;
+  const auto ticks = static_cast<std::size_t>(std::max(0L, scheme.steps)) + 1;
+  late_.assign(ticks, 0.0);
+  compute_.assign(ticks, 0.0);
+  criteria_.Reserve(static_cast<long>(ticks), tick_);
+  session.AddObserver(*this);
+}
+
+void PacedLoop::OnTrial(const TrialEvent& event) {
+  if (!paced_ || event.exchanges.empty() || event.at.stage < 0) return;
+  criteria_.Add(event.exchanges[0].command, event.exchanges[0].position);
+}
+
+StepResult PacedLoop::Run() {
+  StepResult r = session_.Initialize();
+  if (r.status != SessionStatus::kWorking) return r;
+  // Every transfer system runs paced from here; one that cannot refuses before any tick.
+  try {
+    for (const auto& s : session_.substructures()) {
+      if (auto* p = dynamic_cast<substructures::PhysicalSubstructure*>(s.get())) {
+        p->transfer().StartPaced(tick_, clock_);
+      }
+    }
+  } catch (const std::exception& e) {
+    for (const auto& s : session_.substructures()) s->Hold();
+    throw;
+  }
+  paced_ = true;
+  const double t0 = clock_.Now();
+  long consecutive = 0;
+  for (long k = 1; r.status == SessionStatus::kWorking; ++k) {
+    const double deadline = t0 + static_cast<double>(k) * tick_;
+    clock_.WaitUntil(deadline);
+    const double late = clock_.Now() - deadline;
+    // The tick counts before its step: the last step's statistics (AddStatistics, inside the
+    // step that finishes the run) include it.
+    const auto i = static_cast<std::size_t>(stats_.ticks);
+    if (i < late_.size()) late_[i] = late;
+    ++stats_.ticks;
+    if (late > miss_tolerance_) {
+      ++stats_.misses;
+      ++consecutive;
+      stats_.max_consecutive_misses = std::max(stats_.max_consecutive_misses, consecutive);
+    } else {
+      consecutive = 0;
+    }
+    const auto start = std::chrono::steady_clock::now();
+    r = session_.Step();
+    const double compute =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (i < compute_.size()) compute_[i] = compute;
+    if (compute > tick_) ++stats_.overruns;
+    if (hold_after_ > 0 && consecutive >= hold_after_ && r.status == SessionStatus::kWorking &&
+        !stats_.held_on_misses) {
+      stats_.held_on_misses = true;
+      session_.RequestStop(fmt::format(
+          "held after {} consecutive missed deadlines (real_time.hold_after_misses; a tick later "
+          "than {} s is a miss)", consecutive, miss_tolerance_));
+    }
+  }
+  return r;
+}
+
+void PacedLoop::Summarise() {
+  const auto n = std::min(static_cast<std::size_t>(stats_.ticks), late_.size());
+  const std::vector<double> late(late_.begin(), late_.begin() + static_cast<std::ptrdiff_t>(n));
+  const std::vector<double> compute(compute_.begin(),
+                                    compute_.begin() + static_cast<std::ptrdiff_t>(n));
+  stats_.late_p50 = Percentile(late, 0.5);
+  stats_.late_p99 = Percentile(late, 0.99);
+  stats_.late_max = late.empty() ? 0.0 : *std::max_element(late.begin(), late.end());
+  stats_.compute_p50 = Percentile(compute, 0.5);
+  stats_.compute_p99 = Percentile(compute, 0.99);
+  stats_.compute_max = compute.empty() ? 0.0 : *std::max_element(compute.begin(), compute.end());
+}
+
+nlohmann::json PacedLoop::ToJson() const {
+  const PacedStatistics& s = stats_;
+  nlohmann::json j = {{"clock", clock_.name()},
+                      {"tick_s", tick_},
+                      {"ticks", s.ticks},
+                      {"misses", s.misses},
+                      {"miss_tolerance_s", miss_tolerance_},
+                      {"overruns", s.overruns},
+                      {"max_consecutive_misses", s.max_consecutive_misses},
+                      {"hold_after_misses", hold_after_},
+                      {"held_on_misses", s.held_on_misses},
+                      {"late_s", {{"p50", s.late_p50}, {"p99", s.late_p99}, {"max", s.late_max}}},
+                      {"compute_s",
+                       {{"p50", s.compute_p50}, {"p99", s.compute_p99}, {"max", s.compute_max}}}};
+  j["setup"] = setup_notes_;
+  j["stability"] = stability_;
+  // The compensators' estimates (delay, amplitude) per slot.
+  nlohmann::json compensators = nlohmann::json::object();
+  const auto& subs = session_.substructures();
+  for (std::size_t s = 0; s < subs.size(); ++s) {
+    const auto* p = dynamic_cast<const substructures::PhysicalSubstructure*>(subs[s].get());
+    if (p == nullptr) continue;
+    if (const auto* c = dynamic_cast<const transfer::DelayCompensator*>(&p->transfer())) {
+      compensators[session_.model().slots()[s].info.name] = c->ToJson();
+    }
+  }
+  if (!compensators.empty()) j["compensation"] = compensators;
+  j.update(criteria_.ToJson());
+  return j;
+}
+
+void PacedLoop::AddStatistics(nlohmann::json& statistics) {
+  Summarise();
+  statistics["real_time"] = ToJson();
+}
+
+}  // namespace hybridtest::runner

@@ -1,0 +1,78 @@
+#pragma once
+// PacedLoop: a real-time run (decision 0015). The loop owns the clock, the Session owns the
+// step: after Initialize() (the settled trial at x_0) every physical substructure's transfer
+// system is started paced (TransferSystem::StartPaced), then tick k = 1, 2, … waits for its
+// ABSOLUTE deadline t_0 + k·h (h the scheme's fixed step; never accumulated, so nothing
+// drifts) and calls Session::Step() once: one command per actuator per tick, the measurement of
+// that tick read without settling.
+//
+// Per tick it records, in preallocated storage (the loop allocates nothing):
+//   late     wake-up time − deadline [s] (the jitter; 0 on the virtual clock)
+//   compute  wall time of Session::Step() [s]
+// A tick is a MISS when it starts later than `miss_tolerance` after its deadline (the loop then
+// runs at once: it catches up, it does not skip); an OVERRUN when its step takes longer than h.
+// After `hold_after_misses` consecutive misses the run is held (RequestStop: every actuator
+// holds at its last command, resumable). The tracking criteria J1–J3 of the first physical
+// slot (runner/tracking_criteria.h) are kept live. Everything goes into the sidecar's
+// statistics as `real_time` (AddStatistics).
+//
+// Needs a scheme with one specimen evaluation per fixed step whose command is known before
+// that step's measurement: α-OS without adaptive step (schemes/alpha_os.h). Refused with
+// ConfigError otherwise.
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "hybridtest/common/clock.h"
+#include "hybridtest/runner/session.h"
+#include "hybridtest/runner/tracking_criteria.h"
+
+namespace hybridtest::runner {
+
+struct PacedStatistics {
+  long ticks = 0;
+  long misses = 0;
+  long overruns = 0;
+  long max_consecutive_misses = 0;
+  bool held_on_misses = false;
+  double late_p50 = 0.0, late_p99 = 0.0, late_max = 0.0;           // [s]
+  double compute_p50 = 0.0, compute_p99 = 0.0, compute_max = 0.0;  // [s]
+};
+
+class PacedLoop final : public SessionObserver {
+ public:
+  // Adds itself to the session's observers (call before Initialize()); `clock` must outlive
+  // the loop. Throws ConfigError when the session's scheme cannot run paced.
+  PacedLoop(Session& session, Clock& clock);
+
+  // Initialize() then the paced ticks until the run is no longer working.
+  StepResult Run();
+
+  const PacedStatistics& statistics() const { return stats_; }
+  const TrackingCriteria& criteria() const { return criteria_; }
+  // What the process setup did (memory lock, scheduling, affinity), for the sidecar.
+  void AddSetupNote(std::string note) { setup_notes_.push_back(std::move(note)); }
+  // The delay stability check's margins (delay_stability.h), for the sidecar.
+  void SetStability(nlohmann::json margins) { stability_ = std::move(margins); }
+  nlohmann::json ToJson() const;
+
+  void OnTrial(const TrialEvent& event) override;
+  void AddStatistics(nlohmann::json& statistics) override;
+
+ private:
+  void Summarise();
+
+  Session& session_;
+  Clock& clock_;
+  double tick_;
+  double miss_tolerance_;
+  long hold_after_;
+  bool paced_ = false;
+  PacedStatistics stats_;
+  TrackingCriteria criteria_;
+  std::vector<double> late_, compute_;  // per tick, preallocated
+  std::vector<std::string> setup_notes_;
+  nlohmann::json stability_ = nlohmann::json::array();
+};
+
+}  // namespace hybridtest::runner

@@ -1,0 +1,97 @@
+// See real_time_run.h.
+#include "hybridtest/runner/real_time_run.h"
+
+#include <fmt/core.h>
+#include <pthread.h>
+#include <sched.h>
+#include <sys/mman.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/runner/delay_stability.h"
+
+namespace hybridtest::runner {
+
+std::unique_ptr<Clock> MakeClock(const std::string& name) {
+  if (name.empty() || name == "wall") return std::make_unique<MonotonicClock>();
+  if (name == "virtual") return std::make_unique<VirtualClock>();
+  throw ConfigError(fmt::format("--clock {}: expected virtual or wall", name));
+}
+
+std::vector<std::string> PrepareRealTimeProcess(const io::RealTimeSpec& spec) {
+  std::vector<std::string> notes;
+  if (spec.lock_memory) {
+    if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) {
+      notes.emplace_back("memory locked (mlockall)");
+    } else {
+      notes.push_back(fmt::format(
+          "memory not locked: mlockall failed ({}); pages may be swapped out during the run. "
+          "Allow it with `ulimit -l unlimited` or the capability CAP_IPC_LOCK, or set "
+          "real_time.lock_memory: false", std::strerror(errno)));
+    }
+  }
+  if (spec.priority > 0) {
+    sched_param param{};
+    param.sched_priority = spec.priority;
+    const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
+    if (rc == 0) {
+      notes.push_back(fmt::format("SCHED_FIFO priority {}", spec.priority));
+    } else {
+      notes.push_back(fmt::format(
+          "SCHED_FIFO priority {} not granted ({}); the loop runs with normal scheduling. Allow "
+          "it with the capability CAP_SYS_NICE or an `rtprio` limit in "
+          "/etc/security/limits.conf", spec.priority, std::strerror(rc)));
+    }
+  }
+  if (spec.cpu >= 0) {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    CPU_SET(spec.cpu, &set);
+    const int rc = pthread_setaffinity_np(pthread_self(), sizeof set, &set);
+    notes.push_back(rc == 0 ? fmt::format("pinned to CPU {}", spec.cpu)
+                            : fmt::format("not pinned to CPU {} ({}); check `nproc` and the "
+                                          "process's cpuset", spec.cpu, std::strerror(rc)));
+  }
+  return notes;
+}
+
+RealTimeRun::RealTimeRun(Session& session, const std::string& clock, bool quiet)
+    : session_(session), quiet_(quiet) {
+  if (!session.spec().real_time.enabled) {
+    if (!clock.empty()) {
+      throw ConfigError(fmt::format("--clock {}: this config has no `real_time:` block; the "
+                                    "clock chooses the time of a real-time run only "
+                                    "(docs/real-time.md)", clock));
+    }
+    return;
+  }
+  clock_ = MakeClock(clock);
+  loop_ = std::make_unique<PacedLoop>(session, *clock_);
+  // Before anything moves: the delay each physical slot can bear (delay_stability.h).
+  const std::vector<SlotDelayMargin> margins = CheckDelayStability(session);
+  if (!quiet_) {
+    for (const SlotDelayMargin& g : margins) {
+      fmt::print("hybridtest: real time: {}{}\n", Describe(g),
+                 g.unstable() ? (session.spec().real_time.force ? " — UNSTABLE, run forced"
+                                                                : " — UNSTABLE")
+                              : "");
+    }
+    std::fflush(stdout);
+  }
+  loop_->SetStability(ToJson(margins));
+  RefuseUnstable(session, margins);
+}
+
+StepResult RealTimeRun::Run() {
+  if (!clock_->is_virtual()) {
+    for (const std::string& note : PrepareRealTimeProcess(session_.spec().real_time)) {
+      if (!quiet_) fmt::print(stderr, "hybridtest: real time: {}\n", note);
+      loop_->AddSetupNote(note);
+    }
+  }
+  return loop_->Run();
+}
+
+}  // namespace hybridtest::runner

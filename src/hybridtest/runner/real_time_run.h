@@ -1,0 +1,41 @@
+#pragma once
+// RealTimeRun: what `hybridtest run` does with a `real_time:` config (docs/real-time.md):
+// chooses the clock (`--clock virtual|wall`; wall by default), prepares the process for a
+// wall-clock run (mlockall, SCHED_FIFO priority and CPU affinity as the block asks, each with a
+// clear message where the system does not permit it), and runs the session in a PacedLoop.
+// For a config without the block it is disabled (and refuses a --clock, which would mean
+// nothing there).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "hybridtest/common/clock.h"
+#include "hybridtest/runner/paced_loop.h"
+#include "hybridtest/runner/session.h"
+
+namespace hybridtest::runner {
+
+// "virtual" or "wall" ("" = wall). Throws ConfigError for anything else.
+std::unique_ptr<Clock> MakeClock(const std::string& name);
+
+// Applies the wall-clock process settings of `spec`; returns one line per setting, saying
+// what was done or why it was not (never throws).
+std::vector<std::string> PrepareRealTimeProcess(const io::RealTimeSpec& spec);
+
+class RealTimeRun {
+ public:
+  // Adds the paced loop to the session's observers (before Initialize()). Throws ConfigError
+  // for a --clock without a `real_time:` block and for a scheme that cannot run paced.
+  RealTimeRun(Session& session, const std::string& clock, bool quiet);
+  bool enabled() const { return loop_ != nullptr; }
+  StepResult Run();
+  const PacedLoop* loop() const { return loop_.get(); }
+
+ private:
+  Session& session_;
+  bool quiet_;
+  std::unique_ptr<Clock> clock_;
+  std::unique_ptr<PacedLoop> loop_;
+};
+
+}  // namespace hybridtest::runner

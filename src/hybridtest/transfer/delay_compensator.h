@@ -1,0 +1,109 @@
+#pragma once
+// DelayCompensator: a TransferSystem decorator that rewrites each target command x_t of a
+// paced (real-time) run so that the wrapped actuator's measured position x_m follows x_t
+// despite its delay and amplitude error (transfer type `compensated`, io/rt_plant_reader.h).
+// Unpaced (settled moves) it forwards the command unchanged. Two methods:
+//
+//   polynomial  Horiuchi, Inoue, Konno & Namita (1999, "Real-time hybrid experimental system
+//               with actuator delay compensation and its application to a piping system with
+//               energy absorber", Earthquake Eng. Struct. Dyn. 28): the target is extrapolated
+//               τ ahead by the Lagrange polynomial of order p through p + 1 past targets Δ
+//               ticks apart:  x_c,k = Σ_{i=0..p} L_i(ξ) x_t,k−iΔ,  ξ = τ/(Δh),
+//               L_i(ξ) = Π_{j≠i} (ξ + j)/(j − i).  τ is fixed (`delay`); Δ (`spacing`, default
+//               round(τ/(p h)) ≥ 1) keeps ξ near p: nodes one tick apart extrapolated over many
+//               ticks would amplify the tick-to-tick noise by the weights' size.
+//   ats         the adaptive time series of Chae, Kazemibidokhti & Ricles (2013, "Adaptive time
+//               series compensator for delay compensation of servo-hydraulic actuator systems
+//               for real-time hybrid simulation", Earthquake Eng. Struct. Dyn. 42):
+//                  x_c = a0 x_t + a1 ẋ_t + a2 ẍ_t
+//               (derivatives by backward differences over one tick) with [a0 a1 a2] identified
+//               every `update_every` ticks by least squares over a moving window of `window`
+//               seconds from the inverse relation  x_c ≈ a0 x_m + a1 ẋ_m + a2 ẍ_m  (the commands
+//               actually sent against the measured response), once the window's largest |x_m|
+//               exceeds `threshold`; each coefficient is then clamped to its bounds and its
+//               change limited to rate_limit · (time since the last update). a1/a0 is the
+//               estimated delay [s], a0 the amplitude correction. Initially a0 = 1,
+//               a1 = `delay`, a2 = a1²/2.
+//
+// Positions are relative to the first command (the settled one), so a p0 ≠ 0 is not scaled by
+// a0. The measurement returned is the wrapped one; the exchange keeps the TARGET as its
+// command (what the safety gate checked), so J1–J3 measure the tracking of the target. The
+// stepping path allocates nothing (rings preallocated in StartPaced).
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "hybridtest/transfer/transfer_system.h"
+
+namespace hybridtest::transfer {
+
+enum class CompensationMethod { kPolynomial, kAts };
+
+struct CompensatorConfig {
+  CompensationMethod method = CompensationMethod::kAts;
+  double delay = 0.02;    // τ [s]: the extrapolation (polynomial), the initial a1 (ats)
+  int order = 2;          // polynomial order p (1..4)
+  int spacing = 0;        // polynomial: ticks between the nodes, 0: round(τ/(p h)) ≥ 1
+  double window = 1.0;    // ats: least-squares window [s]
+  int update_every = 16;  // ats: ticks between updates
+  double threshold = 2.54e-4;  // ats: smallest max |x_m| in the window that updates [m]
+  std::array<double, 3> lower{0.7, 0.0, 0.0};        // bounds of a0, a1 [s], a2 [s²]
+  std::array<double, 3> upper{1.3, 0.08, 0.0032};
+  std::array<double, 3> rate_limit{2.0, 0.05, 0.001};  // per second: [1/s], [-], [s]
+};
+
+// Throws ConfigError naming the field.
+void ValidateCompensatorConfig(const CompensatorConfig& config, const std::string& where);
+
+class DelayCompensator final : public TransferSystem {
+ public:
+  DelayCompensator(std::unique_ptr<TransferSystem> inner, CompensatorConfig config);
+
+  void Activate() override { inner_->Activate(); }
+  Measurement Execute(double command) override;
+  void Hold() noexcept override { inner_->Hold(); }
+  void Deactivate() override { inner_->Deactivate(); }
+  BenchUnits bench_units() const override { return inner_->bench_units(); }
+  std::string Describe() const override;
+  std::optional<Measurement> Read() const override { return inner_->Read(); }
+  BenchAnnouncement Announce() const override { return inner_->Announce(); }
+  std::optional<long> commands_received() const override { return inner_->commands_received(); }
+  void StartPaced(double tick, const Clock& clock) override;
+
+  // a0, a1 [s], a2 [s²] (ats; polynomial: 1, τ, 0).
+  const std::array<double, 3>& coefficients() const { return a_; }
+  double estimated_delay() const { return a_[0] > 0.0 ? a_[1] / a_[0] : 0.0; }
+  long updates() const { return updates_; }
+  // The estimates and their extremes, for the run's statistics.
+  nlohmann::json ToJson() const;
+  const TransferSystem& inner() const { return *inner_; }
+
+ private:
+  double Compensate(double target);
+  void Identify();
+
+  std::unique_ptr<TransferSystem> inner_;
+  CompensatorConfig config_;
+  bool paced_ = false;
+  double tick_ = 0.0;
+  double origin_ = 0.0;  // the settled command: positions are relative to it
+  bool have_origin_ = false;
+  std::vector<double> poly_;                 // L_i(ξ), i = 0..p
+  int spacing_ = 1;                          // Δ [ticks]
+  std::vector<double> history_;              // the last p Δ + 1 targets (a ring)
+  std::size_t history_head_ = 0;
+  std::array<double, 3> targets_{};          // the last three targets, newest first
+  long ticks_ = 0;
+  std::array<double, 3> a_{1.0, 0.0, 0.0};
+  // ATS window: commands sent and measured positions (relative), a ring.
+  std::vector<double> sent_, measured_;
+  std::size_t head_ = 0, size_ = 0;
+  double last_update_tick_ = 0.0;
+  long updates_ = 0;
+  std::array<double, 3> min_a_{}, max_a_{};
+};
+
+}  // namespace hybridtest::transfer

@@ -1,0 +1,68 @@
+// LockFreeObserver: every row reaches the inner observer in order on another thread, and a
+// full ring stops the producer with an error instead of making it wait.
+#include "hybridtest/runner/lock_free_observer.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <thread>
+#include <vector>
+
+#include "hybridtest/common/error.h"
+#include "runner/dummy_spec.h"
+
+namespace hybridtest::runner {
+namespace {
+
+class Recorder final : public SessionObserver {
+ public:
+  void OnCommit(const CommitEvent& e) override {
+    while (blocked.load()) std::this_thread::yield();
+    steps.push_back(e.step);
+    sums.push_back(e.row[0] + e.row[1]);
+    consumer = std::this_thread::get_id();
+  }
+  void OnStop(const StopEvent&) override { stopped = true; }
+  std::atomic<bool> blocked{false};
+  std::vector<long> steps;
+  std::vector<double> sums;
+  std::thread::id consumer;
+  bool stopped = false;
+};
+
+void Commit(LockFreeObserver& o, long step) {
+  const std::vector<double> x{1.0, 2.0}, r{3.0}, row{static_cast<double>(step), 0.5};
+  o.OnCommit({RowKind::kCommitted, step, 0.001 * static_cast<double>(step), x, r, row});
+}
+
+TEST(LockFreeObserver, DeliversEveryRowInOrderOnAnotherThread) {
+  Session session(testing::DummySpec(0.01));
+  Recorder inner;
+  LockFreeObserver queued(inner, 20000, 8);
+  queued.OnStart(session);
+  for (long k = 0; k < 10000; ++k) Commit(queued, k);
+  queued.OnStop({SessionStatus::kFinished, "", nlohmann::json::object()});
+  ASSERT_EQ(inner.steps.size(), 10000u);
+  for (long k = 0; k < 10000; ++k) {
+    ASSERT_EQ(inner.steps[static_cast<std::size_t>(k)], k);
+    ASSERT_EQ(inner.sums[static_cast<std::size_t>(k)], static_cast<double>(k) + 0.5);
+  }
+  EXPECT_NE(inner.consumer, std::this_thread::get_id());
+  EXPECT_TRUE(inner.stopped);
+}
+
+TEST(LockFreeObserver, AFullRingThrowsInsteadOfWaiting) {
+  Session session(testing::DummySpec(0.01));
+  Recorder inner;
+  inner.blocked = true;  // the consumer is stuck in the first row
+  LockFreeObserver queued(inner, 4, 8);
+  queued.OnStart(session);
+  for (long k = 0; k < 4; ++k) Commit(queued, k);
+  EXPECT_THROW(Commit(queued, 4), Error);
+  inner.blocked = false;
+  queued.OnStop({SessionStatus::kStopped, "full", nlohmann::json::object()});
+  EXPECT_EQ(inner.steps.size(), 4u);
+}
+
+}  // namespace
+}  // namespace hybridtest::runner
