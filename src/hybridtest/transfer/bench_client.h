@@ -53,6 +53,7 @@ class BenchClient final : public TransferSystem {
   // Connects, sends HELLO and reads WELCOME. Throws TransferError (e.g. wrong token, version),
   // or ConfigError (after closing the connection) if expected_limits exceed the bench's.
   void Activate() override;
+  using TransferSystem::Execute;
   Measurement Execute(double command) override;
   void Hold() noexcept override;
   // HOLD → HOLD_ACK, BYE → BYE, close. A no-op when not connected.
