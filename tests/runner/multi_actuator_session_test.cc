@@ -12,7 +12,9 @@
 #include "hybridtest/runner/session.h"
 #include "hybridtest/substructures/multi_actuator_substructure.h"
 #include "hybridtest/transfer/multi_emulated_bench.h"
+#include "hybridtest/transfer/bench_client.h"
 #include "hybridtest/transfer/safety_gate_group.h"
+#include "transfer/bench_fake.h"
 
 namespace hybridtest::runner {
 namespace {
@@ -58,6 +60,42 @@ TEST(MultiActuatorSession, TwoActuatorBenchMatchesTheNumericalTransformedStiffne
   // The test means something: both deflections move by millimetres.
   EXPECT_GT(peak_flap, 1e-3);
   EXPECT_GT(peak_edge, 1e-3);
+}
+
+TEST(MultiActuatorSession, TheSameOverTcpThroughTheBenchProtocol) {
+  // `hybridtest bench` serving the two-actuator bench; the run's transfer is a BenchClient.
+  const auto bench_config = transfer::LoadMultiBenchConfig(kExample + "bench-2act.yaml");
+  transfer::MultiEmulatedBench bench(bench_config);
+  transfer::BenchServerOptions options;
+  options.limits = bench_config.actuators[0].safety;
+  for (const auto& a : bench_config.actuators) options.start_positions.push_back(a.initial_position);
+  transfer::testing::ServerThread server(bench, options);
+  io::RunSpec spec = io::LoadRunSpec(kExample + "emulated.yaml");
+  const auto port = server.port();
+  spec.substructures.at(0).physical->transfer = {"remote", [port] {
+    transfer::BenchClientOptions o;
+    o.port = port;
+    return std::make_unique<transfer::BenchClient>(o);
+  }};
+  spec.output.files = false;
+  spec.quiet = true;
+  spec.scheme.duration = 2.0;  // 4,000 round trips
+  spec.scheme.steps = 2000;
+  Session session(std::move(spec));
+  StateRecorder recorder;
+  session.AddObserver(recorder);
+  const StepResult r = session.Run();
+  ASSERT_EQ(r.status, SessionStatus::kFinished) << r.reason;
+  const auto numerical = RunInMemory(kExample + "dummy.yaml");
+  ASSERT_EQ(recorder.rows.size(), 2001u);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < recorder.rows.size(); ++i) {
+    for (std::size_t j = 0; j < 4; ++j) {
+      worst = std::max(worst, std::abs(recorder.rows[i][j] - numerical[i][j]));
+    }
+  }
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_EQ(server.server().commands_received(), 4001);
 }
 
 TEST(MultiActuatorSession, WrongCouplingIsSeen) {

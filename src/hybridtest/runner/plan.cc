@@ -251,7 +251,12 @@ std::vector<PlanResult> PlanTest(const io::RunSpec& configured, const PlanOption
   for (std::size_t s = 0; s < spec.substructures.size(); ++s) {
     auto& physical = spec.substructures[s].physical;
     if (!physical) continue;
-    if (first_physical < 0) first_physical = static_cast<int>(s);
+    if (first_physical < 0) {  // the model index of the substructure's first slot
+      const std::string first_slot = spec.substructures[s].SlotNames().front();
+      for (int i = 0; i < model.num_slots(); ++i) {
+        if (model.slots()[static_cast<std::size_t>(i)].info.name == first_slot) first_physical = i;
+      }
+    }
     if (options.emulate_bench) {
       physical->transfer = {"emulated", [bench = transfer::LoadEmulatedBenchConfig(
                                              *options.emulate_bench)] {

@@ -38,11 +38,9 @@ MultiActuatorSubstructure::MultiActuatorSubstructure(
   if (!transfer_) throw Error("MultiActuatorSubstructure '" + name_ + "': no transfer system");
   setup_.Validate();
   const int n = setup_.num_actuators();
-  if (transfer_->num_actuators() != n || gate_.size() != n) {
-    throw ConfigError(fmt::format("{}: the setup's transform has {} rows (actuators), the transfer "
-                                  "system moves {} actuators and {} sets of safety limits were "
-                                  "given: give one row of T and one p0 per actuator", name_, n,
-                                  transfer_->num_actuators(), gate_.size()));
+  if (gate_.size() != n) {
+    throw ConfigError(fmt::format("{}: the setup's transform has {} rows (actuators) and {} sets "
+                                  "of safety limits were given", name_, n, gate_.size()));
   }
   for (int k = 0; k < n; ++k) gate_.monitor(k).SetStartPosition(setup_.p0(k));
   last_.resize(static_cast<std::size_t>(n));
@@ -58,6 +56,14 @@ void MultiActuatorSubstructure::Activate() {
   transfer_->Activate();
   held_ = false;
   active_ = true;
+  // A remote bench says how many actuators it has once connected.
+  if (transfer_->num_actuators() != num_actuators()) {
+    Hold();
+    throw ConfigError(fmt::format("{}: the setup's transform has {} rows (actuators), the "
+                                  "transfer system ({}) moves {}: give one row of T and one p0 "
+                                  "per actuator", name_, num_actuators(), transfer_->Describe(),
+                                  transfer_->num_actuators()));
+  }
 }
 
 void MultiActuatorSubstructure::MoveAll(const std::vector<double>& commands,

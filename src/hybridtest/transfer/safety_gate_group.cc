@@ -12,7 +12,33 @@ SafetyGateGroup::SafetyGateGroup(const std::vector<SafetyLimits>& limits) {
 
 void SafetyGateGroup::Move(TransferSystem& transfer, const std::vector<double>& commands_m,
                            MoveLabel label, const std::vector<double>& load_cell_zero,
-                           std::vector<GatedMove>& out) {
+                           std::vector<GatedMove>& out,
+                           const std::function<void()>& before_execute) {
+  const BenchUnits units = transfer.bench_units();
+  bench_commands_.resize(commands_m.size());
+  for (std::size_t k = 0; k < commands_m.size(); ++k) {
+    bench_commands_[k] = commands_m[k] / units.metres_per_length_unit;
+  }
+  Execute(transfer, commands_m, label, load_cell_zero, out, before_execute);
+}
+
+void SafetyGateGroup::MoveBench(TransferSystem& transfer, std::span<const double> commands_bench,
+                                MoveLabel label, std::vector<GatedMove>& out,
+                                const std::function<void()>& before_execute) {
+  const BenchUnits units = transfer.bench_units();
+  bench_commands_.assign(commands_bench.begin(), commands_bench.end());
+  std::vector<double> commands_m(commands_bench.size());
+  for (std::size_t k = 0; k < commands_m.size(); ++k) {
+    commands_m[k] = commands_bench[k] * units.metres_per_length_unit;
+  }
+  Execute(transfer, commands_m, label, std::vector<double>(commands_m.size(), 0.0), out,
+          before_execute);
+}
+
+void SafetyGateGroup::Execute(TransferSystem& transfer, const std::vector<double>& commands_m,
+                              MoveLabel label, const std::vector<double>& load_cell_zero,
+                              std::vector<GatedMove>& out,
+                              const std::function<void()>& before_execute) {
   const std::size_t n = monitors_.size();
   if (commands_m.size() != n || load_cell_zero.size() != n ||
       transfer.num_actuators() != static_cast<int>(n)) {
@@ -30,11 +56,10 @@ void SafetyGateGroup::Move(TransferSystem& transfer, const std::vector<double>& 
     checked[k].CheckCommand(commands_m[k], label.step, label.stage);
   }
   monitors_ = std::move(checked);
+  if (before_execute) before_execute();
   // 2. All commands at once.
   const BenchUnits units = transfer.bench_units();
-  bench_commands_.resize(n);
   measured_.resize(n);
-  for (std::size_t k = 0; k < n; ++k) bench_commands_[k] = commands_m[k] / units.metres_per_length_unit;
   transfer.Execute(bench_commands_, measured_);
   // 3. Every measurement.
   for (std::size_t k = 0; k < n; ++k) {

@@ -11,6 +11,8 @@
 //
 // The group never holds: the caller puts its transfer system on hold (a hold holds every
 // actuator of the specimen).
+#include <functional>
+#include <span>
 #include <vector>
 
 #include "hybridtest/transfer/safety.h"
@@ -29,13 +31,24 @@ class SafetyGateGroup {
   // Moves actuator k to commands_m[k] [m]; load_cell_zero[k] [N] is subtracted from its force.
   // out (n) holds the moves; out[k].executed once the bench answered. Throws SafetyStop (a
   // refused command: nothing sent) or TransferError.
+  // `before_execute` runs after the command checks and before the bench moves.
   void Move(TransferSystem& transfer, const std::vector<double>& commands_m, MoveLabel label,
-            const std::vector<double>& load_cell_zero, std::vector<GatedMove>& out);
+            const std::vector<double>& load_cell_zero, std::vector<GatedMove>& out,
+            const std::function<void()>& before_execute = {});
+  // The same for commands in bench units (what a server receives): checked in metres, sent as
+  // given; no load-cell zero.
+  void MoveBench(TransferSystem& transfer, std::span<const double> commands_bench,
+                 MoveLabel label, std::vector<GatedMove>& out,
+                 const std::function<void()>& before_execute = {});
 
   SafetyMonitor& monitor(int k) { return monitors_[static_cast<std::size_t>(k)]; }
   const SafetyMonitor& monitor(int k) const { return monitors_[static_cast<std::size_t>(k)]; }
 
  private:
+  void Execute(TransferSystem& transfer, const std::vector<double>& commands_m,
+               MoveLabel label, const std::vector<double>& load_cell_zero,
+               std::vector<GatedMove>& out, const std::function<void()>& before_execute);
+
   std::vector<SafetyMonitor> monitors_;
   std::vector<double> bench_commands_;
   std::vector<Measurement> measured_;
