@@ -119,7 +119,9 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
     x_try_.tail(nv_) = x_pred_.tail(nv_) + (gamma_ * h) * a_new_;
     multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_try_.head(n_), d_try_);
     if (coupled()) {
-      r_try_ = r_pred_ + slots_.k0_matrix * (d_try_ - d_pred_);
+      r_try_ = r_pred_;
+      r_try_.noalias() += slots_.k0_matrix * d_try_;
+      r_try_.noalias() -= slots_.k0_matrix * d_pred_;
     } else {
       r_try_ = r_pred_ + slots_.k0.cwiseProduct(d_try_ - d_pred_);
     }
@@ -140,7 +142,9 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
   x_try_.tail(nv_) = x_pred_.tail(nv_) + (gamma_ * h) * a_new_;
   multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_try_.head(n_), d_try_);
   if (coupled()) {
-    r_try_ = r_pred_ + slots_.k0_matrix * (d_try_ - d_pred_);
+    r_try_ = r_pred_;
+    r_try_.noalias() += slots_.k0_matrix * d_try_;
+    r_try_.noalias() -= slots_.k0_matrix * d_pred_;
   } else {
     r_try_ = r_pred_ + slots_.k0.cwiseProduct(d_try_ - d_pred_);
   }

@@ -74,7 +74,8 @@ void MrOs::Integrate(double h, bool with_new, Eigen::VectorXd& x_end,
                 multibody::CalcSlotDisplacements<double>(model_, data_, t_i, x_i.head(n_), d_);
                 Residual(t_i, with_new, rho_);
                 if (coupled()) {
-                  r_ = slots_.k0_matrix * d_ + rho_;
+                  r_.noalias() = slots_.k0_matrix * d_;
+                  r_ += rho_;
                 } else {
                   r_ = slots_.k0.cwiseProduct(d_) + rho_;
                 }
@@ -86,7 +87,8 @@ void MrOs::Integrate(double h, bool with_new, Eigen::VectorXd& x_end,
       multibody::CalcSlotDisplacements<double>(model_, data_, t_row, x_end.head(n_), d_);
       Residual(t_row, with_new, rho_);
       if (coupled()) {
-        r_ = slots_.k0_matrix * d_ + rho_;
+        r_.noalias() = slots_.k0_matrix * d_;
+        r_ += rho_;
       } else {
         r_ = slots_.k0.cwiseProduct(d_) + rho_;
       }
@@ -116,7 +118,8 @@ void MrOs::Step(SubstructureSeam& seam, RowSink& rows) {
   seam.Trial({k + 1, 0, t_next}, d_imposed, r_sample_);
   t_new_ = t_next;
   if (coupled()) {
-    rho_new_ = r_sample_ - slots_.k0_matrix * d_imposed;
+    rho_new_ = r_sample_;
+    rho_new_.noalias() -= slots_.k0_matrix * d_imposed;
   } else {
     rho_new_ = r_sample_ - slots_.k0.cwiseProduct(d_imposed);
   }
@@ -125,8 +128,12 @@ void MrOs::Step(SubstructureSeam& seam, RowSink& rows) {
   Integrate(h, true, x_corr_, &rows);
   multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_corr_.head(n_), d_);
   // Commit and shift the samples.
-  point_.r = coupled() ? Eigen::VectorXd(slots_.k0_matrix * d_ + rho_new_)
-                       : Eigen::VectorXd(slots_.k0.cwiseProduct(d_) + rho_new_);
+  if (coupled()) {
+    point_.r.noalias() = slots_.k0_matrix * d_;
+    point_.r += rho_new_;
+  } else {
+    point_.r = slots_.k0.cwiseProduct(d_) + rho_new_;
+  }
   point_.x = x_corr_;
   point_.t = t_next;
   point_.step = k + 1;

@@ -91,8 +91,10 @@ TEST(OpenFrescoMultiActuator, ForcesAndStiffnessThroughTheTransform) {
   ASSERT_TRUE(peer.SendDoubles({6}, 256));
   const auto daq = peer.ReadDoubles(256);
   ASSERT_TRUE(daq);
-  EXPECT_NEAR((*daq)[0], x[0], 1e-9);   // disp block: the actuators' offsets [mm]
-  EXPECT_NEAR((*daq)[1], x[1], 1e-9);
+  // sizeDaq has only the force block (4): the actuators' forces [N], then zeros.
+  EXPECT_NEAR((*daq)[0], force[0], 1e-9);
+  EXPECT_NEAR((*daq)[1], force[1], 1e-9);
+  EXPECT_EQ((*daq)[2], 0.0);
   ASSERT_TRUE(peer.SendDoubles({99}, 256));
   EXPECT_EQ(f.server.trials_executed(), 1);
 }
