@@ -2,7 +2,10 @@
 // or from its law), for the schemes and the sidecar (see session.h).
 #include <fmt/core.h>
 
+#include <limits>
+
 #include "hybridtest/runner/session.h"
+#include "hybridtest/runner/slot_info.h"
 #include "hybridtest/substructures/multi_actuator_substructure.h"
 #include "hybridtest/substructures/physical_substructure.h"
 
@@ -39,6 +42,40 @@ void MultiActuatorStiffness(substructures::MultiActuatorSubstructure& multi, nlo
 }
 
 }  // namespace
+
+// What the schemes may know of the substructures: K0 and the largest safe increment per slot
+// (a substructure of several slots gives the diagonal of its K0 matrix).
+schemes::SlotInfo SlotInfoOf(const std::vector<std::unique_ptr<substructures::Substructure>>& subs,
+                             const std::vector<std::vector<int>>& slot_of, int num_slots) {
+  const auto m = static_cast<Eigen::Index>(num_slots);
+  schemes::SlotInfo info{Eigen::VectorXd::Zero(m), Eigen::VectorXd::Zero(m)};
+  for (std::size_t s = 0; s < subs.size(); ++s) {
+    const auto& slots = slot_of[s];
+    if (slots.size() == 1) {
+      info.k0(slots[0]) =
+          subs[s]->initial_stiffness().value_or(std::numeric_limits<double>::quiet_NaN());
+    } else {
+      // A coupled K0: the full matrix, the other slots on its diagonal.
+      const auto k0 = subs[s]->initial_stiffness_matrix();
+      if (info.k0_matrix.size() == 0) info.k0_matrix = Eigen::MatrixXd::Zero(m, m);
+      for (std::size_t i = 0; i < slots.size(); ++i) {
+        for (std::size_t j = 0; j < slots.size(); ++j) {
+          info.k0_matrix(slots[i], slots[j]) =
+              k0 ? (*k0)(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j))
+                 : std::numeric_limits<double>::quiet_NaN();
+        }
+        info.k0(slots[i]) = info.k0_matrix(slots[i], slots[i]);
+      }
+    }
+    for (int i : slots) info.max_increment(i) = subs[s]->max_displacement_increment();
+  }
+  if (info.k0_matrix.size() > 0) {
+    for (Eigen::Index i = 0; i < m; ++i) {
+      if (info.k0_matrix.row(i).cwiseAbs().sum() == 0.0) info.k0_matrix(i, i) = info.k0(i);
+    }
+  }
+  return info;
+}
 
 void Session::MeasureRequestedStiffness() {
   stiffness_record_ = nlohmann::json::array();
