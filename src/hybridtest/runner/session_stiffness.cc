@@ -43,8 +43,7 @@ void MultiActuatorStiffness(substructures::MultiActuatorSubstructure& multi, nlo
 
 }  // namespace
 
-// What the schemes may know of the substructures: K0 and the largest safe increment per slot
-// (a substructure of several slots gives the diagonal of its K0 matrix).
+// See slot_info.h. A coupled K0 holds each block's matrix; the other slots sit on its diagonal.
 schemes::SlotInfo SlotInfoOf(const std::vector<std::unique_ptr<substructures::Substructure>>& subs,
                              const std::vector<std::vector<int>>& slot_of, int num_slots) {
   const auto m = static_cast<Eigen::Index>(num_slots);
