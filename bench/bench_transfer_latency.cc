@@ -20,6 +20,7 @@ namespace {
 class TrivialBench final : public TransferSystem {
  public:
   void Activate() override {}
+  using TransferSystem::Execute;
   Measurement Execute(double command) override {
     lab_time_ += 1e-3;
     return Measurement{command, 5.0 * command, lab_time_};

@@ -19,6 +19,7 @@
 #include <csignal>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,7 @@
 #include "hybridtest/transfer/bench_config.h"
 #include "hybridtest/transfer/bench_server.h"
 #include "hybridtest/transfer/emulated_bench.h"
+#include "hybridtest/transfer/multi_emulated_bench.h"
 #include "hybridtest/transfer/openfresco/server.h"
 #include "hybridtest/transfer/openfresco/setup_config.h"
 
@@ -90,8 +92,19 @@ void ServeOpenFresco(const BenchArgs& args, const transfer::EmulatedBenchConfig&
 
 void RunBench(const BenchArgs& args) {
   using namespace transfer;
+  // A bench file with `actuators:`: several actuators on one specimen.
+  std::optional<MultiBenchConfig> multi;
+  if (!args.config.empty() && IsMultiBenchFile(args.config)) {
+    multi = LoadMultiBenchConfig(args.config);
+    if (args.protocol == "openfresco" || !args.inject.empty()) {
+      throw ConfigError(fmt::format("{}: a bench of several actuators serves the hybridtest "
+                                    "protocol without --inject; remove --protocol openfresco and "
+                                    "--inject", args.config));
+    }
+  }
   const EmulatedBenchConfig config =
-      args.config.empty() ? DefaultEmulatedBenchConfig() : LoadEmulatedBenchConfig(args.config);
+      multi ? multi->actuators[0]
+            : args.config.empty() ? DefaultEmulatedBenchConfig() : LoadEmulatedBenchConfig(args.config);
   const HostPort listen = ParseHostPort(args.listen, "--listen");
 
   BenchServerOptions options;
@@ -113,8 +126,16 @@ void RunBench(const BenchArgs& args) {
     std::fprintf(stderr, "hybridtest bench: %s\n", line.c_str());
   };
 
-  std::unique_ptr<EmulatedBench> bench = MakeEmulatedBench(config);
-  if (args.protocol == "openfresco") return ServeOpenFresco(args, config, *bench, options);
+  std::unique_ptr<TransferSystem> served;
+  if (multi) {
+    for (const auto& a : multi->actuators) options.start_positions.push_back(a.initial_position);
+    served = std::make_unique<MultiEmulatedBench>(*multi);
+  } else {
+    std::unique_ptr<EmulatedBench> one = MakeEmulatedBench(config);
+    if (args.protocol == "openfresco") return ServeOpenFresco(args, config, *one, options);
+    served = std::move(one);
+  }
+  TransferSystem* bench = served.get();
   BenchServer server(*bench, options);
 
   std::string faults;

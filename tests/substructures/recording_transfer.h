@@ -32,6 +32,7 @@ class RecordingTransfer final : public transfer::TransferSystem {
       : log_(std::move(log)), units_(std::move(units)), stiffness_(stiffness), p0_(p0) {}
 
   void Activate() override { ++log_->activations; }
+  using transfer::TransferSystem::Execute;
   transfer::Measurement Execute(double command) override {
     const long index = static_cast<long>(log_->executed.size());
     log_->executed.push_back(command);

@@ -18,6 +18,7 @@ class FakeBench final : public TransferSystem {
  public:
   static constexpr double kStiffness = 5.0;  // Unit: [N/mm].
   void Activate() override { ++activations; }
+  using TransferSystem::Execute;
   Measurement Execute(double command) override {
     std::lock_guard lock(mutex_);
     commands_.push_back(command);

@@ -17,17 +17,25 @@ void ValidateRunSpec(const RunSpec& spec) {
                                   "([q; u; z])", spec.x0.size(), spec.model.name,
                                   model.num_states()));
   }
-  if (static_cast<int>(spec.substructures.size()) != model.num_slots()) {
-    throw ConfigError(fmt::format("run spec: {} substructures for the {} slots of model '{}'; "
-                                  "give one per slot, in slot order",
-                                  spec.substructures.size(), model.num_slots(), spec.model.name));
-  }
-  for (int s = 0; s < model.num_slots(); ++s) {
-    const std::string& name = model.slots()[static_cast<std::size_t>(s)].info.name;
-    if (spec.substructures[static_cast<std::size_t>(s)].slot != name) {
-      throw ConfigError(fmt::format("run spec: substructure {} is for slot '{}', but the model's "
-                                    "slot {} is '{}'; give them in slot order", s,
-                                    spec.substructures[static_cast<std::size_t>(s)].slot, s, name));
+  bool blocks = false;  // a substructure serves several slots
+  for (const auto& sub : spec.substructures) blocks = blocks || !sub.slots.empty();
+  if (blocks) {
+    std::vector<std::string> names;
+    for (const auto& s : model.slots()) names.push_back(s.info.name);
+    substructures::SlotIndices(spec.substructures, names);  // throws ConfigError
+  } else {
+    if (static_cast<int>(spec.substructures.size()) != model.num_slots()) {
+      throw ConfigError(fmt::format("run spec: {} substructures for the {} slots of model '{}'; "
+                                    "give one per slot, in slot order",
+                                    spec.substructures.size(), model.num_slots(), spec.model.name));
+    }
+    for (int s = 0; s < model.num_slots(); ++s) {
+      const std::string& name = model.slots()[static_cast<std::size_t>(s)].info.name;
+      if (spec.substructures[static_cast<std::size_t>(s)].slot != name) {
+        throw ConfigError(fmt::format("run spec: substructure {} is for slot '{}', but the model's "
+                                      "slot {} is '{}'; give them in slot order", s,
+                                      spec.substructures[static_cast<std::size_t>(s)].slot, s, name));
+      }
     }
   }
   if (!(spec.scheme.dt > 0.0) || !(spec.scheme.duration > 0.0) || spec.scheme.steps < 1) {

@@ -2,6 +2,8 @@
 #include "hybridtest/io/substructure_config.h"
 #include "hybridtest/io/transfer_readers.h"
 
+#include <Eigen/Core>
+
 #include <fmt/core.h>
 
 #include <filesystem>
@@ -126,6 +128,127 @@ void ParseInitialStiffness(const YamlInput& in, const YAML::Node& node, const st
   physical.initial_stiffness = in.PositiveNumber(node, key, expected);
 }
 
+
+// A per-actuator view of a `safety:` mapping: a list gives one value per actuator.
+YAML::Node PickActuator(const YAML::Node& node, std::size_t k) {
+  if (!node.IsMap()) return node;
+  YAML::Node out(YAML::NodeType::Map);
+  for (const auto& kv : node) {
+    out[kv.first.as<std::string>()] = kv.second.IsSequence() && k < kv.second.size()
+                                          ? YAML::Clone(kv.second[k])
+                                          : YAML::Clone(kv.second);
+  }
+  return out;
+}
+
+Eigen::MatrixXd ReadMatrix(const YamlInput& in, const YAML::Node& node, const std::string& kp,
+                           const char* expected) {
+  if (!node.IsSequence() || node.size() == 0 || !node[0].IsSequence()) {
+    in.ThrowValue(node, kp, expected);
+  }
+  Eigen::MatrixXd m(static_cast<Eigen::Index>(node.size()),
+                    static_cast<Eigen::Index>(node[0].size()));
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const auto row = in.Numbers(node[i], fmt::format("{}[{}]", kp, i), expected);
+    if (static_cast<Eigen::Index>(row.size()) != m.cols()) in.ThrowValue(node[i], kp, expected);
+    for (std::size_t j = 0; j < row.size(); ++j) {
+      m(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = row[j];
+    }
+  }
+  return m;
+}
+
+// A substructure of several slots (`slots: [rA, rB]`): numerical with a stiffness matrix, or
+// physical with a linear setup (`setup: {p0: [..], transform: [[..]]}`) on n actuators.
+substructures::SubstructureSpec ParseBlock(const YamlInput& in, const YAML::Node& node,
+                                           const std::string& name, const std::string& kp,
+                                           const SubstructureOptions& options) {
+  substructures::SubstructureSpec spec;
+  spec.slot = name;
+  for (const auto& s : node["slots"]) spec.slots.push_back(in.String(s, kp + ".slots", "a slot name"));
+  const std::string type = in.String(node["type"], kp + ".type", "numerical or physical");
+  const auto m = static_cast<Eigen::Index>(spec.slots.size());
+  if (type == "numerical") {
+    const YAML::Node law = node["law"];
+    const char* expected = "{type: linear, stiffness: [[k11, k12], [k21, k22]]} in N/m, one row "
+                           "per slot";
+    if (!law || !law.IsMap() || !law["type"] || law["type"].as<std::string>() != "linear" ||
+        !law["stiffness"]) {
+      throw ConfigError(fmt::format("{}: a numerical substructure of several slots needs `law: "
+                                    "{}`", in.Where(node, kp + ".law"), expected));
+    }
+    spec.stiffness = ReadMatrix(in, law["stiffness"], kp + ".law.stiffness", expected);
+    if (spec.stiffness->rows() != m || spec.stiffness->cols() != m) {
+      in.ThrowValue(law["stiffness"], kp + ".law.stiffness", expected);
+    }
+    return spec;
+  }
+  if (type != "physical") {
+    throw ConfigError(fmt::format("{} = '{}': expected numerical or physical",
+                                  in.Where(node["type"], kp + ".type"), type));
+  }
+  if (!options.allow_physical) {
+    throw ConfigError(fmt::format("{}: substructure {} is physical; {}", in.Where(node, kp), name,
+                                  options.physical_hint));
+  }
+  const YAML::Node setup = node["setup"];
+  const std::string sp = kp + ".setup";
+  if (!setup.IsMap() || !setup["transform"] || !setup["p0"]) {
+    throw ConfigError(fmt::format("{}: a physical substructure of several slots needs `setup: "
+                                  "{{p0: [..], transform: [[..]]}}` (a − p0 = T d, T n_act × m)",
+                                  in.Where(node, sp)));
+  }
+  in.CheckKeys(setup, sp, {"p0", "transform", "load_cell_zero"});
+  substructures::LinearSetup linear;
+  linear.transform = ReadMatrix(in, setup["transform"], sp + ".transform",
+                                "a list of rows, one per actuator, one column per slot");
+  const auto n = linear.transform.rows();
+  auto vec = [&](const char* key, const char* what) {
+    Eigen::VectorXd v = Eigen::VectorXd::Zero(n);
+    if (!setup[key]) return v;
+    const auto values = in.Numbers(setup[key], sp + "." + key, what);
+    if (static_cast<Eigen::Index>(values.size()) != n) in.ThrowValue(setup[key], sp + "." + key, what);
+    for (Eigen::Index k = 0; k < n; ++k) v(k) = values[static_cast<std::size_t>(k)];
+    return v;
+  };
+  linear.p0 = vec("p0", "one actuator position at zero specimen force per actuator, in m");
+  linear.load_cell_zero = vec("load_cell_zero", "one load-cell zero per actuator, in N");
+  if (linear.transform.cols() != m) {
+    throw ConfigError(fmt::format("{}: T has {} columns for the {} slots of `slots:`; give one "
+                                  "column per slot", in.Where(setup["transform"], sp + ".transform"),
+                                  linear.transform.cols(), m));
+  }
+  try {
+    linear.Validate();
+  } catch (const ConfigError& e) {
+    throw ConfigError(fmt::format("{}: {}", in.Where(setup, sp), e.what()));
+  }
+  substructures::PhysicalSpec physical;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    physical.actuator_limits.push_back(ParseSafety(
+        in, PickActuator(node["safety"], static_cast<std::size_t>(k)), kp + ".safety"));
+  }
+  physical.limits = physical.actuator_limits[0];
+  const YAML::Node tr = in.Mapping(node, "transfer", kp + ".transfer", true);
+  physical.transfer = ParseTransfer(in, tr, kp + ".transfer", options, physical.limits.timeout,
+                                    nullptr);
+  physical.linear = linear;
+  if (const YAML::Node k0 = node["initial_stiffness"]) {
+    if (k0.IsSequence()) {
+      physical.initial_stiffness_matrix =
+          ReadMatrix(in, k0, kp + ".initial_stiffness", "an m × m matrix in N/m");
+    } else {
+      ParseInitialStiffness(in, k0, kp, physical);
+      if (physical.initial_stiffness) {
+        in.ThrowValue(k0, kp + ".initial_stiffness",
+                      "an m × m matrix in N/m, `measure`, or {measure: true, amplitude: 0.001}");
+      }
+    }
+  }
+  spec.physical = std::move(physical);
+  return spec;
+}
+
 }  // namespace
 
 std::vector<substructures::SubstructureSpec> ParseSubstructureSpecs(
@@ -134,11 +257,36 @@ std::vector<substructures::SubstructureSpec> ParseSubstructureSpecs(
   const auto& slots = cfg.model.model.slots();
   std::vector<substructures::SubstructureSpec> result(slots.size());
   std::vector<bool> given(slots.size(), false);
+  std::vector<substructures::SubstructureSpec> blocks;  // substructures with `slots:`
   const YAML::Node section = in.Mapping(in.root(), "substructures", "substructures", false);
   if (section.IsDefined()) {
     for (const auto& kv : section) {
       const std::string slot_name = in.String(kv.first, "substructures", "a slot name");
       const std::string kp = "substructures." + slot_name;
+      if (kv.second.IsMap() && kv.second["slots"]) {
+        in.CheckKeys(kv.second, kp, {"type", "slots", "law", "transfer", "setup", "safety",
+                                     "initial_stiffness"});
+        blocks.push_back(ParseBlock(in, kv.second, slot_name, kp, options));
+        for (const auto& name : blocks.back().slots) {
+          bool known = false;
+          for (std::size_t s = 0; s < slots.size(); ++s) {
+            if (slots[s].info.name != name) continue;
+            known = true;
+            if (given[s]) {
+              throw ConfigError(fmt::format("{}: slot {} is given twice; give each slot to one "
+                                            "substructure", in.Where(kv.second["slots"],
+                                                                     kp + ".slots"), name));
+            }
+            given[s] = true;
+          }
+          if (!known) {
+            throw ConfigError(fmt::format("{}: the {} model has no slot '{}'",
+                                          in.Where(kv.second["slots"], kp + ".slots"),
+                                          cfg.model.name, name));
+          }
+        }
+        continue;
+      }
       int slot = -1;
       for (std::size_t s = 0; s < slots.size(); ++s) {
         if (slots[s].info.name == slot_name) slot = static_cast<int>(s);
@@ -157,6 +305,10 @@ std::vector<substructures::SubstructureSpec> ParseSubstructureSpecs(
       }
       in.CheckKeys(node, kp, {"type", "law", "transfer", "setup", "safety", "initial_stiffness"});
       const std::string type = in.String(node["type"], kp + ".type", "numerical or physical");
+      if (given[slot]) {
+        throw ConfigError(fmt::format("{}: slot {} is given twice; give each slot to one "
+                                      "substructure", in.Where(node, kp), slot_name));
+      }
       given[slot] = true;
       if (type == "numerical") {
         result[slot] = node["law"] ? substructures::NumericalSpec(
@@ -194,7 +346,14 @@ std::vector<substructures::SubstructureSpec> ParseSubstructureSpecs(
   for (std::size_t s = 0; s < slots.size(); ++s) {
     if (!given[s]) result[s] = DefaultNumerical(cfg, static_cast<int>(s));
   }
-  return result;
+  if (blocks.empty()) return result;
+  // The one-slot substructures in slot order, then the blocks in config order.
+  std::vector<substructures::SubstructureSpec> mixed;
+  for (auto& spec : result) {
+    if (!spec.slot.empty()) mixed.push_back(std::move(spec));
+  }
+  for (auto& b : blocks) mixed.push_back(std::move(b));
+  return mixed;
 }
 
 std::vector<std::unique_ptr<Substructure>> MakeSubstructures(const SimulationConfig& cfg,

@@ -146,14 +146,28 @@ RunLayout DescribeRun(const io::RunData& run) {
     p.coordinate = SlotCoordinate(s, p.slot, model, layout);
     if (!p.coordinate.empty()) layout.physical_coordinates.insert(p.coordinate);
     const nlohmann::json channels = s.contains("channels") ? s["channels"] : nlohmann::json();
-    auto channel = [&](const char* key) {
-      const std::string name = StringOr(channels, key, p.slot + "_" + key);
+    auto channel = [&](const nlohmann::json& group, const std::string& prefix, const char* key) {
+      const std::string name = StringOr(group, key, prefix + "_" + key);
       return FindChannel(run, name) >= 0 ? name : std::string();
     };
-    p.command = channel("command");
-    p.position = channel("position");
-    p.force = channel("force");
-    p.lab_time = channel("lab_time");
+    if (channels.is_array()) {
+      // Several actuators: one group of channels (and figures) per actuator, "<slot>_a<k>".
+      for (std::size_t k = 0; k < channels.size(); ++k) {
+        PhysicalChannels a = p;
+        a.slot = fmt::format("{}_a{}", p.slot, k + 1);
+        a.coordinate.clear();
+        a.command = channel(channels[k], a.slot, "command");
+        a.position = channel(channels[k], a.slot, "position");
+        a.force = channel(channels[k], a.slot, "force");
+        a.lab_time = channel(channels[k], a.slot, "lab_time");
+        layout.physical.push_back(a);
+      }
+      continue;
+    }
+    p.command = channel(channels, p.slot, "command");
+    p.position = channel(channels, p.slot, "position");
+    p.force = channel(channels, p.slot, "force");
+    p.lab_time = channel(channels, p.slot, "lab_time");
     layout.physical.push_back(p);
   }
   return layout;

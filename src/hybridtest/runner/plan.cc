@@ -15,10 +15,12 @@
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/runner/run_record.h"
 #include "hybridtest/runner/session.h"
+#include "hybridtest/substructures/multi_actuator_substructure.h"
 #include "hybridtest/substructures/numerical_substructure.h"
 #include "hybridtest/substructures/physical_substructure.h"
 #include "hybridtest/substructures/slot_law.h"
 #include "hybridtest/transfer/emulated_bench.h"
+#include "hybridtest/transfer/multi_emulated_bench.h"
 
 namespace hybridtest::runner {
 namespace {
@@ -51,6 +53,30 @@ std::shared_ptr<const constitutive::RestoringForceLaw> TwinLaw(
                                   "substructures.{}.initial_stiffness in N/m", slot, slot));
   }
   return std::make_unique<constitutive::LinearSpring>(*k0, "plan reference (K0)");
+}
+
+// The numerical twin of a specimen on several actuators of an emulated bench: Tᵀ K T.
+std::optional<Eigen::MatrixXd> TwinStiffness(const substructures::Substructure& s,
+                                             const std::string& name) {
+  const auto* multi = dynamic_cast<const substructures::MultiActuatorSubstructure*>(&s);
+  if (multi == nullptr) return std::nullopt;
+  const auto* bench = dynamic_cast<const transfer::MultiEmulatedBench*>(&multi->transfer());
+  const auto& setup = multi->setup();
+  if (bench != nullptr) {
+    for (int k = 0; k < setup.num_actuators(); ++k) {
+      if (std::abs(setup.p0(k) - bench->config().actuators[static_cast<std::size_t>(k)].p0) > 1e-12 ||
+          setup.load_cell_zero(k) != bench->config().actuators[static_cast<std::size_t>(k)].offset) {
+        throw ConfigError(fmt::format("plan: substructure {}: the setup's p0 and load-cell zero "
+                                      "of actuator {} differ from the bench's; the reference "
+                                      "needs them equal", name, k + 1));
+      }
+    }
+    return Eigen::MatrixXd(setup.transform.transpose() * bench->config().stiffness *
+                           setup.transform);
+  }
+  if (auto k0 = multi->initial_stiffness_matrix()) return k0;
+  throw ConfigError(fmt::format("plan: substructure {} has no emulated specimen and no "
+                                "initial_stiffness; give it as a matrix in N/m", name));
 }
 
 // Direction reversals of a sequence of commands.
@@ -303,7 +329,12 @@ std::vector<PlanResult> PlanTest(const io::RunSpec& configured, const PlanOption
   for (std::size_t s = 0; s < spec.substructures.size(); ++s) {
     auto& physical = spec.substructures[s].physical;
     if (!physical) continue;
-    if (first_physical < 0) first_physical = static_cast<int>(s);
+    if (first_physical < 0) {  // the model index of the substructure's first slot
+      const std::string first_slot = spec.substructures[s].SlotNames().front();
+      for (int i = 0; i < model.num_slots(); ++i) {
+        if (model.slots()[static_cast<std::size_t>(i)].info.name == first_slot) first_physical = i;
+      }
+    }
     if (options.emulate_bench) {
       physical->transfer = {"emulated", [bench = transfer::LoadEmulatedBenchConfig(
                                              *options.emulate_bench)] {
@@ -314,7 +345,7 @@ std::vector<PlanResult> PlanTest(const io::RunSpec& configured, const PlanOption
           "{}: plan never moves a real bench, and slot {} is not on an emulated one; give "
           "--emulate BENCH.yaml (an emulated bench config, e.g. examples/rotor/"
           "bench-cantilever.yaml) to stand in for it", spec.source.config_path,
-          model.slots()[s].info.name));
+          spec.substructures[s].slot));
     }
   }
   if (first_physical < 0) {
@@ -330,10 +361,15 @@ std::vector<PlanResult> PlanTest(const io::RunSpec& configured, const PlanOption
   for (std::size_t s = 0; s < ref_spec.substructures.size(); ++s) {
     if (!ref_spec.substructures[s].physical) continue;
     const auto built = ref_spec.substructures[s].Build();
-    const std::string& slot = model.slots()[s].info.name;
+    const std::string slot = ref_spec.substructures[s].slot;
     substructures::SubstructureSpec twin;
     twin.slot = slot;
-    twin.law = TwinLaw(*built, slot);
+    twin.slots = ref_spec.substructures[s].slots;
+    if (auto k = TwinStiffness(*built, slot)) {
+      twin.stiffness = std::move(*k);
+    } else {
+      twin.law = TwinLaw(*built, slot);
+    }
     ref_spec.substructures[s] = std::move(twin);
   }
   io::RunData reference;

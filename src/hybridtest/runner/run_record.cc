@@ -9,6 +9,16 @@
 namespace hybridtest::runner {
 namespace {
 
+// One channel group per actuator: `<name>_a<k>_...` for a substructure of several actuators,
+// `<name>_...` for one.
+std::vector<std::string> ActuatorNames(const substructures::SubstructureSpec& spec) {
+  const int n = spec.num_actuators();
+  if (n == 1) return {spec.slot};
+  std::vector<std::string> names;
+  for (int k = 1; k <= n; ++k) names.push_back(fmt::format("{}_a{}", spec.slot, k));
+  return names;
+}
+
 void AddPhysicalChannels(const std::string& slot, std::vector<io::Channel>& channels) {
   channels.push_back({slot + "_command", "m", "actuator command (absolute position) for " + slot});
   channels.push_back({slot + "_position", "m", "measured actuator position for " + slot});
@@ -35,8 +45,9 @@ std::vector<io::Channel> JournalChannels(const io::RunSpec& spec) {
   for (const auto& u : model.speeds()) channels.push_back({u.name, u.unit, u.description});
   for (const auto& z : model.extra_states()) channels.push_back({z.info.name, z.info.unit, z.info.description});
   for (const auto& s : model.slots()) channels.push_back({s.info.name, s.info.unit, s.info.description});
-  for (std::size_t s = 0; s < spec.substructures.size(); ++s) {
-    if (spec.substructures[s].is_physical()) AddPhysicalChannels(model.slots()[s].info.name, channels);
+  for (const auto& sub : spec.substructures) {
+    if (!sub.is_physical()) continue;
+    for (const auto& name : ActuatorNames(sub)) AddPhysicalChannels(name, channels);
   }
   return channels;
 }
@@ -45,13 +56,14 @@ std::vector<io::Channel> StageChannels(const io::RunSpec& spec) {
   std::vector<io::Channel> channels{{"step", "-", "step index n (0-based)"},
                                     {"stage", "-", "Runge-Kutta stage (0-based)"},
                                     {"t", "s", "model time of the stage"}};
-  for (std::size_t s = 0; s < spec.substructures.size(); ++s) {
-    if (!spec.substructures[s].is_physical()) continue;
-    const std::string& slot = spec.model.model.slots()[s].info.name;
-    AddPhysicalChannels(slot, channels);
-    channels.push_back({slot + "_force_reversals", "-",
-                        "reversals of the specimen force within the move (emulated bench) for " +
-                            slot});
+  for (const auto& sub : spec.substructures) {
+    if (!sub.is_physical()) continue;
+    for (const auto& slot : ActuatorNames(sub)) {
+      AddPhysicalChannels(slot, channels);
+      channels.push_back({slot + "_force_reversals", "-",
+                          "reversals of the specimen force within the move (emulated bench) "
+                          "for " + slot});
+    }
   }
   return channels;
 }
@@ -103,13 +115,22 @@ io::JournalMetadata JournalMetadataFor(const io::RunSpec& spec,
     meta.model["extra_states"] = infos(states);
   }
   for (std::size_t s = 0; s < subs.size(); ++s) {
-    const std::string slot = model.slots()[s].info.name;
+    const auto& sub = spec.substructures[s];
+    const std::string slot = sub.slot;
     nlohmann::json entry = {{"slot", slot},
                             {"kind", subs[s]->is_physical() ? "physical" : "numerical"},
                             {"description", subs[s]->Describe()}};
-    if (subs[s]->is_physical()) {
+    if (!sub.slots.empty()) entry["slots"] = sub.slots;
+    const auto names = ActuatorNames(sub);
+    if (subs[s]->is_physical() && names.size() == 1) {
       entry["channels"] = {{"command", slot + "_command"}, {"position", slot + "_position"},
                            {"force", slot + "_force"}, {"lab_time", slot + "_lab_time"}};
+    } else if (subs[s]->is_physical()) {
+      entry["channels"] = nlohmann::json::array();
+      for (const auto& a : names) {
+        entry["channels"].push_back({{"command", a + "_command"}, {"position", a + "_position"},
+                                     {"force", a + "_force"}, {"lab_time", a + "_lab_time"}});
+      }
     }
     meta.substructures.push_back(entry);
   }

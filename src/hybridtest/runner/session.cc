@@ -9,6 +9,7 @@
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/runner/run_files.h"
 #include "hybridtest/runner/run_record.h"
+#include "hybridtest/runner/slot_info.h"
 #include "hybridtest/runner/stop_request.h"
 #include "hybridtest/schemes/scheme_config.h"
 #include "hybridtest/substructures/physical_substructure.h"
@@ -42,18 +43,6 @@ nlohmann::json StopDetails(const std::exception& e) {
   return stop;
 }
 
-// What the schemes may know of the substructures: K0 and the largest safe increment per slot.
-schemes::SlotInfo SlotInfoOf(const std::vector<std::unique_ptr<substructures::Substructure>>& subs) {
-  const auto m = static_cast<Eigen::Index>(subs.size());
-  schemes::SlotInfo info{Eigen::VectorXd::Zero(m), Eigen::VectorXd::Zero(m)};
-  for (std::size_t s = 0; s < subs.size(); ++s) {
-    info.k0(static_cast<Eigen::Index>(s)) =
-        subs[s]->initial_stiffness().value_or(std::numeric_limits<double>::quiet_NaN());
-    info.max_increment(static_cast<Eigen::Index>(s)) = subs[s]->max_displacement_increment();
-  }
-  return info;
-}
-
 }  // namespace
 
 const char* StatusName(SessionStatus status) {
@@ -83,8 +72,19 @@ class Session::Seam final : public schemes::SubstructureSeam {
     for (SessionObserver* o : session_.observers_) o->BeforeTrial(at);
     auto& subs = session_.subs_;
     for (std::size_t s = 0; s < subs.size(); ++s) {
-      const auto i = static_cast<Eigen::Index>(s);
-      r(i) = subs[s]->Trial(d(i), {at.step, at.stage, at.t});
+      const auto& slots = session_.slot_of_[s];
+      if (slots.size() == 1) {
+        const auto i = static_cast<Eigen::Index>(slots[0]);
+        r(i) = subs[s]->Trial(d(i), {at.step, at.stage, at.t});
+        continue;
+      }
+      auto& ds = session_.d_slots_;
+      auto& rs = session_.r_slots_;
+      ds.resize(slots.size());
+      rs.resize(slots.size());
+      for (std::size_t k = 0; k < slots.size(); ++k) ds[k] = d(slots[k]);
+      subs[s]->TrialSlots(ds, rs, {at.step, at.stage, at.t});
+      for (std::size_t k = 0; k < slots.size(); ++k) r(slots[k]) = rs[k];
     }
     session_.PublishTrial(at, d, r);
   }
@@ -108,13 +108,23 @@ class Session::Rows final : public schemes::RowSink {
 Session::Session(io::RunSpec spec, SessionOptions options)
     : spec_(std::move(spec)), options_(std::move(options)) {
   io::ValidateRunSpec(spec_);
-  for (const auto& s : spec_.substructures) {
-    subs_.push_back(s.Build());
+  std::vector<std::string> slot_names;
+  for (const auto& s : model().slots()) slot_names.push_back(s.info.name);
+  slot_of_ = substructures::SlotIndices(spec_.substructures, slot_names);
+  std::size_t actuators = 0;
+  for (std::size_t s = 0; s < spec_.substructures.size(); ++s) {
+    subs_.push_back(spec_.substructures[s].Build());
+    if (subs_.back()->num_slots() != static_cast<int>(slot_of_[s].size())) {
+      throw ConfigError(fmt::format("substructure {} serves {} slots, its config lists {}",
+                                    spec_.substructures[s].slot, subs_.back()->num_slots(),
+                                    slot_of_[s].size()));
+    }
     if (subs_.back()->is_physical()) ++physical_count_;
+    actuators += static_cast<std::size_t>(subs_.back()->num_actuators());
   }
   row_.resize(static_cast<Eigen::Index>(JournalChannels(spec_).size()));
   r0_.resize(model().num_slots());
-  exchanges_.resize(static_cast<std::size_t>(physical_count_));
+  exchanges_.resize(actuators);
   seam_ = std::make_unique<Seam>(*this);
   rows_sink_ = std::make_unique<Rows>(*this);
   if (spec_.output.files) {
@@ -139,16 +149,16 @@ void Session::AddObserver(SessionObserver& observer) {
 
 void Session::SetState(const RunState& state) {
   if (initialized_) throw Error("Session::SetState: give the state before Initialize()");
-  const auto& slots = model().slots();
   if (state.substructures.size() != subs_.size()) {
     throw ConfigError(fmt::format("the run state has {} substructures, the run's config {}",
                                   state.substructures.size(), subs_.size()));
   }
   for (std::size_t s = 0; s < subs_.size(); ++s) {
     const auto& entry = state.substructures[s];
-    if (entry.value("slot", "") != slots[s].info.name) {
+    if (entry.value("slot", "") != spec_.substructures[s].slot) {
       throw ConfigError(fmt::format("the run state's substructure {} is slot '{}', the config's "
-                                    "is '{}'", s, entry.value("slot", ""), slots[s].info.name));
+                                    "is '{}'", s, entry.value("slot", ""),
+                                    spec_.substructures[s].slot));
     }
   }
   resume_ = state;
@@ -157,9 +167,9 @@ void Session::SetState(const RunState& state) {
 RunState Session::GetState() const {
   RunState state;
   if (scheme_) state.scheme = scheme_->SaveState();
-  const auto& slots = model().slots();
   for (std::size_t s = 0; s < subs_.size(); ++s) {
-    state.substructures.push_back({{"slot", slots[s].info.name}, {"state", subs_[s]->SaveState()}});
+    state.substructures.push_back(
+        {{"slot", spec_.substructures[s].slot}, {"state", subs_[s]->SaveState()}});
   }
   state.statistics = ToJson(stats_);
   state.stiffness = stiffness_record_;
@@ -203,9 +213,11 @@ void Session::FillRow(double t, const Eigen::VectorXd& x, const Eigen::VectorXd&
   c += r.size();
   for (const auto& s : subs_) {
     if (!s->is_physical()) continue;
-    const auto e = s->last_exchange();
-    for (double v : {e.command, e.position, e.force, e.lab_time}) {
-      row_(c++) = measured ? v : std::numeric_limits<double>::quiet_NaN();
+    for (int k = 0; k < s->num_actuators(); ++k) {
+      const auto e = s->actuator_exchange(k);
+      for (double v : {e.command, e.position, e.force, e.lab_time}) {
+        row_(c++) = measured ? v : std::numeric_limits<double>::quiet_NaN();
+      }
     }
   }
 }
@@ -225,7 +237,7 @@ void Session::PublishTrial(const schemes::TrialPoint& at,
                            const Eigen::Ref<const Eigen::VectorXd>& r) {
   std::size_t k = 0;
   for (const auto& s : subs_) {
-    if (s->is_physical()) exchanges_[k++] = s->last_exchange();
+    for (int a = 0; a < s->num_actuators(); ++a) exchanges_[k++] = s->actuator_exchange(a);
   }
   const TrialEvent event{at, {d.data(), static_cast<std::size_t>(d.size())},
                          {r.data(), static_cast<std::size_t>(r.size())}, exchanges_};
@@ -235,27 +247,7 @@ void Session::PublishTrial(const schemes::TrialPoint& at,
 void Session::BuildScheme() {
   scheme_ = schemes::MakeScheme(spec_.scheme.config, spec_.scheme.tableau, spec_.scheme.dt,
                                 spec_.scheme.duration, spec_.scheme.steps, model(),
-                                SlotInfoOf(subs_));
-}
-
-void Session::MeasureRequestedStiffness() {
-  stiffness_record_ = nlohmann::json::array();
-  for (std::size_t s = 0; s < subs_.size(); ++s) {
-    nlohmann::json entry = {{"slot", model().slots()[s].info.name}};
-    auto* physical = dynamic_cast<substructures::PhysicalSubstructure*>(subs_[s].get());
-    if (physical != nullptr && physical->requested_stiffness_ramp()) {
-      const auto m = physical->MeasureInitialStiffness(*physical->requested_stiffness_ramp());
-      nlohmann::json samples = nlohmann::json::array();
-      for (const auto& [d, r] : m.samples) samples.push_back({d, r});
-      entry.update({{"k0", m.k0}, {"source", "measured"}, {"amplitude_m", m.amplitude},
-                    {"samples_d_m_r_N", samples}});
-    } else if (const auto k0 = subs_[s]->initial_stiffness()) {
-      entry.update({{"k0", *k0}, {"source", subs_[s]->is_physical() ? "configured" : "law"}});
-    } else {
-      entry.update({{"k0", nullptr}, {"source", "unknown"}});
-    }
-    stiffness_record_.push_back(entry);
-  }
+                                SlotInfoOf(subs_, slot_of_, model().num_slots()));
 }
 
 StepResult Session::Initialize() {

@@ -227,7 +227,10 @@ class Session {
   // Preallocated per-step buffers.
   Eigen::VectorXd row_;
   Eigen::VectorXd r0_;
-  std::vector<substructures::Exchange> exchanges_;  // per physical slot
+  std::vector<substructures::Exchange> exchanges_;  // per actuator of the physical substructures
+  // The model slots each substructure serves (its d and r, in its order), and their buffers.
+  std::vector<std::vector<int>> slot_of_;
+  std::vector<double> d_slots_, r_slots_;
 };
 
 }  // namespace hybridtest::runner

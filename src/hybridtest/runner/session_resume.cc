@@ -5,6 +5,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/runner/session.h"
 #include "hybridtest/schemes/scheme_config.h"
+#include "hybridtest/substructures/multi_actuator_substructure.h"
 #include "hybridtest/substructures/physical_substructure.h"
 
 namespace hybridtest::runner {
@@ -37,12 +38,21 @@ void Session::RestoreFromState() {
 void Session::ReimposeCommitted() {
   const RunState& state = *resume_;
   const schemes::CommittedPoint& p = scheme_->committed();
-  const auto& slots = model().slots();
   ResumeEvent event;
   event.state = &state;
   const Eigen::VectorXd none;  // resume moves carry no slot displacements or forces
   try {
     for (std::size_t s = 0; s < subs_.size(); ++s) {
+      const std::string& name = spec_.substructures[s].slot;
+      if (auto* multi = dynamic_cast<substructures::MultiActuatorSubstructure*>(subs_[s].get())) {
+        // Every actuator re-imposed together, every force checked.
+        multi->ReimposeCommitted(spec_.resume.force_tolerance.value_or(0.0), p.step);
+        PublishTrial({p.step, -1, p.t}, none, none);
+        nlohmann::json forces = nlohmann::json::array();
+        for (int k = 0; k < multi->num_actuators(); ++k) forces.push_back(multi->actuator_exchange(k).force);
+        event.checks.push_back({{"slot", name}, {"force_N", forces}});
+        continue;
+      }
       auto* physical = dynamic_cast<substructures::PhysicalSubstructure*>(subs_[s].get());
       if (physical == nullptr) continue;
       if (s < options_.commands_received_at_stop.size() &&
@@ -54,7 +64,7 @@ void Session::ReimposeCommitted() {
           spec_.resume.position_tolerance.value_or(0.0), p.step, [&](bool reimposition) {
             PublishTrial({p.step, reimposition ? -1 : -2, p.t}, none, none);
           });
-      nlohmann::json c = {{"slot", slots[s].info.name},     {"command_m", check.command},
+      nlohmann::json c = {{"slot", name},     {"command_m", check.command},
                           {"committed_force_N", check.committed_force},
                           {"ramp_moves", check.ramp_moves}, {"position_m", check.position},
                           {"force_N", check.force},         {"tolerance_N", check.tolerance},

@@ -102,7 +102,11 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
   // [u; z] with [a; w]; the rates do not read r, so only the u̇ rows see M⁻¹ B K0 D.
   jac_.setIdentity();
   jac_.leftCols(n_).noalias() -= ((1.0 + alpha_) * beta_ * h * h) * J_.block(n_, 0, nv_, n_);
-  dfdr_ = dfdr_ * slots_.k0.asDiagonal();  // M⁻¹ B K0
+  if (coupled()) {
+    dfdr_ = dfdr_ * slots_.k0_matrix;  // M⁻¹ B K0
+  } else {
+    dfdr_ = dfdr_ * slots_.k0.asDiagonal();
+  }
   jac_.topLeftCorner(n_, n_).noalias() -= ((1.0 + alpha_) * beta_ * h * h) * dfdr_ * D_;
   jac_.noalias() -= ((1.0 + alpha_) * gamma_ * h) * J_.block(n_, n_, nv_, nv_);
   newton_lu_.compute(jac_);
@@ -114,7 +118,13 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
     x_try_.head(n_) = x_pred_.head(n_) + (beta_ * h * h) * a_new_.head(n_);
     x_try_.tail(nv_) = x_pred_.tail(nv_) + (gamma_ * h) * a_new_;
     multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_try_.head(n_), d_try_);
-    r_try_ = r_pred_ + slots_.k0.cwiseProduct(d_try_ - d_pred_);
+    if (coupled()) {
+      r_try_ = r_pred_;
+      r_try_.noalias() += slots_.k0_matrix * d_try_;
+      r_try_.noalias() -= slots_.k0_matrix * d_pred_;
+    } else {
+      r_try_ = r_pred_ + slots_.k0.cwiseProduct(d_try_ - d_pred_);
+    }
     Acceleration(t_next, x_try_, r_try_, f_try_);
     res_ = a_new_ - (1.0 + alpha_) * f_try_ + alpha_ * f_n_;
     if (it == 0) scale = std::max(1.0, f_try_.lpNorm<Eigen::Infinity>());
@@ -131,7 +141,13 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
   x_try_.head(n_) = x_pred_.head(n_) + (beta_ * h * h) * a_new_.head(n_);
   x_try_.tail(nv_) = x_pred_.tail(nv_) + (gamma_ * h) * a_new_;
   multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_try_.head(n_), d_try_);
-  r_try_ = r_pred_ + slots_.k0.cwiseProduct(d_try_ - d_pred_);
+  if (coupled()) {
+    r_try_ = r_pred_;
+    r_try_.noalias() += slots_.k0_matrix * d_try_;
+    r_try_.noalias() -= slots_.k0_matrix * d_pred_;
+  } else {
+    r_try_ = r_pred_ + slots_.k0.cwiseProduct(d_try_ - d_pred_);
+  }
   double e = 0.0, h_next = h_;
   if (config_.adaptive.enabled) {
     a_step_ = (a_new_ - a_).head(n_);

@@ -30,7 +30,11 @@ std::string MrOs::Describe() const {
 
 void MrOs::OnStart() {
   multibody::CalcSlotDisplacements<double>(model_, data_, point_.t, point_.x.head(n_), d_last_);
-  rho_cur_ = point_.r - slots_.k0.cwiseProduct(d_last_);
+  if (coupled()) {
+    rho_cur_ = point_.r - slots_.k0_matrix * d_last_;
+  } else {
+    rho_cur_ = point_.r - slots_.k0.cwiseProduct(d_last_);
+  }
   t_cur_ = point_.t;
   samples_ = 1;
 }
@@ -69,7 +73,12 @@ void MrOs::Integrate(double h, bool with_new, Eigen::VectorXd& x_end,
               [&](int, double t_i, const Eigen::VectorXd& x_i, Eigen::Ref<Eigen::VectorXd> k) {
                 multibody::CalcSlotDisplacements<double>(model_, data_, t_i, x_i.head(n_), d_);
                 Residual(t_i, with_new, rho_);
-                r_ = slots_.k0.cwiseProduct(d_) + rho_;
+                if (coupled()) {
+                  r_.noalias() = slots_.k0_matrix * d_;
+                  r_ += rho_;
+                } else {
+                  r_ = slots_.k0.cwiseProduct(d_) + rho_;
+                }
                 multibody::CalcStateDerivative<double>(model_, data_, t_i, x_i, r_, k);
               },
               x_end);
@@ -77,7 +86,12 @@ void MrOs::Integrate(double h, bool with_new, Eigen::VectorXd& x_end,
       const double t_row = point_.t + static_cast<double>(j + 1) * hs;
       multibody::CalcSlotDisplacements<double>(model_, data_, t_row, x_end.head(n_), d_);
       Residual(t_row, with_new, rho_);
-      r_ = slots_.k0.cwiseProduct(d_) + rho_;
+      if (coupled()) {
+        r_.noalias() = slots_.k0_matrix * d_;
+        r_ += rho_;
+      } else {
+        r_ = slots_.k0.cwiseProduct(d_) + rho_;
+      }
       rows->Row(t_row, x_end, r_);
     }
   }
@@ -103,13 +117,23 @@ void MrOs::Step(SubstructureSeam& seam, RowSink& rows) {
   // Evaluate: the one specimen evaluation of the macro step.
   seam.Trial({k + 1, 0, t_next}, d_imposed, r_sample_);
   t_new_ = t_next;
-  rho_new_ = r_sample_ - slots_.k0.cwiseProduct(d_imposed);
+  if (coupled()) {
+    rho_new_ = r_sample_;
+    rho_new_.noalias() -= slots_.k0_matrix * d_imposed;
+  } else {
+    rho_new_ = r_sample_ - slots_.k0.cwiseProduct(d_imposed);
+  }
   d_last_ = d_imposed;
   // Correct, journalling the substeps.
   Integrate(h, true, x_corr_, &rows);
   multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_corr_.head(n_), d_);
   // Commit and shift the samples.
-  point_.r = slots_.k0.cwiseProduct(d_) + rho_new_;
+  if (coupled()) {
+    point_.r.noalias() = slots_.k0_matrix * d_;
+    point_.r += rho_new_;
+  } else {
+    point_.r = slots_.k0.cwiseProduct(d_) + rho_new_;
+  }
   point_.x = x_corr_;
   point_.t = t_next;
   point_.step = k + 1;

@@ -28,6 +28,14 @@ OperatorSplittingScheme::OperatorSplittingScheme(const multibody::Model& model,
       data_(model),
       d_last_(Eigen::VectorXd::Zero(model.num_slots())),
       guard_(model.num_coordinates(), model.num_slots(), stability_constant) {
+  if (coupled() && (slots_.k0_matrix.rows() != m_ || slots_.k0_matrix.cols() != m_ ||
+                    !slots_.k0_matrix.allFinite())) {
+    throw ConfigError(fmt::format("integrator.scheme = {}: the coupled K0 is {} × {} or not "
+                                  "finite; expected {} × {}: give every substructure of several "
+                                  "slots its initial_stiffness (a matrix in N/m) or `measure`",
+                                  SchemeKindName(config.kind), slots_.k0_matrix.rows(),
+                                  slots_.k0_matrix.cols(), m_, m_));
+  }
   for (int s = 0; s < m_; ++s) {
     if (!std::isfinite(slots_.k0(s))) {
       const std::string& slot = model.slots()[s].info.name;
@@ -74,12 +82,20 @@ void OperatorSplittingScheme::SaveSplittingState(nlohmann::json& state) const {
   state["h"] = h_;
   state["guard"] = guard_.SaveState();
   state["k0"] = ToJson(slots_.k0);
+  if (coupled()) {
+    state["k0_matrix"] = ToJson(Eigen::VectorXd(
+        Eigen::Map<const Eigen::VectorXd>(slots_.k0_matrix.data(), slots_.k0_matrix.size())));
+  }
   state["d_last"] = ToJson(d_last_);
 }
 
 void OperatorSplittingScheme::RestoreSplittingState(const nlohmann::json& state) {
   h_ = state.at("h").get<double>();
   slots_.k0 = VectorFromJson(state.at("k0"), m_, "k0");
+  if (state.contains("k0_matrix")) {
+    const Eigen::VectorXd k = VectorFromJson(state.at("k0_matrix"), m_ * m_, "k0_matrix");
+    slots_.k0_matrix = Eigen::Map<const Eigen::MatrixXd>(k.data(), m_, m_);
+  }
   d_last_ = VectorFromJson(state.at("d_last"), m_, "d_last");
   guard_.RestoreState(state.contains("guard") ? state.at("guard") : nlohmann::json());
 }

@@ -45,6 +45,10 @@ class OperatorSplittingScheme : public HybridScheme {
   void SaveSplittingState(nlohmann::json& state) const;
   void RestoreSplittingState(const nlohmann::json& state);
 
+  // K0 is the coupled matrix SlotInfo::k0_matrix (else diag(k0)). The stability guard sees
+  // its diagonal.
+  bool coupled() const { return slots_.k0_matrix.size() > 0; }
+
   const multibody::Model& model_;
   SchemeConfig config_;
   SlotInfo slots_;

@@ -48,10 +48,13 @@ std::string SchemeKindName(SchemeKind kind);
 //   k0              initial stiffness K0 [N/m] or [N·m/rad] (physical: configured or measured;
 //                   numerical: from its law);
 //   max_increment   largest change of the slot displacement between two specimen evaluations
-//                   that the safety limits allow [m] (+inf for a numerical slot).
+//                   that the safety limits allow [m] (+inf for a numerical slot);
+//   k0_matrix       the coupled K0 (m × m) [N/m] where a substructure serves several slots
+//                   (its diagonal is k0); empty when every slot's K0 is its own (diag(k0)).
 struct SlotInfo {
   Eigen::VectorXd k0;
   Eigen::VectorXd max_increment;
+  Eigen::MatrixXd k0_matrix;
 };
 
 // Builds the configured scheme for `model` (which must outlive it). Throws ConfigError when

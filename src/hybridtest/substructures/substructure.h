@@ -4,10 +4,18 @@
 //             Physical: the actuator moves (this is the one impure seam of a hybrid test).
 //   Commit()  makes the last trial permanent (the state it was taken at is committed).
 // A substructure knows nothing of Kane: it sees a displacement d [m] and returns r^s [N].
+//
+// A substructure is a block: it serves num_slots() slots (m) in the order its spec lists them,
+// and the seam calls TrialSlots(d, r, context) with m displacements and m forces. A
+// one-slot substructure implements the scalar Trial(d, context), which TrialSlots forwards to
+// (a distinct name, so that a one-slot class overriding Trial hides nothing). A physical
+// one moves num_actuators() actuators and reports one Exchange per actuator.
+#include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
 #include <limits>
 #include <optional>
+#include <span>
 #include <string>
 
 namespace hybridtest::substructures {
@@ -35,6 +43,13 @@ class Substructure {
   virtual void Activate() {}
   // r^s [N] at displacement d [m]. Throws TransferError or SafetyStop for a physical one.
   virtual double Trial(double displacement, const TrialContext& context) = 0;
+  // Slots served (m ≥ 1).
+  virtual int num_slots() const { return 1; }
+  // r (m) [N] at the slot displacements d (m) [m]. Default: the scalar Trial of one slot.
+  virtual void TrialSlots(std::span<const double> d, std::span<double> r,
+                          const TrialContext& context) {
+    r[0] = Trial(d[0], context);
+  }
   virtual void Commit() = 0;
   // Safe state after a failure: a physical one holds its actuator. Never throws.
   virtual void Hold() noexcept {}
@@ -43,12 +58,22 @@ class Substructure {
   virtual bool is_physical() const { return false; }
   // The last exchange with the bench (physical substructures only).
   virtual Exchange last_exchange() const { return {}; }
+  // Actuators moved (0 for a numerical substructure) and the last exchange of actuator k
+  // (0-based; default: last_exchange()).
+  virtual int num_actuators() const { return is_physical() ? 1 : 0; }
+  virtual Exchange actuator_exchange(int /*k*/) const { return last_exchange(); }
   // Number of trials sent to a bench so far (physical substructures only).
   virtual long evaluations() const { return 0; }
   virtual std::string Describe() const = 0;
   // The specimen's initial stiffness K0 (operator-splitting schemes use it), if known.
   // Unit: [N/m] (or [N·m/rad] for a rotational slot).
   virtual std::optional<double> initial_stiffness() const { return std::nullopt; }
+  // K0 as the m × m matrix dr/dd (a 1 × 1 matrix is initial_stiffness()), if known.
+  virtual std::optional<Eigen::MatrixXd> initial_stiffness_matrix() const {
+    const auto k0 = initial_stiffness();
+    if (!k0) return std::nullopt;
+    return Eigen::MatrixXd::Constant(1, 1, *k0);
+  }
   // The largest change of the slot displacement between two trials that the safety limits
   // allow (+inf if none). Unit: [m] (or [rad]).
   virtual double max_displacement_increment() const {

@@ -3,7 +3,11 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
+
 #include "hybridtest/common/error.h"
+#include "hybridtest/substructures/linear_block.h"
+#include "hybridtest/substructures/multi_actuator_substructure.h"
 #include "hybridtest/substructures/numerical_substructure.h"
 #include "hybridtest/substructures/physical_substructure.h"
 
@@ -25,6 +29,17 @@ std::unique_ptr<Substructure> SubstructureSpec::Build() const {
       throw ConfigError(fmt::format("slot {}: a physical substructure needs a transfer system",
                                     slot));
     }
+    if (physical->linear) {
+      std::vector<transfer::SafetyLimits> limits = physical->actuator_limits;
+      if (limits.empty()) limits.assign(physical->linear->p0.size(), physical->limits);
+      auto multi = std::make_unique<MultiActuatorSubstructure>(slot, physical->transfer.make(),
+                                                               *physical->linear, limits);
+      if (physical->initial_stiffness_matrix) {
+        multi->SetInitialStiffness(*physical->initial_stiffness_matrix);
+      }
+      if (physical->stiffness_ramp) multi->RequestStiffnessMeasurement(*physical->stiffness_ramp);
+      return multi;
+    }
     auto built = std::make_unique<PhysicalSubstructure>(slot, physical->transfer.make(),
                                                          physical->setup, physical->limits,
                                                          physical->safety_stiffness);
@@ -32,11 +47,42 @@ std::unique_ptr<Substructure> SubstructureSpec::Build() const {
     if (physical->stiffness_ramp) built->RequestStiffnessMeasurement(*physical->stiffness_ramp);
     return built;
   }
+  if (stiffness) return std::make_unique<LinearBlock>(*stiffness);
   if (!law) {
     throw ConfigError(fmt::format("slot {}: give a restoring-force law (numerical) or a "
                                   "physical spec", slot));
   }
   return std::make_unique<NumericalSubstructure>(law->Clone());
+}
+
+std::vector<std::vector<int>> SlotIndices(const std::vector<SubstructureSpec>& specs,
+                                          const std::vector<std::string>& model_slots) {
+  std::vector<std::vector<int>> out;
+  std::vector<std::string> owner(model_slots.size());
+  for (const auto& spec : specs) {
+    auto& indices = out.emplace_back();
+    for (const auto& name : spec.SlotNames()) {
+      const auto it = std::find(model_slots.begin(), model_slots.end(), name);
+      if (it == model_slots.end()) {
+        throw ConfigError(fmt::format("substructure {}: the model has no slot '{}'", spec.slot,
+                                      name));
+      }
+      const auto i = static_cast<std::size_t>(it - model_slots.begin());
+      if (!owner[i].empty()) {
+        throw ConfigError(fmt::format("slot {} is served by two substructures ({} and {}); give "
+                                      "each slot to one", name, owner[i], spec.slot));
+      }
+      owner[i] = spec.slot;
+      indices.push_back(static_cast<int>(i));
+    }
+  }
+  for (std::size_t i = 0; i < model_slots.size(); ++i) {
+    if (owner[i].empty()) {
+      throw ConfigError(fmt::format("slot {} is served by no substructure; give it one",
+                                    model_slots[i]));
+    }
+  }
+  return out;
 }
 
 SubstructureSpec NumericalSpec(std::string slot,

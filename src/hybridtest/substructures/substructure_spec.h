@@ -14,7 +14,11 @@
 #include <optional>
 #include <string>
 
+#include <Eigen/Core>
+#include <vector>
+
 #include "hybridtest/constitutive/restoring_force_law.h"
+#include "hybridtest/substructures/linear_setup.h"
 #include "hybridtest/substructures/setup_transform.h"
 #include "hybridtest/substructures/substructure.h"
 #include "hybridtest/transfer/safety.h"
@@ -39,10 +43,22 @@ struct PhysicalSpec {
   std::optional<double> initial_stiffness;
   // Measure K0 before the test with a ramp of this amplitude. Unit: [m].
   std::optional<double> stiffness_ramp;
+  // Several actuators (`setup: transform`): the linear setup, and the limits of each actuator
+  // (`limits` then holds actuator 1's). Unset: one actuator with `setup`.
+  std::optional<LinearSetup> linear;
+  std::vector<transfer::SafetyLimits> actuator_limits;
+  // K0 = dr/dd given as an m × m matrix. Unit: [N/m].
+  std::optional<Eigen::MatrixXd> initial_stiffness_matrix;
 };
 
 struct SubstructureSpec {
-  std::string slot;  // the model's slot name
+  // The model's slot name; for a substructure of several slots, its own name (the config's
+  // key), which names its journal channels.
+  std::string slot;
+  // The slots served, in order (`slots:`); empty: the one slot `slot`.
+  std::vector<std::string> slots;
+  // Numerical, several slots: r = K d with this m × m stiffness [N/m] (then `law` is empty).
+  std::optional<Eigen::MatrixXd> stiffness;
   // Numerical: the law (a prototype; never trialled itself).
   std::shared_ptr<const constitutive::RestoringForceLaw> law;
   // Physical (then `law` is empty).
@@ -54,10 +70,22 @@ struct SubstructureSpec {
   bool custom_is_physical = false;
 
   bool is_physical() const { return physical.has_value() || (custom && custom_is_physical); }
+  // The slots served, in order.
+  std::vector<std::string> SlotNames() const { return slots.empty() ? std::vector{slot} : slots; }
+  // Actuators moved: 0 numerical, n for a linear setup, else 1.
+  int num_actuators() const {
+    if (!is_physical()) return 0;
+    return physical && physical->linear ? physical->linear->num_actuators() : 1;
+  }
   // A fresh substructure. Throws ConfigError if the spec is empty or inconsistent, and what
   // the transfer factory throws.
   std::unique_ptr<Substructure> Build() const;
 };
+
+// For each spec, the indices (into model_slots) of the slots it serves, in its order. Throws
+// ConfigError unless every model slot is served by exactly one spec.
+std::vector<std::vector<int>> SlotIndices(const std::vector<SubstructureSpec>& specs,
+                                          const std::vector<std::string>& model_slots);
 
 // A numerical slot of law `law`.
 SubstructureSpec NumericalSpec(std::string slot, std::unique_ptr<constitutive::RestoringForceLaw> law);

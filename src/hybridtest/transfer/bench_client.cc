@@ -143,6 +143,30 @@ Measurement BenchClient::Execute(double command) {
   }
 }
 
+void BenchClient::Execute(std::span<const double> commands, std::span<Measurement> out) {
+  if (commands.size() == 1 && num_actuators() == 1) {
+    out[0] = Execute(commands[0]);
+    return;
+  }
+  if (static_cast<int>(commands.size()) != num_actuators() || out.size() != commands.size()) {
+    Fail(fmt::format("{} commands for the {} actuators of the bench at {}", commands.size(),
+                     num_actuators(), Endpoint()));
+  }
+  const std::uint32_t sequence = next_sequence_++;
+  const std::string what = fmt::format("the measurement of COMMAND sequence {} ({} actuators)",
+                                       sequence, commands.size());
+  const Frame reply = Exchange(EncodeCommands(sequence, commands), MessageType::kMeasurement, what,
+                               options_.reply_timeout);
+  std::vector<Measurement> measured;
+  try {
+    measured = DecodeMeasurements(reply, num_actuators());
+  } catch (const TransferError& e) {
+    Fail(fmt::format("bad MEASUREMENT from the bench at {} for command {}: {}", Endpoint(),
+                     sequence, e.what()));
+  }
+  for (std::size_t k = 0; k < out.size(); ++k) out[k] = measured[k];
+}
+
 void BenchClient::Hold() noexcept {
   try {
     if (!socket_.is_open()) return;

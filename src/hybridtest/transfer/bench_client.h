@@ -53,7 +53,12 @@ class BenchClient final : public TransferSystem {
   // Connects, sends HELLO and reads WELCOME. Throws TransferError (e.g. wrong token, version),
   // or ConfigError (after closing the connection) if expected_limits exceed the bench's.
   void Activate() override;
+  using TransferSystem::Execute;
   Measurement Execute(double command) override;
+  // A bench of several actuators (its WELCOME says how many; 1 before Activate()): one COMMAND
+  // with every position, one MEASUREMENT with every actuator's sample.
+  int num_actuators() const override { return welcome_ ? welcome_->actuators : 1; }
+  void Execute(std::span<const double> commands, std::span<Measurement> out) override;
   void Hold() noexcept override;
   // HOLD → HOLD_ACK, BYE → BYE, close. A no-op when not connected.
   void Deactivate() override;

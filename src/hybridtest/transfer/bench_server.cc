@@ -52,6 +52,13 @@ BenchServer::BenchServer(TransferSystem& bench, BenchServerOptions options)
       handshakes_(options_.max_pending, options_.handshake_timeout) {
   if (options_.start_position) gate_.monitor().SetStartPosition(*options_.start_position);
   if (options_.initial_stiffness) gate_.monitor().SetInitialStiffness(*options_.initial_stiffness);
+  if (bench_.num_actuators() > 1) {
+    const auto n = static_cast<std::size_t>(bench_.num_actuators());
+    group_ = std::make_unique<SafetyGateGroup>(std::vector<SafetyLimits>(n, options_.limits));
+    for (std::size_t k = 0; k < n && k < options_.start_positions.size(); ++k) {
+      group_->monitor(static_cast<int>(k)).SetStartPosition(options_.start_positions[k]);
+    }
+  }
 }
 
 std::string BenchServer::address() const { return listener_.address(); }
@@ -239,6 +246,7 @@ bool BenchServer::Handshake(Session& session, const Frame& frame) {
     welcome.units = units_;
     welcome.limits = options_.limits;
     welcome.heartbeat_timeout = options_.heartbeat_timeout;
+    welcome.actuators = bench_.num_actuators();
     Log(fmt::format("client '{}' connected from {}", hello.client_name, session.peer));
     session.last_sequence = frame.sequence;
     return Send(session, EncodeWelcome(frame.sequence, welcome));
@@ -253,7 +261,7 @@ bool BenchServer::HandleFrame(Session& session, const Frame& frame) {
   try {
     switch (frame.type) {
       case MessageType::kCommand:
-        return HandleCommand(session, frame);
+        return group_ ? HandleCommands(session, frame) : HandleCommand(session, frame);
       case MessageType::kHeartbeat:
         DecodeEmpty(frame, MessageType::kHeartbeat);
         return Send(session, EncodeEmpty(MessageType::kHeartbeatAck, frame.sequence));
@@ -337,6 +345,52 @@ bool BenchServer::HandleCommand(Session& session, const Frame& frame) {
   }
   previous_measurement_ = clean;
   return SendAll(session.client.fd(), bytes, options_.send_timeout);
+}
+
+// A bench of several actuators: every position is checked by its actuator's monitor before
+// any actuator moves (SafetyGateGroup); a refusal latches like a one-actuator refusal. Test
+// faults are not injected here.
+bool BenchServer::HandleCommands(Session& session, const Frame& frame) {
+  const std::vector<double> commands = DecodeCommands(frame);
+  const long n = ++commands_received_;
+  const auto safety = static_cast<int>(ErrorCode::kSafety);
+  if (static_cast<int>(commands.size()) != bench_.num_actuators()) {
+    SendError(session, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
+              fmt::format("COMMAND with {} positions for a bench of {} actuators; send one per "
+                          "actuator", commands.size(), bench_.num_actuators()));
+    return false;
+  }
+  if (session.refused) {
+    SendError(session, frame.sequence, safety, session.refused_limit, commands[0], 0,
+              "the bench is holding after a safety refusal (" + session.refused_text +
+                  "); reconnect to resume");
+    return true;
+  }
+  std::vector<GatedMove> moves;
+  try {
+    group_->MoveBench(bench_, commands, {n, 0}, moves, [&] {
+      if (bench_held_) {
+        bench_.Activate();
+        bench_held_ = false;
+      }
+    });
+  } catch (const SafetyStop& e) {
+    HoldBench(fmt::format("safety refusal at command {} ({})", n, e.limit()));
+    session.refused = true;
+    session.refused_limit = e.limit();
+    session.refused_text = e.what();
+    SendError(session, frame.sequence, safety, e.limit(), e.value(), e.limit_value(), e.what());
+    return true;
+  } catch (const Error& e) {
+    HoldBench(fmt::format("bench failure at command {}", n));
+    SendError(session, frame.sequence, static_cast<int>(ErrorCode::kBench), "", 0, 0,
+              fmt::format("the bench failed to execute command {}: {}", n, e.what()));
+    return false;
+  }
+  std::vector<Measurement> measured;
+  for (const auto& m : moves) measured.push_back(m.raw);
+  return SendAll(session.client.fd(), EncodeFrame(EncodeMeasurements(frame.sequence, measured)),
+                 options_.send_timeout);
 }
 
 }  // namespace hybridtest::transfer

@@ -34,6 +34,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,6 +45,7 @@
 #include "hybridtest/transfer/frame.h"
 #include "hybridtest/transfer/safety.h"
 #include "hybridtest/transfer/safety_gate.h"
+#include "hybridtest/transfer/safety_gate_group.h"
 #include "hybridtest/transfer/socket.h"
 #include "hybridtest/transfer/transfer_system.h"
 
@@ -59,6 +61,9 @@ struct BenchServerOptions {
   std::size_t max_pending = 16;    // connections awaiting HELLO at once; the oldest is dropped
   double send_timeout = 2.0;       // longest wait to write one frame. Unit: [s].
   SafetyLimits limits;             // checked before every command. SI.
+  // A bench of several actuators: each actuator's position before the first command [m]
+  // (`limits` apply to every actuator).
+  std::vector<double> start_positions;
   std::optional<double> start_position;  // actuator position before the first command, so
                                          // that its increment is checked. Unit: [m].
   std::optional<double> initial_stiffness;  // for the force prediction before two
@@ -99,6 +104,8 @@ class BenchServer {
   // Handles one frame of an open session; returns false when the session must end.
   bool HandleFrame(Session& session, const Frame& frame);
   bool HandleCommand(Session& session, const Frame& frame);
+  // A COMMAND to a bench of several actuators.
+  bool HandleCommands(Session& session, const Frame& frame);
   void RefuseBusyClient();
   bool Send(Session& session, const Frame& frame);
   void SendError(Session& session, std::uint32_t sequence, int code, const std::string& limit,
@@ -110,6 +117,7 @@ class BenchServer {
   BenchServerOptions options_;
   BenchUnits units_;
   SafetyGate gate_;  // check → move → check of every command received
+  std::unique_ptr<SafetyGateGroup> group_;  // the same for a bench of several actuators
   Listener listener_;
   std::atomic<bool> stop_{false};
   std::atomic<long> commands_received_{0};

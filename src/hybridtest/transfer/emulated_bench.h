@@ -48,6 +48,7 @@ class EmulatedBench final : public TransferSystem {
   ~EmulatedBench() override;
 
   void Activate() override;
+  using TransferSystem::Execute;
   Measurement Execute(double command) override;
   void Hold() noexcept override;
   void Deactivate() override;

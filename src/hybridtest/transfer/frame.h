@@ -98,6 +98,7 @@ class ByteReader {
   double F64(std::string_view field);
   std::string Str(std::string_view field);
   void Finish() const;
+  std::size_t remaining() const { return bytes_.size() - offset_; }  // [bytes]
 
  private:
   std::span<const std::uint8_t> Take(std::size_t n, std::string_view field);

@@ -19,6 +19,7 @@ class NumericalLoopback final : public TransferSystem {
   NumericalLoopback(std::unique_ptr<constitutive::RestoringForceLaw> law, double p0);
 
   void Activate() override { active_ = true; }
+  using TransferSystem::Execute;
   Measurement Execute(double command) override;
   void Hold() noexcept override { active_ = false; }
   void Deactivate() override { active_ = false; }

@@ -77,6 +77,7 @@ Frame EncodeWelcome(std::uint32_t sequence, const WelcomeMessage& message) {
   w.F64(message.limits.force_soft);
   w.F64(message.limits.force_hard);
   w.F64(message.heartbeat_timeout);
+  if (message.actuators > 1) w.U16(static_cast<std::uint16_t>(message.actuators));
   return MakeFrame(MessageType::kWelcome, sequence, w);
 }
 
@@ -95,6 +96,7 @@ WelcomeMessage DecodeWelcome(const Frame& frame) {
   m.limits.force_soft = r.F64("force_soft");
   m.limits.force_hard = r.F64("force_hard");
   m.heartbeat_timeout = r.F64("heartbeat_timeout");
+  if (r.remaining() > 0) m.actuators = r.U16("actuators");
   r.Finish();
   return m;
 }
@@ -136,6 +138,56 @@ MeasurementMessage DecodeMeasurement(const Frame& frame) {
   }
   m.status = static_cast<MeasurementStatus>(status);
   return m;
+}
+
+Frame EncodeCommands(std::uint32_t sequence, std::span<const double> positions) {
+  ByteWriter w;
+  for (const double p : positions) w.F64(p);
+  return MakeFrame(MessageType::kCommand, sequence, w);
+}
+
+std::vector<double> DecodeCommands(const Frame& frame) {
+  ByteReader r = ReaderFor(frame, MessageType::kCommand);
+  if (frame.payload.empty() || frame.payload.size() % 8 != 0) {
+    throw TransferError(fmt::format("COMMAND (sequence {}): a payload of {} bytes; expected n ≥ 1 "
+                                    "positions of 8 bytes", frame.sequence, frame.payload.size()));
+  }
+  std::vector<double> positions;
+  while (r.remaining() > 0) positions.push_back(r.F64("position"));
+  return positions;
+}
+
+Frame EncodeMeasurements(std::uint32_t sequence, std::span<const Measurement> measurements) {
+  ByteWriter w;
+  for (const auto& m : measurements) {
+    w.F64(m.position);
+    w.F64(m.force);
+    w.F64(m.lab_time);
+  }
+  w.U32(static_cast<std::uint32_t>(MeasurementStatus::kOk));
+  return MakeFrame(MessageType::kMeasurement, sequence, w);
+}
+
+std::vector<Measurement> DecodeMeasurements(const Frame& frame, int n) {
+  ByteReader r = ReaderFor(frame, MessageType::kMeasurement);
+  if (frame.payload.size() != static_cast<std::size_t>(n) * 24 + 4) {
+    throw TransferError(fmt::format("MEASUREMENT (sequence {}): a payload of {} bytes; expected {} "
+                                    "for {} actuators", frame.sequence, frame.payload.size(),
+                                    n * 24 + 4, n));
+  }
+  std::vector<Measurement> out(static_cast<std::size_t>(n));
+  for (auto& m : out) {
+    m.position = r.F64("position");
+    m.force = r.F64("force");
+    m.lab_time = r.F64("lab_time");
+  }
+  const std::uint32_t status = r.U32("status");
+  r.Finish();
+  if (status != static_cast<std::uint32_t>(MeasurementStatus::kOk)) {
+    throw TransferError(fmt::format(
+        "MEASUREMENT (sequence {}): unknown status {}, expected 0 (OK)", frame.sequence, status));
+  }
+  return out;
 }
 
 Frame EncodeError(std::uint32_t sequence, const ErrorMessage& message) {

@@ -8,15 +8,18 @@
 //                  f64 newtons_per_force_unit, str length_name, str force_name,
 //                  f64 stroke_min [m], f64 stroke_max [m], f64 max_increment [m],
 //                  f64 force_soft [N], f64 force_hard [N], f64 heartbeat_timeout [s]
-//   COMMAND        f64 position [bench length unit]
+//                  (u16 actuators, only for a bench of several actuators)
+//   COMMAND        f64 position [bench length unit] (n of them for n actuators)
 //   MEASUREMENT    f64 position [bench length unit], f64 force [bench force unit],
-//                  f64 lab_time [s], u32 status (MeasurementStatus)
+//                  f64 lab_time [s] (n triples for n actuators), u32 status (MeasurementStatus)
 //   HEARTBEAT, HEARTBEAT_ACK, HOLD, HOLD_ACK, BYE   empty
 //   ERROR          u16 code (ErrorCode), str limit, f64 value, f64 limit_value, str text
 //
 // A reply carries the sequence number of the request it answers.
 #include <cstdint>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "hybridtest/transfer/frame.h"
 #include "hybridtest/transfer/safety.h"
@@ -36,6 +39,9 @@ struct WelcomeMessage {
   BenchUnits units;            // what COMMAND and MEASUREMENT values are expressed in
   SafetyLimits limits;         // the server's limits, SI (timeout is not sent)
   double heartbeat_timeout = 0.0;  // the server drops a silent client after this. Unit: [s].
+  // Actuators of the served bench; sent as a trailing u16 only when > 1 (a one-actuator
+  // WELCOME is unchanged).
+  int actuators = 1;
 };
 
 struct CommandMessage {
@@ -75,6 +81,14 @@ Frame EncodeWelcome(std::uint32_t sequence, const WelcomeMessage& message);
 Frame EncodeCommand(std::uint32_t sequence, const CommandMessage& message);
 Frame EncodeMeasurement(std::uint32_t sequence, const MeasurementMessage& message);
 Frame EncodeError(std::uint32_t sequence, const ErrorMessage& message);
+// A bench of n actuators: COMMAND carries n f64 positions and MEASUREMENT n × (position,
+// force, lab_time) then the u32 status; for n = 1 the bytes are those of the one-value forms.
+Frame EncodeCommands(std::uint32_t sequence, std::span<const double> positions);
+// Throws TransferError unless the payload holds n ≥ 1 values.
+std::vector<double> DecodeCommands(const Frame& frame);
+Frame EncodeMeasurements(std::uint32_t sequence, std::span<const Measurement> measurements);
+// Throws TransferError unless the payload holds exactly `n` measurements and status OK.
+std::vector<Measurement> DecodeMeasurements(const Frame& frame, int n);
 // HEARTBEAT, HEARTBEAT_ACK, HOLD, HOLD_ACK, BYE.
 Frame EncodeEmpty(MessageType type, std::uint32_t sequence);
 

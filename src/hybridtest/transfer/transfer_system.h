@@ -1,6 +1,6 @@
 #pragma once
-// TransferSystem: what moves a physical substructure. One actuator channel: a position command
-// goes out, a measurement (position, force) comes back. This is the hardware seam of
+// TransferSystem: what moves a physical substructure. One or several actuator channels: position
+// commands go out, measurements (position, force) come back. This is the hardware seam of
 // hybridtest: a transfer system speaks the bench's own units (bench_units()); the setup
 // transform of a PhysicalSubstructure converts to and from SI.
 //
@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <optional>
+#include <span>
 #include <string>
 
 #include "hybridtest/common/clock.h"
@@ -63,6 +64,15 @@ class TransferSystem {
   // bound: a bench that does not answer in time raises TransferError. Throws SafetyStop when
   // the bench itself refuses the command for safety reasons.
   virtual Measurement Execute(double command) = 0;
+
+  // Actuators this transfer system moves at once (n ≥ 1).
+  virtual int num_actuators() const { return 1; }
+  // Moves every actuator: commands (n, bench length unit, actuator order) all go out before
+  // any measurement is awaited; out (n) receives one measurement per actuator. Default: the
+  // scalar Execute of a one-actuator system. Throws like Execute; a refused command moves none.
+  virtual void Execute(std::span<const double> commands, std::span<Measurement> out) {
+    out[0] = Execute(commands[0]);
+  }
 
   // Puts the bench in its safe state: hold at the last safe command. Never moves to a new
   // position, never returns to zero by itself, never throws.

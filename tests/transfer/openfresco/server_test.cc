@@ -459,6 +459,7 @@ TEST(OpenFrescoServer, PendingConnectionsAreBounded) {
 class GatedBench final : public TransferSystem {
  public:
   void Activate() override {}
+  using TransferSystem::Execute;
   Measurement Execute(double command) override {
     {
       std::unique_lock lock(mutex_);

@@ -90,6 +90,7 @@ class ModbusTransfer final : public TransferSystem {
   ModbusTransfer& operator=(const ModbusTransfer&) = delete;
 
   void Activate() override;
+  using TransferSystem::Execute;
   Measurement Execute(double command) override;
   void Hold() noexcept override;
   void Deactivate() override;

@@ -44,6 +44,7 @@ class Client final : public TransferSystem {
   ~Client() override;
 
   void Activate() override;  // a no-op when already connected
+  using TransferSystem::Execute;
   Measurement Execute(double command) override;
   void Hold() noexcept override {}
   void Deactivate() override;

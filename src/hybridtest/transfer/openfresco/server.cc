@@ -53,6 +53,7 @@ struct Server::Session {
   std::vector<double> trial_accel;   // last trial accelerations (wire units), n or empty
   bool measured = false;             // a trial has been executed in this session
   double offset = 0.0;               // measured position − p0. Unit: [m].
+  std::vector<double> offsets, forces;  // several actuators: per actuator. Units: [m], [N].
   double force = 0.0;                // measured force. Unit: [N].
   double lab_time = 0.0;             // lab time of the measurement. Unit: [s].
 };
@@ -68,6 +69,18 @@ Server::Server(TransferSystem& bench, ExpSetup setup, BenchServerOptions options
   ValidateSetup(setup_);
   if (options_.start_position) gate_.monitor().SetStartPosition(*options_.start_position);
   gate_.monitor().SetInitialStiffness(options_.initial_stiffness.value_or(setup_.initial_stiffness));
+  if (setup_.actuators > 1) {
+    ValidateMultiSetup(setup_);
+    if (bench_.num_actuators() != setup_.actuators) {
+      throw ConfigError(fmt::format("openfresco: the transform has {} rows, the bench moves {} "
+                                    "actuators", setup_.actuators, bench_.num_actuators()));
+    }
+    const auto na = static_cast<std::size_t>(setup_.actuators);
+    group_ = std::make_unique<SafetyGateGroup>(std::vector<SafetyLimits>(na, options_.limits));
+    for (std::size_t k = 0; k < na && k < options_.start_positions.size(); ++k) {
+      group_->monitor(static_cast<int>(k)).SetStartPosition(options_.start_positions[k]);
+    }
+  }
 }
 
 std::string Server::address() const { return listener_.address(); }
@@ -246,23 +259,31 @@ bool Server::HandleMessage(Session& session, const std::vector<double>& message)
     case static_cast<int>(Action::kGetDaqResponse):
       return Reply(session, DaqResponse(session));
     case static_cast<int>(Action::kGetDisp):
-      return Reply(session, session.measured ? ElementDisplacement(setup_, session.offset)
-                                             : std::vector<double>(n, 0.0));
+      if (!session.measured) return Reply(session, std::vector<double>(n, 0.0));
+      return Reply(session, group_ ? ElementDisplacementOf(setup_, session.offsets)
+                                   : ElementDisplacement(setup_, session.offset));
     case static_cast<int>(Action::kGetVel):
       return Reply(session, session.trial_vel.empty()
                                 ? std::vector<double>(n, 0.0)
-                                : ProjectOnActuator(setup_, session.trial_vel));
+                                : group_ ? ProjectOnActuators(setup_, session.trial_vel)
+                                         : ProjectOnActuator(setup_, session.trial_vel));
     case static_cast<int>(Action::kGetAccel):
       return Reply(session, session.trial_accel.empty()
                                 ? std::vector<double>(n, 0.0)
-                                : ProjectOnActuator(setup_, session.trial_accel));
+                                : group_ ? ProjectOnActuators(setup_, session.trial_accel)
+                                         : ProjectOnActuator(setup_, session.trial_accel));
     case static_cast<int>(Action::kGetForce):
+      if (group_) {
+        return Reply(session, session.measured ? ElementForcesOf(setup_, session.forces)
+                                               : std::vector<double>(n, 0.0));
+      }
       return Reply(session, ElementForces(setup_, session.measured ? session.force : 0.0));
     case static_cast<int>(Action::kGetTime):
       return Reply(session, {session.lab_time});
     case static_cast<int>(Action::kGetInitialStiff):
     case static_cast<int>(Action::kGetTangentStiff):
-      return Reply(session, ElementStiffness(setup_, setup_.initial_stiffness));
+      return Reply(session, group_ ? ElementStiffnessOf(setup_)
+                                   : ElementStiffness(setup_, setup_.initial_stiffness));
     case static_cast<int>(Action::kGetDamp):
     case static_cast<int>(Action::kGetMass):
       return Reply(session, std::vector<double>(static_cast<std::size_t>(n) * n, 0.0));
@@ -316,7 +337,27 @@ bool Server::HandleTrial(Session& session, const std::vector<double>& message) {
   const double command = ActuatorCommand(setup_, d);  // [m]
   const double m_per_unit = bench_units_.metres_per_length_unit;
   const double n_per_unit = bench_units_.newtons_per_force_unit;
+  const auto resume = [&] {
+    if (bench_held_) {
+      bench_.Activate();
+      bench_held_ = false;
+    }
+  };
   try {
+    if (group_) {  // every actuator, every command checked before any moves
+      std::vector<GatedMove> moves;
+      group_->Move(bench_, ActuatorCommands(setup_, d), {count, 0},
+                   std::vector<double>(setup_.p0s.size(), 0.0), moves, resume);
+      session.offsets.clear();
+      session.forces.clear();
+      for (std::size_t k = 0; k < moves.size(); ++k) {
+        session.offsets.push_back(moves[k].position - setup_.p0s[k]);
+        session.forces.push_back(moves[k].force);
+      }
+      session.measured = true;
+      session.lab_time = moves[0].lab_time;
+      return true;
+    }
     GatedMove move;
     gate_.Move(bench_, command, {count, 0}, 0.0, move, [&] {
       if (bench_held_) {
@@ -347,7 +388,18 @@ std::vector<double> Server::DaqResponse(const Session& session) const {
       session.force / setup_.wire_units.newtons_per_force_unit, session.lab_time};
   std::vector<double> out;
   for (int k = 0; k < 5; ++k) {
-    for (int i = 0; i < size[k]; ++i) out.push_back(i == 0 && session.measured ? first[k] : 0.0);
+    for (int i = 0; i < size[k]; ++i) {
+      double v = i == 0 && session.measured ? first[k] : 0.0;
+      if (group_ && session.measured && k != 4) {  // several actuators: actuator i's value
+        const auto a = static_cast<std::size_t>(i);
+        v = k == 0 && a < session.offsets.size()
+                ? session.offsets[a] / setup_.wire_units.metres_per_length_unit
+            : k == 3 && a < session.forces.size()
+                ? session.forces[a] / setup_.wire_units.newtons_per_force_unit
+                : 0.0;
+      }
+      out.push_back(v);
+    }
   }
   return out;
 }

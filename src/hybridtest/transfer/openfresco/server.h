@@ -14,6 +14,9 @@
 //                                                        projected on T (zeros if not sent)
 //   10 getForce         → q = Tᵀ f                 11 getTime → lab time of the measurement [s]
 //   12, 13 getInitialStiff, getTangentStiff → Tᵀ K0 T (column-major)   14, 15 → zeros (n × n)
+// A setup of n_act actuators (T n_act × n; setup.h) answers the same with vectors: the bench
+// moves every actuator to p0 + T d, 7 gives Tᵀ(T Tᵀ)⁻¹ x, 10 q = Tᵀ f, 12 and 13 Tᵀ K_a T, and
+// the first n_act words of each DAQ block hold the actuators' values.
 // Before the first trial of a session, getDisp/getForce/getDaqResponse report zeros.
 //
 // Safety — the rules of BenchServer (bench_server.h), with the same SafetyMonitor:
@@ -52,7 +55,10 @@
 #include "hybridtest/transfer/openfresco/setup.h"
 #include "hybridtest/transfer/openfresco/wire.h"
 #include "hybridtest/transfer/safety.h"
+#include <memory>
+
 #include "hybridtest/transfer/safety_gate.h"
+#include "hybridtest/transfer/safety_gate_group.h"
 #include "hybridtest/transfer/socket.h"
 #include "hybridtest/transfer/transfer_system.h"
 
@@ -104,6 +110,9 @@ class Server {
   BenchServerOptions options_;
   BenchUnits bench_units_;
   SafetyGate gate_;  // check → move → check of every command received
+  // A setup of several actuators (ExpSetup::actuators > 1): one monitor per actuator, every
+  // command of a trial checked before any actuator moves.
+  std::unique_ptr<SafetyGateGroup> group_;
   Listener listener_;
   std::atomic<bool> stop_{false};
   std::atomic<long> sessions_{0};

@@ -12,6 +12,7 @@
 //
 // q = Tᵀ f is the virtual-work dual of p − p0 = T d (f · δx = q · δd). Numbers on the wire
 // are in `wire_units`; everything stored here is SI.
+#include <algorithm>
 #include <span>
 #include <vector>
 
@@ -24,8 +25,13 @@ struct ExpSetup {
   std::vector<double> transform;   // T, (1 × n) row. Unit: [-] (wire length per wire length).
   double p0 = 0.0;                 // actuator position at T d = 0. Unit: [m].
   double initial_stiffness = 0.0;  // K0, the specimen's initial stiffness. Unit: [N/m].
+  // Several actuators (n_act > 1): `transform` holds T row-major (n_act × n), and p0 and K0
+  // are per actuator: p0s (n_act) [m], stiffness_matrix K_a (n_act × n_act, row-major) [N/m].
+  int actuators = 1;
+  std::vector<double> p0s;
+  std::vector<double> stiffness_matrix;
 
-  int dofs() const { return static_cast<int>(transform.size()); }
+  int dofs() const { return static_cast<int>(transform.size()) / std::max(actuators, 1); }
 };
 
 // Throws ConfigError unless T is non-empty, finite and not all zero, and K0 is finite and
@@ -46,5 +52,19 @@ std::vector<double> ElementDisplacement(const ExpSetup& setup, double offset);
 
 // Tᵀ (T Tᵀ)⁻¹ T v, unit-free (v in any wire unit; n values in, n values out).
 std::vector<double> ProjectOnActuator(const ExpSetup& setup, std::span<const double> v);
+
+// Several actuators (setup_multi.cc), with T (n_act × n):
+// a = p0 + T d [m] per actuator (NaN if any d is not finite).
+std::vector<double> ActuatorCommands(const ExpSetup& setup, std::span<const double> d);
+// q = Tᵀ f, f (n_act) [N] → n values in wire force units.
+std::vector<double> ElementForcesOf(const ExpSetup& setup, std::span<const double> forces);
+// Tᵀ K_a T → n² values in wire force per wire length, column-major.
+std::vector<double> ElementStiffnessOf(const ExpSetup& setup);
+// Tᵀ (T Tᵀ)⁻¹ x, x (n_act) = measured positions − p0 [m] → n values in wire length units.
+std::vector<double> ElementDisplacementOf(const ExpSetup& setup, std::span<const double> offsets);
+// Tᵀ (T Tᵀ)⁻¹ T v (n values in and out).
+std::vector<double> ProjectOnActuators(const ExpSetup& setup, std::span<const double> v);
+// Throws ConfigError unless the sizes fit n_act and T has full row rank.
+void ValidateMultiSetup(const ExpSetup& setup);
 
 }  // namespace hybridtest::transfer::openfresco

@@ -1,0 +1,277 @@
+// See multi_actuator_substructure.h.
+#include "hybridtest/substructures/multi_actuator_substructure.h"
+
+#include <Eigen/Dense>
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "hybridtest/common/error.h"
+
+namespace hybridtest::substructures {
+
+void LinearSetup::Validate() const {
+  const auto n = transform.rows(), m = transform.cols();
+  if (n < 1 || m < 1 || p0.size() != n || load_cell_zero.size() != n) {
+    throw ConfigError(fmt::format("setup: transform is {} × {}, p0 has {} values and "
+                                  "load_cell_zero {}: expected T of n_actuators × n_slots, and "
+                                  "one p0 and one load-cell zero per actuator (row of T)",
+                                  n, m, p0.size(), load_cell_zero.size()));
+  }
+  if (!transform.allFinite() || !p0.allFinite() || !load_cell_zero.allFinite()) {
+    throw ConfigError("setup: transform, p0 and load_cell_zero must be finite");
+  }
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(transform);
+  if (lu.rank() < m) {
+    throw ConfigError(fmt::format("setup: transform ({} × {}) has rank {}: the actuators cannot "
+                                  "tell the {} slots apart; give T full column rank", n, m,
+                                  lu.rank(), m));
+  }
+}
+
+MultiActuatorSubstructure::MultiActuatorSubstructure(
+    std::string name, std::unique_ptr<transfer::TransferSystem> transfer, LinearSetup setup,
+    std::vector<transfer::SafetyLimits> limits)
+    : name_(std::move(name)), transfer_(std::move(transfer)), setup_(std::move(setup)),
+      gate_(limits) {
+  if (!transfer_) throw Error("MultiActuatorSubstructure '" + name_ + "': no transfer system");
+  setup_.Validate();
+  const int n = setup_.num_actuators();
+  if (gate_.size() != n) {
+    throw ConfigError(fmt::format("{}: the setup's transform has {} rows (actuators) and {} sets "
+                                  "of safety limits were given", name_, n, gate_.size()));
+  }
+  for (int k = 0; k < n; ++k) gate_.monitor(k).SetStartPosition(setup_.p0(k));
+  last_.resize(static_cast<std::size_t>(n));
+  commands_.resize(static_cast<std::size_t>(n));
+  zeros_.assign(setup_.load_cell_zero.data(), setup_.load_cell_zero.data() + n);
+}
+
+MultiActuatorSubstructure::~MultiActuatorSubstructure() {
+  if (active_) Hold();
+}
+
+void MultiActuatorSubstructure::Activate() {
+  transfer_->Activate();
+  held_ = false;
+  active_ = true;
+  // A remote bench says how many actuators it has once connected.
+  if (transfer_->num_actuators() != num_actuators()) {
+    Hold();
+    throw ConfigError(fmt::format("{}: the setup's transform has {} rows (actuators), the "
+                                  "transfer system ({}) moves {}: give one row of T and one p0 "
+                                  "per actuator", name_, num_actuators(), transfer_->Describe(),
+                                  transfer_->num_actuators()));
+  }
+}
+
+void MultiActuatorSubstructure::MoveAll(const std::vector<double>& commands,
+                                        transfer::MoveLabel label) {
+  held_ = false;
+  auto record = [&] {
+    if (moves_.empty() || !moves_[0].executed) return;
+    ++evaluations_;
+    for (std::size_t k = 0; k < last_.size(); ++k) {
+      last_[k] = {commands[k], moves_[k].position, moves_[k].force, moves_[k].lab_time,
+                  moves_[k].raw.force_reversals};
+    }
+  };
+  try {
+    gate_.Move(*transfer_, commands, label, zeros_, moves_);
+  } catch (...) {
+    record();
+    Hold();
+    throw;
+  }
+  record();
+}
+
+double MultiActuatorSubstructure::Trial(double displacement, const TrialContext& context) {
+  if (num_slots() != 1) {
+    throw Error(fmt::format("{}: a scalar trial of a substructure of {} slots; call TrialSlots",
+                            name_, num_slots()));
+  }
+  double r = 0.0;
+  TrialSlots({&displacement, 1}, {&r, 1}, context);
+  return r;
+}
+
+void MultiActuatorSubstructure::TrialSlots(std::span<const double> d, std::span<double> r,
+                                           const TrialContext& ctx) {
+  const Eigen::Map<const Eigen::VectorXd> dv(d.data(), static_cast<Eigen::Index>(d.size()));
+  Eigen::Map<Eigen::VectorXd>(commands_.data(), setup_.num_actuators()) =
+      setup_.p0 + setup_.transform * dv;
+  try {
+    MoveAll(commands_, {ctx.step, ctx.stage});
+  } catch (const TransferError& e) {
+    throw TransferError(fmt::format("{}: {} (step {}, stage {}, t = {} s; every actuator holds)",
+                                    name_, e.what(), ctx.step, ctx.stage, ctx.t));
+  }
+  Eigen::VectorXd f(setup_.num_actuators());
+  for (int k = 0; k < f.size(); ++k) f(k) = last_[static_cast<std::size_t>(k)].force;
+  Eigen::Map<Eigen::VectorXd>(r.data(), static_cast<Eigen::Index>(r.size())) =
+      setup_.transform.transpose() * f;
+}
+
+void MultiActuatorSubstructure::Hold() noexcept {
+  if (held_) return;
+  held_ = true;
+  transfer_->Hold();
+}
+
+void MultiActuatorSubstructure::Deactivate() {
+  if (!active_) return;
+  active_ = false;
+  transfer_->Deactivate();
+}
+
+std::string MultiActuatorSubstructure::Describe() const {
+  return fmt::format("physical ({}; {} slots, {} actuators): {}", name_, num_slots(),
+                     num_actuators(), transfer_->Describe());
+}
+
+std::optional<double> MultiActuatorSubstructure::initial_stiffness() const {
+  if (k0_ && k0_->rows() == 1) return (*k0_)(0, 0);
+  return std::nullopt;
+}
+
+void MultiActuatorSubstructure::SetInitialStiffness(const Eigen::MatrixXd& k0) {
+  if (k0.rows() != num_slots() || k0.cols() != num_slots() || !k0.allFinite()) {
+    throw ConfigError(fmt::format("{}: initial stiffness of {} × {}: expected a finite {} × {} "
+                                  "matrix in N/m", name_, k0.rows(), k0.cols(), num_slots(),
+                                  num_slots()));
+  }
+  k0_ = k0;
+}
+
+double MultiActuatorSubstructure::max_displacement_increment() const {
+  double inc = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < num_actuators(); ++k) {
+    const double row = setup_.transform.row(k).cwiseAbs().sum();
+    if (row > 0.0) inc = std::min(inc, gate_.monitor(k).limits().max_increment / row);
+  }
+  return inc;
+}
+
+MultiActuatorSubstructure::StiffnessMeasurement MultiActuatorSubstructure::MeasureInitialStiffness(
+    double amplitude) {
+  if (!(amplitude > 0.0) || !std::isfinite(amplitude)) {
+    throw ConfigError(fmt::format("{}: stiffness ramp amplitude {} m: expected a positive length",
+                                  name_, amplitude));
+  }
+  const int n = num_actuators();
+  StiffnessMeasurement out;
+  out.amplitude = amplitude;
+  for (int j = 0; j < n; ++j) {
+    const double step_limit = 0.5 * gate_.monitor(j).limits().max_increment;
+    const int steps = std::max(4, static_cast<int>(std::ceil(amplitude / step_limit)));
+    for (int k = 1; k <= 2 * steps; ++k) {
+      const int level = k <= steps ? k : 2 * steps - k;
+      Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
+      x(j) = amplitude * static_cast<double>(level) / steps;
+      for (int i = 0; i < n; ++i) commands_[static_cast<std::size_t>(i)] = setup_.p0(i) + x(i);
+      MoveAll(commands_, {-1, j * 2 * steps + k});
+      Eigen::VectorXd f(n);
+      for (int i = 0; i < n; ++i) f(i) = last_[static_cast<std::size_t>(i)].force;
+      out.samples.emplace_back(x, f);
+    }
+  }
+  // f = K_a x with K_a symmetric: unknowns K_ij, i ≤ j; one equation per force sample.
+  const int unknowns = n * (n + 1) / 2;
+  const auto rows = static_cast<Eigen::Index>(out.samples.size()) * n;
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(rows, unknowns);
+  Eigen::VectorXd b(rows);
+  auto index = [n](int i, int j) {
+    if (i > j) std::swap(i, j);
+    return i * n - i * (i - 1) / 2 + (j - i);
+  };
+  Eigen::Index row = 0;
+  for (const auto& [x, f] : out.samples) {
+    for (int i = 0; i < n; ++i, ++row) {
+      for (int j = 0; j < n; ++j) a(row, index(i, j)) += x(j);
+      b(row) = f(i);
+    }
+  }
+  const Eigen::VectorXd kv = a.colPivHouseholderQr().solve(b);
+  out.actuator_k.resize(n, n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) out.actuator_k(i, j) = kv(index(i, j));
+  }
+  out.k0 = setup_.transform.transpose() * out.actuator_k * setup_.transform;
+  if (!out.k0.allFinite() || !(out.k0.diagonal().minCoeff() > 0.0)) {
+    throw Error(fmt::format("{}: the stiffness ramps gave a K0 with a non-positive or non-finite "
+                            "diagonal; check the specimen, the setup's transform and the load "
+                            "cells, or give initial_stiffness as a matrix in N/m", name_));
+  }
+  SetInitialStiffness(out.k0);
+  return out;
+}
+
+nlohmann::json MultiActuatorSubstructure::SaveState() const {
+  nlohmann::json last = nlohmann::json::array(), safety = nlohmann::json::array();
+  for (const auto& e : last_) last.push_back({e.command, e.position, e.force, e.lab_time});
+  for (int k = 0; k < num_actuators(); ++k) safety.push_back(gate_.monitor(k).SaveState());
+  nlohmann::json k0 = nullptr;
+  if (k0_) {
+    k0 = nlohmann::json::array();
+    for (Eigen::Index i = 0; i < k0_->rows(); ++i) {
+      nlohmann::json r = nlohmann::json::array();
+      for (Eigen::Index j = 0; j < k0_->cols(); ++j) r.push_back((*k0_)(i, j));
+      k0.push_back(r);
+    }
+  }
+  return {{"last", last}, {"evaluations", evaluations_}, {"k0", k0}, {"safety", safety},
+          {"transfer", transfer_->SaveState()}};
+}
+
+void MultiActuatorSubstructure::RestoreState(const nlohmann::json& state) {
+  const auto& last = state.at("last");
+  if (last.size() != last_.size()) {
+    throw Error(fmt::format("{}: the saved state has {} actuators, this setup {}", name_,
+                            last.size(), last_.size()));
+  }
+  for (std::size_t k = 0; k < last_.size(); ++k) {
+    last_[k] = {last[k][0].get<double>(), last[k][1].get<double>(), last[k][2].get<double>(),
+                last[k][3].get<double>(), 0};
+    gate_.monitor(static_cast<int>(k)).RestoreState(state.at("safety")[k]);
+  }
+  evaluations_ = state.at("evaluations").get<long>();
+  if (!state.at("k0").is_null()) {
+    const auto& k0 = state.at("k0");
+    Eigen::MatrixXd m(static_cast<Eigen::Index>(k0.size()), static_cast<Eigen::Index>(k0.size()));
+    for (std::size_t i = 0; i < k0.size(); ++i) {
+      for (std::size_t j = 0; j < k0.size(); ++j) {
+        m(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = k0[i][j].get<double>();
+      }
+    }
+    SetInitialStiffness(m);
+  }
+  if (!state.at("transfer").is_null()) transfer_->RestoreState(state.at("transfer"));
+}
+
+void MultiActuatorSubstructure::ReimposeCommitted(double force_tolerance, long step) {
+  std::vector<double> committed(last_.size()), forces(last_.size());
+  for (std::size_t k = 0; k < last_.size(); ++k) {
+    committed[k] = last_[k].command;
+    forces[k] = last_[k].force;
+  }
+  MoveAll(committed, {step, -1});
+  for (std::size_t k = 0; k < last_.size(); ++k) {
+    const double tol = force_tolerance > 0.0
+                           ? force_tolerance
+                           : 0.01 * gate_.monitor(static_cast<int>(k)).limits().force_hard;
+    const double diff = std::abs(last_[k].force - forces[k]);
+    if (diff > tol) {
+      Hold();
+      throw transfer::SafetyStop(
+          "resume_force_tolerance", diff, tol, step, -1,
+          gate_.monitor(static_cast<int>(k)).history(),
+          fmt::format("{}: actuator {} measures {} N at its committed command {} m, the journal "
+                      "{} N; every actuator holds. Check the specimen before resuming.",
+                      name_, k + 1, last_[k].force, committed[k], forces[k]));
+    }
+  }
+}
+
+}  // namespace hybridtest::substructures

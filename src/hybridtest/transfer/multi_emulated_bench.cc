@@ -1,0 +1,287 @@
+// See multi_emulated_bench.h.
+#include "hybridtest/transfer/multi_emulated_bench.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/common/yaml_input.h"
+#include "hybridtest/transfer/actuator.h"
+#include "hybridtest/transfer/lab_clock.h"
+#include "hybridtest/transfer/load_cell.h"
+
+namespace hybridtest::transfer {
+namespace {
+
+// Actuator k's view of a node: every sequence (a per-actuator list) replaced by its k-th value.
+YAML::Node Pick(const YAML::Node& node, std::size_t k, std::size_t n, const std::string& where) {
+  if (node.IsSequence()) {
+    if (node.size() != n) {
+      throw ConfigError(fmt::format("{}: a list of {} values; expected one value per actuator "
+                                    "({}), or one scalar for all", where, node.size(), n));
+    }
+    return YAML::Clone(node[k]);
+  }
+  if (!node.IsMap()) return YAML::Clone(node);
+  YAML::Node out(YAML::NodeType::Map);
+  for (const auto& kv : node) {
+    const std::string key = kv.first.as<std::string>();
+    out[key] = Pick(kv.second, k, n, where + "." + key);
+  }
+  return out;
+}
+
+}  // namespace
+
+bool IsMultiBench(const YAML::Node& bench) { return bench.IsMap() && bench["actuators"]; }
+
+MultiBenchConfig ParseMultiBenchConfig(const YAML::Node& bench, std::string_view where_view) {
+  const std::string where(where_view);
+  const YamlInput in = YamlInput::ForNode(bench);
+  const double count = in.Number(bench["actuators"], where + ".actuators",
+                                 "the number of actuators (an integer ≥ 1)");
+  if (!(count >= 1.0) || count != std::floor(count) || count > 64.0) {
+    throw ConfigError(fmt::format("{}.actuators = {}: expected an integer from 1 to 64", where, count));
+  }
+  const auto n = static_cast<std::size_t>(count);
+  if (bench["faults"]) {
+    throw ConfigError(fmt::format("{}.faults: not available on a bench with `actuators:`; remove "
+                                  "it (inject faults on a one-actuator bench)", where));
+  }
+  const YAML::Node spec = bench["specimen"];
+  const char* expected = "{type: linear, stiffness: [[k11, k12, ...], ...]} in N/m, n × n";
+  if (!spec || !spec.IsMap() || !spec["type"] || spec["type"].as<std::string>() != "linear" ||
+      !spec["stiffness"] || !spec["stiffness"].IsSequence() || spec["stiffness"].size() != n) {
+    throw ConfigError(fmt::format("{}.specimen: expected {} for {} actuators", where, expected, n));
+  }
+  MultiBenchConfig config;
+  config.stiffness.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const YAML::Node row = spec["stiffness"][i];
+    if (!row.IsSequence() || row.size() != n) {
+      throw ConfigError(fmt::format("{}.specimen.stiffness row {}: expected {} values ({})",
+                                    where, i + 1, n, expected));
+    }
+    for (std::size_t j = 0; j < n; ++j) {
+      config.stiffness(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) =
+          in.Number(row[j], fmt::format("{}.specimen.stiffness[{}][{}]", where, i, j),
+                    "a stiffness in N/m");
+    }
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    YAML::Node one(YAML::NodeType::Map);
+    for (const auto& kv : bench) {
+      const std::string key = kv.first.as<std::string>();
+      if (key == "actuators" || key == "specimen" || key == "openfresco") continue;
+      one[key] = Pick(kv.second, k, n, where + "." + key);
+    }
+    // The actuator's own monitor predicts forces from the diagonal stiffness.
+    const double kkk = config.stiffness(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k));
+    one["specimen"]["type"] = "linear";
+    one["specimen"]["stiffness"] = kkk;
+    const unsigned long seed = bench["seed"] ? one["seed"].as<unsigned long>() : 1UL;
+    one["seed"] = seed + k;
+    config.actuators.push_back(
+        ParseEmulatedBenchConfig(one, fmt::format("{} (actuator {})", where, k + 1)));
+  }
+  return config;
+}
+
+bool IsMultiBenchFile(const std::string& path) {
+  try {
+    return IsMultiBench(YAML::LoadFile(path)["bench"]);
+  } catch (const std::exception&) {
+    return false;  // the one-actuator loader reports what is wrong with the file
+  }
+}
+
+MultiBenchConfig LoadMultiBenchConfig(const std::string& path) {
+  const YamlInput file = YamlInput::FromFile(path, "a 'bench:' mapping");
+  if (!IsMultiBench(file.root()["bench"])) {
+    throw ConfigError(fmt::format("{}: expected a top-level 'bench:' mapping with `actuators:`",
+                                  path));
+  }
+  return ParseMultiBenchConfig(file.root()["bench"], fmt::format("{}: bench", path));
+}
+
+MultiEmulatedBench::MultiEmulatedBench(const MultiBenchConfig& config) : config_(config) {
+  const auto n = config_.actuators.size();
+  if (n == 0 || config_.stiffness.rows() != static_cast<Eigen::Index>(n) ||
+      config_.stiffness.cols() != static_cast<Eigen::Index>(n) || !config_.stiffness.allFinite()) {
+    throw ConfigError(fmt::format("multi-actuator bench: {} actuators and a {} × {} stiffness: "
+                                  "expected a finite n × n matrix", n, config_.stiffness.rows(),
+                                  config_.stiffness.cols()));
+  }
+  const auto& first = config_.actuators[0];
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto& a = config_.actuators[k];
+    ValidateEmulatedBenchConfig(a);
+    if (a.internal_step != first.internal_step ||
+        a.units.metres_per_length_unit != first.units.metres_per_length_unit ||
+        a.units.newtons_per_force_unit != first.units.newtons_per_force_unit) {
+      throw ConfigError(fmt::format("multi-actuator bench: actuator {} has another internal step "
+                                    "or other wire units than actuator 1; give them once for all",
+                                    k + 1));
+    }
+    safety_.emplace_back(a.safety);
+    actuators_.push_back(std::make_unique<Actuator>(a));
+    load_cells_.push_back(std::make_unique<LoadCell>(a.noise_std, a.resolution, a.offset, a.seed));
+  }
+  clock_ = std::make_unique<LabClock>(first.realtime);
+}
+
+MultiEmulatedBench::~MultiEmulatedBench() = default;
+
+void MultiEmulatedBench::Activate() {
+  if (state_ == State::kConfigured) {
+    for (std::size_t k = 0; k < safety_.size(); ++k) {
+      safety_[k].SetStartPosition(config_.actuators[k].initial_position);
+      const double kkk = config_.stiffness(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k));
+      if (kkk > 0.0) safety_[k].SetInitialStiffness(kkk);
+    }
+    clock_->Start();
+  }
+  state_ = State::kActive;
+}
+
+Measurement MultiEmulatedBench::Execute(double command) {
+  if (num_actuators() != 1) {
+    throw TransferError(fmt::format("multi-actuator bench: one command for {} actuators; a "
+                                    "substructure with `setup: transform` sends one per actuator",
+                                    num_actuators()));
+  }
+  Measurement m;
+  Execute(std::span<const double>(&command, 1), std::span<Measurement>(&m, 1));
+  return m;
+}
+
+Eigen::VectorXd MultiEmulatedBench::Forces() const {
+  Eigen::VectorXd deformation(num_actuators());
+  for (int k = 0; k < num_actuators(); ++k) {
+    deformation(k) = actuators_[static_cast<std::size_t>(k)]->position() -
+                     config_.actuators[static_cast<std::size_t>(k)].p0;
+  }
+  return config_.stiffness * deformation;
+}
+
+void MultiEmulatedBench::Execute(std::span<const double> commands, std::span<Measurement> out) {
+  const auto n = static_cast<std::size_t>(num_actuators());
+  if (commands.size() != n || out.size() != n) {
+    throw TransferError(fmt::format("multi-actuator bench: {} commands for {} actuators",
+                                    commands.size(), n));
+  }
+  if (state_ != State::kActive) {
+    throw TransferError(fmt::format("multi-actuator bench: Execute while the bench is {}: call "
+                                    "Activate() first (also to resume after a hold)",
+                                    state_ == State::kHolding ? "holding" : "not active"));
+  }
+  const long index = command_count_++;
+  const auto& first = config_.actuators[0];
+  std::vector<double> target(n);
+  for (std::size_t k = 0; k < n; ++k) target[k] = commands[k] * first.units.metres_per_length_unit;
+  // 0. Every command is checked before any actuator moves.
+  try {
+    std::vector<SafetyMonitor> checked = safety_;
+    for (std::size_t k = 0; k < n; ++k) checked[k].CheckCommand(target[k], index, 0);
+    safety_ = std::move(checked);
+  } catch (...) {
+    Hold();
+    throw;
+  }
+  clock_->Advance(first.overhead);
+  const double dt = first.internal_step;
+  auto advance = [&]() {
+    for (std::size_t k = 0; k < n; ++k) actuators_[k]->Step(target[k]);
+    const Eigen::VectorXd force = Forces();
+    for (std::size_t k = 0; k < n; ++k) {
+      const double capacity = config_.actuators[k].capacity;
+      if (!(std::abs(force(static_cast<Eigen::Index>(k))) <= capacity)) {
+        Hold();
+        throw SafetyStop("actuator_capacity", std::abs(force(static_cast<Eigen::Index>(k))),
+                         capacity, index, 0, safety_[k].history(),
+                         fmt::format("The drive of actuator {} tripped at position {:.6g} m: the "
+                                     "specimen force exceeds its capacity; every actuator holds.",
+                                     k + 1, actuators_[k]->position()));
+      }
+    }
+    return force;
+  };
+  // 1–2. Move together until every actuator has settled for its dwell time.
+  std::vector<double> dwell(n, 0.0);
+  double phase_time = 0.0;
+  for (;;) {
+    advance();
+    phase_time += dt;
+    bool all = true;
+    for (std::size_t k = 0; k < n; ++k) {
+      const auto& a = config_.actuators[k];
+      const bool inside = actuators_[k]->reference_arrived(target[k]) &&
+                          std::abs(target[k] - actuators_[k]->position()) < a.settle_tolerance;
+      dwell[k] = inside ? dwell[k] + dt : 0.0;
+      all = all && inside && dwell[k] >= a.settle_dwell - 0.5 * dt;
+    }
+    if (all) break;
+    if (phase_time > first.safety.timeout) {
+      clock_->Advance(phase_time);
+      Hold();
+      throw TransferError(fmt::format("multi-actuator bench: the actuators did not all settle in "
+                                      "{} s; check the lag parameters and settling", phase_time));
+    }
+  }
+  // 3. Sample every load cell over the window (deviations from the first sample).
+  const long samples = std::max(1L, std::lround(first.sampling_window / dt));
+  std::vector<double> p_first(n), f_first(n), sum_dp(n, 0.0), sum_df(n, 0.0);
+  for (long i = 0; i < samples; ++i) {
+    const Eigen::VectorXd force = advance();
+    for (std::size_t k = 0; k < n; ++k) {
+      const double reading = load_cells_[k]->Sample(force(static_cast<Eigen::Index>(k)));
+      if (i == 0) {
+        p_first[k] = actuators_[k]->position();
+        f_first[k] = reading;
+      }
+      sum_dp[k] += actuators_[k]->position() - p_first[k];
+      sum_df[k] += reading - f_first[k];
+    }
+  }
+  const double count = static_cast<double>(samples);
+  clock_->Advance(phase_time + count * dt);
+  for (std::size_t k = 0; k < n; ++k) {
+    const double position = p_first[k] + sum_dp[k] / count;
+    const double force = f_first[k] + sum_df[k] / count;
+    try {
+      safety_[k].CheckMeasurement(target[k], position, force, index, 0);
+    } catch (...) {
+      Hold();
+      throw;
+    }
+    out[k] = {commands[k] + (position - target[k]) / first.units.metres_per_length_unit,
+              force / first.units.newtons_per_force_unit, clock_->lab_time(), 0};
+  }
+  clock_->Pace();
+}
+
+void MultiEmulatedBench::Hold() noexcept {
+  if (state_ == State::kActive) state_ = State::kHolding;
+}
+
+void MultiEmulatedBench::Deactivate() {
+  Hold();
+  state_ = State::kDeactivated;
+}
+
+std::string MultiEmulatedBench::Describe() const {
+  std::string p0;
+  for (const auto& a : config_.actuators) p0 += fmt::format("{}{:g}", p0.empty() ? "" : ", ", a.p0 * 1e3);
+  return fmt::format("emulated bench with {} actuators (coupled linear specimen; p0 = [{}] mm; "
+                     "{}/{}; {})", num_actuators(), p0, config_.actuators[0].units.length_name,
+                     config_.actuators[0].units.force_name,
+                     config_.actuators[0].realtime ? "realtime" : "accelerated");
+}
+
+double MultiEmulatedBench::lab_time() const { return clock_->lab_time(); }
+double MultiEmulatedBench::actuator_position(int k) const {
+  return actuators_[static_cast<std::size_t>(k)]->position();
+}
+
+}  // namespace hybridtest::transfer

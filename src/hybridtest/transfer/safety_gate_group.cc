@@ -1,0 +1,79 @@
+// See safety_gate_group.h.
+#include "hybridtest/transfer/safety_gate_group.h"
+
+#include <fmt/core.h>
+
+namespace hybridtest::transfer {
+
+SafetyGateGroup::SafetyGateGroup(const std::vector<SafetyLimits>& limits) {
+  if (limits.empty()) throw ConfigError("safety: a specimen needs the limits of at least one actuator");
+  for (const auto& l : limits) monitors_.emplace_back(l);
+}
+
+void SafetyGateGroup::Move(TransferSystem& transfer, const std::vector<double>& commands_m,
+                           MoveLabel label, const std::vector<double>& load_cell_zero,
+                           std::vector<GatedMove>& out,
+                           const std::function<void()>& before_execute) {
+  const BenchUnits units = transfer.bench_units();
+  bench_commands_.resize(commands_m.size());
+  for (std::size_t k = 0; k < commands_m.size(); ++k) {
+    bench_commands_[k] = commands_m[k] / units.metres_per_length_unit;
+  }
+  Execute(transfer, commands_m, label, load_cell_zero, out, before_execute);
+}
+
+void SafetyGateGroup::MoveBench(TransferSystem& transfer, std::span<const double> commands_bench,
+                                MoveLabel label, std::vector<GatedMove>& out,
+                                const std::function<void()>& before_execute) {
+  const BenchUnits units = transfer.bench_units();
+  bench_commands_.assign(commands_bench.begin(), commands_bench.end());
+  std::vector<double> commands_m(commands_bench.size());
+  for (std::size_t k = 0; k < commands_m.size(); ++k) {
+    commands_m[k] = commands_bench[k] * units.metres_per_length_unit;
+  }
+  Execute(transfer, commands_m, label, std::vector<double>(commands_m.size(), 0.0), out,
+          before_execute);
+}
+
+void SafetyGateGroup::Execute(TransferSystem& transfer, const std::vector<double>& commands_m,
+                              MoveLabel label, const std::vector<double>& load_cell_zero,
+                              std::vector<GatedMove>& out,
+                              const std::function<void()>& before_execute) {
+  const std::size_t n = monitors_.size();
+  if (commands_m.size() != n || load_cell_zero.size() != n ||
+      transfer.num_actuators() != static_cast<int>(n)) {
+    throw Error(fmt::format("SafetyGateGroup: {} monitors, {} commands, {} load-cell zeros and a "
+                            "transfer system of {} actuators: expected one of each per actuator",
+                            n, commands_m.size(), load_cell_zero.size(),
+                            transfer.num_actuators()));
+  }
+  out.resize(n);
+  for (auto& o : out) o.executed = false;
+  // 1. Every command on a copy of its monitor: the monitors only learn the vector if all pass.
+  std::vector<SafetyMonitor> checked = monitors_;
+  for (std::size_t k = 0; k < n; ++k) {
+    out[k].command = commands_m[k];
+    checked[k].CheckCommand(commands_m[k], label.step, label.stage);
+  }
+  monitors_ = std::move(checked);
+  if (before_execute) before_execute();
+  // 2. All commands at once.
+  const BenchUnits units = transfer.bench_units();
+  measured_.resize(n);
+  transfer.Execute(bench_commands_, measured_);
+  // 3. Every measurement.
+  for (std::size_t k = 0; k < n; ++k) {
+    const Measurement& m = measured_[k];
+    out[k].raw = m;
+    out[k].position = m.position * units.metres_per_length_unit;
+    out[k].force = m.force * units.newtons_per_force_unit - load_cell_zero[k];
+    out[k].lab_time = m.lab_time;
+    out[k].executed = true;
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    monitors_[k].CheckMeasurement(commands_m[k], out[k].position, out[k].force, label.step,
+                                  label.stage);
+  }
+}
+
+}  // namespace hybridtest::transfer
