@@ -49,6 +49,7 @@ class PyTransfer final : public transfer::TransferSystem {
   // Reads `units` (GIL held). Throws ConfigError for units it does not know or a missing method.
   PyTransfer(SharedPy driver, std::string slot);
   void Activate() override;
+  using transfer::TransferSystem::Execute;
   transfer::Measurement Execute(double command) override;
   void Hold() noexcept override;
   void Deactivate() override;

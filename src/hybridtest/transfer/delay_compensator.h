@@ -63,6 +63,7 @@ class DelayCompensator final : public TransferSystem {
   DelayCompensator(std::unique_ptr<TransferSystem> inner, CompensatorConfig config);
 
   void Activate() override { inner_->Activate(); }
+  using TransferSystem::Execute;
   Measurement Execute(double command) override;
   void Hold() noexcept override { inner_->Hold(); }
   void Deactivate() override { inner_->Deactivate(); }

@@ -74,6 +74,7 @@ class RtPlant final : public TransferSystem {
   explicit RtPlant(RtPlantConfig config);
 
   void Activate() override { active_ = true; }
+  using TransferSystem::Execute;
   Measurement Execute(double command) override;
   void Hold() noexcept override { active_ = false; }
   void Deactivate() override { active_ = false; }
