@@ -98,6 +98,19 @@ CompiledKinematics CompileKinematics(const ModelElements& e) {
       p.has_time_rate = !p.time_rate.isZero(0.0);
     }
   }
+  // Planar: every frame turns about the same coordinate axis of its parent (so of N), by an
+  // affine or constant angle, and every point is affine, with q̇ = u.
+  if (!out.general) {
+    int axis = e.frames.size() > 1 ? out.frames[1].axis_index : 2;
+    for (std::size_t i = 1; i < e.frames.size(); ++i) {
+      const CompiledFrame& f = out.frames[i];
+      if (!(f.constant_rotation || f.affine_angle) || f.axis_index != axis) axis = -1;
+    }
+    for (std::size_t i = 1; i < e.points.size(); ++i) {
+      if (!out.points[i].affine) axis = -1;
+    }
+    out.planar_axis = axis;
+  }
   return out;
 }
 

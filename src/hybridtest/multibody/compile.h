@@ -13,6 +13,8 @@ struct CompiledKinematics {
   std::vector<CompiledPoint> points;  // indexed like ModelElements::points
   // Some expression is general (not affine), a frame has a DCM, or q̇ = W(q) u.
   bool general = false;
+  // 0, 1 or 2 if the model is planar about that axis of N (Model::planar_axis()), else −1.
+  int planar_axis = -1;
 };
 
 // Active speeds (frames first: parents precede children by construction), the constant

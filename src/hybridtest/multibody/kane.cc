@@ -5,10 +5,12 @@
 #include <Eigen/Cholesky>
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <type_traits>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/multibody/field_eval.h"
+#include "hybridtest/multibody/planar_kinematics.h"
 #include "hybridtest/multibody/tree_mass.h"
 
 namespace hybridtest::multibody {
@@ -59,11 +61,12 @@ void CalcMassMatrixPairwise(const Model& model, Data<T>& data) {
 template <typename T>
 void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const VectorX<T>>& r) {
   const int n = data.n;
+  const int planar = model.planar_axis();  // doubles skip the planar structural zeros
   if (r.size() != model.num_slots()) {
     throw ModelError(fmt::format("expected {} restoring forces (one per slot), got {}",
                                  model.num_slots(), r.size()));
   }
-  data.r = r;
+  std::copy_n(r.data(), r.size(), data.r.data());  // plain copy: r is contiguous
   for (int p : model.loaded_points()) data.force[p].setZero();
   for (int f : model.loaded_frames()) data.torque[f].setZero();
   // Time functions, once; then the applied loads, converted to N components.
@@ -77,7 +80,18 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
                          std::span<const T>(data.z.data(), data.z.size())};
   for (const LoadSpec& load : model.loads()) {
     Vector3<T> value = load.function.template get<T>()(args);
-    if (load.expressed_in != 0) value = internal::Multiply(data.R_NF[load.expressed_in], value);
+    if (load.expressed_in != 0) {
+      const Matrix3<T>& R = data.R_NF[load.expressed_in];
+      bool rotated = false;
+      if constexpr (std::is_same_v<T, double>) {
+        if (planar >= 0) {
+          const Vector3<T> in = value;
+          internal::RotatePlanar(planar, R.data(), in.data(), value.data());
+          rotated = true;
+        }
+      }
+      if (!rotated) value = internal::Multiply(R, value);
+    }
     T* sum = (load.kind == LoadSpec::Kind::kForce ? data.force : data.torque)[load.target].data();
     for (int c = 0; c < 3; ++c) sum[c] = internal::Add(sum[c], value(c));
   }
@@ -90,6 +104,12 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
   for (const ParticleSpec& p : model.particles()) subtract_inertia_force(p.point, p.mass);
   for (const RigidBodySpec& body : model.bodies()) {
     if (body.mass > 0.0) subtract_inertia_force(body.mass_center, body.mass);
+    if constexpr (std::is_same_v<T, double>) {
+      if (planar >= 0) {
+        internal::SubtractPlanarInertiaTorque(planar, body, data);
+        continue;
+      }
+    }
     // I α + ω × I ω in body components, back to N.
     const Matrix3<T>& R = data.R_NF[body.frame];
     const Vector3<T> w_B = internal::TransposeMultiply(R, data.w_NF[body.frame]);
@@ -309,8 +329,8 @@ void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
                                  "generalized coordinates are singular there, or a mass or "
                                  "inertia is missing", ValueOf(t)));
   }
-  xdot.head(n) = data.qdot;
-  xdot.segment(n, n) = data.udot;
+  std::copy_n(data.qdot.data(), n, xdot.data());
+  std::copy_n(data.udot.data(), n, xdot.data() + n);
   if (model.num_extra_states() > 0) {
     // ż = f_z(t, q, u, z): the loads' inputs with r left out.
     const LoadArgs<T> args{data.t, std::span<const T>(data.q.data(), n),

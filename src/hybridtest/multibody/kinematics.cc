@@ -2,9 +2,13 @@
 // kane.h for the equations.
 #include <fmt/core.h>
 
+#include <algorithm>
+#include <type_traits>
+
 #include "hybridtest/common/error.h"
 #include "hybridtest/multibody/field_eval.h"
 #include "hybridtest/multibody/kane.h"
+#include "hybridtest/multibody/planar_kinematics.h"
 
 namespace hybridtest::multibody {
 
@@ -46,7 +50,7 @@ void CalcKinematicalEquations(const Model& model, Data<T>& data) {
 // R_NF = R_NP · R_PF for a rotation about the parent's unit vector e_A by the angle with
 // cosine c and sine s: column A is kept, the other two rotate in their plane (no 3 × 3 product).
 template <int A, typename T>
-void RotateAboutParentAxis(const Matrix3<T>& R_NP, const T& c,
+[[gnu::always_inline]] inline void RotateAboutParentAxis(const Matrix3<T>& R_NP, const T& c,
                                                          const T& s, Matrix3<T>& R_NF) {
   constexpr int kB = (A + 1) % 3;
   constexpr int kD = (A + 2) % 3;
@@ -60,8 +64,10 @@ void RotateAboutParentAxis(const Matrix3<T>& R_NP, const T& c,
   }
 }
 
+// Inlined at every call site: an out-of-line call through the switch costs as much as the
+// rotation itself.
 template <typename T>
-void RotateAboutParentAxis(const Matrix3<T>& R_NP, int a,
+[[gnu::always_inline]] inline void RotateAboutParentAxis(const Matrix3<T>& R_NP, int a,
                                                          const T& c, const T& s,
                                                          Matrix3<T>& R_NF) {
   switch (a) {
@@ -333,13 +339,21 @@ void CalcKinematics(const Model& model, Data<T>& data, const T& t,
                                  "with 2n + nz = {}", x.size(), model.num_states()));
   }
   data.t = t;
-  data.q = x.head(n);
-  data.u = x.segment(n, n);
-  data.z = x.tail(model.num_extra_states());
+  // Plain copies (x is contiguous): Eigen's dynamic-size assignment is an out-of-line loop.
+  const T* xs = x.data();
+  std::copy_n(xs, n, data.q.data());
+  std::copy_n(xs + n, n, data.u.data());
+  std::copy_n(xs + 2 * n, model.num_extra_states(), data.z.data());
   if (model.has_identity_kinematics()) {
-    data.qdot = data.u;
+    std::copy_n(xs + n, n, data.qdot.data());
   } else {
     CalcKinematicalEquations(model, data);
+  }
+  if constexpr (std::is_same_v<T, double>) {
+    if (model.planar_axis() >= 0) {
+      internal::CalcPlanarKinematics(model, data);
+      return;
+    }
   }
   if (model.has_general_fields()) internal::SeedCoordinateJets(data, true);
   for (int i = 1; i < static_cast<int>(model.frames().size()); ++i) CalcFrame(model, data, i);

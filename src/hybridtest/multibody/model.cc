@@ -273,6 +273,7 @@ Model ModelBuilder::Build() && {
   m.loaded_points_.assign(loaded_points.begin(), loaded_points.end());
   m.loaded_frames_.assign(loaded_frames.begin(), loaded_frames.end());
   m.has_general_fields_ = general;
+  m.planar_axis_ = compiled.planar_axis;
   m.tree_mass_matrix_reason_ = internal::PlanTreeMassMatrix(elements_, compiled.frames,
                                                             compiled.points, m.tree_mass_plan_);
   m.is_joint_tree_ = m.tree_mass_matrix_reason_.empty();

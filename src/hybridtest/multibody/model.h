@@ -340,6 +340,10 @@ class Model {
   const std::vector<int>& loaded_frames() const { return loaded_frames_; }
   // Indices of loads acting on each point/frame, for accumulation.
   bool has_general_fields() const { return has_general_fields_; }
+  // 0, 1 or 2 if every frame turns about that axis of N (by an affine or constant angle) and
+  // every point is affine, with q̇ = u: the kinematics then skip the structural zeros of R, ω
+  // and α for doubles (decision 0012); −1 otherwise.
+  int planar_axis() const { return planar_axis_; }
   // True if the model is a tree of joints with q̇ = u (TreeMassPlan, then non-empty).
   bool is_joint_tree() const { return is_joint_tree_; }
   // True if CalcMassMatrix takes the O(n·depth) composite path: a joint tree on which it
@@ -366,6 +370,7 @@ class Model {
   std::vector<int> loaded_points_;
   std::vector<int> loaded_frames_;
   bool has_general_fields_ = false;
+  int planar_axis_ = -1;
   bool is_joint_tree_ = false;
   bool tree_mass_matrix_ = false;
   TreeMassPlan tree_mass_plan_;
