@@ -19,6 +19,7 @@ void AddRunCommand(CLI::App& root) {
   cmd->add_flag("--quiet", opt->quiet, "no progress output and no summary");
   cmd->add_flag("--overwrite", opt->overwrite,
                 "replace an earlier run at the output path (refused without it: exit 2)");
+  AddMonitorOptions(*cmd, opt->monitor);
   cmd->callback([opt] { ExecuteRun(*opt); });
 }
 

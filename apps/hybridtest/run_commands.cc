@@ -97,7 +97,8 @@ nlohmann::json Provenance(const io::SimulationConfig& cfg, const std::string& cs
 // The loop and the summary, shared by run, simulate and resume.
 void RunAndReport(const io::SimulationConfig& cfg, io::RunSpec spec,
                   runner::SessionOptions session_options,
-                  const runner::RunState* resume_from, bool quiet) {
+                  const runner::RunState* resume_from, bool quiet,
+                  const MonitorCliOptions& monitor = {}) {
   // A file-size limit makes a write fail (EFBIG, reported with the run's status) instead of
   // killing the process mid-row.
   std::signal(SIGXFSZ, SIG_IGN);
@@ -113,7 +114,9 @@ void RunAndReport(const io::SimulationConfig& cfg, io::RunSpec spec,
   ProgressObserver progress_observer(session, progress);
   session.AddObserver(progress_observer);
   const StopOnSignal stop_on_signal(session);
-  const runner::StepResult result = session.Run();
+  std::optional<LiveMonitor> live;  // --monitor: one more observer, and Hold/Continue/Stop
+  if (monitor.enabled()) live.emplace(monitor, session);
+  const runner::StepResult result = live ? live->Run(session) : session.Run();
   if (result.status != runner::SessionStatus::kFinished) {
     // How to go on comes first: every committed step is kept, and resume continues from it.
     if (session.statistics().rows > 0 && session.spec().output.files) {
@@ -183,7 +186,7 @@ void ExecuteRun(const RunCommandOptions& options) {
   io::CheckRunOutputs(csv, io::RunInputFiles(cfg), options.overwrite);
   spec.source.inputs = io::RecordRunInputs(cfg, csv);
   spec.source.provenance = Provenance(cfg, csv);
-  RunAndReport(cfg, std::move(spec), {}, nullptr, options.quiet);
+  RunAndReport(cfg, std::move(spec), {}, nullptr, options.quiet, options.monitor);
 }
 
 void ExecuteResume(const ResumeCommandOptions& options) {
@@ -216,7 +219,7 @@ void ExecuteResume(const ResumeCommandOptions& options) {
     std::fflush(stdout);
   }
   RunAndReport(plan.cfg, std::move(spec), std::move(session_options), &plan.state,
-               options.quiet);
+               options.quiet, options.monitor);
 }
 
 }  // namespace hybridtest::app

@@ -157,6 +157,16 @@ class Session {
   StepResult Run();
   // Thread- and async-signal-safe.
   void RequestStop() noexcept { stop_requested_.store(true, std::memory_order_relaxed); }
+  bool stop_requested() const noexcept { return stop_requested_.load(std::memory_order_relaxed); }
+  // An operator's hold between two steps (on the stepping thread, while working): every
+  // substructure holds its position (Hold()); nothing moves until ContinueAfterHold(), which
+  // activates them again and returns the status (kStopped, with error(), if a bench refuses).
+  // A stop requested during a hold ends the run at the next Step() without moving.
+  void HoldBetweenSteps() noexcept;
+  StepResult ContinueAfterHold();
+  // Appends `action` (an operator's hold, continue or stop, with its time and origin) to the
+  // sidecar's "operator_actions" of a file-backed run, at once (on the stepping thread).
+  void RecordOperatorAction(const nlohmann::json& action);
 
   const io::RunSpec& spec() const { return spec_; }
   const multibody::Model& model() const { return spec_.model.model; }
