@@ -75,9 +75,11 @@ runner::StepResult LiveMonitor::Run(runner::Session& session) {
     if (result.status != runner::SessionStatus::kWorking) break;
     result = session.Step();
   }
-  // The final state stays on the page for --monitor-linger seconds (Ctrl-C ends it sooner).
+  // The final state stays on the page for --monitor-linger seconds; Ctrl-C ends it sooner
+  // (after a stop, which is a stop request already, a second Ctrl-C ends the process).
+  const bool stop_before = session.stop_requested();
   const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(linger_);
-  while (std::chrono::steady_clock::now() < until && !session.stop_requested()) {
+  while (std::chrono::steady_clock::now() < until && (stop_before || !session.stop_requested())) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   return result;

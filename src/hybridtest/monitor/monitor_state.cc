@@ -85,7 +85,9 @@ void MonitorState::AddFrame(std::span<const double> frame) {
 
 void MonitorState::Thin() {
   std::size_t k = 0;
-  for (std::size_t i = 0; i < history_.size(); i += 2) history_[k++] = std::move(history_[i]);
+  for (std::size_t i = 0; i < history_.size(); i += 2, ++k) {
+    if (k != i) history_[k] = std::move(history_[i]);  // never a self-move (it empties)
+  }
   history_.resize(k);
   stride_ *= 2;
   ++generation_;

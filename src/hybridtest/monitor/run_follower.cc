@@ -76,8 +76,8 @@ RunFollower::RunFollower(std::string csv_path, MonitorState& state)
 }
 
 bool RunFollower::Poll() {
+  CountStages();  // first: the rows read next carry the evaluations up to them
   ReadRows();
-  CountStages();
   ReadSidecar();
   return status_ == "running";
 }
