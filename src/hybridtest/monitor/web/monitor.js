@@ -161,7 +161,8 @@ function render(s) {
   $("evaluations").textContent = s.physical_evaluations;
   $("lab-time").textContent = duration(s.lab_time);
   $("wall-time").textContent = duration(s.wall_time);
-  $("eta").textContent = s.status === "finished" ? "done" : s.status === "holding" ? "holding" : duration(s.eta_s);
+  $("eta").textContent = s.status === "finished" ? "done" : s.status === "holding" ? "holding"
+    : s.status === "stopped" ? "stopped" : duration(s.eta_s);
   $("resumes").textContent = s.resumes.length ? s.resumes.map((t) => `t = ${fmt(t)} s`).join(", ") : "none";
   $("actions-policy").textContent = s.actions_policy;
   $("actions").innerHTML = s.actions.slice(-8).reverse().map((a) =>
