@@ -11,6 +11,7 @@
 
 #include "hybridtest/monitor/monitor_observer.h"
 #include "hybridtest/monitor/operator_control.h"
+#include "hybridtest/runner/stop_request.h"
 #include "runner/dummy_spec.h"
 #include "support/eventually.h"
 
@@ -136,6 +137,8 @@ TEST(OperatorControl, StopFromAHoldEndsTheRunWithoutAnotherStep) {
   });
   operator_thread.join();
   EXPECT_EQ(result.status, runner::SessionStatus::kHeld);
+  ASSERT_TRUE(session.error());  // what the command line rethrows (exit 130)
+  EXPECT_THROW(std::rethrow_exception(session.error()), runner::Interrupted);
   EXPECT_EQ(session.statistics().steps, held_at);
   EXPECT_EQ(state.status(), "stopped");
   EXPECT_EQ(control.Request(OperatorAction::kHold, "test").http_status, 409);

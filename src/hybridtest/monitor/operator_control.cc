@@ -56,7 +56,6 @@ void OperatorControl::Apply(runner::Session& session, std::unique_lock<std::mute
       record["record_error"] = e.what();  // the action still applies; the page says so
     }
     state_.AddAction(record);
-    if (a.action == OperatorAction::kStop) session.RequestStop();
   }
   lock.lock();
 }
@@ -65,8 +64,13 @@ runner::StepResult OperatorControl::BetweenSteps(runner::Session& session) {
   if (!pending_.load(std::memory_order_acquire)) return session.result();
   std::unique_lock lock(mutex_);
   Apply(session, lock);
-  if (!holding_ || stop_asked_) return session.result();
-  // Hold: every substructure holds; wait for Continue or Stop (or the session's own stop).
+  if (stop_asked_) {
+    lock.unlock();
+    return session.InterruptBetweenSteps();  // no step in progress: nothing more moves
+  }
+  if (!holding_) return session.result();
+  // Hold: every substructure holds; wait for Continue or Stop (or the session's own stop
+  // request, e.g. Ctrl-C).
   session.HoldBetweenSteps();
   state_.SetStatus("holding");
   while (holding_ && !stop_asked_ && !session.stop_requested()) {
@@ -74,8 +78,9 @@ runner::StepResult OperatorControl::BetweenSteps(runner::Session& session) {
     if (pending_.load(std::memory_order_relaxed)) Apply(session, lock);
   }
   if (pending_.load(std::memory_order_relaxed)) Apply(session, lock);
-  if (stop_asked_ || session.stop_requested()) return session.result();  // Step() stops
+  const bool stop = stop_asked_ || session.stop_requested();
   lock.unlock();
+  if (stop) return session.InterruptBetweenSteps();
   const runner::StepResult result = session.ContinueAfterHold();
   if (result.status == runner::SessionStatus::kWorking) state_.SetStatus("running");
   return result;

@@ -8,8 +8,9 @@
 //   Continue  from a hold: the substructures are activated again and stepping goes on, from
 //             the same committed state (on an ideal bench the journal is the one of a run
 //             that never held, in t, q, u and r).
-//   Stop      as Ctrl-C: the run ends after the step in progress (or at once from a hold),
-//             every committed row on disk, resumable; the command exits with 130.
+//   Stop      as Ctrl-C: the run ends between two steps, without another one
+//             (Session::InterruptBetweenSteps), every committed row on disk, resumable; the
+//             command exits with 130.
 //
 // Every accepted action is written to the sidecar's "operator_actions" (Session::
 // RecordOperatorAction) by the stepping thread when it applies it: the action, the UTC time

@@ -294,13 +294,6 @@ StepResult Session::Step() {
   if (!initialized_) throw Error("Session::Step: call Initialize() first");
   if (result_.status != SessionStatus::kWorking) return result_;
   try {
-    if (stop_requested_.load(std::memory_order_relaxed)) {
-      // Asked between two steps (e.g. during an operator's hold): nothing more moves.
-      const schemes::CommittedPoint& p = scheme_->committed();
-      throw Interrupted(fmt::format("interrupted by the operator at t = {} s after {} steps; "
-                                    "every committed step is kept{}", p.t, p.step,
-                                    spec_.output.files ? " in " + spec_.output.csv_path : ""));
-    }
     scheme_->Step(*seam_, *rows_sink_);
     const schemes::CommittedPoint& p = scheme_->committed();
     for (auto& s : subs_) s->Commit();
@@ -322,6 +315,19 @@ StepResult Session::Step() {
 
 void Session::HoldBetweenSteps() noexcept {
   for (auto& s : subs_) s->Hold();
+}
+
+StepResult Session::InterruptBetweenSteps() {
+  if (!initialized_ || result_.status != SessionStatus::kWorking) return result_;
+  const schemes::CommittedPoint& p = scheme_->committed();
+  try {
+    // Thrown so that error() holds it, as for a stop after a step.
+    throw Interrupted(fmt::format("interrupted by the operator at t = {} s after {} steps; "
+                                  "every committed step is kept{}", p.t, p.step,
+                                  spec_.output.files ? " in " + spec_.output.csv_path : ""));
+  } catch (const std::exception& e) {
+    return Fail(e);
+  }
 }
 
 StepResult Session::ContinueAfterHold() {
