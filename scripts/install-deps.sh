@@ -44,6 +44,11 @@ fi
 if ((docs)); then
   packages+=(chromium-headless-shell)
 fi
+# npm fetches uPlot for the monitor's page at build time (docs/monitor.md); a node install that
+# brings its own npm is enough.
+if ((app_only == 0)) && ! command -v npm >/dev/null; then
+  packages+=(npm)
+fi
 if ((print_only)); then
   echo "${packages[*]}"
   exit 0

@@ -37,6 +37,7 @@ void AddResumeCommand(CLI::App& root) {
                   "substructures.SLOT.safety.KEY=VALUE (stroke_min, stroke_max, max_increment "
                   "[m], force_soft, force_hard [N], timeout [s]) or resume.force_tolerance / "
                   "resume.position_tolerance (repeatable)");
+  AddMonitorOptions(*cmd, opt->monitor);
   cmd->callback([opt] { ExecuteResume(*opt); });
 }
 

@@ -23,6 +23,7 @@ void AddRunCommand(CLI::App& root) {
   cmd->add_option("--clock", opt->clock, "a real-time config's clock: wall (default, paced) or "
                                        "virtual (simulated time, no sleeping, reproducible)")
       ->check(CLI::IsMember({"virtual", "wall"}));
+  AddMonitorOptions(*cmd, opt->monitor);
   cmd->callback([opt] { ExecuteRun(*opt); });
 }
 

@@ -99,7 +99,8 @@ nlohmann::json Provenance(const io::SimulationConfig& cfg, const std::string& cs
 void RunAndReport(const io::SimulationConfig& cfg, io::RunSpec spec,
                   runner::SessionOptions session_options,
                   const runner::RunState* resume_from, bool quiet,
-                  const std::string& clock = "") {
+                  const std::string& clock = "",
+                  const MonitorCliOptions& monitor = {}) {
   // A file-size limit makes a write fail (EFBIG, reported with the run's status) instead of
   // killing the process mid-row.
   std::signal(SIGXFSZ, SIG_IGN);
@@ -115,9 +116,14 @@ void RunAndReport(const io::SimulationConfig& cfg, io::RunSpec spec,
   ProgressObserver progress_observer(session, progress);
   session.AddObserver(progress_observer);
   const StopOnSignal stop_on_signal(session);
-  // A `real_time:` config runs paced on its clock (runner/real_time_run.h).
+  std::optional<LiveMonitor> live;  // --monitor: one more observer, and Hold/Continue/Stop
+  if (monitor.enabled()) live.emplace(monitor, session);
+  // A `real_time:` config runs paced on its clock (runner/real_time_run.h); the monitor then
+  // only watches (its Hold/Continue/Stop act between pseudo-dynamic steps).
   runner::RealTimeRun real_time(session, clock, quiet || session.spec().quiet);
-  const runner::StepResult result = real_time.enabled() ? real_time.Run() : session.Run();
+  const runner::StepResult result = real_time.enabled() ? real_time.Run()
+                                    : live               ? live->Run(session)
+                                                         : session.Run();
   if (result.status != runner::SessionStatus::kFinished) {
     // How to go on comes first: every committed step is kept, and resume continues from it.
     if (session.statistics().rows > 0 && session.spec().output.files) {
@@ -187,7 +193,8 @@ void ExecuteRun(const RunCommandOptions& options) {
   io::CheckRunOutputs(csv, io::RunInputFiles(cfg), options.overwrite);
   spec.source.inputs = io::RecordRunInputs(cfg, csv);
   spec.source.provenance = Provenance(cfg, csv);
-  RunAndReport(cfg, std::move(spec), {}, nullptr, options.quiet, options.clock);
+  RunAndReport(cfg, std::move(spec), {}, nullptr, options.quiet, options.clock,
+               options.monitor);
 }
 
 void ExecuteResume(const ResumeCommandOptions& options) {
@@ -220,7 +227,7 @@ void ExecuteResume(const ResumeCommandOptions& options) {
     std::fflush(stdout);
   }
   RunAndReport(plan.cfg, std::move(spec), std::move(session_options), &plan.state,
-               options.quiet);
+               options.quiet, /*clock=*/"", options.monitor);
 }
 
 }  // namespace hybridtest::app

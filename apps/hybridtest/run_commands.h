@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "live_monitor.h"
+
 namespace hybridtest::app {
 
 struct RunCommandOptions {
@@ -16,6 +18,7 @@ struct RunCommandOptions {
   bool allow_physical = true;
   std::string command = "run";
   std::string clock;  // --clock virtual|wall for a real-time config ("" = wall)
+  MonitorCliOptions monitor;  // --monitor HOST:PORT ... (live_monitor.h)
 };
 
 // Runs and prints a summary. Returns normally on success; throws on failure (after the
@@ -30,6 +33,7 @@ struct ResumeCommandOptions {
   std::optional<double> position_tolerance;  // --position-tolerance [m], else resume.position_tolerance
   bool after_safety_stop = false;         // --after-safety-stop: the operator fixed the cause
   std::vector<std::string> set;           // --set KEY=VALUE (resume_changes.h)
+  MonitorCliOptions monitor;              // --monitor HOST:PORT ... (live_monitor.h)
 };
 
 // `hybridtest resume`: rebuilds the run from its sidecar (config text and path, command) and

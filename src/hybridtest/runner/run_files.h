@@ -33,6 +33,9 @@ class RunFiles final : public SessionObserver {
   void OnCommit(const CommitEvent& event) override;
   void OnResume(const ResumeEvent& event) override;
   void OnStop(const StopEvent& event) override;
+  // Appends to the sidecar's "operator_actions" (kept across resumes); nothing before row 0
+  // has published the journal.
+  void RecordOperatorAction(const nlohmann::json& action);
 
  private:
   void SaveState(bool always, long rows_after, std::span<const double> row);

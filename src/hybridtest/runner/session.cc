@@ -307,6 +307,37 @@ StepResult Session::Step() {
   return result_;
 }
 
+void Session::HoldBetweenSteps() noexcept {
+  for (auto& s : subs_) s->Hold();
+}
+
+StepResult Session::InterruptBetweenSteps() {
+  if (!initialized_ || result_.status != SessionStatus::kWorking) return result_;
+  const schemes::CommittedPoint& p = scheme_->committed();
+  try {
+    // Thrown so that error() holds it, as for a stop after a step.
+    throw Interrupted(fmt::format("interrupted by the operator at t = {} s after {} steps; "
+                                  "every committed step is kept{}", p.t, p.step,
+                                  spec_.output.files ? " in " + spec_.output.csv_path : ""));
+  } catch (const std::exception& e) {
+    return Fail(e);
+  }
+}
+
+StepResult Session::ContinueAfterHold() {
+  if (result_.status != SessionStatus::kWorking) return result_;
+  try {
+    for (auto& s : subs_) s->Activate();
+  } catch (const std::exception& e) {
+    return Fail(e);
+  }
+  return result_;
+}
+
+void Session::RecordOperatorAction(const nlohmann::json& action) {
+  if (files_) files_->RecordOperatorAction(action);
+}
+
 StepResult Session::Run() {
   StepResult r = initialized_ ? result_ : Initialize();
   while (r.status == SessionStatus::kWorking) r = Step();

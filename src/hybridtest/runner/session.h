@@ -166,6 +166,19 @@ class Session {
     stop_reason_ = std::move(reason);
     RequestStop();
   }
+  bool stop_requested() const noexcept { return stop_requested_.load(std::memory_order_relaxed); }
+  // An operator's hold between two steps (on the stepping thread, while working): every
+  // substructure holds its position (Hold()); nothing moves until ContinueAfterHold(), which
+  // activates them again and returns the status (kStopped, with error(), if a bench refuses).
+  void HoldBetweenSteps() noexcept;
+  StepResult ContinueAfterHold();
+  // Ends a working run between two steps, without another step, as RequestStop() does after
+  // one: every substructure holds, the observers hear the stop, the result is kHeld with an
+  // Interrupted error.
+  StepResult InterruptBetweenSteps();
+  // Appends `action` (an operator's hold, continue or stop, with its time and origin) to the
+  // sidecar's "operator_actions" of a file-backed run, at once (on the stepping thread).
+  void RecordOperatorAction(const nlohmann::json& action);
 
   const io::RunSpec& spec() const { return spec_; }
   const multibody::Model& model() const { return spec_.model.model; }

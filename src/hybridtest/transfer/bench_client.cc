@@ -96,6 +96,17 @@ Frame BenchClient::Exchange(const Frame& frame, MessageType expected,
 }
 
 void BenchClient::Activate() {
+  // Activate() again after a Hold() (a monitor's Continue): the session is still open and the
+  // bench resumes at the next COMMAND. A heartbeat checks that the server has not dropped it
+  // meanwhile (a hold longer than its heartbeat_timeout); if it has, connect anew.
+  if (socket_.is_open() && welcome_) {
+    try {
+      Heartbeat();
+      return;
+    } catch (const TransferError&) {
+      socket_.Close();
+    }
+  }
   socket_ = ConnectTcp(options_.host, options_.port, options_.connect_timeout);
   HelloMessage hello;
   hello.token = options_.token;

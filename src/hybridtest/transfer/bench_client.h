@@ -52,6 +52,8 @@ class BenchClient final : public TransferSystem {
 
   // Connects, sends HELLO and reads WELCOME. Throws TransferError (e.g. wrong token, version),
   // or ConfigError (after closing the connection) if expected_limits exceed the bench's.
+  // Again after Hold() with the session still open: a HEARTBEAT only (reconnects if the
+  // server dropped the session meanwhile).
   void Activate() override;
   using TransferSystem::Execute;
   Measurement Execute(double command) override;

@@ -1,0 +1,116 @@
+#pragma once
+// MonitorState: what the monitor's page shows about one run, shared between the side that
+// feeds it (the live observer's collector thread, or the follower of a journal) and the HTTP
+// server's threads, behind one mutex. The stepping thread of a run never touches it (it
+// writes frames into a FrameRing; see monitor_observer.h).
+//
+// A frame is one committed row, flat (FrameLayout): step, t [s], wall time [s], lab time [s],
+// physical evaluations, then d [m] and r [N] per slot, then command, position [m] and force
+// [N] per physical actuator. The history keeps at most `history_capacity` frames of the whole
+// run: when full, every other frame is dropped and only every 2nd (4th, ...) frame is kept
+// from then on, so a long run is shown whole at a bounded cost.
+//
+// Status: "starting" → "running" ⇄ "holding" → "stopped" | "finished".
+#include <nlohmann/json.hpp>
+
+#include <cstddef>
+#include <mutex>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "hybridtest/transfer/safety.h"
+
+namespace hybridtest::monitor {
+
+struct FrameLayout {
+  int slots = 0;      // restoring-force slots m
+  int actuators = 0;  // physical actuators p
+  static constexpr int kHead = 5;  // step, t, wall, lab, evaluations
+  std::size_t width() const { return kHead + 2 * std::size_t(slots) + 3 * std::size_t(actuators); }
+  std::size_t d(int s) const { return kHead + std::size_t(s); }
+  std::size_t r(int s) const { return kHead + std::size_t(slots + s); }
+  std::size_t command(int a) const { return kHead + 2 * std::size_t(slots) + 3 * std::size_t(a); }
+  std::size_t position(int a) const { return command(a) + 1; }
+  std::size_t force(int a) const { return command(a) + 2; }
+};
+
+// One physical actuator as the meters show it.
+struct ActuatorInfo {
+  std::string slot;                               // the slot it serves
+  std::optional<transfer::SafetyLimits> limits;   // the runner's limits, SI (if known)
+  double p0 = 0.0;                                // zero-force actuator position [m]
+};
+
+// Who and what the run is.
+struct RunIdentity {
+  std::string config;    // the run config's path
+  std::string model;     // model name
+  std::string specimen;  // the config's test.specimen, if given
+  std::string bench;     // the physical slots' transfer types, e.g. "r1: emulated"
+  std::string command;   // "run", "simulate", ...
+  std::string csv;       // the journal
+  std::vector<std::string> slots;  // slot names
+  double end_time = 0.0;           // simulated time at which the run ends [s]
+  std::string mode = "live";       // "live" (a run's own monitor) or "follow" (a journal)
+};
+
+// Near a limit: the fraction of a limit used at which a meter turns from normal to near.
+inline constexpr double kNearFraction = 0.8;
+
+// Margin of one actuator against its limits: "normal", "near" or "tripped"; fractions in
+// [0, ∞): force |F|/force_hard, stroke |pos − mid|/half-range.
+struct Margin {
+  double force_fraction = 0.0;
+  double stroke_fraction = 0.0;
+  std::string level = "normal";
+};
+Margin CalcMargin(const transfer::SafetyLimits& limits, double position, double force);
+
+class MonitorState {
+ public:
+  explicit MonitorState(std::size_t history_capacity = 4000);
+
+  void SetIdentity(RunIdentity identity, FrameLayout layout, std::vector<ActuatorInfo> actuators);
+  // status: see above; reason (a stop's) and the command that continues a stopped run.
+  void SetStatus(const std::string& status, const std::string& reason = "",
+                 const std::string& resume_command = "");
+  std::string status() const;
+  void AddFrame(std::span<const double> frame);  // frame.size() == layout width
+  void AddResume(double t);                      // a resume at simulated time t [s]
+  void AddAction(nlohmann::json action);         // an operator action (or a refusal)
+  void SetDropped(long frames);                  // frames the ring dropped so far
+  void SetActionsPolicy(const std::string& policy);  // "token", "open" or "read-only"
+  // Real-time fields (deadline misses, J1–J3) once a real-time loop reports them.
+  void SetRealTime(nlohmann::json realtime);
+
+  // GET /api/state.
+  nlohmann::json StateJson() const;
+  // GET /api/series: the history frames after `since` (a frame sequence number), or all of
+  // them if `generation` is not the current one (the history was thinned since).
+  nlohmann::json SeriesJson(long since, long generation) const;
+  long frames() const;  // frames received
+
+ private:
+  void Thin();  // with mutex_ held
+
+  mutable std::mutex mutex_;
+  std::size_t capacity_;
+  RunIdentity identity_;
+  FrameLayout layout_;
+  std::vector<ActuatorInfo> actuators_;
+  std::string status_ = "starting", reason_, resume_command_;
+  std::vector<double> latest_;
+  std::vector<std::vector<double>> history_;  // kept frames, each with its sequence number last
+  long frames_ = 0, stride_ = 1, generation_ = 0, dropped_ = 0;
+  std::vector<double> resumes_;
+  nlohmann::json actions_ = nlohmann::json::array();
+  std::string actions_policy_ = "token";
+  nlohmann::json realtime_ = {{"available", false}, {"deadline_misses", nullptr},
+                              {"J1", nullptr}, {"J2", nullptr}, {"J3", nullptr}};
+  // ETA: simulated time per wall second, smoothed over windows of ≥ 0.5 s of wall time.
+  double rate_ = 0.0, window_t_ = 0.0, window_wall_ = -1.0;
+};
+
+}  // namespace hybridtest::monitor

@@ -1,0 +1,85 @@
+// The monitor's page in a real browser (headless Chromium, Debian's `chromium`; skipped with a
+// message where it is absent), on the paper's emulated run (examples/rotor/emulated.yaml):
+// loaded twice 2 s apart during the run, the page's text shows two different simulated
+// times, the physical slot's force and its limit; a Hold without the token is refused and the
+// page lists the refusal; after the run, the page shows "finished".
+#include <cstdlib>
+#include <regex>
+
+#include "monitor/monitor_process.h"
+#include "support/run_command.h"
+
+namespace hybridtest::testing {
+namespace {
+
+// The first of chromium, chromium-browser, chromium-headless-shell on PATH, or "".
+std::string FindChromium() {
+  for (const char* name : {"chromium", "chromium-browser", "chromium-headless-shell"}) {
+    const auto [status, out] = RunCommand(std::string("sh -c 'command -v ") + name + "'", 10, false);
+    if (status == 0 && !out.empty()) return out.substr(0, out.find('\n'));
+  }
+  return "";
+}
+
+// The page's DOM once its scripts have run (their first polls answered).
+std::string DumpDom(const std::string& chromium, int port, const fs::path& profile) {
+  const auto [status, dom] = RunCommand(
+      chromium + " --headless --no-sandbox --disable-gpu --no-first-run --user-data-dir=" +
+          profile.string() + " --virtual-time-budget=3000 --dump-dom http://127.0.0.1:" +
+          std::to_string(port) + "/",
+      90, false);
+  EXPECT_EQ(status, 0) << dom;
+  return dom;
+}
+
+std::string Capture(const std::string& text, const std::string& pattern) {
+  std::smatch m;
+  return std::regex_search(text, m, std::regex(pattern)) ? m[1].str() : "";
+}
+
+TEST(MonitorBrowser, ThePageFollowsTheRunAndShowsItsEnd) {
+  const std::string chromium = FindChromium();
+  if (chromium.empty()) {
+    GTEST_SKIP() << "chromium not found: the monitor's browser test needs Debian's `chromium` "
+                    "(scripts/install-deps.sh)";
+  }
+  const fs::path dir = ResumeTestDir("monitor_browser");
+  const fs::path csv = dir / "emulated.csv";
+  test_support::WriteText(dir / "token", "browser-test-token-0123456789\n");
+  MonitoredRun run({"run", kSource + "/examples/rotor/emulated.yaml", "--out", csv.string(),
+                    "--quiet", "--monitor", "127.0.0.1:0", "--token-file",
+                    (dir / "token").string(), "--monitor-linger", "120"},
+                   dir / "run.log");
+  ASSERT_NE(run.port(), 0) << run.child().output();
+  ASSERT_TRUE(run.WaitState([](const auto& s) { return s["step"].template get<long>() > 0; }));
+
+  // Twice, 2 s apart, during the run: two different simulated times.
+  const std::string first = DumpDom(chromium, run.port(), dir / "profile1");
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  const std::string second = DumpDom(chromium, run.port(), dir / "profile2");
+  const std::string t1 = Capture(first, R"(id="t">([0-9.]+)<)");
+  const std::string t2 = Capture(second, R"(id="t">([0-9.]+)<)");
+  ASSERT_FALSE(t1.empty()) << first;
+  ASSERT_FALSE(t2.empty()) << second;
+  EXPECT_NE(t1, t2);
+  // The physical slot's force and its limit (force_hard = 300 N in emulated.yaml).
+  EXPECT_FALSE(Capture(first, R"(Slot r1 force (-?[0-9.e+-]+) N)").empty()) << first;
+  EXPECT_EQ(Capture(first, R"(limit \(force_hard\) ([0-9.e+]+) N)"), "300.0") << first;
+
+  // A Hold without the token is refused, and the page says so.
+  EXPECT_EQ(run.Post("hold"), 401);
+  EXPECT_NE(run.State()["status"], "holding");
+
+  // After the run: "finished", the refusal listed.
+  ASSERT_TRUE(run.WaitState([](const auto& s) { return s["status"] == "finished"; }));
+  const std::string last = DumpDom(chromium, run.port(), dir / "profile3");
+  EXPECT_EQ(Capture(last, R"(id="status" class="badge finished">([a-z]+)<)"), "finished") << last;
+  EXPECT_NE(last.find("hold refused (401)"), std::string::npos) << last;
+  EXPECT_EQ(Capture(last, R"(id="t">([0-9.]+)<)"), "10.0000");
+  run.child().Signal(SIGINT);  // ends the linger
+  EXPECT_EQ(run.child().WaitExit(30.0), 0) << run.child().output();
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace hybridtest::testing
