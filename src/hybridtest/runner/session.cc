@@ -7,6 +7,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/multibody/kane.h"
+#include "hybridtest/runner/bench_record.h"
 #include "hybridtest/runner/run_files.h"
 #include "hybridtest/runner/run_record.h"
 #include "hybridtest/runner/slot_info.h"
@@ -353,6 +354,7 @@ StepResult Session::Finish() {
   UpdateStatistics(t_now_);
   StopEvent event{SessionStatus::kFinished, "", ToJson(stats_)};
   event.statistics["initial_stiffness"] = stiffness_record_;
+  event.statistics["benches"] = BenchRecords(subs_, spec_);
   result_ = {SessionStatus::kFinished, ""};
   try {
     for (SessionObserver* o : observers_) o->AddStatistics(event.statistics);
@@ -386,6 +388,7 @@ StepResult Session::Fail(const std::exception& e) {
   UpdateStatistics(t_now_);
   StopEvent event{result_.status, e.what(), ToJson(stats_)};
   event.statistics["initial_stiffness"] = stiffness_record_;
+  event.statistics["benches"] = BenchRecords(subs_, spec_);
   event.statistics["stop"] = StopDetails(e);
   // How many commands each in-process bench had received: a resume tells it, so that a test
   // fault that stopped the run does not fire again.
