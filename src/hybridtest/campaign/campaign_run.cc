@@ -20,6 +20,22 @@ namespace {
 
 std::string SidecarPath(const std::string& dir) { return (fs::path(dir) / "campaign.json").string(); }
 
+// Progress updates replace the sidecar atomically (a reader sees the old or the new text) but
+// are not synced: the cases' case.json files are the record of truth, and a rerun rebuilds the
+// progress from them. The first write of an invocation is synced (WriteFileAtomically).
+void ReplaceFile(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".progress";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.flush();
+    if (!out) throw IoError(fmt::format("{}: cannot write ({})", tmp, io::OsError()));
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) throw IoError(fmt::format("{}: cannot replace ({})", path, ec.message()));
+}
+
 }  // namespace
 
 int DefaultWorkers() {
@@ -155,7 +171,12 @@ void CampaignLedger::WriteSidecar() {
                           {"updated", io::UtcNowIso8601()}};
   sidecar_["status"] = left == 0 ? (failed > 0 ? "completed with failures" : "completed")
                                  : "running";
-  io::WriteFileAtomically(SidecarPath(options_.out_dir), sidecar_.dump(2) + "\n");
+  if (synced_) {
+    ReplaceFile(SidecarPath(options_.out_dir), sidecar_.dump(2) + "\n");
+  } else {
+    io::WriteFileAtomically(SidecarPath(options_.out_dir), sidecar_.dump(2) + "\n");
+    synced_ = true;
+  }
 }
 
 CampaignOutcome CampaignLedger::Close() {
@@ -176,6 +197,7 @@ CampaignOutcome CampaignLedger::Close() {
   }
   sidecar_["invocations"].back()["finished"] = io::UtcNowIso8601();
   if (!outcome_.figures_note.empty()) sidecar_["figures_note"] = outcome_.figures_note;
+  synced_ = false;
   WriteSidecar();
   outcome_.exit_status = outcome_.failed > 0 || outcome_.finished < outcome_.total ? 1 : 0;
   return outcome_;

@@ -74,6 +74,7 @@ class CampaignLedger {
   std::vector<std::pair<int, std::string>> running_;
   std::vector<std::string> running_since_;
   nlohmann::json sidecar_;
+  bool synced_ = false;  // the sidecar was written durably once (then progress is not synced)
   CampaignOutcome outcome_;
   std::chrono::steady_clock::time_point start_;
 };

@@ -120,13 +120,28 @@ std::vector<std::string> WriteCampaignFigures(
     const Campaign& campaign, const std::vector<std::optional<CaseResult>>& results,
     const std::string& out_dir) {
   // (name, value of case i) for every numeric quantity of the summary.
+  // (name with its unit, value of case i) for every numeric quantity of the summary; the
+  // units from the first finished case's journal.
+  std::optional<io::RunData> run;
+  for (std::size_t i = 0; i < results.size() && !run; ++i) {
+    if (!results[i] || results[i]->status != "finished") continue;
+    try {
+      if (campaign.command != CaseCommand::kPlan) {
+        run = io::LoadRun(CaseJournal(out_dir, campaign, static_cast<int>(i)));
+      }
+    } catch (const std::exception&) {
+    }
+  }
   std::vector<std::pair<std::string, std::vector<double>>> quantities;
   for (std::size_t m = 0; m < campaign.metrics.size(); ++m) {
     std::vector<double> v;
     for (const auto& r : results) {
       v.push_back(r && r->status == "finished" && m < r->metrics.size() ? r->metrics[m] : kNaN);
     }
-    quantities.emplace_back(campaign.metrics[m].name, v);
+    const std::string& channel = campaign.metrics[m].channel;
+    const std::string unit = run && run->Has(channel) ? run->Unit(channel) : "";
+    quantities.emplace_back(campaign.metrics[m].name + (unit.empty() ? "" : " [" + unit + "]"),
+                            v);
   }
   if (campaign.command == CaseCommand::kPlan) {
     for (const char* key : {"evaluations", "error", "lab_time"}) {
@@ -183,10 +198,14 @@ std::vector<std::string> WriteCampaignFigures(
         panel.series.push_back(std::move(s));
       }
       std::string stem;
-      for (char ch : name + "-vs-" + SplitKeyPath(campaign.varied[p]).back()) {
-        stem += std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '.' ? ch : '_';
+      for (char ch : name.substr(0, name.find(" [")) + "-vs-" +
+                         SplitKeyPath(campaign.varied[p]).back()) {
+        if (ch == ')') continue;
+        stem += std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '.' ? ch
+                : ch == '(' ? '-' : '_';
       }
-      figures.push_back({stem, fmt::format("{} against {}", name, campaign.varied[p]), {panel}});
+      figures.push_back(
+          {stem, fmt::format("{} against {}", name, campaign.varied[p]), {panel}});
     }
   }
   if (figures.empty()) return {};
