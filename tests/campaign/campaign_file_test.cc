@@ -138,6 +138,24 @@ TEST(CampaignFile, CaseConfigIsAValidRunConfig) {
   EXPECT_TRUE(cfg.output_csv.empty());
 }
 
+TEST(CampaignFile, AKeyInsideABenchFileCopiesTheBenchInline) {
+  const fs::path dir = WriteCampaign(
+      "base: base.yaml\nseeds: {key: substructures.r1.transfer.bench.seed, values: [7]}\n",
+      "bench");
+  WriteText(dir / "base.yaml",
+            "model: {name: rotor, blades: 3}\nintegrator: {tableau: heun, dt: 0.001}\n"
+            "duration: 1\nsubstructures:\n  r1:\n    type: physical\n"
+            "    transfer: {type: emulated, config: bench.yaml}\n");
+  WriteText(dir / "bench.yaml", "bench:\n  seed: 1\n  p0_mm: 2\n");
+  const Campaign c = LoadCampaign((dir / "c.yaml").string());
+  EXPECT_EQ(c.cases[0].id, "c0-seed=7");
+  const YAML::Node cfg = YAML::Load(CaseConfigText(c, 0, (dir / "case").string()));
+  const YAML::Node transfer = cfg["substructures"]["r1"]["transfer"];
+  EXPECT_FALSE(transfer["config"]);
+  EXPECT_EQ(transfer["bench"]["seed"].as<int>(), 7);
+  EXPECT_EQ(transfer["bench"]["p0_mm"].as<double>(), 2.0);
+}
+
 TEST(CampaignFile, CaseIdsAreSafeFolderNames) {
   EXPECT_TRUE(IsValidCaseId("c01-f_w=25-blade1.k_b=5250"));
   EXPECT_FALSE(IsValidCaseId(""));

@@ -326,8 +326,41 @@ Campaign LoadCampaign(const std::string& path) {
   return c;
 }
 
+namespace {
+
+// A key under substructures.SLOT.transfer.bench. of a slot whose bench is a file: the file's
+// `bench:` mapping is copied inline (in place of `config:`) so that the key can be set.
+void InlineBenchFor(YAML::Node root, const std::string& key_path, const fs::path& base_dir) {
+  const auto parts = SplitKeyPath(key_path);
+  if (parts.size() < 5 || parts[0] != "substructures" || parts[2] != "transfer" ||
+      parts[3] != "bench") {
+    return;
+  }
+  YAML::Node transfer = root["substructures"][parts[1]]["transfer"];
+  if (!transfer || !transfer.IsMap() || transfer["bench"] || !transfer["config"] ||
+      !transfer["config"].IsScalar()) {
+    return;
+  }
+  fs::path file = transfer["config"].Scalar();
+  if (file.is_relative()) file = base_dir / file;
+  const YamlInput bench = YamlInput::FromFile(file.string(), "a `bench:` mapping");
+  if (!bench.root()["bench"] || !bench.root()["bench"].IsMap()) {
+    throw ConfigError(fmt::format("key path '{}': the bench file {} has no `bench:` mapping to "
+                                  "vary", key_path, file.string()));
+  }
+  transfer["bench"] = YAML::Clone(bench.root()["bench"]);
+  transfer.remove("config");
+}
+
+}  // namespace
+
 std::string CaseConfigText(const Campaign& campaign, int index, const std::string& case_dir) {
   YAML::Node root = YAML::Load(campaign.base_text);
+  const fs::path base_parent = fs::path(campaign.base_path).parent_path();
+  for (const auto& [key, value] : campaign.set) InlineBenchFor(root, key, base_parent);
+  for (const auto& [key, value] : campaign.cases.at(index).params) {
+    InlineBenchFor(root, key, base_parent);
+  }
   for (const auto& [key, value] : campaign.set) SetKeyPath(root, key, value);
   for (const auto& [key, value] : campaign.cases.at(index).params) SetKeyPath(root, key, value);
   if (root["output"] && root["output"].IsMap()) root["output"].remove("csv");

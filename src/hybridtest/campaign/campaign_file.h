@@ -11,7 +11,8 @@
 //     model.parameters.blade1.k_b: [5250, 7200]
 //   table: cases.csv                # a CSV of cases: a header of key paths (and an optional
 //                                   # `id` column), one case per line
-//   seeds: {key: K, values: [...]}  # or {key: K, count: N, first: 1}: one case per seed
+//   seeds: {key: K, values: [...]}  # or {key: K, count: N, first: 1}: one case per seed,
+//                                   # e.g. K = substructures.r1.transfer.bench.seed
 //   metrics: [max_abs(q1), rms(q1), final(u4), error(q1)]
 //   reference: {model.parameters.f_w: 100}  # the case error() compares against
 //   plan: {tolerance: 0.01, emulate: bench.yaml}
@@ -74,7 +75,9 @@ std::vector<std::string> SplitKeyPath(const std::string& key_path);
 // The complete run config of case `index`, as YAML text, to be written to `case_dir`: the
 // base with the `set` and the case's values applied, `output.csv` removed (the campaign gives
 // the journal's path) and the files the base names (model file, bench and token files)
-// rewritten relative to case_dir.
+// rewritten relative to case_dir. A key under `substructures.SLOT.transfer.bench.` of a slot
+// whose emulated bench is a file (`transfer.config`) first copies that file's `bench:` mapping
+// into the case's config, so a campaign can vary a bench's seed or specimen.
 std::string CaseConfigText(const Campaign& campaign, int index, const std::string& case_dir);
 
 // True if `id` may name a case folder: 1..120 characters of [A-Za-z0-9._=+-], not starting

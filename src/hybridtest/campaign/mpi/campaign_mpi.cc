@@ -152,6 +152,14 @@ CampaignOutcome RunCampaignMpi(const std::string& campaign_path, const CampaignO
     outcome.worker_only = true;
     return outcome;
   }
+  if (options.print) {
+    options.print(fmt::format("hybridtest campaign {}: {} {} cases -> {} ({} MPI ranks: {}; {})",
+                              campaign_path, campaign->cases.size(),
+                              CaseCommandName(campaign->command), options.out_dir, mpi.size(),
+                              mpi.size() == 1 ? "rank 0 runs the cases"
+                                              : "rank 0 hands out the cases",
+                              MpiLibraryVersion()));
+  }
   try {
     if (mpi.size() == 1) {
       const std::string name = fmt::format("rank 0@{}", Host());
