@@ -43,6 +43,12 @@ for dir in "$2"/l1/cases/*/; do
 done
 SH
 run "separate simulate processes, one at a time" bash "$WORK/separate.sh" "$HT" "$WORK"
+cat > "$WORK/separate2.sh" <<'SH'
+set -e
+mkdir -p "$2/sep2"
+ls -d "$2"/l1/cases/*/ | xargs -P 2 -I{} sh -c '"$0" simulate "$1/config.yaml" --out "$2/sep2/$(basename "$1").csv" --quiet' "$1" {} "$2"
+SH
+run "separate simulate processes, 2 at a time" bash "$WORK/separate2.sh" "$HT" "$WORK"
 run "campaign, local, 2 workers" "$HT" campaign "$WORK/campaign.yaml" --out "$WORK/l2" --workers 2 --quiet
 run "campaign, local, 4 workers" "$HT" campaign "$WORK/campaign.yaml" --out "$WORK/l4" --workers 4 --quiet
 if command -v mpirun > /dev/null && "$HT" campaign --help | grep -q "MPI: built with"; then
