@@ -111,13 +111,16 @@ void Work(const MpiEnvironment& mpi, const Campaign& campaign, const CampaignOpt
 
 bool MpiBuilt() { return true; }
 
+// From mpi.h, so that no MPI call is made outside a campaign (the help text names it).
 std::string MpiLibraryVersion() {
-  char version[MPI_MAX_LIBRARY_VERSION_STRING] = {};
-  int length = 0;
-  MPI_Get_library_version(version, &length);
-  std::string v(version, static_cast<std::size_t>(length));
-  const auto end = v.find_first_of(",\n");
-  return end == std::string::npos ? v : v.substr(0, end);
+#if defined(OMPI_MAJOR_VERSION)
+  return fmt::format("Open MPI v{}.{}.{}", OMPI_MAJOR_VERSION, OMPI_MINOR_VERSION,
+                     OMPI_RELEASE_VERSION);
+#elif defined(MPICH_VERSION)
+  return std::string("MPICH ") + MPICH_VERSION;
+#else
+  return fmt::format("MPI {}.{}", MPI_VERSION, MPI_SUBVERSION);
+#endif
 }
 
 CampaignOutcome RunCampaignMpi(const std::string& campaign_path, const CampaignOptions& options) {
