@@ -128,7 +128,8 @@ TEST(CampaignFile, CaseConfigAppliesTheValuesAndRebasesFiles) {
 }
 
 TEST(CampaignFile, CaseConfigIsAValidRunConfig) {
-  const fs::path dir = WriteCampaign("base: base.yaml\ngrid: {model.parameters.f_w: [42]}\n", "valid");
+  const fs::path dir =
+      WriteCampaign("base: base.yaml\ngrid: {model.parameters.f_w: [42]}\n", "valid");
   const Campaign c = LoadCampaign((dir / "c.yaml").string());
   const fs::path case_dir = dir / "cases" / c.cases[0].id;
   fs::create_directories(case_dir);

@@ -72,7 +72,8 @@ pid_t FindRank(int rank, const std::string& marker) {
     if (name.find_first_not_of("0123456789") != std::string::npos) continue;
     const std::string cmdline = ReadText(entry.path() / "cmdline");
     const std::string environ = ReadText(entry.path() / "environ");
-    if (cmdline.find(marker) == std::string::npos || cmdline.find("campaign") == std::string::npos) {
+    if (cmdline.find(marker) == std::string::npos ||
+        cmdline.find("campaign") == std::string::npos) {
       continue;
     }
     const std::string want = "OMPI_COMM_WORLD_RANK=" + std::to_string(rank);

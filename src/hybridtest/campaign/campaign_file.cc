@@ -243,7 +243,8 @@ Campaign LoadCampaign(const std::string& path) {
     if (seeds["values"]) {
       values = ScalarList(in, seeds["values"], "seeds.values");
     } else {
-      const long long count = in.Count(seeds["count"], "seeds.count", "a number of seeds", 1, 1000000);
+      const long long count =
+          in.Count(seeds["count"], "seeds.count", "a number of seeds", 1, 1000000);
       const long long first = seeds["first"] ? in.Count(seeds["first"], "seeds.first",
                                                         "the first seed", 0, 1LL << 53) : 1;
       for (long long s = 0; s < count; ++s) values.push_back(std::to_string(first + s));
@@ -315,7 +316,9 @@ Campaign LoadCampaign(const std::string& path) {
   if (const YAML::Node plan = in.Mapping(root, "plan", "plan", false)) {
     in.CheckKeys(plan, "plan", {"tolerance", "emulate"});
     c.plan_tolerance = in.ReadNumber(plan, "plan", "tolerance", "a positive relative error", 0.01);
-    if (!(c.plan_tolerance > 0)) in.ThrowValue(plan["tolerance"], "plan.tolerance", "a positive relative error, e.g. 0.01");
+    if (!(c.plan_tolerance > 0)) {
+      in.ThrowValue(plan["tolerance"], "plan.tolerance", "a positive relative error, e.g. 0.01");
+    }
     if (plan["emulate"]) c.plan_emulate = resolve(Scalar(in, plan["emulate"], "plan.emulate"));
   }
   if (root["figures"]) {
@@ -377,7 +380,8 @@ std::string CaseConfigText(const Campaign& campaign, int index, const std::strin
   if (root["model"] && root["model"].IsMap()) rebase(root["model"]["file"]);
   if (root["substructures"] && root["substructures"].IsMap()) {
     for (auto slot : root["substructures"]) {
-      if (!slot.second.IsMap() || !slot.second["transfer"] || !slot.second["transfer"].IsMap()) continue;
+      const YAML::Node transfer = slot.second.IsMap() ? slot.second["transfer"] : YAML::Node();
+      if (!transfer || !transfer.IsMap()) continue;
       rebase(slot.second["transfer"]["config"]);
       rebase(slot.second["transfer"]["token_file"]);
     }

@@ -4,6 +4,7 @@
 #include <fmt/core.h>
 
 #include <atomic>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <thread>
@@ -18,7 +19,9 @@ namespace hybridtest::campaign {
 namespace fs = std::filesystem;
 namespace {
 
-std::string SidecarPath(const std::string& dir) { return (fs::path(dir) / "campaign.json").string(); }
+std::string SidecarPath(const std::string& dir) {
+  return (fs::path(dir) / "campaign.json").string();
+}
 
 // Progress updates replace the sidecar atomically (a reader sees the old or the new text) but
 // are not synced: the cases' case.json files are the record of truth, and a rerun rebuilds the
@@ -64,15 +67,17 @@ CampaignLedger::CampaignLedger(const Campaign& campaign, const CampaignOptions& 
       throw ConfigError(fmt::format("{}: not a campaign record ({}); give a new --out folder",
                                     SidecarPath(dir), e.what()));
     }
-    const std::string old_campaign = sidecar_.value(nlohmann::json::json_pointer("/campaign/sha256"), "");
-    const std::string old_base = sidecar_.value(nlohmann::json::json_pointer("/base/sha256"), "");
+    using Pointer = nlohmann::json::json_pointer;
+    const std::string old_campaign = sidecar_.value(Pointer("/campaign/sha256"), "");
+    const std::string old_base = sidecar_.value(Pointer("/base/sha256"), "");
     if (old_campaign != campaign_sha || old_base != base_sha) {
       throw ConfigError(fmt::format(
           "{} holds the results of another campaign ({} changed since); results are never "
           "destroyed: give a new --out folder, or restore the campaign as it was",
           dir, old_campaign != campaign_sha ? "the campaign file" : "the base config"));
     }
-    const auto& running = sidecar_.value(nlohmann::json::json_pointer("/progress/running"), nlohmann::json::array());
+    const nlohmann::json running =
+        sidecar_.value(Pointer("/progress/running"), nlohmann::json::array());
     if (options.print && running.is_array() && !running.empty()) {
       std::string list;
       for (const auto& r : running) {
@@ -208,11 +213,19 @@ CampaignOutcome RunCampaignLocal(const Campaign& campaign, const CampaignOptions
   CampaignLedger ledger(campaign, options, "local", workers);
   const std::vector<int> pending = ledger.Pending();
   std::atomic<std::size_t> next{0};
+  std::mutex error_mutex;
+  std::exception_ptr error;  // a ledger failure (the sidecar cannot be written): stop handing out
   auto work = [&](int w) {
     const std::string name = fmt::format("thread {}", w);
-    for (std::size_t k = next++; k < pending.size(); k = next++) {
-      ledger.Started(pending[k], name);
-      ledger.Finished(RunCase(campaign, pending[k], options.out_dir, options.hooks, name));
+    try {
+      for (std::size_t k = next++; k < pending.size(); k = next++) {
+        ledger.Started(pending[k], name);
+        ledger.Finished(RunCase(campaign, pending[k], options.out_dir, options.hooks, name));
+      }
+    } catch (...) {
+      next = pending.size();
+      std::scoped_lock lock(error_mutex);
+      if (!error) error = std::current_exception();
     }
   };
   const int threads = std::max(1, std::min<int>(workers, static_cast<int>(pending.size())));
@@ -223,6 +236,7 @@ CampaignOutcome RunCampaignLocal(const Campaign& campaign, const CampaignOptions
     for (int w = 0; w < threads; ++w) pool.emplace_back(work, w);
     for (auto& t : pool) t.join();
   }
+  if (error) std::rethrow_exception(error);
   return ledger.Close();
 }
 
