@@ -171,6 +171,35 @@ TEST(Campaign, AKilledCampaignRerunFinishesOnlyTheMissingCases) {
   fs::remove_all(dir);
 }
 
+TEST(Campaign, RunAndPlanCasesOnAnEmulatedBench) {
+  const fs::path dir = FreshTempDir("campaign_run_plan");
+  for (const std::string command : {"run", "plan"}) {
+    test_support::WriteText(
+        dir / (command + ".yaml"),
+        "base: " + kSource + "/examples/rotor/emulated-fast.yaml\ncommand: " + command +
+            "\nset: {duration: 1.0}\ngrid: {model.parameters.f_w: [50, 100]}\n"
+            "metrics: [max_abs(r1_force)]\nfigures: false\n");
+    const auto [status, output] =
+        RunCommand(Campaign(dir / (command + ".yaml"), dir / command, "--quiet"), 300);
+    ASSERT_EQ(status, 0) << output;
+    const auto rows = ReadSummary(dir / command / "summary.csv");
+    ASSERT_EQ(rows.size(), 2u);
+    for (const auto& row : rows) {
+      EXPECT_EQ(row.at("status"), "finished") << row.at("error");
+      const fs::path case_dir = dir / command / "cases" / row.at("case");
+      if (command == "run") {
+        EXPECT_GT(std::stod(row.at("max_abs(r1_force)")), 0.0);
+        EXPECT_TRUE(fs::exists(case_dir / "run.stages.csv"));
+      } else {
+        EXPECT_FALSE(row.at("recommendation").empty());
+        EXPECT_GT(std::stod(row.at("evaluations")), 0.0);
+        EXPECT_FALSE(fs::exists(case_dir / "run.csv"));  // plan runs in memory
+      }
+    }
+  }
+  fs::remove_all(dir);
+}
+
 TEST(Campaign, AFolderOfAnotherCampaignIsRefused) {
   const fs::path dir = FreshTempDir("campaign_other");
   const fs::path file = WriteRotorCampaign(dir, "{model.parameters.f_w: [50]}", 0.1);
