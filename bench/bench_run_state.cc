@@ -65,7 +65,7 @@ void BM_RunStateOverhead(benchmark::State& state) {
   const io::SimulationConfig cfg = EmulatedConfig();
   runner::SubstructureList subs = io::MakeSubstructures(cfg, {});
   const multibody::Model& model = cfg.model.model;
-  schemes::SlotInfo info{Eigen::VectorXd::Zero(3), Eigen::VectorXd::Constant(3, 0.002)};
+  schemes::SlotInfo info{Eigen::VectorXd::Zero(3), Eigen::VectorXd::Constant(3, 0.002), {}};
   for (int s = 0; s < 3; ++s) info.k0(s) = subs[static_cast<std::size_t>(s)]->initial_stiffness().value_or(7200.0);
   auto scheme = schemes::MakeScheme(cfg.scheme, cfg.tableau, cfg.dt, cfg.duration, cfg.steps,
                                     model, info);

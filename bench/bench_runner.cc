@@ -235,7 +235,7 @@ void BM_BareLoop(benchmark::State& state) {
   const multibody::Model& model = spec.model.model;
   runner::SubstructureList subs;
   for (const auto& s : spec.substructures) subs.push_back(s.Build());
-  schemes::SlotInfo info{Eigen::VectorXd::Constant(3, 5250.0), Eigen::VectorXd::Constant(3, 0.005)};
+  schemes::SlotInfo info{Eigen::VectorXd::Constant(3, 5250.0), Eigen::VectorXd::Constant(3, 0.005), {}};
   auto scheme = schemes::MakeScheme(spec.scheme.config, spec.scheme.tableau, spec.scheme.dt,
                                     spec.scheme.duration, spec.scheme.steps, model, info);
   for (auto& s : subs) s->Activate();

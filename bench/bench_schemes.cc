@@ -49,7 +49,7 @@ void SchemeStep(benchmark::State& state, schemes::SchemeKind kind, double dt) {
   schemes::SchemeConfig config;
   config.kind = kind;
   schemes::SlotInfo slots{Eigen::VectorXd::Constant(m, 7200.0),
-                          Eigen::VectorXd::Constant(m, std::numeric_limits<double>::infinity())};
+                          Eigen::VectorXd::Constant(m, std::numeric_limits<double>::infinity()), {}};
   auto scheme = schemes::MakeScheme(config, integrators::FindTableau("heun"), dt, kDuration,
                                     static_cast<long>(kDuration / dt), model, slots);
   schemes::SeamOf seam([&](const schemes::TrialPoint&, const Eigen::VectorXd& d,

@@ -10,6 +10,7 @@
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/runner/plan.h"
 #include "hybridtest/runner/session.h"
+#include "support/temp_dir.h"
 
 namespace hybridtest::runner {
 namespace {
@@ -18,8 +19,8 @@ namespace fs = std::filesystem;
 const std::string kExample = std::string(HYBRIDTEST_SOURCE_DIR) + "/examples/06_blade_two_actuators/";
 
 io::RunData RunToFile(io::RunSpec spec, const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "multi_actuator_mros";
-  fs::create_directories(dir);
+  // One folder per test process: ctest runs the tests of this file in parallel.
+  static const fs::path dir = test_support::FreshTempDir("multi_actuator_mros");
   const fs::path csv = dir / (name + ".csv");
   for (const auto& f : {csv, fs::path(csv).replace_extension(".meta.json"),
                         fs::path(csv).replace_extension(".state.json"),

@@ -128,11 +128,11 @@ nlohmann::json PacedLoop::ToJson() const {
   // The compensators' estimates (delay, amplitude) per slot.
   nlohmann::json compensators = nlohmann::json::object();
   const auto& subs = session_.substructures();
-  for (std::size_t s = 0; s < subs.size(); ++s) {
-    const auto* p = dynamic_cast<const substructures::PhysicalSubstructure*>(subs[s].get());
+  for (std::size_t k = 0; k < subs.size(); ++k) {
+    const auto* p = dynamic_cast<const substructures::PhysicalSubstructure*>(subs[k].get());
     if (p == nullptr) continue;
     if (const auto* c = dynamic_cast<const transfer::DelayCompensator*>(&p->transfer())) {
-      compensators[session_.model().slots()[s].info.name] = c->ToJson();
+      compensators[session_.spec().substructures[k].slot] = c->ToJson();
     }
   }
   if (!compensators.empty()) j["compensation"] = compensators;

@@ -47,7 +47,7 @@ void MultiActuatorStiffness(substructures::MultiActuatorSubstructure& multi, nlo
 schemes::SlotInfo SlotInfoOf(const std::vector<std::unique_ptr<substructures::Substructure>>& subs,
                              const std::vector<std::vector<int>>& slot_of, int num_slots) {
   const auto m = static_cast<Eigen::Index>(num_slots);
-  schemes::SlotInfo info{Eigen::VectorXd::Zero(m), Eigen::VectorXd::Zero(m)};
+  schemes::SlotInfo info{Eigen::VectorXd::Zero(m), Eigen::VectorXd::Zero(m), {}};
   for (std::size_t s = 0; s < subs.size(); ++s) {
     const auto& slots = slot_of[s];
     if (slots.size() == 1) {

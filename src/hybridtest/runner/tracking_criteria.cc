@@ -51,7 +51,8 @@ double TrackingCriteria::J3() const {
 double TrackingCriteria::J1_ms() const {
   const long n = std::min<long>(n_, static_cast<long>(xc_.size()));
   if (n < 4 || !(tick_ > 0.0)) return std::numeric_limits<double>::quiet_NaN();
-  const long max_lag = std::min(n - 4, static_cast<long>(std::ceil(max_lag_ / tick_)) + 1);
+  const long max_lag =
+      std::max(0L, std::min(n - 4, static_cast<long>(std::ceil(max_lag_ / tick_)) + 1));
   // R(L): the correlation coefficient of x_c(i) and x_m(i + L) over their overlap (x_m lags
   // x_c by L ticks); normalised per lag, so a growing or decaying response does not bias it.
   auto corr = [&](long lag) {
@@ -74,10 +75,11 @@ double TrackingCriteria::J1_ms() const {
   };
   long best = 0;
   double best_r = corr(0);
-  std::vector<double> r(static_cast<std::size_t>(max_lag + 1));
-  r[0] = best_r;
+  std::vector<double> r;
+  r.reserve(static_cast<std::size_t>(max_lag) + 1);
+  r.push_back(best_r);
   for (long lag = 1; lag <= max_lag; ++lag) {
-    r[static_cast<std::size_t>(lag)] = corr(lag);
+    r.push_back(corr(lag));
     if (r[static_cast<std::size_t>(lag)] > best_r) {
       best_r = r[static_cast<std::size_t>(lag)];
       best = lag;
