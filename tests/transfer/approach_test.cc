@@ -92,8 +92,11 @@ TEST(EmulatedBench, CountsTheForceReversalsOfEveryMove) {
 TEST(BenchConfig, ReadsTheApproachAndRefusesAnUnknownOne) {
   const YAML::Node ok = YAML::Load("{actuator: {approach: monotone}}");
   EXPECT_EQ(ParseEmulatedBenchConfig(ok, "t.yaml: bench").approach, Approach::kMonotone);
+  // Without the key: monotone, what a pseudo-dynamic test needs.
   const YAML::Node none = YAML::Load("{actuator: {delay_ms: 2}}");
-  EXPECT_EQ(ParseEmulatedBenchConfig(none, "t.yaml: bench").approach, Approach::kDirect);
+  EXPECT_EQ(ParseEmulatedBenchConfig(none, "t.yaml: bench").approach, Approach::kMonotone);
+  const YAML::Node direct = YAML::Load("{actuator: {approach: direct}}");
+  EXPECT_EQ(ParseEmulatedBenchConfig(direct, "t.yaml: bench").approach, Approach::kDirect);
   const YAML::Node bad = YAML::Load("{actuator: {approach: smooth}}");
   try {
     ParseEmulatedBenchConfig(bad, "t.yaml: bench");

@@ -19,7 +19,7 @@
 //       lag: {type: second_order, natural_frequency_hz: 10, damping_ratio: 0.8}
 //            # or {type: first_order, time_constant_ms: 20} or {type: none}
 //       delay_ms: 2                   # pure transport delay of the servo loop [ms]
-//       approach: direct              # direct | monotone: how a move approaches its target
+//       approach: monotone            # monotone | direct: how a move approaches its target
 //                                     # (actuator.h); monotone never overshoots it
 //     load_cell:
 //       noise_std_N: 0.2              # Gaussian noise of one raw sample, std dev [N]
@@ -31,7 +31,7 @@
 //     sampling:
 //       window_ms: 500                # averaging window of one measurement [ms]
 //     timing:
-//       overhead_ms: 500              # fixed lab time per command (API, EtherCAT, logging) [ms]
+//       overhead_ms: 440              # fixed lab time per command (API, EtherCAT, logging) [ms]
 //       internal_step_ms: 1           # step of the internal simulation and sampling rate [ms]
 //     safety:                          # the bench's own SafetyMonitor (see safety.h)
 //       stroke_min_mm: -150           # default: actuator.position_min_mm
@@ -78,6 +78,9 @@ struct ServoLag {
 //   kMonotone   the reference is shaped for the servo lag (a zero-vibration input shaper), so
 //               the position approaches every target from the direction of motion, without
 //               overshoot (what a pseudo-dynamic test needs; one half period of the lag longer).
+// The default is kMonotone: a controller set up for pseudo-dynamic testing approaches each
+// target without reversing the load (a hysteretic specimen would ratchet on every overshoot);
+// kDirect models an untuned servo loop, for studying what an overshoot does.
 enum class Approach { kDirect, kMonotone };
 
 struct EmulatedBenchConfig {
@@ -95,7 +98,7 @@ struct EmulatedBenchConfig {
   double velocity_limit = 0.020;           // Unit: [m/s].
   ServoLag lag;
   double delay = 0.002;                    // pure delay. Unit: [s].
-  Approach approach = Approach::kDirect;    // actuator.approach
+  Approach approach = Approach::kMonotone;  // actuator.approach
 
   double noise_std = 0.2;                  // load-cell noise per raw sample. Unit: [N].
   double resolution = 0.01;                // load-cell quantisation. Unit: [N]; 0 = none.
@@ -104,7 +107,7 @@ struct EmulatedBenchConfig {
   double settle_tolerance = 0.005e-3;      // Unit: [m].
   double settle_dwell = 0.100;             // Unit: [s].
   double sampling_window = 0.500;          // Unit: [s].
-  double overhead = 0.500;                 // fixed lab time per command. Unit: [s].
+  double overhead = 0.440;                 // fixed lab time per command. Unit: [s].
   double internal_step = 0.001;            // internal simulation step. Unit: [s].
 
   SafetyLimits safety;                     // the bench's own limits, SI
