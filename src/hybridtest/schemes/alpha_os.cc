@@ -111,10 +111,9 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
   jac_.noalias() -= ((1.0 + alpha_) * gamma_ * h) * J_.block(n_, n_, nv_, nv_);
   newton_lu_.compute(jac_);
   const auto& lu = newton_lu_;
-  a_new_ = a_;
-  double scale = 1.0;
-  bool converged = false;
-  for (int it = 0; it < 50 && !converged; ++it) {
+  // The state and the split restoring forces r_pred + K0 (d − d_pred) for the acceleration
+  // a_new_ (no allocation: members only).
+  auto corrected_state = [&] {
     x_try_.head(n_) = x_pred_.head(n_) + (beta_ * h * h) * a_new_.head(n_);
     x_try_.tail(nv_) = x_pred_.tail(nv_) + (gamma_ * h) * a_new_;
     multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_try_.head(n_), d_try_);
@@ -125,6 +124,12 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
     } else {
       r_try_ = r_pred_ + slots_.k0.cwiseProduct(d_try_ - d_pred_);
     }
+  };
+  a_new_ = a_;
+  double scale = 1.0;
+  bool converged = false;
+  for (int it = 0; it < 50 && !converged; ++it) {
+    corrected_state();
     Acceleration(t_next, x_try_, r_try_, f_try_);
     res_ = a_new_ - (1.0 + alpha_) * f_try_ + alpha_ * f_n_;
     if (it == 0) scale = std::max(1.0, f_try_.lpNorm<Eigen::Infinity>());
@@ -138,16 +143,7 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
                             "(or adaptive.dt_max)", t_next, n + 1, h));
   }
   // Commit: the solution, its split restoring forces, F_{n+1} and the error estimate.
-  x_try_.head(n_) = x_pred_.head(n_) + (beta_ * h * h) * a_new_.head(n_);
-  x_try_.tail(nv_) = x_pred_.tail(nv_) + (gamma_ * h) * a_new_;
-  multibody::CalcSlotDisplacements<double>(model_, data_, t_next, x_try_.head(n_), d_try_);
-  if (coupled()) {
-    r_try_ = r_pred_;
-    r_try_.noalias() += slots_.k0_matrix * d_try_;
-    r_try_.noalias() -= slots_.k0_matrix * d_pred_;
-  } else {
-    r_try_ = r_pred_ + slots_.k0.cwiseProduct(d_try_ - d_pred_);
-  }
+  corrected_state();
   double e = 0.0, h_next = h_;
   if (config_.adaptive.enabled) {
     a_step_ = (a_new_ - a_).head(n_);

@@ -286,6 +286,28 @@ bool BenchServer::HandleFrame(Session& session, const Frame& frame) {
   }
 }
 
+// Called from a catch block after a failed gated move: a safety refusal holds the bench,
+// latches the refusal and answers ERROR safety (the session goes on); a bench failure holds
+// and answers ERROR bench (the session ends).
+bool BenchServer::AnswerFailedMove(Session& session, const Frame& frame, long n) {
+  try {
+    throw;
+  } catch (const SafetyStop& e) {
+    HoldBench(fmt::format("safety refusal at command {} ({})", n, e.limit()));
+    session.refused = true;
+    session.refused_limit = e.limit();
+    session.refused_text = e.what();
+    SendError(session, frame.sequence, static_cast<int>(ErrorCode::kSafety), e.limit(),
+              e.value(), e.limit_value(), e.what());
+    return true;
+  } catch (const Error& e) {
+    HoldBench(fmt::format("bench failure at command {}", n));
+    SendError(session, frame.sequence, static_cast<int>(ErrorCode::kBench), "", 0, 0,
+              fmt::format("the bench failed to execute command {}: {}", n, e.what()));
+    return false;
+  }
+}
+
 bool BenchServer::HandleCommand(Session& session, const Frame& frame) {
   const CommandMessage command = DecodeCommand(frame);
   const long n = ++commands_received_;
@@ -319,18 +341,8 @@ bool BenchServer::HandleCommand(Session& session, const Frame& frame) {
       }
     });
     reply.measurement = move.raw;
-  } catch (const SafetyStop& e) {
-    HoldBench(fmt::format("safety refusal at command {} ({})", n, e.limit()));
-    session.refused = true;
-    session.refused_limit = e.limit();
-    session.refused_text = e.what();
-    SendError(session, frame.sequence, safety, e.limit(), e.value(), e.limit_value(), e.what());
-    return true;
-  } catch (const Error& e) {
-    HoldBench(fmt::format("bench failure at command {}", n));
-    SendError(session, frame.sequence, static_cast<int>(ErrorCode::kBench), "", 0, 0,
-              fmt::format("the bench failed to execute command {}: {}", n, e.what()));
-    return false;
+  } catch (const Error&) {
+    return AnswerFailedMove(session, frame, n);
   }
   // Test faults on the answer.
   ApplyMeasurementFaults(options_.faults, n, units_, reply.measurement);
@@ -374,18 +386,8 @@ bool BenchServer::HandleCommands(Session& session, const Frame& frame) {
         bench_held_ = false;
       }
     });
-  } catch (const SafetyStop& e) {
-    HoldBench(fmt::format("safety refusal at command {} ({})", n, e.limit()));
-    session.refused = true;
-    session.refused_limit = e.limit();
-    session.refused_text = e.what();
-    SendError(session, frame.sequence, safety, e.limit(), e.value(), e.limit_value(), e.what());
-    return true;
-  } catch (const Error& e) {
-    HoldBench(fmt::format("bench failure at command {}", n));
-    SendError(session, frame.sequence, static_cast<int>(ErrorCode::kBench), "", 0, 0,
-              fmt::format("the bench failed to execute command {}: {}", n, e.what()));
-    return false;
+  } catch (const Error&) {
+    return AnswerFailedMove(session, frame, n);
   }
   std::vector<Measurement> measured;
   for (const auto& m : moves) measured.push_back(m.raw);

@@ -103,6 +103,7 @@ class BenchServer {
   bool Handshake(Session& session, const Frame& hello);
   // Handles one frame of an open session; returns false when the session must end.
   bool HandleFrame(Session& session, const Frame& frame);
+  bool AnswerFailedMove(Session& session, const Frame& frame, long n);
   bool HandleCommand(Session& session, const Frame& frame);
   // A COMMAND to a bench of several actuators.
   bool HandleCommands(Session& session, const Frame& frame);
