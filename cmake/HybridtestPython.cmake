@@ -1,5 +1,5 @@
-# HYBRIDTEST_PYTHON: build the Python package `hybridtest` (python/) with pybind11. Unless
-# given with -DHYBRIDTEST_PYTHON=ON|OFF, it is decided again at every configure: ON when
+# HYBRIDTEST_PYTHON_PACKAGE: build the Python package `hybridtest` (python/) with pybind11. Unless
+# given with -DHYBRIDTEST_PYTHON_PACKAGE=ON|OFF, it is decided again at every configure: ON when
 # pybind11 (Debian: pybind11-dev) and the Python 3 development files (python3-dev) are found,
 # OFF otherwise with a message, so that a tree first configured without them (scripts/build.sh
 # --app) gets the package once scripts/install-deps.sh has installed them. The interpreter is
@@ -8,25 +8,25 @@
 if(NOT DEFINED Python3_EXECUTABLE AND EXISTS /usr/bin/python3)
   set(Python3_EXECUTABLE /usr/bin/python3 CACHE FILEPATH "Python 3 interpreter of the package")
 endif()
-if(NOT DEFINED HYBRIDTEST_PYTHON OR HYBRIDTEST_PYTHON)
+if(NOT DEFINED HYBRIDTEST_PYTHON_PACKAGE OR HYBRIDTEST_PYTHON_PACKAGE)
   find_package(Python3 COMPONENTS Interpreter Development.Module QUIET)
   if(Python3_FOUND)
     find_package(pybind11 CONFIG QUIET)
   endif()
 endif()
-if(NOT DEFINED HYBRIDTEST_PYTHON)
+if(NOT DEFINED HYBRIDTEST_PYTHON_PACKAGE)
   if(Python3_FOUND AND pybind11_FOUND)
-    set(HYBRIDTEST_PYTHON ON)
+    set(HYBRIDTEST_PYTHON_PACKAGE ON)
   else()
-    set(HYBRIDTEST_PYTHON OFF)
+    set(HYBRIDTEST_PYTHON_PACKAGE OFF)
     message(STATUS "hybridtest: Python package off (pybind11-dev or python3-dev not found; "
       "scripts/install-deps.sh installs them)")
   endif()
-elseif(HYBRIDTEST_PYTHON AND NOT (Python3_FOUND AND pybind11_FOUND))
-  message(FATAL_ERROR "HYBRIDTEST_PYTHON=ON needs pybind11 (Debian: pybind11-dev) and the "
+elseif(HYBRIDTEST_PYTHON_PACKAGE AND NOT (Python3_FOUND AND pybind11_FOUND))
+  message(FATAL_ERROR "HYBRIDTEST_PYTHON_PACKAGE=ON needs pybind11 (Debian: pybind11-dev) and the "
     "Python 3 development files (python3-dev): install them with scripts/install-deps.sh")
 endif()
-if(HYBRIDTEST_PYTHON)
+if(HYBRIDTEST_PYTHON_PACKAGE)
   # The module links the layer libraries into a shared object.
   set(CMAKE_POSITION_INDEPENDENT_CODE ON)
 endif()
