@@ -153,36 +153,6 @@ RunStatistics RunInMemory(io::RunSpec spec, const std::string& work_dir, const s
   return session.statistics();
 }
 
-// The spec once per noise seed: every emulated bench with load-cell noise gets the seed in
-// place of its own. A spec without such a bench is returned once, unchanged.
-std::vector<io::RunSpec> SeededSpecs(const io::RunSpec& spec, const std::vector<unsigned long>& seeds) {
-  std::vector<std::size_t> noisy;
-  std::vector<transfer::EmulatedBenchConfig> benches(spec.substructures.size());
-  for (std::size_t s = 0; s < spec.substructures.size(); ++s) {
-    const auto& physical = spec.substructures[s].physical;
-    if (!physical || !physical->transfer.make) continue;
-    const auto built = physical->transfer.make();
-    const auto* bench = dynamic_cast<const transfer::EmulatedBench*>(built.get());
-    if (bench == nullptr || !(bench->config().noise_std > 0.0)) continue;
-    benches[s] = bench->config();
-    noisy.push_back(s);
-  }
-  if (noisy.empty() || seeds.empty()) return {spec};
-  std::vector<io::RunSpec> out;
-  for (const unsigned long seed : seeds) {
-    io::RunSpec seeded = spec;
-    for (const std::size_t s : noisy) {
-      transfer::EmulatedBenchConfig bench = benches[s];
-      bench.seed = seed;
-      seeded.substructures[s].physical->transfer.make = [bench] {
-        return std::unique_ptr<transfer::TransferSystem>(transfer::MakeEmulatedBench(bench));
-      };
-    }
-    out.push_back(std::move(seeded));
-  }
-  return out;
-}
-
 // A candidate run once per seed; the worst of them.
 void RunCandidate(const std::vector<io::RunSpec>& seeded, const PlanCandidate& candidate,
                   const multibody::Model& model, const io::RunData& reference,

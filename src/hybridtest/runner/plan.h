@@ -109,6 +109,11 @@ std::vector<PlanWarning> ReferenceLimitWarnings(const io::RunSpec& spec,
 // controller); "" when it did not.
 std::string ForceReversalAdvice(const PlanResult& result);
 
+// `spec` once per seed, every emulated bench with load-cell noise given that seed in place of
+// its own; a spec without such a bench comes back once, unchanged.
+std::vector<io::RunSpec> SeededSpecs(const io::RunSpec& spec,
+                                     const std::vector<unsigned long>& seeds);
+
 // The cheapest result (fewest evaluations, then lab time) with error ≤ tolerance, if any.
 std::optional<PlanResult> Recommend(const std::vector<PlanResult>& results, double tolerance);
 

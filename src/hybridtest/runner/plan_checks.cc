@@ -1,11 +1,12 @@
 // plan's checks and advice that are not candidate runs (plan.h): the reference against the
-// safety limits, and what a force reversal within a move means.
+// safety limits, what a force reversal within a move means, and the spec once per noise seed.
 #include <fmt/core.h>
 
 #include <cmath>
 
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/runner/plan.h"
+#include "hybridtest/transfer/emulated_bench.h"
 
 namespace hybridtest::runner {
 namespace {
@@ -79,6 +80,34 @@ std::vector<PlanWarning> ReferenceLimitWarnings(const io::RunSpec& spec,
     }
   }
   return warnings;
+}
+
+std::vector<io::RunSpec> SeededSpecs(const io::RunSpec& spec, const std::vector<unsigned long>& seeds) {
+  std::vector<std::size_t> noisy;
+  std::vector<transfer::EmulatedBenchConfig> benches(spec.substructures.size());
+  for (std::size_t s = 0; s < spec.substructures.size(); ++s) {
+    const auto& physical = spec.substructures[s].physical;
+    if (!physical || !physical->transfer.make) continue;
+    const auto built = physical->transfer.make();
+    const auto* bench = dynamic_cast<const transfer::EmulatedBench*>(built.get());
+    if (bench == nullptr || !(bench->config().noise_std > 0.0)) continue;
+    benches[s] = bench->config();
+    noisy.push_back(s);
+  }
+  if (noisy.empty() || seeds.empty()) return {spec};
+  std::vector<io::RunSpec> out;
+  for (const unsigned long seed : seeds) {
+    io::RunSpec seeded = spec;
+    for (const std::size_t s : noisy) {
+      transfer::EmulatedBenchConfig bench = benches[s];
+      bench.seed = seed;
+      seeded.substructures[s].physical->transfer.make = [bench] {
+        return std::unique_ptr<transfer::TransferSystem>(transfer::MakeEmulatedBench(bench));
+      };
+    }
+    out.push_back(std::move(seeded));
+  }
+  return out;
 }
 
 std::string ForceReversalAdvice(const PlanResult& r) {
