@@ -95,8 +95,17 @@ void QueuedObserver::OnResume(const ResumeEvent& e) {
 }
 
 void QueuedObserver::OnStop(const StopEvent& e) {
-  Drain();
+  // The inner observer hears of the stop even when it failed: its failure, if not yet reported,
+  // is raised after it.
+  std::exception_ptr pending;
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    drained_.wait(lock, [this] { return count_ == 0 && !delivering_; });
+    pending = failure_;
+    failure_ = nullptr;
+  }
   inner_.OnStop(e);
+  if (pending) std::rethrow_exception(pending);
 }
 
 void QueuedObserver::Drain() {
@@ -121,7 +130,9 @@ void QueuedObserver::Work() {
     // The slot stays reserved (count_ includes it) until delivered.
     std::exception_ptr failure;
     try {
-      if (s.commit) {
+      if (failed_) {
+        // A broken inner observer gets nothing after its first failure (the run is stopping).
+      } else if (s.commit) {
         inner_.OnCommit({s.kind, s.step, s.t, s.x, s.r, s.row});
       } else {
         inner_.OnTrial({s.at, s.d, s.r, s.exchanges});
@@ -130,7 +141,10 @@ void QueuedObserver::Work() {
       failure = std::current_exception();  // reported on the stepping thread
     }
     lock.lock();
-    if (failure && !failure_) failure_ = failure;
+    if (failure && !failed_) {
+      failure_ = failure;
+      failed_ = true;
+    }
     delivering_ = false;
     head_ = (head_ + 1) % slots_.size();
     --count_;

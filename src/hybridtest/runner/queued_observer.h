@@ -76,6 +76,7 @@ class QueuedObserver final : public SessionObserver {
   bool stop_ = false;
   long waits_ = 0;
   std::exception_ptr failure_;  // the inner observer's first exception, not yet reported
+  bool failed_ = false;         // the inner observer threw once: later events are not delivered
   std::thread worker_;
 };
 
