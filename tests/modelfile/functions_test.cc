@@ -176,7 +176,7 @@ TEST(FunctionsTest, DerivativesAreExactOnAutoDiffAndJets) {
 
 SymbolTable WithTable() {
   SymbolTable s = Symbols();
-  s.AddTable("Cp", Table{{0.0, 1.0, 3.0}, {0.0, 2.0, 1.0}});
+  s.AddTable("Cp", Table{{0.0, 1.0, 3.0}, {0.0, 2.0, 1.0}, {}});
   return s;
 }
 

@@ -184,12 +184,12 @@ S Eval(const Node* nodes, const EvalData& d, int i, const Variables<S>& v) {
       const Table& t = d.tables[n.index];
       const S a = Eval(nodes, d, n.a, v), b = Eval(nodes, d, n.b, v);
       int ca = 0, cb = 0;
-      const int i = GridCell(t.x, Value(a), &ca), j = GridCell(t.y, Value(b), &cb);
-      const S s = ca != 0 ? S(ca > 0 ? 1.0 : 0.0) : S((a - t.x[i]) * (1.0 / (t.x[i + 1] - t.x[i])));
-      const S r = cb != 0 ? S(cb > 0 ? 1.0 : 0.0) : S((b - t.y[j]) * (1.0 / (t.y[j + 1] - t.y[j])));
+      const int ci = GridCell(t.x, Value(a), &ca), cj = GridCell(t.y, Value(b), &cb);
+      const S s = ca != 0 ? S(ca > 0 ? 1.0 : 0.0) : S((a - t.x[ci]) * (1.0 / (t.x[ci + 1] - t.x[ci])));
+      const S r = cb != 0 ? S(cb > 0 ? 1.0 : 0.0) : S((b - t.y[cj]) * (1.0 / (t.y[cj + 1] - t.y[cj])));
       const std::size_t ny = t.y.size();
       const auto z = [&](int ii, int jj) { return t.z[static_cast<std::size_t>(ii) * ny + static_cast<std::size_t>(jj)]; };
-      const double z00 = z(i, j), z10 = z(i + 1, j), z01 = z(i, j + 1), z11 = z(i + 1, j + 1);
+      const double z00 = z(ci, cj), z10 = z(ci + 1, cj), z01 = z(ci, cj + 1), z11 = z(ci + 1, cj + 1);
       return S(z00 + s * (z10 - z00) + r * (z01 - z00) + S(s * r) * (z11 - z10 - z01 + z00));
     }
     case Op::kVelocity: case Op::kAngularVelocity: {

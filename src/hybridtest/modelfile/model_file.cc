@@ -137,7 +137,7 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
                                   in.Where(root["speeds"], "speeds"), speeds.size(),
                                   coordinates.size()));
   }
-  internal::FileContext c{in, {}, {}, {}, nullptr, static_cast<int>(coordinates.size()), {}};
+  internal::FileContext c{in, {}, {}, {}, nullptr, static_cast<int>(coordinates.size()), {}, {}};
   for (const YAML::Node& s : internal::ListItems(in, root["slots"], "slots")) {
     if (s.IsMap() && s["name"] && s["name"].IsScalar()) c.slot_names.push_back(s["name"].Scalar());
   }

@@ -189,11 +189,11 @@ void ReadTables(FileContext& c, const YAML::Node& node) {
       if (std::string(axis) == "y" && !two_d) break;
       for (std::size_t i = 1; i < g.size(); ++i) {
         if (!(g[i] > g[i - 1])) {
-          const std::string where = csv || csv_grid
+          const std::string at = csv || csv_grid
                                         ? c.Where(kv.second, kp)
                                         : c.Where(kv.second[axis][i], fmt::format("{}.{}[{}]", kp, axis, i));
           throw ConfigError(fmt::format("{}: {} must increase strictly; {}[{}] = {:g} follows {:g}",
-                                        where, axis, axis, i, g[i], g[i - 1]));
+                                        at, axis, axis, i, g[i], g[i - 1]));
         }
       }
     }
