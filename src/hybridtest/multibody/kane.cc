@@ -28,7 +28,7 @@ template <typename T>
 void CalcMassMatrixPairwise(const Model& model, Data<T>& data) {
   MatrixX<T>& M = data.M;
   T* m = M.data();  // column-major: M(j, k) = m[j + k n] (offsets in MassTerm)
-  M.setZero();
+  internal::ZeroN(M.size(), m);
   // Translational inertia: m v_j·v_k, one precomputed term per pair j ≤ k (both triangles).
   for (const MassTerm& term : model.mass_terms()) {
     const T* v = data.v_partial[term.point].data();
@@ -38,12 +38,30 @@ void CalcMassMatrixPairwise(const Model& model, Data<T>& data) {
     m[term.m_jk] += value;
     if (term.j != term.k) m[term.m_kj] += value;
   }
+  const int planar = model.planar_axis();
   for (const RigidBodySpec& body : model.bodies()) {
+    const std::vector<int>& active = model.compiled_frames()[body.frame].active;
+    if constexpr (std::is_same_v<T, double>) {
+      if (planar >= 0) {
+        // Every ω_j is w_j e_A in N and in the body (R's row and column A are e_A), so
+        // ω_j·I ω_k = w_k (I_AA w_j): the general terms below with their exact zeros left out.
+        const double* W = data.w_partial[body.frame].data();
+        const double I_AA = body.inertia(planar, planar);
+        for (std::size_t a = 0; a < active.size(); ++a) {
+          const double Iw = I_AA * W[3 * active[a] + planar];
+          for (std::size_t b = a; b < active.size(); ++b) {
+            const double value = W[3 * active[b] + planar] * Iw;
+            M(active[a], active[b]) += value;
+            if (b != a) M(active[b], active[a]) += value;
+          }
+        }
+        continue;
+      }
+    }
     // Rotational inertia: ω_j·I ω_k, evaluated in body components (ω_B = Rᵀ ω_N), which
     // avoids forming I_N = R I Rᵀ. The partial angular velocities of the active speeds are
     // rotated once, into the 3 × n scratch.
     const Matrix3<T>& R = data.R_NF[body.frame];
-    const std::vector<int>& active = model.compiled_frames()[body.frame].active;
     const Matrix3X<T>& Wp = data.w_partial[body.frame];
     Matrix3X<T>& Wb = data.partial_rate3;
     for (int j : active) Wb.col(j) = internal::TransposeMultiply(R, Vector3<T>(Wp.col(j)));
@@ -66,7 +84,7 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
     throw ModelError(fmt::format("expected {} restoring forces (one per slot), got {}",
                                  model.num_slots(), r.size()));
   }
-  std::copy_n(r.data(), r.size(), data.r.data());  // plain copy: r is contiguous
+  internal::CopyN(r.data(), r.size(), data.r.data());  // plain copy: r is contiguous
   for (int p : model.loaded_points()) data.force[p].setZero();
   for (int f : model.loaded_frames()) data.torque[f].setZero();
   // Time functions, once; then the applied loads, converted to N components.
@@ -79,21 +97,25 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
                          std::span<const T>(data.time_values.data(), data.time_values.size()),
                          std::span<const T>(data.z.data(), data.z.size())};
   for (const LoadSpec& load : model.loads()) {
-    Vector3<T> value = load.function.template get<T>()(args);
-    if (load.expressed_in != 0) {
-      const Matrix3<T>& R = data.R_NF[load.expressed_in];
-      bool rotated = false;
-      if constexpr (std::is_same_v<T, double>) {
-        if (planar >= 0) {
-          const Vector3<T> in = value;
-          internal::RotatePlanar(planar, R.data(), in.data(), value.data());
-          rotated = true;
-        }
-      }
-      if (!rotated) value = internal::Multiply(R, value);
-    }
+    const Vector3<T> value = load.function.template get<T>()(args);
     T* sum = (load.kind == LoadSpec::Kind::kForce ? data.force : data.torque)[load.target].data();
-    for (int c = 0; c < 3; ++c) sum[c] = internal::Add(sum[c], value(c));
+    if (load.expressed_in == 0) {
+      for (int c = 0; c < 3; ++c) sum[c] = internal::Add(sum[c], value(c));
+      continue;
+    }
+    const Matrix3<T>& R = data.R_NF[load.expressed_in];
+    if constexpr (std::is_same_v<T, double>) {
+      if (planar >= 0) {
+        // Into a separate array, element by element: a copy of the returned vector is read
+        // with one wide load over the callee's narrow stores, which stalls.
+        double rotated[3];
+        internal::RotatePlanar(planar, R.data(), value.data(), rotated);
+        for (int c = 0; c < 3; ++c) sum[c] = sum[c] + rotated[c];
+        continue;
+      }
+    }
+    const Vector3<T> rotated = internal::Multiply(R, value);
+    for (int c = 0; c < 3; ++c) sum[c] = internal::Add(sum[c], rotated(c));
   }
   // Inertia forces and torques (remainder parts: the u̇ parts are in M).
   auto subtract_inertia_force = [&](int point, double mass) {
@@ -123,8 +145,8 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
     for (int c = 0; c < 3; ++c) sum[c] = internal::Sub(sum[c], torque(c));
   }
   // Projection onto the partial velocities (Kane's generalized forces).
-  data.g.setZero();
   T* g = data.g.data();
+  internal::ZeroN(n, g);
   for (int p : model.loaded_points()) {
     const T* V = data.v_partial[p].data();
     const T* f = data.force[p].data();
@@ -329,8 +351,8 @@ void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
                                  "generalized coordinates are singular there, or a mass or "
                                  "inertia is missing", ValueOf(t)));
   }
-  std::copy_n(data.qdot.data(), n, xdot.data());
-  std::copy_n(data.udot.data(), n, xdot.data() + n);
+  internal::CopyN(data.qdot.data(), n, xdot.data());
+  internal::CopyN(data.udot.data(), n, xdot.data() + n);
   if (model.num_extra_states() > 0) {
     // ż = f_z(t, q, u, z): the loads' inputs with r left out.
     const LoadArgs<T> args{data.t, std::span<const T>(data.q.data(), n),
