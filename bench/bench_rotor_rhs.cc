@@ -12,18 +12,31 @@
 //                                  timed with steady_clock; counters engine_ns, closed_form_ns
 //                                  (per call) and ratio. Alternating blocks make the ratio
 //                                  robust to the load of a shared machine.
+//   RotorRhs/SympyC                C generated at build time by bench/sympy/rotor_sympy_codegen.py
+//                                  (SymPy's KanesMethod, cse, a dense 4×4 Cholesky); built only
+//                                  when python3 with sympy is found (bench/CMakeLists.txt).
+//                                  Its q̈ is checked against the engine's on every state first.
+//   RotorRhs/EngineOverSympyC      the engine ÷ the generated C, alternating blocks as above.
 //
 // Every benchmark cycles through the same kStates random states (t, x, r), so nothing is
 // constant-folded, and passes the result through benchmark::DoNotOptimize.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
+#include <cmath>
 #include <random>
 #include <vector>
 
 #include "hybridtest/models/catalogue.h"
 #include "hybridtest/multibody/kane.h"
 #include "rotor_closed_form.h"
+
+#ifdef HYBRIDTEST_SYMPY_C
+extern "C" void hybridtest_rotor_sympy_rhs(const double* par, double t, const double* x,
+                                           const double* r, double* xdot);
+#endif
 
 namespace hybridtest::bench {
 namespace {
@@ -172,6 +185,93 @@ void BM_EngineOverClosedForm(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_EngineOverClosedForm)->Name("RotorRhs/EngineOverClosedForm");
+
+#ifdef HYBRIDTEST_SYMPY_C
+// The generated function's parameter vector (its order is the script's).
+std::array<double, 8> SympyParameters() {
+  const RotorParameters p;
+  return {p.l_b, p.m_b, p.zeta_b, p.f_w, p.I_g, p.d_g, p.g, p.t0};
+}
+
+// Worst relative difference of ẋ between the generated C and the engine over every state;
+// the benchmarks refuse to time code that disagrees.
+bool SympyAgrees(benchmark::State& state) {
+  const multibody::Model& model = RotorModel();
+  multibody::Data<double> data(model);
+  Eigen::VectorXd xdot(8);
+  const auto par = SympyParameters();
+  double worst = 0.0;
+  for (const RhsInput& s : Inputs()) {
+    multibody::CalcStateDerivative<double>(model, data, s.t, s.x, s.r, xdot);
+    double y[8];
+    hybridtest_rotor_sympy_rhs(par.data(), s.t, s.x.data(), s.r.data(), y);
+    for (int i = 0; i < 8; ++i) {
+      worst = std::max(worst, std::abs(y[i] - xdot(i)) / std::max(1.0, std::abs(xdot(i))));
+    }
+  }
+  state.counters["max_rel_diff"] = worst;
+  if (!(worst <= 1e-10)) {
+    state.SkipWithError("the SymPy-generated C disagrees with the engine on x'");
+    return false;
+  }
+  return true;
+}
+
+void BM_SympyC(benchmark::State& state) {
+  if (!SympyAgrees(state)) return;
+  const auto par = SympyParameters();
+  double xdot[8];
+  const auto& in = Inputs();
+  unsigned k = 0;
+  for (auto _ : state) {
+    const RhsInput& s = in[k++ & (kStates - 1)];
+    hybridtest_rotor_sympy_rhs(par.data(), s.t, s.x.data(), s.r.data(), xdot);
+    benchmark::DoNotOptimize(xdot);
+    benchmark::ClobberMemory();
+  }
+}
+BENCHMARK(BM_SympyC)->Name("RotorRhs/SympyC");
+
+void BM_EngineOverSympyC(benchmark::State& state) {
+  if (!SympyAgrees(state)) return;
+  constexpr int kBlock = 256;
+  using Clock = std::chrono::steady_clock;
+  const multibody::Model& model = RotorModel();
+  multibody::Data<double> data(model);
+  Eigen::VectorXd xdot(8);
+  const auto par = SympyParameters();
+  double y[8];
+  const auto& in = Inputs();
+  double engine_s = 0.0, sympy_s = 0.0;
+  long calls = 0;
+  for (auto _ : state) {
+    const auto t0 = Clock::now();
+    for (int k = 0; k < kBlock; ++k) {
+      const RhsInput& s = in[k & (kStates - 1)];
+      multibody::CalcStateDerivative<double>(model, data, s.t, s.x, s.r, xdot);
+      benchmark::DoNotOptimize(xdot.data());
+      benchmark::ClobberMemory();
+    }
+    const auto t1 = Clock::now();
+    for (int k = 0; k < kBlock; ++k) {
+      const RhsInput& s = in[k & (kStates - 1)];
+      hybridtest_rotor_sympy_rhs(par.data(), s.t, s.x.data(), s.r.data(), y);
+      benchmark::DoNotOptimize(y);
+      benchmark::ClobberMemory();
+    }
+    const auto t2 = Clock::now();
+    engine_s += std::chrono::duration<double>(t1 - t0).count();
+    sympy_s += std::chrono::duration<double>(t2 - t1).count();
+    calls += kBlock;
+  }
+  if (calls > 0) {
+    state.counters["engine_ns"] = 1e9 * engine_s / static_cast<double>(calls);
+    state.counters["sympy_c_ns"] = 1e9 * sympy_s / static_cast<double>(calls);
+    state.counters["ratio"] = engine_s / sympy_s;
+  }
+}
+BENCHMARK(BM_EngineOverSympyC)->Name("RotorRhs/EngineOverSympyC");
+#endif  // HYBRIDTEST_SYMPY_C
 
 }  // namespace
 }  // namespace hybridtest::bench

@@ -40,6 +40,7 @@ Data<T>::Data(const Model& model) : n(model.num_coordinates()) {
   partial_rate3.setZero(3, n);
   cholesky_factor.setZero(n, n);  // the sparse solve relies on its structural zeros
   factor_work.setZero(n);
+  factor_inv_diag.setZero(n);
   joint_w.setZero(3, n);
   joint_v.setZero(3, n);
   momentum_lin.setZero(3, n);

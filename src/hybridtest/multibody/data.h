@@ -53,6 +53,7 @@ struct Data {
   Matrix3X<T> partial_rate3;       // (3 × n)
   MatrixX<T> cholesky_factor;      // (n × n) Lᵀ of M = L Lᵀ (upper triangle used)
   VectorX<T> factor_work;          // (n) the sparse solve's permuted right-hand side
+  VectorX<T> factor_inv_diag;      // (n) 1/L_ii of the factor
   // Tree mass matrix (Model::tree_mass_matrix()): per speed j, the joint axis (ω_j, v_j at O)
   // and the spatial momentum about O of everything u_j moves, per unit u_j.
   Matrix3X<T> joint_w;       // (3 × n) [rad/s per unit u_j]

@@ -1,5 +1,9 @@
 #pragma once
 // Internal to the engine: evaluation of ScalarFields and rotations on a Data<T> workspace.
+#include <algorithm>
+#include <cstddef>
+#include <type_traits>
+
 #include "hybridtest/multibody/data.h"
 
 namespace hybridtest::multibody::internal {
@@ -68,6 +72,32 @@ inline void Copy3(const T* a, T* out) {
   out[0] = a[0];
   out[1] = a[1];
   out[2] = a[2];
+}
+
+// dst[0..n) = src[0..n) and dst[0..n) = 0 for the short vectors of a small model: inline
+// conditional stores up to 8 entries (a runtime-sized loop would become a call to memmove or
+// memset, which costs more than the copy), std::copy_n / std::fill_n beyond.
+template <typename T>
+inline void CopyN(const T* src, std::ptrdiff_t n, T* dst) {
+  if constexpr (std::is_same_v<T, double>) {
+    if (n <= 8) {
+      for (int i = 0; i < 8; ++i)
+        if (i < n) dst[i] = src[i];
+      return;
+    }
+  }
+  std::copy_n(src, n, dst);
+}
+template <typename T>
+inline void ZeroN(std::ptrdiff_t n, T* dst) {
+  if constexpr (std::is_same_v<T, double>) {
+    if (n <= 16) {
+      for (int i = 0; i < 16; ++i)
+        if (i < n) dst[i] = 0.0;
+      return;
+    }
+  }
+  std::fill_n(dst, n, T(0.0));
 }
 
 // Rᵀ v, inline (the same terms, in the same order, as Eigen's R.transpose() * v).

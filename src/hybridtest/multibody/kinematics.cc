@@ -341,11 +341,13 @@ void CalcKinematics(const Model& model, Data<T>& data, const T& t,
   data.t = t;
   // Plain copies (x is contiguous): Eigen's dynamic-size assignment is an out-of-line loop.
   const T* xs = x.data();
-  std::copy_n(xs, n, data.q.data());
-  std::copy_n(xs + n, n, data.u.data());
-  std::copy_n(xs + 2 * n, model.num_extra_states(), data.z.data());
+  internal::CopyN(xs, n, data.q.data());
+  internal::CopyN(xs + n, n, data.u.data());
+  if (model.num_extra_states() > 0) {
+    std::copy_n(xs + 2 * n, model.num_extra_states(), data.z.data());
+  }
   if (model.has_identity_kinematics()) {
-    std::copy_n(xs + n, n, data.qdot.data());
+    internal::CopyN(xs + n, n, data.qdot.data());
   } else {
     CalcKinematicalEquations(model, data);
   }
