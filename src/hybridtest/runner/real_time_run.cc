@@ -11,6 +11,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/runner/delay_stability.h"
+#include "hybridtest/runner/run_record.h"
 
 namespace hybridtest::runner {
 
@@ -85,6 +86,30 @@ RealTimeRun::RealTimeRun(Session& session, const std::string& clock, bool quiet)
 }
 
 StepResult RealTimeRun::Run() {
+  // The observers that may block or write go behind the queue, in their order, where the
+  // first of them was (the run's files open first); the others stay on the stepping thread.
+  std::vector<SessionObserver*> kept, queued;
+  std::size_t at = 0;
+  for (SessionObserver* o : session_.ExchangeObservers({})) {
+    if (o->real_time_safe()) {
+      kept.push_back(o);
+    } else {
+      if (queued.empty()) at = kept.size();
+      queued.push_back(o);
+    }
+  }
+  if (!queued.empty()) {
+    std::size_t actuators = 0;
+    for (const auto& s : session_.substructures()) {
+      actuators += static_cast<std::size_t>(s->num_actuators());
+    }
+    queue_ = std::make_unique<LockFreeObserver>(
+        std::move(queued), static_cast<std::size_t>(session_.spec().real_time.queue),
+        JournalChannels(session_.spec()).size(), std::max<std::size_t>(actuators, 1));
+    kept.insert(kept.begin() + static_cast<std::ptrdiff_t>(at), queue_.get());
+    loop_->SetQueue(queue_.get());
+  }
+  session_.ExchangeObservers(std::move(kept));
   if (!clock_->is_virtual()) {
     for (const std::string& note : PrepareRealTimeProcess(session_.spec().real_time)) {
       if (!quiet_) fmt::print(stderr, "hybridtest: real time: {}\n", note);
