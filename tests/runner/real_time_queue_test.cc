@@ -4,9 +4,11 @@
 // keep up with holds the run with every committed row kept, instead of blocking the loop.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
@@ -100,20 +102,37 @@ TEST(RealTimeQueue, TheQueuedFilesAreTheFilesOfTheSteppingThread) {
   EXPECT_GT(run.loop()->statistics().queue_min_free, kQueueReserve);
 }
 
-TEST(RealTimeQueue, AQueueTheFilesCannotKeepUpWithHoldsTheRunKeepingEveryRow) {
+// The wall clock's policy without sleeping: time jumps to each deadline, as on a machine that
+// is always on time, but the loop treats it as the wall clock (it may not wait for the files).
+class PunctualWallClock final : public Clock {
+ public:
+  double Now() const override { return now_; }
+  void WaitUntil(double t) override { now_ = std::max(now_, t); }
+  bool is_virtual() const override { return false; }
+  std::string name() const override { return "punctual"; }
+
+ private:
+  double now_ = 0.0;
+};
+
+TEST(RealTimeQueue, OnTheWallClockAQueueTheFilesCannotKeepUpWithHoldsTheRunKeepingEveryRow) {
   const fs::path dir = test_support::FreshTempDir("rt_queue_full");
   io::RunSpec spec = StoreySpec(dir / "slow.csv", 0.5);
   spec.real_time.queue = 64;
   Session session(std::move(spec));
-  Recorder slow(std::chrono::microseconds(2000));  // far slower than the virtual loop
+  Recorder slow(std::chrono::microseconds(2000));  // far slower than the loop
   session.AddObserver(slow);
-  RealTimeRun run(session, "virtual", true);
-  const StepResult r = run.Run();
-  // A hold (resumable, every actuator holding), not a failure of the queue.
+  PunctualWallClock clock;
+  PacedLoop loop(session, clock);
+  const std::unique_ptr<LockFreeObserver> queue = QueueObservers(session, loop);
+  ASSERT_NE(queue, nullptr);
+  const StepResult r = loop.Run();
+  // A hold (resumable, every actuator holding), not a failure of a full queue.
   EXPECT_EQ(r.status, SessionStatus::kHeld) << r.reason;
   EXPECT_NE(r.reason.find("queue"), std::string::npos) << r.reason;
-  const PacedStatistics& stats = run.loop()->statistics();
+  const PacedStatistics& stats = loop.statistics();
   EXPECT_TRUE(stats.held_on_queue);
+  EXPECT_EQ(stats.queue_waits, 0);
   EXPECT_LT(stats.ticks, 512);
   // Every committed row reached the journal and the slow observer, in order.
   const long rows = session.statistics().rows;
@@ -124,6 +143,26 @@ TEST(RealTimeQueue, AQueueTheFilesCannotKeepUpWithHoldsTheRunKeepingEveryRow) {
   const RunState state = LoadRunState((dir / "slow.state.json").string());
   EXPECT_EQ(state.rows, rows);
   EXPECT_NO_THROW(VerifyRunStateAgainstJournal(state, (dir / "slow.csv").string()));
+}
+
+TEST(RealTimeQueue, InVirtualTimeTheLoopWaitsForASlowQueueAndTheRunIsTheSame) {
+  const fs::path dir = test_support::FreshTempDir("rt_queue_wait");
+  io::RunSpec spec = StoreySpec(dir / "slow.csv", 0.25);
+  spec.real_time.queue = 64;
+  Session session(std::move(spec));
+  Recorder slow(std::chrono::microseconds(300));
+  session.AddObserver(slow);
+  RealTimeRun run(session, "virtual", true);
+  const StepResult r = run.Run();
+  ASSERT_EQ(r.status, SessionStatus::kFinished) << r.reason;
+  EXPECT_GT(run.loop()->statistics().queue_waits, 0);
+  EXPECT_FALSE(run.loop()->statistics().held_on_queue);
+  // The same journal as a run whose files never waited.
+  Session fast(StoreySpec(dir / "fast.csv", 0.25));
+  RealTimeRun fast_run(fast, "virtual", true);
+  ASSERT_EQ(fast_run.Run().status, SessionStatus::kFinished);
+  EXPECT_EQ(test_support::ReadText(dir / "slow.csv"), test_support::ReadText(dir / "fast.csv"));
+  EXPECT_EQ(static_cast<long>(slow.steps.size()), 257);
 }
 
 }  // namespace

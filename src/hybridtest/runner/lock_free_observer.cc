@@ -122,6 +122,11 @@ void LockFreeObserver::Drain() {
   while (!ring_.empty() && consumer_.joinable()) std::this_thread::sleep_for(poll_);
 }
 
+void LockFreeObserver::WaitForFree(std::size_t n) {
+  n = std::min(n, ring_.capacity());
+  while (ring_.free_slots() < n && consumer_.joinable()) std::this_thread::sleep_for(poll_);
+}
+
 void LockFreeObserver::Stop() {
   if (!consumer_.joinable()) return;
   Drain();

@@ -58,6 +58,8 @@ class LockFreeObserver final : public SessionObserver {
 
   // Waits until the consumer has delivered every published event.
   void Drain();
+  // Waits until at least `n` events fit (a virtual-time loop, which has no deadline).
+  void WaitForFree(std::size_t n);
   // Producer side: events that can still be queued.
   std::size_t free_slots() const { return ring_.free_slots(); }
   std::size_t capacity() const { return ring_.capacity(); }

@@ -83,7 +83,11 @@ StepResult PacedLoop::Run() {
     if (queue_ != nullptr) {
       const std::size_t free = queue_->free_slots();
       stats_.queue_min_free = std::min(stats_.queue_min_free, free);
-      if (free < kQueueReserve && !stats_.held_on_queue) {
+      if (free < kQueueReserve && clock_.is_virtual()) {
+        // Simulated time has no deadline to miss: the loop waits for the files.
+        ++stats_.queue_waits;
+        queue_->WaitForFree(kQueueReserve);
+      } else if (free < kQueueReserve && !stats_.held_on_queue) {
         stats_.held_on_queue = true;
         session_.RequestStop(fmt::format(
             "held: the observers' queue is nearly full ({} of {} events free): the files "
@@ -133,6 +137,7 @@ nlohmann::json PacedLoop::ToJson() const {
                       {"hold_after_misses", hold_after_},
                       {"held_on_misses", s.held_on_misses},
                       {"held_on_queue", s.held_on_queue},
+                      {"queue_waits", s.queue_waits},
                       {"queue", queue_ != nullptr ? nlohmann::json{{"capacity", queue_->capacity()},
                                                                    {"min_free", s.queue_min_free}}
                                                   : nlohmann::json(nullptr)},

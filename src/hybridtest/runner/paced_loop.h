@@ -13,7 +13,7 @@
 // runs at once: it catches up, it does not skip); an OVERRUN when its step takes longer than h.
 // After `hold_after_misses` consecutive misses the run is held (RequestStop: every actuator
 // holds at its last command, resumable), and so is a run whose observers' queue is nearly
-// full (SetQueue): the files cannot keep up, the loop does not wait. The tracking criteria J1–J3 of the first physical
+// full on the wall clock (SetQueue): the files cannot keep up, the loop does not wait. The tracking criteria J1–J3 of the first physical
 // slot (runner/tracking_criteria.h) are kept live. Everything goes into the sidecar's
 // statistics as `real_time` (AddStatistics).
 //
@@ -39,6 +39,7 @@ struct PacedStatistics {
   bool held_on_misses = false;
   bool held_on_queue = false;
   std::size_t queue_min_free = 0;  // the fewest free events seen in the queue (0: no queue)
+  long queue_waits = 0;            // virtual clock: ticks that waited for the queue
   double late_p50 = 0.0, late_p99 = 0.0, late_max = 0.0;           // [s]
   double compute_p50 = 0.0, compute_p99 = 0.0, compute_max = 0.0;  // [s]
 };
@@ -58,9 +59,11 @@ class PacedLoop final : public SessionObserver {
   void AddSetupNote(std::string note) { setup_notes_.push_back(std::move(note)); }
   // The delay stability check's margins (delay_stability.h), for the sidecar.
   void SetStability(nlohmann::json margins) { stability_ = std::move(margins); }
-  // The queue the other observers drain (lock_free_observer.h): the loop holds the run when
-  // fewer than kQueueReserve events still fit, so that it never fills. Not owned.
-  void SetQueue(const LockFreeObserver* queue) { queue_ = queue; }
+  // The queue the other observers drain (lock_free_observer.h): when fewer than kQueueReserve
+  // events still fit, the loop holds the run on the wall clock (it never waits there, and the
+  // queue never fills) and waits for the queue on the virtual clock (no deadline to miss; the
+  // run stays bit-reproducible). Not owned.
+  void SetQueue(LockFreeObserver* queue) { queue_ = queue; }
   nlohmann::json ToJson() const;
 
   void OnTrial(const TrialEvent& event) override;
@@ -76,7 +79,7 @@ class PacedLoop final : public SessionObserver {
   double miss_tolerance_;
   long hold_after_;
   bool paced_ = false;
-  const LockFreeObserver* queue_ = nullptr;
+  LockFreeObserver* queue_ = nullptr;
   PacedStatistics stats_;
   TrackingCriteria criteria_;
   std::vector<double> late_, compute_;  // per tick, preallocated

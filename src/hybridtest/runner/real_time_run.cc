@@ -85,12 +85,10 @@ RealTimeRun::RealTimeRun(Session& session, const std::string& clock, bool quiet)
   RefuseUnstable(session, margins);
 }
 
-StepResult RealTimeRun::Run() {
-  // The observers that may block or write go behind the queue, in their order, where the
-  // first of them was (the run's files open first); the others stay on the stepping thread.
+std::unique_ptr<LockFreeObserver> QueueObservers(Session& session, PacedLoop& loop) {
   std::vector<SessionObserver*> kept, queued;
   std::size_t at = 0;
-  for (SessionObserver* o : session_.ExchangeObservers({})) {
+  for (SessionObserver* o : session.ExchangeObservers({})) {
     if (o->real_time_safe()) {
       kept.push_back(o);
     } else {
@@ -98,18 +96,24 @@ StepResult RealTimeRun::Run() {
       queued.push_back(o);
     }
   }
+  std::unique_ptr<LockFreeObserver> queue;
   if (!queued.empty()) {
     std::size_t actuators = 0;
-    for (const auto& s : session_.substructures()) {
+    for (const auto& s : session.substructures()) {
       actuators += static_cast<std::size_t>(s->num_actuators());
     }
-    queue_ = std::make_unique<LockFreeObserver>(
-        std::move(queued), static_cast<std::size_t>(session_.spec().real_time.queue),
-        JournalChannels(session_.spec()).size(), std::max<std::size_t>(actuators, 1));
-    kept.insert(kept.begin() + static_cast<std::ptrdiff_t>(at), queue_.get());
-    loop_->SetQueue(queue_.get());
+    queue = std::make_unique<LockFreeObserver>(
+        std::move(queued), static_cast<std::size_t>(session.spec().real_time.queue),
+        JournalChannels(session.spec()).size(), std::max<std::size_t>(actuators, 1));
+    kept.insert(kept.begin() + static_cast<std::ptrdiff_t>(at), queue.get());
+    loop.SetQueue(queue.get());
   }
-  session_.ExchangeObservers(std::move(kept));
+  session.ExchangeObservers(std::move(kept));
+  return queue;
+}
+
+StepResult RealTimeRun::Run() {
+  queue_ = QueueObservers(session_, *loop_);
   if (!clock_->is_virtual()) {
     for (const std::string& note : PrepareRealTimeProcess(session_.spec().real_time)) {
       if (!quiet_) fmt::print(stderr, "hybridtest: real time: {}\n", note);

@@ -26,6 +26,12 @@ std::unique_ptr<Clock> MakeClock(const std::string& name);
 // what was done or why it was not (never throws).
 std::vector<std::string> PrepareRealTimeProcess(const io::RealTimeSpec& spec);
 
+// Puts every observer of `session` that is not real_time_safe() behind one LockFreeObserver
+// of `real_time.queue` events, in their order and where the first of them was (the run's files
+// open first), and gives it to `loop` (PacedLoop::SetQueue). Returns it (null when every
+// observer may stay on the stepping thread). Before Initialize().
+std::unique_ptr<LockFreeObserver> QueueObservers(Session& session, PacedLoop& loop);
+
 class RealTimeRun {
  public:
   // Adds the paced loop to the session's observers (before Initialize()). Throws ConfigError
