@@ -132,6 +132,32 @@ TEST(RthsCriteria, AReferenceWithoutTheFloorsIsRefusedNamingIt) {
   EXPECT_THROW(ComputeRthsCriteria(numerical, ref), IoError);
 }
 
+TEST(RthsCriteria, ASlotOnTwoCoordinatesIsMeasuredAgainstTheReferencesOwnSlot) {
+  // A damper between q1 and q2: its stroke is no coordinate; floor 1 is the reference's own
+  // r1_position (through its setup: p0 0.5 m, sign −1, scale 2), floors 2 and 3 are q1 and q2.
+  nlohmann::json meta = RealTimeMetadata();
+  meta["model"]["slots"][0].erase("coordinate");
+  auto stroke = [](double t) { return Y2(t) - Y1(t); };
+  const io::RunData run = MakeRun(
+      "rt.csv", 0.001, 800,
+      {{"q1", Y1}, {"q2", Y2}, {"r1_command", [&](double t) { return 0.5 - 2 * stroke(t); }},
+       {"r1_position", [&](double t) { return 0.5 - 2 * 0.9 * stroke(t); }}},
+      meta);
+  const io::RunData ref = MakeRun(
+      "ref.csv", 0.001, 800,
+      {{"q1", Y1}, {"q2", [](double t) { return 1.3 * Y2(t); }},
+       {"r1_position", [&](double t) { return 0.5 - 2 * stroke(t); }}},
+      meta);
+  const RthsCriteria c = ComputeRthsCriteria(run, ref);
+  EXPECT_EQ(c.floor[0], "r1_position");
+  EXPECT_EQ(c.floor[1], "q1");
+  EXPECT_EQ(c.floor[2], "q2");
+  EXPECT_NEAR(c.J[4], 10.0, 1e-9);  // d_m = 0.9 × the reference's stroke
+  EXPECT_NEAR(c.J[5], 10.0, 1e-9);
+  EXPECT_NEAR(c.J[6], 0.0, 1e-9);
+  EXPECT_NEAR(c.J[7], 100.0 * 0.3 / 1.3, 1e-9);
+}
+
 TEST(RthsCriteria, TheReportShowsJ1ToJ3AloneAndJ4ToJ9AgainstTheReference) {
   auto y = [](double t) { return Y1(t); };
   const io::RunData run = MakeRun(

@@ -107,19 +107,20 @@ RthsCriteria ComputeRthsCriteria(const io::RunData& run, const io::RunData& refe
     throw IoError(fmt::format("{}: no physical slot (no <slot>_position channel): the RTHS "
                               "criteria need a real-time run with one", run.csv_path));
   }
-  // The floors: the slot's coordinate and the two after it.
-  const std::vector<std::string> q = Coordinates(run);
-  c.floor[0] = SlotCoordinate(run, c.slot);
-  const auto at = std::find(q.begin(), q.end(), c.floor[0]);
-  if (at != q.end()) {
-    for (std::size_t f = 1; f < 3 && at + static_cast<std::ptrdiff_t>(f) < q.end(); ++f) {
-      c.floor[f] = *(at + static_cast<std::ptrdiff_t>(f));
-    }
+  // Floor 1: the slot's coordinate, or, where its displacement is not one coordinate, the
+  // reference's own measured slot displacement. Floors 2 and 3: the first two other
+  // coordinates.
+  const std::string slot_coordinate = SlotCoordinate(run, c.slot);
+  const bool ref_position = slot_coordinate.empty() && reference.Has(c.slot + "_position");
+  c.floor[0] = ref_position ? c.slot + "_position" : slot_coordinate;
+  std::size_t f = 1;
+  for (const std::string& q : Coordinates(run)) {
+    if (f < 3 && q != slot_coordinate) c.floor[f++] = q;
   }
-  for (const std::string& f : c.floor) {
-    if (!f.empty() && !reference.Has(f)) {
+  for (const std::string& name : c.floor) {
+    if (!name.empty() && !reference.Has(name)) {
       throw IoError(fmt::format("{}: no channel {}: is it the reference of {} (the same model "
-                                "run all-numerical)?", reference.csv_path, f, run.csv_path));
+                                "run all-numerical)?", reference.csv_path, name, run.csv_path));
     }
   }
   // The run's committed rows (finite command and position) inside the reference's span.
@@ -155,7 +156,12 @@ RthsCriteria ComputeRthsCriteria(const io::RunData& run, const io::RunData& refe
     SlotSetup(run, c.slot, p0, sign, scale);
     std::vector<double> dm(c_pos.size());
     for (std::size_t i = 0; i < dm.size(); ++i) dm[i] = (c_pos[i] - p0) / (sign * scale);
-    const std::vector<double> y1 = Resample(tb, reference.Get(c.floor[0]), tt);
+    std::vector<double> y1 = Resample(tb, reference.Get(c.floor[0]), tt);
+    if (ref_position) {
+      double rp0, rsign, rscale;
+      SlotSetup(reference, c.slot, rp0, rsign, rscale);
+      for (double& y : y1) y = (y - rp0) / (rsign * rscale);
+    }
     c.J[4] = NormalisedRmsError(dm, y1);
     c.J[5] = PeakError(dm, y1);
   }

@@ -10,9 +10,11 @@
 //   J2  NRMS(x_m, x_c)      J3  PEAK(x_m, x_c)                        (the run alone)
 //   J4  NRMS(d_m, y1_ref)   J5  PEAK(d_m, y1_ref)  — floor 1: the slot's measured
 //       displacement d_m = (position − p0)/(sign·scale) (the run config's setup) against the
-//       reference's coordinate that the slot's displacement is (the model's slot coordinate)
-//   J6  NRMS(y2, y2_ref)    J7  NRMS(y3, y3_ref)   — floors 2 and 3: the two coordinates after
-//   J8  PEAK(y2, y2_ref)    J9  PEAK(y3, y3_ref)     the slot's, in the model's order
+//       reference's coordinate that the slot's displacement is (the model's slot coordinate),
+//       or, for a slot whose displacement is not one coordinate (a damper's stroke q2 − q1),
+//       the reference's own measured displacement of the slot (<slot>_position, its setup)
+//   J6  NRMS(y2, y2_ref)    J7  NRMS(y3, y3_ref)   — floors 2 and 3: the first two coordinates
+//   J8  PEAK(y2, y2_ref)    J9  PEAK(y3, y3_ref)     other than the slot's, in the model's order
 //
 // The benchmark's floors are the model's coordinates here. The run's committed rows (finite
 // values) are compared at their times inside the reference's span, the reference interpolated
@@ -29,7 +31,7 @@ namespace hybridtest::report {
 
 struct RthsCriteria {
   std::string slot;                  // the first physical slot of the run, e.g. "r1"
-  std::array<std::string, 3> floor;  // the coordinates of floors 1–3 ("" where there is none)
+  std::array<std::string, 3> floor;  // the reference's channels of floors 1–3 ("" where none)
   std::array<double, 10> J{};        // J[1] … J[9] (J[0] unused); NaN where undefined
   long points = 0;                   // the run's rows compared with the reference
 };
