@@ -1,11 +1,11 @@
 // See tracking_criteria.h.
 #include "hybridtest/runner/tracking_criteria.h"
 
-#include "hybridtest/common/tracking.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "hybridtest/common/tracking.h"
 
 namespace hybridtest::runner {
 
