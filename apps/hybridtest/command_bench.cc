@@ -4,6 +4,13 @@
 //   hybridtest bench [--config FILE] [--listen HOST:PORT] [--token-file FILE]
 //                    [--heartbeat-timeout S] [--inject KIND@N]...
 //                    [--protocol hybridtest|openfresco]
+//   hybridtest bench --real-time CONFIG [--tick S] [--listen HOST:PORT] ...
+//
+// --real-time serves the emulated real-time plant (rt_plant) of the run config's first
+// physical slot — the plant under a compensator; the compensator stays with the client — on
+// the server's own monotonic clock: between two commands the plant runs on, holding the last
+// command, and each command is answered with the measurement of that moment
+// (docs/real-time.md, "Over TCP"). The safety limits and p0 are the slot's.
 //
 // --protocol openfresco serves OpenFresco's generic TCP protocol instead (OpenSees's
 // `expElement genericClient`; docs/openfresco.md), with the config's `openfresco:` setup.
@@ -24,7 +31,11 @@
 #include <vector>
 
 #include "command.h"
+#include "hybridtest/common/clock.h"
 #include "hybridtest/common/error.h"
+#include "hybridtest/io/run_spec_yaml.h"
+#include "hybridtest/transfer/delay_compensator.h"
+#include "hybridtest/transfer/rt_plant.h"
 #include "hybridtest/transfer/auth.h"
 #include "hybridtest/transfer/bench_config.h"
 #include "hybridtest/transfer/bench_server.h"
@@ -44,6 +55,8 @@ struct BenchArgs {
   double heartbeat_timeout = 10.0;
   std::vector<std::string> inject;
   std::string protocol = "hybridtest";
+  std::string real_time;  // a run config whose first physical slot's rt_plant is served
+  double tick = 0.001;    // [s] the client's tick (the plant's hold between commands)
 };
 
 // The server the signal handlers stop. Stop() only stores an atomic flag.
@@ -90,8 +103,49 @@ void ServeOpenFresco(const BenchArgs& args, const transfer::EmulatedBenchConfig&
   ServeUntilSignal(server, g_openfresco_server);
 }
 
+// --real-time CONFIG: the first physical slot's rt_plant, paced on this process's clock.
+void ServeRealTime(const BenchArgs& args, transfer::BenchServerOptions options) {
+  const io::RunSpec spec = io::LoadRunSpec(args.real_time);
+  const substructures::SubstructureSpec* slot = nullptr;
+  for (const auto& s : spec.substructures) {
+    if (s.physical) {
+      slot = &s;
+      break;
+    }
+  }
+  if (slot == nullptr) {
+    throw ConfigError(fmt::format("--real-time {}: no physical slot to serve", args.real_time));
+  }
+  std::unique_ptr<transfer::TransferSystem> made = slot->physical->transfer.make();
+  transfer::TransferSystem* plant = made.get();
+  if (auto* c = dynamic_cast<transfer::DelayCompensator*>(plant)) plant = &c->inner();
+  if (dynamic_cast<transfer::RtPlant*>(plant) == nullptr) {
+    throw ConfigError(fmt::format("--real-time {}: slot {} is {}, not an emulated real-time "
+                                  "plant (transfer type rt_plant)", args.real_time, slot->slot,
+                                  plant->Describe()));
+  }
+  options.limits = slot->physical->limits;
+  options.start_position = slot->physical->setup.p0;
+  if (slot->physical->initial_stiffness) {
+    options.initial_stiffness = *slot->physical->initial_stiffness;
+  }
+  MonotonicClock clock;
+  plant->StartPaced(args.tick, clock);
+  transfer::BenchServer server(*plant, options);
+  std::printf("hybridtest bench: listening on %s (real time on the server's clock, tick %g s: "
+              "%s; token %s)\n", server.address().c_str(), args.tick, plant->Describe().c_str(),
+              options.token.empty() ? "none" : "required");
+  std::fflush(stdout);
+  ServeUntilSignal(server, g_server);
+}
+
 void RunBench(const BenchArgs& args) {
   using namespace transfer;
+  if (!args.real_time.empty() && (!args.config.empty() || args.protocol != "hybridtest" ||
+                                  !args.inject.empty())) {
+    throw ConfigError("--real-time serves the run config's plant alone: remove --config, "
+                      "--protocol and --inject");
+  }
   // A bench file with `actuators:`: several actuators on one specimen.
   std::optional<MultiBenchConfig> multi;
   if (!args.config.empty() && IsMultiBenchFile(args.config)) {
@@ -118,6 +172,10 @@ void RunBench(const BenchArgs& args) {
   options.token = args.token_file.empty() ? TokenFromEnvironment()
                                           : ReadTokenFile(args.token_file, "--token-file");
   options.heartbeat_timeout = args.heartbeat_timeout;
+  options.log = [](const std::string& line) {
+    std::fprintf(stderr, "hybridtest bench: %s\n", line.c_str());
+  };
+  if (!args.real_time.empty()) return ServeRealTime(args, options);
   options.limits = config.safety;
   options.start_position = config.initial_position;
   options.initial_stiffness = config.specimen->initial_stiffness();
@@ -174,6 +232,13 @@ void AddBenchCommand(CLI::App& root) {
                   "TCP protocol, for OpenSees genericClient elements; needs --config with an "
                   "`openfresco:` section; docs/openfresco.md)")
       ->check(CLI::IsMember({"hybridtest", "openfresco"}));
+  cmd->add_option("--real-time", args->real_time,
+                  "serve the emulated real-time plant (rt_plant) of this run config's first "
+                  "physical slot on the server's own clock (docs/real-time.md)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--tick", args->tick, "with --real-time: the client's tick in seconds "
+                                        "(default 0.001)")
+      ->check(CLI::PositiveNumber);
   cmd->callback([args] { RunBench(*args); });
 }
 

@@ -1,9 +1,12 @@
 // hybridtest compare RUN_A RUN_B [--out DIR] [--transient SECONDS]: A against B, channel by
 // channel (report/compare.h): the table on stdout, as DIR/comparison.csv, and overlay figures
 // in DIR. Default DIR: <A's directory>/<A>-vs-<B>.
+// A real-time run A against its reference structure B also gets the vRTHS benchmark's J1–J9
+// (report/rths_criteria.h), printed and written as DIR/rths_criteria.json.
 #include <fmt/core.h>
 
 #include <filesystem>
+#include <fstream>
 #include <memory>
 
 #include "cli_values.h"
@@ -12,6 +15,7 @@
 #include "hybridtest/io/run_reader.h"
 #include "hybridtest/report/compare.h"
 #include "hybridtest/report/compare_plot.h"
+#include "hybridtest/report/rths_criteria.h"
 
 namespace hybridtest::app {
 namespace {
@@ -61,6 +65,13 @@ void AddCompareCommand(CLI::App& root) {
     report::WriteComparisonCsv(table, csv);
     fmt::print("{}\n", report::FormatComparisonText(table));
     fmt::print("table:   {}\n", csv);
+    if (report::IsRealTimeRun(a)) {
+      // A real-time run against its reference structure: the vRTHS benchmark's criteria.
+      const report::RthsCriteria rths = report::ComputeRthsCriteria(a, b);
+      const std::string json = (std::filesystem::path(out_dir) / "rths_criteria.json").string();
+      std::ofstream(json) << report::ToJson(rths).dump(2) << "\n";
+      fmt::print("\n{}criteria: {}\n", report::FormatRthsCriteria(rths), json);
+    }
     for (const std::string& file : report::WriteComparisonPlots(a, b, out_dir)) {
       fmt::print("figure:  {}\n", file);
     }

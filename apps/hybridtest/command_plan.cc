@@ -1,10 +1,13 @@
 // hybridtest plan CONFIG [--tolerance 0.01] [--seeds 3] [--emulate BENCH.yaml] [--keep DIR]
 //                       [--quiet]
+// A real-time config (a `real_time:` block) plans compensators and steps instead
+// (runner/plan_real_time.h).
 // The day before a test: candidate schemes against emulated specimens, their specimen
 // evaluations, lab time and error against a fine numerical reference, and the cheapest one
 // that meets the tolerance (runner/plan.h).
 #include <fmt/core.h>
 
+#include <cmath>
 #include <cstdio>
 
 #include <yaml-cpp/yaml.h>
@@ -14,6 +17,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/runner/plan.h"
+#include "hybridtest/runner/plan_real_time.h"
 
 namespace hybridtest::app {
 namespace {
@@ -73,6 +77,48 @@ std::string RecommendedConfig(const io::RunSpec& spec, const runner::PlanCandida
   return std::string(out.c_str()) + "\n";
 }
 
+// A real-time config: compensators and steps in virtual time (runner/plan_real_time.h).
+void ExecuteRealTimePlan(const PlanCommandOptions& opt) {
+  auto num = [](double v, const char* unit) {
+    return std::isfinite(v) ? fmt::format("{:.3g}{}", v, unit) : std::string("—");
+  };
+  auto first_sentence = [](const std::string& text) {
+    const auto end = text.find(". ");
+    return end == std::string::npos ? text : text.substr(0, end);
+  };
+  auto row = [&](const runner::RealTimePlanResult& r) {
+    return fmt::format("{:<26} {:>10} {:>10} {:>10} {:>12} {:>12}  {}", r.Label(),
+                       num(r.J1_ms, " ms"), num(r.J2, " %"), num(r.J3, " %"),
+                       num(1e3 * r.critical_delay, " ms"), num(1e3 * r.remaining_delay, " ms"),
+                       r.ok ? (r.unstable ? "finished, predicted UNSTABLE" : "stable")
+                            : (r.unstable ? "UNSTABLE (predicted): " : "stopped: ") +
+                                  first_sentence(r.failure));
+  };
+  runner::RealTimePlanOptions options;
+  if (!opt.quiet) {
+    fmt::print("hybridtest plan {}: a real-time run, its compensators and steps paced in virtual "
+               "time on the emulated plant\n{:<26} {:>10} {:>10} {:>10} {:>12} {:>12}\n",
+               opt.config, "compensator, step", "J1", "J2", "J3", "critical", "remaining");
+    options.on_result = [&](std::size_t, std::size_t, const runner::RealTimePlanResult& r) {
+      fmt::print("{}\n", row(r));
+      std::fflush(stdout);
+    };
+  }
+  const auto results = runner::PlanRealTime(opt.config, options);
+  const auto best = runner::RecommendRealTime(results);
+  if (!best) {
+    fmt::print("no candidate finished stable: the plant's delay exceeds what these compensators "
+               "remove; see docs/real-time.md (the stability check)\n");
+    return;
+  }
+  fmt::print("\nrecommended (stable, smallest J2): {}  J1 {}, J2 {}, J3 {}, margin {} (critical "
+             "delay {} against {} left)\n", best->Label(), num(best->J1_ms, " ms"),
+             num(best->J2, " %"), num(best->J3, " %"),
+             num(1e3 * (best->critical_delay - best->remaining_delay), " ms"),
+             num(1e3 * best->critical_delay, " ms"), num(1e3 * best->remaining_delay, " ms"));
+  fmt::print("\nin the config:\n{}\n", runner::RealTimeCandidateYaml(opt.config, *best));
+}
+
 void ExecutePlan(const PlanCommandOptions& opt) {
   if (!(opt.tolerance > 0.0)) {
     throw ConfigError(fmt::format("--tolerance {}: expected a positive relative error, e.g. "
@@ -82,6 +128,7 @@ void ExecutePlan(const PlanCommandOptions& opt) {
   io::SubstructureOptions substructure_options;
   if (!opt.emulate.empty()) substructure_options.emulate_bench = opt.emulate;
   const io::RunSpec spec = io::LoadRunSpec(opt.config, substructure_options);
+  if (spec.real_time.enabled && opt.emulate.empty()) return ExecuteRealTimePlan(opt);
   runner::PlanOptions options;
   options.tolerance = opt.tolerance;
   if (!opt.emulate.empty()) options.emulate_bench = opt.emulate;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <filesystem>
 
@@ -68,6 +69,16 @@ class ProgressObserver final : public runner::SessionObserver {
       : session_(session), progress_(options) {}
   void OnCommit(const runner::CommitEvent& e) override {
     if (e.kind != runner::RowKind::kCommitted) return;
+    if (session_.spec().real_time.enabled) {
+      // Behind a real-time run's queue, on its thread: the event and the spec only (one
+      // evaluation per step; lab time is simulated time).
+      const auto& sc = session_.spec().scheme;
+      if (e.step == 0) start_ = std::chrono::steady_clock::now();
+      progress_.Update({e.step, sc.steps, e.t, sc.duration, e.step, e.t,
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                                      start_).count()});
+      return;
+    }
     const runner::RunStatistics& s = session_.statistics();
     progress_.Update({e.step, e.step + session_.EstimatedStepsLeft(), e.t,
                       session_.spec().scheme.duration, s.physical_evaluations, s.lab_time,
@@ -78,6 +89,7 @@ class ProgressObserver final : public runner::SessionObserver {
  private:
   const runner::Session& session_;
   runner::Progress progress_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
 // Where a run's record comes from (io::SourceSpec::provenance).

@@ -74,6 +74,37 @@ TEST(RealTime, StoreyWithAtsIsReproducibleAndMeetsTheTarget) {
   EXPECT_GE(plain["J1_ms"].get<double>(), 10.0);  // the plant's own delay shows uncompensated
 }
 
+TEST(RealTime, CompareAgainstTheReferenceStructurePrintsJ1ToJ9) {
+  const fs::path dir = test_support::FreshTempDir("real_time_compare");
+  const auto [s1, o1] = RunHybrid(kSource + "/examples/real-time/storey-ats.yaml", dir / "ats.csv");
+  ASSERT_EQ(s1, 0) << o1;
+  const auto [s2, o2] =
+      RunHybrid(kSource + "/examples/real-time/storey-reference.yaml", dir / "ref.csv");
+  ASSERT_EQ(s2, 0) << o2;
+  const auto [s3, o3] = RunCommand(fmt::format("{} compare {} {} --out {} 2>&1", kBinary,
+                                               (dir / "ats.csv").string(),
+                                               (dir / "ref.csv").string(),
+                                               (dir / "cmp").string()), 120);
+  ASSERT_EQ(s3, 0) << o3;
+  for (const char* j : {"J1 =", "J4 =", "J9 ="}) EXPECT_NE(o3.find(j), std::string::npos) << o3;
+  const nlohmann::json c = nlohmann::json::parse(Slurp(dir / "cmp" / "rths_criteria.json"));
+  EXPECT_EQ(c["floors"][0], "q1");
+  // Compensated, the run follows its reference within a few per cent.
+  for (const char* j : {"J4", "J5", "J6", "J7", "J8", "J9"}) {
+    EXPECT_GT(c[j].get<double>(), 0.0) << j;
+    EXPECT_LT(c[j].get<double>(), 5.0) << j;
+  }
+  // The reference is no real-time run of its own tracking: compared the other way round it
+  // is still real time (its block), with a perfect actuator: J2 = 0.
+  const auto [s4, o4] = RunCommand(fmt::format("{} compare {} {} --out {} 2>&1", kBinary,
+                                               (dir / "ref.csv").string(),
+                                               (dir / "ats.csv").string(),
+                                               (dir / "cmp2").string()), 120);
+  ASSERT_EQ(s4, 0) << o4;
+  const nlohmann::json r = nlohmann::json::parse(Slurp(dir / "cmp2" / "rths_criteria.json"));
+  EXPECT_NEAR(r["J2"].get<double>(), 0.0, 1e-9);
+}
+
 TEST(RealTime, RotorIsRefusedBeforeAnyCommandNamingBothDelays) {
   const fs::path dir = test_support::FreshTempDir("real_time_rotor");
   const auto [status, output] = RunHybrid(kSource + "/examples/real-time/rotor.yaml", dir / "r.csv");

@@ -64,5 +64,38 @@ TEST(LockFreeObserver, AFullRingThrowsInsteadOfWaiting) {
   EXPECT_EQ(inner.steps.size(), 4u);
 }
 
+// Trials and commits of two inner observers, interleaved, in the session's order.
+class Sequence final : public SessionObserver {
+ public:
+  void OnTrial(const TrialEvent& e) override {
+    log.push_back(1000 * e.at.step + 10 * e.at.stage + static_cast<long>(e.exchanges[1].force));
+  }
+  void OnCommit(const CommitEvent& e) override { log.push_back(-e.step); }
+  std::vector<long> log;
+};
+
+TEST(LockFreeObserver, ForwardsTrialsAndCommitsToEveryInnerObserverInOrder) {
+  Session session(testing::DummySpec(0.01));
+  Sequence a, b;
+  LockFreeObserver queued({&a, &b}, 64, 8, 2);
+  queued.OnStart(session);
+  std::vector<long> expected;
+  for (long k = 1; k <= 20; ++k) {
+    const std::vector<double> d{0.1}, r{2.0};
+    std::vector<substructures::Exchange> ex(2);
+    ex[1].force = 7.0;
+    queued.OnTrial({{k, 1, 0.01 * static_cast<double>(k)}, d, r, ex});
+    expected.push_back(1000 * k + 10 + 7);
+    Commit(queued, k);
+    expected.push_back(-k);
+  }
+  // More exchanges than it was made for is a programming error, not a silent cut.
+  const std::vector<substructures::Exchange> three(3);
+  EXPECT_THROW(queued.OnTrial({{21, 0, 0.21}, {}, {}, three}), Error);
+  queued.OnStop({SessionStatus::kFinished, "", nlohmann::json::object()});
+  EXPECT_EQ(a.log, expected);
+  EXPECT_EQ(b.log, expected);
+}
+
 }  // namespace
 }  // namespace hybridtest::runner

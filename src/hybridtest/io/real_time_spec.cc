@@ -46,7 +46,7 @@ RealTimeSpec ReadRealTime(const YamlInput& in) {
     rt.cpu = static_cast<int>(in.Count(node["cpu"], kp + ".cpu", "a CPU index, or -1", -1, 4095));
   }
   if (node["queue"]) {
-    rt.queue = in.Count(node["queue"], kp + ".queue", "a queue capacity in events", 16, 1 << 24);
+    rt.queue = in.Count(node["queue"], kp + ".queue", "a queue capacity in events", 64, 1 << 24);
   }
   return rt;
 }

@@ -44,6 +44,8 @@ class MonitorObserver final : public runner::SessionObserver {
   void OnCommit(const runner::CommitEvent& event) override;
   void OnResume(const runner::ResumeEvent& event) override;
   void OnStop(const runner::StopEvent& event) override;
+  // Copies into its ring or drops: a paced run keeps it on the stepping thread.
+  bool real_time_safe() const override { return true; }
 
   long dropped() const { return ring_ ? ring_->dropped() : 0; }
 

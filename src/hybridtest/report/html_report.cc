@@ -14,6 +14,7 @@
 #include "hybridtest/common/version.h"
 #include "hybridtest/report/compare.h"
 #include "hybridtest/report/compare_plot.h"
+#include "hybridtest/report/html_report_rths.h"
 #include "hybridtest/report/html_report_resumes.h"
 #include "hybridtest/report/html_report_style.h"
 #include "hybridtest/report/html_report_summary.h"
@@ -219,6 +220,7 @@ std::string MakeHtmlReport(const io::RunData& run, const io::RunData* against,
             "colour (the first in <span class=\"physical\">red</span>).</p>\n";
   }
   html += EmbedFigures(MakeRunFigures(run, options.units), options.gnuplot) + "</section>\n";
+  html += RthsSection(run, against);
   if (comparison) html += ComparisonSection(run, *against, *comparison, options);
   html += ConfigurationSection(run, layout, options.units);
   html += ParametersSection(run);

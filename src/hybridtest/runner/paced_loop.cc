@@ -61,6 +61,7 @@ StepResult PacedLoop::Run() {
     throw;
   }
   paced_ = true;
+  if (queue_ != nullptr) stats_.queue_min_free = queue_->capacity();
   const double t0 = clock_.Now();
   long consecutive = 0;
   for (long k = 1; r.status == SessionStatus::kWorking; ++k) {
@@ -78,6 +79,21 @@ StepResult PacedLoop::Run() {
       stats_.max_consecutive_misses = std::max(stats_.max_consecutive_misses, consecutive);
     } else {
       consecutive = 0;
+    }
+    if (queue_ != nullptr) {
+      const std::size_t free = queue_->free_slots();
+      stats_.queue_min_free = std::min(stats_.queue_min_free, free);
+      if (free < kQueueReserve && clock_.is_virtual()) {
+        // Simulated time has no deadline to miss: the loop waits for the files.
+        ++stats_.queue_waits;
+        queue_->WaitForFree(kQueueReserve);
+      } else if (free < kQueueReserve && !stats_.held_on_queue) {
+        stats_.held_on_queue = true;
+        session_.RequestStop(fmt::format(
+            "held: the observers' queue is nearly full ({} of {} events free): the files "
+            "cannot keep up with the real-time loop (raise real_time.queue or write to a "
+            "faster disk)", free, queue_->capacity()));
+      }
     }
     const auto start = std::chrono::steady_clock::now();
     r = session_.Step();
@@ -120,6 +136,11 @@ nlohmann::json PacedLoop::ToJson() const {
                       {"max_consecutive_misses", s.max_consecutive_misses},
                       {"hold_after_misses", hold_after_},
                       {"held_on_misses", s.held_on_misses},
+                      {"held_on_queue", s.held_on_queue},
+                      {"queue_waits", s.queue_waits},
+                      {"queue", queue_ != nullptr ? nlohmann::json{{"capacity", queue_->capacity()},
+                                                                   {"min_free", s.queue_min_free}}
+                                                  : nlohmann::json(nullptr)},
                       {"late_s", {{"p50", s.late_p50}, {"p99", s.late_p99}, {"max", s.late_max}}},
                       {"compute_s",
                        {{"p50", s.compute_p50}, {"p99", s.compute_p99}, {"max", s.compute_max}}}};

@@ -12,7 +12,8 @@
 // A tick is a MISS when it starts later than `miss_tolerance` after its deadline (the loop then
 // runs at once: it catches up, it does not skip); an OVERRUN when its step takes longer than h.
 // After `hold_after_misses` consecutive misses the run is held (RequestStop: every actuator
-// holds at its last command, resumable). The tracking criteria J1–J3 of the first physical
+// holds at its last command, resumable), and so is a run whose observers' queue is nearly
+// full on the wall clock (SetQueue): the files cannot keep up, the loop does not wait. The tracking criteria J1–J3 of the first physical
 // slot (runner/tracking_criteria.h) are kept live. Everything goes into the sidecar's
 // statistics as `real_time` (AddStatistics).
 //
@@ -24,6 +25,7 @@
 #include <vector>
 
 #include "hybridtest/common/clock.h"
+#include "hybridtest/runner/lock_free_observer.h"
 #include "hybridtest/runner/session.h"
 #include "hybridtest/runner/tracking_criteria.h"
 
@@ -35,6 +37,9 @@ struct PacedStatistics {
   long overruns = 0;
   long max_consecutive_misses = 0;
   bool held_on_misses = false;
+  bool held_on_queue = false;
+  std::size_t queue_min_free = 0;  // the fewest free events seen in the queue (0: no queue)
+  long queue_waits = 0;            // virtual clock: ticks that waited for the queue
   double late_p50 = 0.0, late_p99 = 0.0, late_max = 0.0;           // [s]
   double compute_p50 = 0.0, compute_p99 = 0.0, compute_max = 0.0;  // [s]
 };
@@ -54,10 +59,16 @@ class PacedLoop final : public SessionObserver {
   void AddSetupNote(std::string note) { setup_notes_.push_back(std::move(note)); }
   // The delay stability check's margins (delay_stability.h), for the sidecar.
   void SetStability(nlohmann::json margins) { stability_ = std::move(margins); }
+  // The queue the other observers drain (lock_free_observer.h): when fewer than kQueueReserve
+  // events still fit, the loop holds the run on the wall clock (it never waits there, and the
+  // queue never fills) and waits for the queue on the virtual clock (no deadline to miss; the
+  // run stays bit-reproducible). Not owned.
+  void SetQueue(LockFreeObserver* queue) { queue_ = queue; }
   nlohmann::json ToJson() const;
 
   void OnTrial(const TrialEvent& event) override;
   void AddStatistics(nlohmann::json& statistics) override;
+  bool real_time_safe() const override { return true; }
 
  private:
   void Summarise();
@@ -68,6 +79,7 @@ class PacedLoop final : public SessionObserver {
   double miss_tolerance_;
   long hold_after_;
   bool paced_ = false;
+  LockFreeObserver* queue_ = nullptr;
   PacedStatistics stats_;
   TrackingCriteria criteria_;
   std::vector<double> late_, compute_;  // per tick, preallocated

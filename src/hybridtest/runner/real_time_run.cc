@@ -11,6 +11,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/runner/delay_stability.h"
+#include "hybridtest/runner/run_record.h"
 
 namespace hybridtest::runner {
 
@@ -84,7 +85,35 @@ RealTimeRun::RealTimeRun(Session& session, const std::string& clock, bool quiet)
   RefuseUnstable(session, margins);
 }
 
+std::unique_ptr<LockFreeObserver> QueueObservers(Session& session, PacedLoop& loop) {
+  std::vector<SessionObserver*> kept, queued;
+  std::size_t at = 0;
+  for (SessionObserver* o : session.ExchangeObservers({})) {
+    if (o->real_time_safe()) {
+      kept.push_back(o);
+    } else {
+      if (queued.empty()) at = kept.size();
+      queued.push_back(o);
+    }
+  }
+  std::unique_ptr<LockFreeObserver> queue;
+  if (!queued.empty()) {
+    std::size_t actuators = 0;
+    for (const auto& s : session.substructures()) {
+      actuators += static_cast<std::size_t>(s->num_actuators());
+    }
+    queue = std::make_unique<LockFreeObserver>(
+        std::move(queued), static_cast<std::size_t>(session.spec().real_time.queue),
+        JournalChannels(session.spec()).size(), std::max<std::size_t>(actuators, 1));
+    kept.insert(kept.begin() + static_cast<std::ptrdiff_t>(at), queue.get());
+    loop.SetQueue(queue.get());
+  }
+  session.ExchangeObservers(std::move(kept));
+  return queue;
+}
+
 StepResult RealTimeRun::Run() {
+  queue_ = QueueObservers(session_, *loop_);
   if (!clock_->is_virtual()) {
     for (const std::string& note : PrepareRealTimeProcess(session_.spec().real_time)) {
       if (!quiet_) fmt::print(stderr, "hybridtest: real time: {}\n", note);

@@ -3,6 +3,9 @@
 // chooses the clock (`--clock virtual|wall`; wall by default), prepares the process for a
 // wall-clock run (mlockall, SCHED_FIFO priority and CPU affinity as the block asks, each with a
 // clear message where the system does not permit it), and runs the session in a PacedLoop.
+// The stepping thread writes no file: every observer that is not real_time_safe() (the run's
+// files, the progress display, ...) is put behind one LockFreeObserver of `real_time.queue`
+// events, drained on a thread of its own; the loop holds the run before that queue fills.
 // For a config without the block it is disabled (and refuses a --clock, which would mean
 // nothing there).
 #include <memory>
@@ -10,6 +13,7 @@
 #include <vector>
 
 #include "hybridtest/common/clock.h"
+#include "hybridtest/runner/lock_free_observer.h"
 #include "hybridtest/runner/paced_loop.h"
 #include "hybridtest/runner/session.h"
 
@@ -22,6 +26,12 @@ std::unique_ptr<Clock> MakeClock(const std::string& name);
 // what was done or why it was not (never throws).
 std::vector<std::string> PrepareRealTimeProcess(const io::RealTimeSpec& spec);
 
+// Puts every observer of `session` that is not real_time_safe() behind one LockFreeObserver
+// of `real_time.queue` events, in their order and where the first of them was (the run's files
+// open first), and gives it to `loop` (PacedLoop::SetQueue). Returns it (null when every
+// observer may stay on the stepping thread). Before Initialize().
+std::unique_ptr<LockFreeObserver> QueueObservers(Session& session, PacedLoop& loop);
+
 class RealTimeRun {
  public:
   // Adds the paced loop to the session's observers (before Initialize()). Throws ConfigError
@@ -30,12 +40,15 @@ class RealTimeRun {
   bool enabled() const { return loop_ != nullptr; }
   StepResult Run();
   const PacedLoop* loop() const { return loop_.get(); }
+  // The queue in front of the other observers (null before Run()).
+  const LockFreeObserver* queue() const { return queue_.get(); }
 
  private:
   Session& session_;
   bool quiet_;
   std::unique_ptr<Clock> clock_;
   std::unique_ptr<PacedLoop> loop_;
+  std::unique_ptr<LockFreeObserver> queue_;
 };
 
 }  // namespace hybridtest::runner

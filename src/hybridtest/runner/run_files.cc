@@ -65,6 +65,15 @@ void RunFiles::OnTrial(const TrialEvent& event) {
 }
 
 void RunFiles::OnCommit(const CommitEvent& event) {
+  if (spec_.real_time.enabled) {
+    journal_->Append(event.row, event.kind == RowKind::kCommitted);
+    if (event.kind == RowKind::kCommitted) {
+      last_committed_.assign(event.row.begin(), event.row.end());
+      last_committed_step_ = event.step;
+      committed_rows_ = journal_->rows();
+    }
+    return;
+  }
   if (event.kind != RowKind::kCommitted) {
     journal_->Append(event.row, false);
     return;
@@ -129,8 +138,35 @@ void RunFiles::OnResume(const ResumeEvent& event) {
   journal_->SetSidecarEntry("resumes", resumes);
 }
 
+void RunFiles::SaveRealTimeState() {
+  // The session's committed point must be the last row written (a row lost to a full queue
+  // would leave the state ahead of its journal: then no state is saved).
+  if (!spec_.output.save_state || !session_->scheme() || last_committed_step_ < 0 ||
+      session_->committed().step != last_committed_step_) {
+    return;
+  }
+  journal_->Flush();
+  RunState state = session_->GetState();
+  state.rows = committed_rows_;
+  state.stage_rows = stages_ ? stages_->rows() : 0;
+  state.row = last_committed_;
+  // The journal as the state describes it: through the committed row (an uncommitted row
+  // after it is cut on resume).
+  state.journal_rows = committed_rows_;
+  state.journal_last_row = last_committed_;
+  SaveRunState(state_path_, state);
+  state_rows_ = committed_rows_;
+}
+
 void RunFiles::OnStop(const StopEvent& event) {
   if (!journal_) return;
+  if (spec_.real_time.enabled) {
+    try {
+      SaveRealTimeState();
+    } catch (const std::exception&) {
+      if (event.status == SessionStatus::kFinished) throw;
+    }
+  }
   const std::string status =
       event.status == SessionStatus::kFinished ? "completed" : "stopped: " + event.reason;
   if (event.status == SessionStatus::kFinished) {

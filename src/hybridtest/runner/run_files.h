@@ -14,7 +14,11 @@
 //   stop:                the sidecar gets the statistics and the status
 //
 // The state is saved at every commit of a run with a physical slot, else every 1,000 rows
-// and at the end.
+// and at the end. A real-time run (a `real_time:` block) saves it at its stop only (finished,
+// held or stopped), on the stepping thread after every queued row is written: its OnTrial and
+// OnCommit use the event's data only, so that they may run on a queue's thread
+// (lock_free_observer.h). A real-time run killed outright therefore leaves no state to resume
+// from (docs/real-time.md).
 #include <optional>
 
 #include "hybridtest/io/journal.h"
@@ -39,6 +43,7 @@ class RunFiles final : public SessionObserver {
 
  private:
   void SaveState(bool always, long rows_after, std::span<const double> row);
+  void SaveRealTimeState();
 
   const io::RunSpec& spec_;
   nlohmann::json resume_record_;
@@ -50,6 +55,10 @@ class RunFiles final : public SessionObserver {
   long rows_cut_ = 0;          // resume: journal rows after the state's, cut before reopening
   bool row_rewritten_ = false; // resume: the state's row was lost and written again
   Eigen::VectorXd stage_values_;
+  // A real-time run: the last committed row written, its step and the rows through it.
+  std::vector<double> last_committed_;
+  long last_committed_step_ = -1;
+  long committed_rows_ = 0;
 };
 
 }  // namespace hybridtest::runner

@@ -148,6 +148,13 @@ void Session::AddObserver(SessionObserver& observer) {
   observers_.push_back(&observer);
 }
 
+std::vector<SessionObserver*> Session::ExchangeObservers(
+    std::vector<SessionObserver*> observers) {
+  if (initialized_) throw Error("Session::ExchangeObservers: before Initialize()");
+  observers_.swap(observers);
+  return observers;
+}
+
 void Session::SetState(const RunState& state) {
   if (initialized_) throw Error("Session::SetState: give the state before Initialize()");
   if (state.substructures.size() != subs_.size()) {

@@ -125,6 +125,10 @@ class SessionObserver {
   // Before OnStop (every observer first): add this observer's own fields to the statistics
   // the sidecar records (e.g. a paced loop's `real_time`).
   virtual void AddStatistics(nlohmann::json& /*statistics*/) {}
+  // True for an observer that neither blocks, allocates nor writes a file in OnTrial and
+  // OnCommit (a paced loop, the monitor's ring): a paced run keeps it on the stepping thread
+  // and puts every other observer behind one lock-free queue (runner/real_time_run.h).
+  virtual bool real_time_safe() const { return false; }
 };
 
 struct SessionOptions {
@@ -146,6 +150,9 @@ class Session {
 
   // Observers are not owned and must outlive the session; add them before Initialize().
   void AddObserver(SessionObserver& observer);
+  // Replaces the observers with `observers` and returns the ones it had, in their order (the
+  // run's files first): a paced run puts them behind a queue. Before Initialize().
+  std::vector<SessionObserver*> ExchangeObservers(std::vector<SessionObserver*> observers);
 
   // Continue from a saved state (before Initialize()). Throws ConfigError if it does not fit
   // the spec (slots, sizes).

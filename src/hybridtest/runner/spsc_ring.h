@@ -48,6 +48,13 @@ class SpscRing {
     return head_.load(std::memory_order_acquire) == tail_.load(std::memory_order_acquire);
   }
   std::size_t capacity() const { return slots_.size() - 1; }
+  // Producer: slots Claim() can still give (the consumer may free more meanwhile).
+  std::size_t free_slots() const {
+    const std::size_t n = slots_.size();
+    const std::size_t used = (tail_.load(std::memory_order_relaxed) + n -
+                              head_.load(std::memory_order_acquire)) % n;
+    return n - 1 - used;
+  }
 
  private:
   std::vector<T> slots_;

@@ -61,6 +61,10 @@ class BenchClient final : public TransferSystem {
   // with every position, one MEASUREMENT with every actuator's sample.
   int num_actuators() const override { return welcome_ ? welcome_->actuators : 1; }
   void Execute(std::span<const double> commands, std::span<Measurement> out) override;
+  // Real time: every Execute sends one command and returns the server's measurement at once;
+  // the server's plant runs on the server's own clock (`hybridtest bench --real-time CONFIG`).
+  // A server that settles every move (an emulated bench) makes every tick late.
+  void StartPaced(double /*tick*/, const Clock& /*clock*/) override {}
   void Hold() noexcept override;
   // HOLD → HOLD_ACK, BYE → BYE, close. A no-op when not connected.
   void Deactivate() override;

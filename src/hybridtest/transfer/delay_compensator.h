@@ -81,6 +81,7 @@ class DelayCompensator final : public TransferSystem {
   // The estimates and their extremes, for the run's statistics.
   nlohmann::json ToJson() const;
   const TransferSystem& inner() const { return *inner_; }
+  TransferSystem& inner() { return *inner_; }
 
  private:
   double Compensate(double target);
