@@ -29,7 +29,8 @@ struct ResumePlan {
   long step = 0;                // the committed step resumed from
   double t = 0.0;               // its time [s]
   std::string previous_status;  // the sidecar's status
-  nlohmann::json record;        // {"previous_stop_kind", "force_tolerance_option_N"?}
+  nlohmann::json record;        // {"force_tolerance_option_N"?, "position_tolerance_option_m"?,
+                                //  "after_safety_stop"?}
   // Per slot: the commands its in-process bench had received when the run stopped (the
   // stop's record), so that a test fault that stopped it does not fire again.
   std::vector<std::optional<long>> commands_received_at_stop;
