@@ -72,7 +72,7 @@ std::string RefusalOf(io::RunSpec spec, SessionOptions options = {}) {
   return "";
 }
 
-TEST(PreMoveChecks, AStepBeyondTheStabilityLimitIsRefusedBeforeTheBenchIsTouched) {
+TEST(SessionPreMoveChecks, AStepBeyondTheStabilityLimitIsRefusedBeforeTheBenchIsTouched) {
   auto calls = std::make_shared<Calls>();
   const std::string message = RefusalOf(Spec(0.004, 0.02, calls));
   EXPECT_NE(message.find("pre_move_checks_test.yaml:2: integrator.dt = 0.004 s is beyond the "
@@ -88,7 +88,7 @@ TEST(PreMoveChecks, AStepBeyondTheStabilityLimitIsRefusedBeforeTheBenchIsTouched
   EXPECT_NE(message.find(fmt::format("Choose dt ≤ {:.4g} s", h_max)), std::string::npos);
 }
 
-TEST(PreMoveChecks, AP0ThatDisagreesWithTheBenchIsRefusedBeforeTheBenchIsTouched) {
+TEST(SessionPreMoveChecks, AP0ThatDisagreesWithTheBenchIsRefusedBeforeTheBenchIsTouched) {
   auto calls = std::make_shared<Calls>();
   const std::string message = RefusalOf(Spec(0.001, 0.03, calls));
   EXPECT_NE(message.find("substructures.r1.setup.p0 = 0.02 m, but the spring announces p0 = "
@@ -103,7 +103,7 @@ TEST(PreMoveChecks, AP0ThatDisagreesWithTheBenchIsRefusedBeforeTheBenchIsTouched
   EXPECT_GT(calls->execute, 0);
 }
 
-TEST(PreMoveChecks, ACallerMayOptOut) {
+TEST(SessionPreMoveChecks, ACallerMayOptOut) {
   auto calls = std::make_shared<Calls>();
   SessionOptions options;
   options.pre_move_checks = false;
