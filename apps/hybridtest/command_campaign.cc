@@ -16,7 +16,6 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/version.h"
 #include "hybridtest/io/run_inputs.h"
-#include "pre_run_checks.h"
 
 namespace hybridtest::app {
 namespace {
@@ -55,11 +54,6 @@ void ExecuteCampaign(const CampaignCommandOptions& opt) {
   campaign::CampaignOptions options;
   options.out_dir = opt.out;
   options.workers = opt.workers;
-  options.hooks.check_config = [](const io::SimulationConfig& cfg) { CheckSchemeStability(cfg); };
-  options.hooks.check_session = [](const io::SimulationConfig& cfg,
-                                   const runner::Session& session) {
-    CheckPhysicalSlotsBeforeMoving(cfg, session.substructures());
-  };
   options.hooks.provenance = &CaseProvenance;
   std::error_code ec;
   options.provenance = {{"software", Software()}, {"host", Host()},

@@ -1,5 +1,5 @@
 // hybridtest probe CONFIG [--bench HOST:PORT]: before a test, look at every physical slot's
-// bench without moving it. First the checks of CheckPhysicalSlotsBeforeMoving (p0 and limits
+// bench without moving it. First the checks of runner::CheckPhysicalSlotsBeforeMoving (p0 and limits
 // against what the bench announces); then, where the transfer system can read without a
 // command (TransferSystem::Probe: the emulated bench, a Modbus controller; not a remote bench
 // server), one reading of position, force and status, checked in SI against the slot's setup
@@ -20,9 +20,9 @@
 #include "command.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/config.h"
-#include "hybridtest/io/substructure_config.h"
+#include "hybridtest/io/run_spec_yaml.h"
+#include "hybridtest/runner/pre_move_checks.h"
 #include "hybridtest/substructures/physical_substructure.h"
-#include "pre_run_checks.h"
 
 namespace hybridtest::app {
 namespace {
@@ -66,8 +66,10 @@ std::vector<std::string> ProbeProblems(const transfer::ProbeReading& reading,
 
 void RunProbe(const ProbeOptions& options) {
   const io::SimulationConfig cfg = io::LoadSimulationConfig(options.config);
-  auto subs = io::MakeSubstructures(cfg, {options.bench, true, ""});
-  CheckPhysicalSlotsBeforeMoving(cfg, subs);
+  const io::RunSpec spec = io::CompileRunSpec(cfg, {options.bench, true, "", std::nullopt});
+  std::vector<std::unique_ptr<substructures::Substructure>> subs;
+  for (const auto& sub : spec.substructures) subs.push_back(sub.Build());
+  runner::CheckPhysicalSlotsBeforeMoving(spec, subs);
   const auto& slots = cfg.model.model.slots();
   long failed = 0, probed = 0, physical = 0;
   for (std::size_t s = 0; s < subs.size() && s < slots.size(); ++s) {

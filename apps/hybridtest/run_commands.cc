@@ -11,8 +11,6 @@
 
 #include <unistd.h>
 
-#include "resume_changes.h"
-#include "resume_plan.h"
 #include "command.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/version.h"
@@ -24,10 +22,11 @@
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/runner/progress.h"
 #include "hybridtest/runner/real_time_run.h"
+#include "hybridtest/runner/resume_changes.h"
+#include "hybridtest/runner/resume_plan.h"
 #include "hybridtest/runner/session.h"
 #include "hybridtest/transfer/safety.h"
 #include "hybridtest/runner/run_record.h"
-#include "pre_run_checks.h"
 
 namespace hybridtest::app {
 namespace {
@@ -108,7 +107,7 @@ nlohmann::json Provenance(const io::SimulationConfig& cfg, const std::string& cs
 }
 
 // The loop and the summary, shared by run, simulate and resume.
-void RunAndReport(const io::SimulationConfig& cfg, io::RunSpec spec,
+void RunAndReport(io::RunSpec spec,
                   runner::SessionOptions session_options,
                   const runner::RunState* resume_from, bool quiet,
                   const std::string& clock = "",
@@ -120,10 +119,9 @@ void RunAndReport(const io::SimulationConfig& cfg, io::RunSpec spec,
   if (quiet || spec.quiet) progress.mode = runner::ProgressMode::kQuiet;
   const std::string command = spec.output.command;
   const std::string csv = spec.output.csv_path;
+  // The session refuses an unstable step, and a p0 or limits that disagree with what a bench
+  // announces (after any --set), before anything is opened or sent (runner/pre_move_checks.h).
   runner::Session session(std::move(spec), std::move(session_options));
-  // p0 and limits against what each bench announces (after any --set), on the session's own
-  // substructures before anything is activated or sent (pre_run_checks.h).
-  CheckPhysicalSlotsBeforeMoving(cfg, session.substructures());
   if (resume_from != nullptr) session.SetState(*resume_from);
   ProgressObserver progress_observer(session, progress);
   session.AddObserver(progress_observer);
@@ -180,7 +178,6 @@ void RunAndReport(const io::SimulationConfig& cfg, io::RunSpec spec,
 
 void ExecuteRun(const RunCommandOptions& options) {
   const io::SimulationConfig cfg = io::LoadSimulationConfig(options.config);
-  CheckSchemeStability(cfg);  // pre-run check: refuses a step beyond the stability limit
   io::RunSpec spec = io::CompileRunSpec(
       cfg, {options.bench, options.allow_physical,
             "`simulate` is numerical only: use `hybridtest run` for a hybrid test", std::nullopt});
@@ -205,7 +202,7 @@ void ExecuteRun(const RunCommandOptions& options) {
   io::CheckRunOutputs(csv, io::RunInputFiles(cfg), options.overwrite);
   spec.source.inputs = io::RecordRunInputs(cfg, csv);
   spec.source.provenance = Provenance(cfg, csv);
-  RunAndReport(cfg, std::move(spec), {}, nullptr, options.quiet, options.clock,
+  RunAndReport(std::move(spec), {}, nullptr, options.quiet, options.clock,
                options.monitor);
 }
 
@@ -216,7 +213,9 @@ void ExecuteResume(const ResumeCommandOptions& options) {
   }
   // One master per run: nothing of the run is read before the lock is held.
   const io::RunLock lock = io::RunLock::Acquire(options.csv, "resume");
-  const ResumePlan plan = PlanResume(options);
+  const runner::ResumePlan plan = runner::PlanResume(
+      {options.csv, options.after_safety_stop, options.force_tolerance, options.position_tolerance});
+  for (const std::string& note : plan.notes) fmt::print(stderr, "hybridtest resume: {}\n", note);
   io::RunSpec spec = io::CompileRunSpec(
       plan.cfg, {options.bench, plan.command != "simulate",
                  "`simulate` is numerical only: use `hybridtest run` for a hybrid test",
@@ -229,7 +228,7 @@ void ExecuteResume(const ResumeCommandOptions& options) {
   runner::SessionOptions session_options;
   session_options.resume_record = plan.record;
   if (!options.set.empty()) {
-    session_options.resume_record["changes"] = ApplyResumeChanges(spec, options.set);
+    session_options.resume_record["changes"] = runner::ApplyResumeChanges(spec, options.set);
   }
   session_options.resume_record["command_line"] = command_line();
   session_options.commands_received_at_stop = plan.commands_received_at_stop;
@@ -238,7 +237,7 @@ void ExecuteResume(const ResumeCommandOptions& options) {
                "{}\n", options.csv, plan.step, plan.t, plan.state.rows - 1, plan.previous_status);
     std::fflush(stdout);
   }
-  RunAndReport(plan.cfg, std::move(spec), std::move(session_options), &plan.state,
+  RunAndReport(std::move(spec), std::move(session_options), &plan.state,
                options.quiet, /*clock=*/"", options.monitor);
 }
 

@@ -32,7 +32,7 @@ struct ResumeCommandOptions {
   std::optional<double> force_tolerance;  // --force-tolerance [N], else resume.force_tolerance
   std::optional<double> position_tolerance;  // --position-tolerance [m], else resume.position_tolerance
   bool after_safety_stop = false;         // --after-safety-stop: the operator fixed the cause
-  std::vector<std::string> set;           // --set KEY=VALUE (resume_changes.h)
+  std::vector<std::string> set;           // --set KEY=VALUE (runner/resume_changes.h)
   MonitorCliOptions monitor;              // --monitor HOST:PORT ... (live_monitor.h)
 };
 

@@ -8,6 +8,7 @@ many benches do; the runner converts (units), checks every command and measureme
 the safety limits, journals every step and holds on any error, as for a C++ bench.
 """
 import pathlib
+import tempfile
 
 import numpy as np
 
@@ -22,7 +23,8 @@ class SpringBench:
 
     def __init__(self, k_n_per_m, p0_mm):
         self.k_kn_per_mm = k_n_per_m * 1e-6
-        self.p0_mm = p0_mm
+        # Announced: the run refuses a setup.p0 that disagrees, before anything moves.
+        self.p0 = p0_mm
         self.moves = 0
 
     def activate(self):
@@ -30,7 +32,7 @@ class SpringBench:
 
     def execute(self, command_mm):
         self.moves += 1
-        return command_mm, self.k_kn_per_mm * (command_mm - self.p0_mm)
+        return command_mm, self.k_kn_per_mm * (command_mm - self.p0)
 
     def hold(self):
         print("bench: holding")
@@ -65,7 +67,7 @@ print(f"lab time of the Python bench: {run['r1_lab_time'][-1]:.3f} s; statistics
 
 
 # A driver that fails: its exception is a TransferError, the bench holds, every committed
-# step is kept (the error's .result), and `hybridtest resume` could continue the run.
+# step is kept (the error's .result and, with out=, the journal and run state).
 class FailingBench(SpringBench):
     def execute(self, command_mm):
         if self.moves == 1000:
@@ -73,7 +75,15 @@ class FailingBench(SpringBench):
         return super().execute(command_mm)
 
 
+out = pathlib.Path(tempfile.mkdtemp()) / "python-bench.csv"
 try:
-    ht.run(ROOT / "examples/rotor/remote.yaml", transfers={"r1": FailingBench(7200.0, 20.0)})
+    ht.run(ROOT / "examples/rotor/remote.yaml", transfers={"r1": FailingBench(7200.0, 20.0)},
+           out=out)
 except ht.TransferError as e:
     print(f"TransferError: {e}\n  committed rows kept: {len(e.result)}")
+
+# The route is back: continue from the last committed step, as `hybridtest resume` does (the
+# bench is brought back to the last committed command and checked first).
+resumed = ht.resume(out, transfers={"r1": SpringBench(7200.0, 20.0)})
+print(f"resumed to t = {resumed['t'][-1]:.3f} s; largest difference from the uninterrupted run "
+      f"{np.max(np.abs(resumed['q1'] - run['q1'])):.2e} m")

@@ -28,7 +28,7 @@ from ._core import read_run as _read_run
 
 __all__ = [
     "ConfigError", "Error", "IoError", "Model", "ModelError", "Result", "SafetyStop", "Session",
-    "TransferError", "read_run", "run", "simulate",
+    "TransferError", "read_run", "resume", "run", "simulate",
 ]
 
 
@@ -123,6 +123,53 @@ def run(config, *, transfers=None, laws=None, out=None, overwrite=False, observe
     the run (its .result holds every committed row). Returns a Result.
     """
     return _execute(config, "run", transfers, laws, out, overwrite, observers)
+
+
+def _settings(changes):
+    """{key: value} or ["KEY=VALUE", ...] as the command line's --set strings."""
+    if changes is None:
+        return []
+    if isinstance(changes, dict):
+        return [f"{key}={float(value)!r}" for key, value in changes.items()]
+    return [str(c) for c in changes]
+
+
+def resume(csv_path, *, transfers=None, laws=None, set=None, after_safety_stop=False,
+           force_tolerance=None, position_tolerance=None, observers=()):
+    """Continues the run written at csv_path from its last committed step, as
+    `hybridtest resume` does: the run's own config (its sidecar's copy), its run state, the
+    bench brought back to the last committed command and checked.
+
+    transfers/laws: Python drivers and laws in place of configured slots (a Python driver
+    the run used is not recorded: give it again). set: {key: value} changes of a safety
+    limit, a timeout or a resume tolerance (SI), recorded in the sidecar's resume record as
+    --set is. after_safety_stop: the operator found and fixed the cause of a safety stop.
+    force_tolerance [N], position_tolerance [m]: the re-imposition check's tolerances.
+    Returns the whole run (its journal, read back) as a Result; raises the error that stopped
+    it again (its .result holds the rows of this resume).
+    """
+    csv_path = os.fspath(csv_path)
+    with Session(transfers=dict(transfers or {}), laws=dict(laws or {}), resume=csv_path,
+                 after_safety_stop=after_safety_stop, force_tolerance=force_tolerance,
+                 position_tolerance=position_tolerance, set=_settings(set)) as session:
+        for observer in observers:
+            session.add_observer(observer)
+        status = session.run()
+        if status != "finished":
+            result = session.result()
+            result.values = result.values.copy()
+            try:
+                session.raise_error()
+            except Error as e:
+                e.result = result
+                raise
+            raise Error(f"the run ended {status}: {session.reason}")
+        notes = list(session.notes)
+        statistics = session.statistics
+    result = read_run(csv_path)
+    result.warnings = notes + result.warnings
+    result.statistics = statistics
+    return result
 
 
 def read_run(csv_path):

@@ -69,6 +69,21 @@ PyTransfer::PyTransfer(SharedPy driver, std::string slot)
     }
   }
   units_ = ReadUnits(d, where);
+  if (py::hasattr(d, "p0")) {
+    const py::object given = d.attr("p0");
+    double p0 = 0.0;
+    try {
+      p0 = given.cast<double>();
+    } catch (const py::cast_error&) {
+      p0 = std::nan("");
+    }
+    if (!std::isfinite(p0)) {
+      throw ConfigError(fmt::format("{}: p0 = {}: expected a finite number, the actuator's "
+                                    "zero-force position in {}", where,
+                                    std::string(py::repr(given)), units_.length_name));
+    }
+    p0_ = p0 * units_.metres_per_length_unit;
+  }
   description_ = fmt::format("Python transfer system {} ({}, {})", TypeName(d),
                              units_.length_name, units_.force_name);
 }
@@ -81,6 +96,13 @@ void PyTransfer::Call(const char* method, const std::string& what) {
     throw TransferError(fmt::format("the Python transfer system's {} raised {}", what,
                                     DescribePythonError(e)));
   }
+}
+
+transfer::BenchAnnouncement PyTransfer::Announce() const {
+  transfer::BenchAnnouncement a;
+  a.p0 = p0_;
+  a.source = fmt::format("the Python transfer system of {}", slot_);
+  return a;
 }
 
 void PyTransfer::Activate() {

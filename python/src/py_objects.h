@@ -10,6 +10,9 @@
 //               for a C++ transfer system. An exception raised by the Python code (or a reply
 //               that is not two or three numbers) becomes a TransferError naming the slot and
 //               the command: the run holds.
+//               A driver that knows its actuator's zero-force position has `p0` (its length
+//               unit): the run then refuses a setup.p0 that disagrees, before anything moves
+//               (runner/pre_move_checks.h).
 //               Several actuators (decision 0015): execute will receive an array of commands
 //               and return arrays; the scalar Execute here is where that change goes.
 //   PyLaw       a Python callable r = law(d) [m] -> [N] as a constitutive::RestoringForceLaw
@@ -21,6 +24,7 @@
 
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "hybridtest/constitutive/restoring_force_law.h"
@@ -54,6 +58,7 @@ class PyTransfer final : public transfer::TransferSystem {
   void Hold() noexcept override;
   void Deactivate() override;
   transfer::BenchUnits bench_units() const override { return units_; }
+  transfer::BenchAnnouncement Announce() const override;
   std::string Describe() const override { return description_; }
 
  private:
@@ -62,6 +67,7 @@ class PyTransfer final : public transfer::TransferSystem {
   std::string slot_;
   std::string description_;
   transfer::BenchUnits units_;
+  std::optional<double> p0_;  // the driver's `p0` [m]
   std::chrono::steady_clock::time_point activated_;
 };
 

@@ -60,7 +60,21 @@ int SlotIndex(const io::RunSpec& spec, const std::string& slot, const char* argu
                                 argument, slot, spec.model.name, names));
 }
 
-// Python transfer systems and laws in place of the configured slots.
+nlohmann::json Provenance(const io::SimulationConfig& cfg, const std::string& csv,
+                          const std::string& command) {
+  std::error_code ec;
+  const auto output = std::filesystem::absolute(csv, ec);
+  return {{"software", {{"name", "hybridtest"}, {"version", kVersion},
+                        {"git", kGitDescribe}, {"build_type", kBuildType}}},
+          {"command_line", fmt::format("python: hybridtest.{}(...)", command)},
+          {"working_directory", std::filesystem::current_path(ec).string()},
+          {"output", ec ? csv : output.lexically_normal().string()},
+          {"inputs", io::InputTexts(cfg)}};
+}
+
+}  // namespace
+
+// See py_session.h.
 void Substitute(io::RunSpec& spec, const py::dict& transfers, const py::dict& laws) {
   for (const auto& [key, value] : transfers) {
     const std::string slot = py::str(key);
@@ -84,20 +98,6 @@ void Substitute(io::RunSpec& spec, const py::dict& transfers, const py::dict& la
     sub = substructures::NumericalSpec(slot, std::make_unique<PyLaw>(law, slot));
   }
 }
-
-nlohmann::json Provenance(const io::SimulationConfig& cfg, const std::string& csv,
-                          const std::string& command) {
-  std::error_code ec;
-  const auto output = std::filesystem::absolute(csv, ec);
-  return {{"software", {{"name", "hybridtest"}, {"version", kVersion},
-                        {"git", kGitDescribe}, {"build_type", kBuildType}}},
-          {"command_line", fmt::format("python: hybridtest.{}(...)", command)},
-          {"working_directory", std::filesystem::current_path(ec).string()},
-          {"output", ec ? csv : output.lexically_normal().string()},
-          {"inputs", io::InputTexts(cfg)}};
-}
-
-}  // namespace
 
 PyObserver::PyObserver(py::object observer) {
   on_commit_ = Method(observer, "on_commit");
@@ -156,6 +156,13 @@ void PyObserver::OnStop(const runner::StopEvent& e) {
 }
 
 PySession::PySession(const SessionArguments& args) {
+  if (args.resume) {
+    StartResume(args);
+    return;
+  }
+  if (args.config.is_none()) {
+    throw ConfigError("Session(): give a config (a run-config path or a dict), or resume=CSV");
+  }
   if (args.command != "run" && args.command != "simulate") {
     throw ConfigError(fmt::format("command \"{}\": expected \"run\" or \"simulate\"",
                                   args.command));

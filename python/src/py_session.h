@@ -50,14 +50,28 @@ class PyObserver final : public runner::SessionObserver {
   SharedPy on_commit_, on_trial_, on_stop_;
 };
 
+// A resume of a run written to files (hybridtest.resume; `hybridtest resume` on the command
+// line): the run's own config (its sidecar's copy) continued from its run state.
+struct ResumeArguments {
+  std::string csv;                         // the journal of the run to continue
+  bool after_safety_stop = false;          // the operator found and fixed the cause
+  std::optional<double> force_tolerance;     // [N]
+  std::optional<double> position_tolerance;  // [m]
+  std::vector<std::string> set;            // KEY=VALUE changes (runner/resume_changes.h)
+};
+
 struct SessionArguments {
-  py::object config;  // a path (str or os.PathLike) or a dict
+  py::object config;  // a path (str or os.PathLike) or a dict; None with `resume`
   py::dict transfers;
   py::dict laws;
   std::optional<std::string> out;
   bool overwrite = false;
   std::string command = "run";  // "run" or "simulate" (numerical only)
+  std::optional<ResumeArguments> resume;
 };
+
+// Python transfer systems and laws in place of the spec's slots. Throws ConfigError.
+void Substitute(io::RunSpec& spec, const py::dict& transfers, const py::dict& laws);
 
 class PySession {
  public:
@@ -75,14 +89,18 @@ class PySession {
   const Recorder& recorder() const { return recorder_; }
   const std::vector<io::Channel>& channels() const { return channels_; }
   bool done() const;
+  // What a resume repaired on the way (runner::ResumePlan::notes).
+  const std::vector<std::string>& notes() const { return notes_; }
 
  private:
+  void StartResume(const SessionArguments& args);  // py_resume.cc
   std::string Advance(bool initialize);
   std::optional<io::RunLock> lock_;
   std::unique_ptr<runner::Session> session_;
   Recorder recorder_;
   std::vector<std::unique_ptr<PyObserver>> observers_;
   std::vector<io::Channel> channels_;
+  std::vector<std::string> notes_;
   bool initialized_ = false;
 };
 

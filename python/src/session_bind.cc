@@ -35,14 +35,24 @@ void BindSession(py::module_& m) {
   py::class_<PySession>(m, "Session",
                         "A run (hybrid test or simulation) stepped from Python (decision 0014).")
       .def(py::init([](py::object config, py::dict transfers, py::dict laws,
-                       std::optional<std::string> out, bool overwrite, std::string command) {
-             return std::make_unique<PySession>(SessionArguments{
-                 std::move(config), std::move(transfers), std::move(laws), std::move(out),
-                 overwrite, std::move(command)});
+                       std::optional<std::string> out, bool overwrite, std::string command,
+                       std::optional<std::string> resume, bool after_safety_stop,
+                       std::optional<double> force_tolerance,
+                       std::optional<double> position_tolerance, std::vector<std::string> set) {
+             SessionArguments args{std::move(config), std::move(transfers), std::move(laws),
+                                   std::move(out), overwrite, std::move(command), std::nullopt};
+             if (resume) {
+               args.resume = ResumeArguments{*resume, after_safety_stop, force_tolerance,
+                                             position_tolerance, std::move(set)};
+             }
+             return std::make_unique<PySession>(args);
            }),
-           py::arg("config"), py::kw_only(), py::arg("transfers") = py::dict(),
+           py::arg("config") = py::none(), py::kw_only(), py::arg("transfers") = py::dict(),
            py::arg("laws") = py::dict(), py::arg("out") = py::none(),
-           py::arg("overwrite") = false, py::arg("command") = "run")
+           py::arg("overwrite") = false, py::arg("command") = "run",
+           py::arg("resume") = py::none(), py::arg("after_safety_stop") = false,
+           py::arg("force_tolerance") = py::none(), py::arg("position_tolerance") = py::none(),
+           py::arg("set") = std::vector<std::string>{})
       .def("add_observer", &PySession::AddObserver, py::arg("observer"))
       .def("initialize", &PySession::Initialize,
            "Activates the substructures and commits row 0; returns the status")
@@ -78,6 +88,8 @@ void BindSession(py::module_& m) {
                                return s.session().committed().x;
                              },
                              "state [q; u; z] of the last committed point (a copy)")
+      .def_property_readonly("notes", &PySession::notes,
+                             "what a resume repaired on the way (e.g. a staged sidecar)")
       .def_property_readonly("values", &Values, "the recorded rows (rows × channels), SI")
       .def("__enter__", [](py::object self) { return self; })
       .def("__exit__", [](PySession& s, py::args) { s.Close(); });

@@ -17,6 +17,7 @@
 #include "hybridtest/io/run_outputs.h"
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/runner/plan.h"
+#include "hybridtest/runner/pre_move_checks.h"
 #include "hybridtest/runner/run_record.h"
 
 namespace hybridtest::campaign {
@@ -127,7 +128,6 @@ void RunSimulation(const Campaign& campaign, const io::SimulationConfig& cfg,
   spec.source.inputs = io::RecordRunInputs(cfg, csv);
   if (hooks.provenance) spec.source.provenance = hooks.provenance(cfg, csv);
   runner::Session session(std::move(spec));
-  if (hooks.check_session) hooks.check_session(cfg, session);
   MetricObserver metrics(campaign.metrics, session.spec());
   session.AddObserver(metrics);
   const runner::StepResult r = session.Run();
@@ -142,6 +142,7 @@ void RunPlan(const Campaign& campaign, const io::SimulationConfig& cfg, CaseResu
   io::SubstructureOptions options;
   if (!campaign.plan_emulate.empty()) options.emulate_bench = campaign.plan_emulate;
   const io::RunSpec spec = io::CompileRunSpec(cfg, options);
+  runner::CheckSchemeStability(spec);  // refused as its run would be
   runner::PlanOptions plan;
   plan.tolerance = campaign.plan_tolerance;
   if (!campaign.plan_emulate.empty()) plan.emulate_bench = campaign.plan_emulate;
@@ -227,7 +228,6 @@ CaseResult RunCase(const Campaign& campaign, int index, const std::string& out_d
     const std::string config = (fs::path(dir) / "config.yaml").string();
     io::WriteFileAtomically(config, CaseConfigText(campaign, index, dir));
     const io::SimulationConfig cfg = io::LoadSimulationConfig(config);
-    if (hooks.check_config) hooks.check_config(cfg);
     if (campaign.command == CaseCommand::kPlan) {
       RunPlan(campaign, cfg, result);
     } else {

@@ -40,11 +40,9 @@ struct CaseResult {
 nlohmann::json ToJson(const CaseResult& r);
 CaseResult CaseResultFromJson(const nlohmann::json& j);
 
-// What the command line adds around a case: the checks made before a run (a step beyond the
-// scheme's stability limit; the benches' p0 and limits) and the sidecar's provenance.
+// What the command line adds around a case: the sidecar's provenance. (The checks made before
+// a run, runner/pre_move_checks.h, are the Session's own; a plan case makes the stability one.)
 struct CaseHooks {
-  std::function<void(const io::SimulationConfig&)> check_config;
-  std::function<void(const io::SimulationConfig&, const runner::Session&)> check_session;
   std::function<nlohmann::json(const io::SimulationConfig&, const std::string& csv)> provenance;
 };
 

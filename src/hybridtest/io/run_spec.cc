@@ -54,6 +54,7 @@ RunSpec CompileRunSpec(const SimulationConfig& cfg, const SubstructureOptions& o
   spec.substructures = ParseSubstructureSpecs(cfg, options);
   spec.x0 = cfg.x0;
   spec.scheme = {cfg.scheme, cfg.tableau, cfg.dt, cfg.duration, cfg.steps};
+  spec.scheme.dt_where = cfg.input.Where(cfg.input.root()["integrator"]["dt"], "integrator.dt");
   spec.resume = {cfg.resume_force_tolerance, cfg.resume_position_tolerance};
   spec.source.config_path = cfg.input.path();
   spec.source.config_text = cfg.input.text();

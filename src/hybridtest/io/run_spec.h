@@ -31,6 +31,8 @@ struct SchemeSpec {
   double dt = 0.0;                      // step (the first step of an adaptive scheme) [s]
   double duration = 0.0;                // simulated time [s]
   long steps = 0;                       // round(duration / dt)
+  // Where dt was given, for messages ("file:line: integrator.dt" from a config file).
+  std::string dt_where = "integrator.dt";
 };
 
 struct OutputSpec {

@@ -7,7 +7,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/multibody/kane.h"
-#include "hybridtest/runner/bench_record.h"
+#include "hybridtest/runner/pre_move_checks.h"
 #include "hybridtest/runner/run_files.h"
 #include "hybridtest/runner/run_record.h"
 #include "hybridtest/runner/slot_info.h"
@@ -17,34 +17,6 @@
 #include "hybridtest/transfer/safety.h"
 
 namespace hybridtest::runner {
-namespace {
-
-nlohmann::json StopDetails(const std::exception& e) {
-  nlohmann::json stop = {{"message", e.what()}};
-  if (const auto* safety = dynamic_cast<const transfer::SafetyStop*>(&e)) {
-    stop["kind"] = "safety";
-    stop["limit"] = safety->limit();
-    stop["value"] = safety->value();
-    stop["limit_value"] = safety->limit_value();
-    stop["step"] = safety->step();
-    stop["stage"] = safety->stage();
-    nlohmann::json history = nlohmann::json::array();
-    for (const auto& h : safety->history()) {
-      history.push_back({{"step", h.step}, {"stage", h.stage}, {"command", h.command},
-                         {"position", h.position}, {"force", h.force}, {"answered", h.answered}});
-    }
-    stop["history"] = history;
-  } else if (dynamic_cast<const TransferError*>(&e) != nullptr) {
-    stop["kind"] = "transfer";
-  } else if (dynamic_cast<const Interrupted*>(&e) != nullptr) {
-    stop["kind"] = "interrupted";
-  } else {
-    stop["kind"] = "error";
-  }
-  return stop;
-}
-
-}  // namespace
 
 const char* StatusName(SessionStatus status) {
   switch (status) {
@@ -128,6 +100,8 @@ Session::Session(io::RunSpec spec, SessionOptions options)
   exchanges_.resize(actuators);
   seam_ = std::make_unique<Seam>(*this);
   rows_sink_ = std::make_unique<Rows>(*this);
+  // Before anything opens or moves (pre_move_checks.h).
+  if (options_.pre_move_checks) CheckBeforeMoving(spec_, subs_);
   if (spec_.output.files) {
     files_ = std::make_unique<RunFiles>(spec_, options_.resume_record);
     observers_.push_back(files_.get());
@@ -350,77 +324,6 @@ StepResult Session::Run() {
   StepResult r = initialized_ ? result_ : Initialize();
   while (r.status == SessionStatus::kWorking) r = Step();
   return r;
-}
-
-StepResult Session::Finish() {
-  try {
-    for (auto& s : subs_) s->Deactivate();
-  } catch (const std::exception& e) {
-    return Fail(e);
-  }
-  UpdateStatistics(t_now_);
-  StopEvent event{SessionStatus::kFinished, "", ToJson(stats_)};
-  event.statistics["initial_stiffness"] = stiffness_record_;
-  event.statistics["benches"] = BenchRecords(subs_, spec_);
-  result_ = {SessionStatus::kFinished, ""};
-  try {
-    for (SessionObserver* o : observers_) o->AddStatistics(event.statistics);
-    for (SessionObserver* o : observers_) o->OnStop(event);
-  } catch (const std::exception& e) {
-    // The run is complete, but its record could not be finished.
-    error_ = std::current_exception();
-    result_ = {SessionStatus::kStopped, e.what()};
-  }
-  return result_;
-}
-
-StepResult Session::Fail(const std::exception& e) {
-  error_ = std::current_exception();
-  for (auto& s : subs_) s->Hold();
-  const bool interrupted = dynamic_cast<const Interrupted*>(&e) != nullptr;
-  result_ = {interrupted ? SessionStatus::kHeld : SessionStatus::kStopped, e.what()};
-  // A state computed but not committed (its own trial failed) is recorded without forces.
-  if (scheme_ && scheme_->uncommitted() != nullptr) {
-    try {
-      const schemes::CommittedPoint& u = *scheme_->uncommitted();
-      stats_.steps = u.step;  // the step that computed it is done; its trial failed
-      t_now_ = u.t;
-      Publish(RowKind::kUncommitted, u.step, u.t, u.x,
-              Eigen::VectorXd::Constant(model().num_slots(),
-                                        std::numeric_limits<double>::quiet_NaN()));
-    } catch (const std::exception&) {
-      // A record failed too; the original error is the one to report.
-    }
-  }
-  UpdateStatistics(t_now_);
-  StopEvent event{result_.status, e.what(), ToJson(stats_)};
-  event.statistics["initial_stiffness"] = stiffness_record_;
-  event.statistics["benches"] = BenchRecords(subs_, spec_);
-  event.statistics["stop"] = StopDetails(e);
-  // How many commands each in-process bench had received: a resume tells it, so that a test
-  // fault that stopped the run does not fire again.
-  nlohmann::json received = nlohmann::json::array();
-  for (const auto& s : subs_) {
-    const auto* p = dynamic_cast<const substructures::PhysicalSubstructure*>(s.get());
-    const auto count = p != nullptr ? p->transfer().commands_received() : std::nullopt;
-    received.push_back(count ? nlohmann::json(*count) : nlohmann::json(nullptr));
-  }
-  event.statistics["stop"]["commands_received"] = received;
-  for (SessionObserver* o : observers_) {
-    try {
-      o->AddStatistics(event.statistics);
-    } catch (const std::exception&) {
-      // The run's own error is the one reported.
-    }
-  }
-  for (SessionObserver* o : observers_) {
-    try {
-      o->OnStop(event);
-    } catch (const std::exception&) {
-      // Every observer hears of the stop; the run's own error is the one reported.
-    }
-  }
-  return result_;
 }
 
 }  // namespace hybridtest::runner

@@ -137,12 +137,18 @@ struct SessionOptions {
   std::vector<std::optional<long>> commands_received_at_stop;
   // Extra fields of the sidecar's resume record (e.g. the tolerances the operator gave).
   nlohmann::json resume_record = nlohmann::json::object();
+  // The checks made before anything moves (runner/pre_move_checks.h: the scheme's stability
+  // at the initial state, each bench's p0 and limits against the setup), made by the
+  // constructor. false skips them: only for a caller that has made them itself, or a study
+  // that wants an unstable step to diverge. The command line has no way to skip them.
+  bool pre_move_checks = true;
 };
 
 class Session {
  public:
-  // Validates the spec (io::ValidateRunSpec) and builds the substructures; nothing is
-  // activated, opened or moved. Throws ConfigError.
+  // Validates the spec (io::ValidateRunSpec), builds the substructures and makes the checks
+  // before moving (SessionOptions::pre_move_checks); nothing is activated, opened or moved.
+  // Throws ConfigError.
   explicit Session(io::RunSpec spec, SessionOptions options = {});
   ~Session();
   Session(const Session&) = delete;

@@ -1,5 +1,5 @@
-// See pre_run_checks.h.
-#include "pre_run_checks.h"
+// See pre_move_checks.h.
+#include "hybridtest/runner/pre_move_checks.h"
 
 #include <fmt/core.h>
 
@@ -8,10 +8,9 @@
 #include <cmath>
 #include <complex>
 #include <limits>
-#include <vector>
+#include <string>
 
 #include "hybridtest/common/error.h"
-#include "hybridtest/constitutive/parse_law.h"
 #include "hybridtest/integrators/stability.h"
 #include "hybridtest/multibody/data.h"
 #include "hybridtest/multibody/kane.h"
@@ -19,47 +18,41 @@
 #include "hybridtest/substructures/physical_substructure.h"
 #include "hybridtest/transfer/limits_check.h"
 
-namespace hybridtest::app {
+namespace hybridtest::runner {
 
-std::vector<double> SlotStiffnessForStability(const io::SimulationConfig& cfg) {
-  const auto& slots = cfg.model.model.slots();
-  std::vector<double> k(cfg.model.slot_stiffness.begin(), cfg.model.slot_stiffness.end());
+std::vector<double> SlotStiffnessForStability(const io::RunSpec& spec) {
+  const auto& slots = spec.model.model.slots();
+  std::vector<double> k(spec.model.slot_stiffness.begin(), spec.model.slot_stiffness.end());
   k.resize(slots.size(), 0.0);
-  const YAML::Node section = cfg.input.root()["substructures"];
-  if (!section.IsDefined() || !section.IsMap()) return k;
-  for (std::size_t s = 0; s < slots.size(); ++s) {
-    const YAML::Node node = section[slots[s].info.name];
-    if (!node.IsDefined() || !node.IsMap()) continue;
-    const std::string where = "substructures." + slots[s].info.name;
-    if (node["law"]) {
-      k[s] = constitutive::ParseRestoringForceLaw(node["law"], where + ".law")->initial_stiffness();
-    } else if (node["safety"] && node["safety"].IsMap() && node["safety"]["initial_stiffness"]) {
-      k[s] = cfg.input.PositiveNumber(node["safety"]["initial_stiffness"],
-                                      where + ".safety.initial_stiffness", "a stiffness in N/m");
+  for (const auto& sub : spec.substructures) {
+    if (!sub.slots.empty()) continue;  // several slots: their nominal stiffness
+    std::size_t s = 0;
+    while (s < slots.size() && slots[s].info.name != sub.slot) ++s;
+    if (s == slots.size()) continue;
+    if (sub.law) {
+      k[s] = sub.law->initial_stiffness();
+    } else if (sub.physical && sub.physical->safety_stiffness) {
+      k[s] = *sub.physical->safety_stiffness;
     }
   }
   return k;
 }
 
-double CheckStepStability(const io::SimulationConfig& cfg) {
-  const multibody::Model& model = cfg.model.model;
+double CheckStepStability(const io::RunSpec& spec, double dt) {
+  const multibody::Model& model = spec.model.model;
   const int n = model.num_coordinates();
   const int m = model.num_slots();
   const int nx = model.num_states();
   if (nx > multibody::kMaxDerivatives) return std::numeric_limits<double>::infinity();
-  const std::vector<double> k = SlotStiffnessForStability(cfg);
-  const Eigen::VectorXd& x0 = cfg.x0;
+  const std::vector<double> k = SlotStiffnessForStability(spec);
+  const Eigen::VectorXd& x0 = spec.x0;
   multibody::Data<double> data(model);
 
   // Slot displacements d(q) and the restoring forces r = K d at the initial state.
-  const auto displacements = [&](const Eigen::VectorXd& q) {
-    Eigen::VectorXd d(m);
-    multibody::CalcSlotDisplacements<double>(model, data, 0.0, q, d);
-    return d;
-  };
   const Eigen::VectorXd q0 = x0.head(n);
-  Eigen::VectorXd r0 = displacements(q0);
-  for (int i = 0; i < m; ++i) r0(i) *= k[i];
+  Eigen::VectorXd r0(m);
+  multibody::CalcSlotDisplacements<double>(model, data, 0.0, q0, r0);
+  for (int i = 0; i < m; ++i) r0(i) *= k[static_cast<std::size_t>(i)];
 
   // J, then ∂f/∂r = [0; M⁻¹ B] (B the exact coupling matrix), then ∂d/∂q (the schemes' slot
   // Jacobian, central differences).
@@ -79,37 +72,30 @@ double CheckStepStability(const io::SimulationConfig& cfg) {
   const Eigen::VectorXcd eig = Eigen::EigenSolver<Eigen::MatrixXd>(jacobian, false).eigenvalues();
   const std::vector<std::complex<double>> modes(eig.data(), eig.data() + eig.size());
   std::complex<double> limiting;
-  const double h_max = integrators::LargestStableStep(cfg.tableau, modes, &limiting);
-  if (cfg.dt > h_max) {
-    const YAML::Node dt_node = cfg.input.root()["integrator"]["dt"];
+  const integrators::ButcherTableau& tableau = spec.scheme.tableau;
+  const double h_max = integrators::LargestStableStep(tableau, modes, &limiting);
+  if (dt > h_max) {
     throw ConfigError(fmt::format(
         "{} = {} s is beyond the stability limit of {} at the initial state: the largest "
         "stable step is {:.4g} ms (set by the mode λ = {:.4g} {:+.4g}i 1/s, |λ| = {:.4g} 1/s); "
         "the results would diverge. Choose dt ≤ {:.4g} s, or a scheme with a larger stability "
         "region (e.g. rk4)",
-        cfg.input.Where(dt_node, "integrator.dt"), cfg.dt, cfg.tableau.name, h_max * 1e3,
-        limiting.real(), limiting.imag(), std::abs(limiting), h_max));
+        spec.scheme.dt_where, dt, tableau.name, h_max * 1e3, limiting.real(), limiting.imag(),
+        std::abs(limiting), h_max));
   }
   return h_max;
 }
 
-}  // namespace hybridtest::app
-
-namespace hybridtest::app {
-
-double CheckSchemeStability(const io::SimulationConfig& cfg) {
-  switch (cfg.scheme.kind) {
+double CheckSchemeStability(const io::RunSpec& spec) {
+  switch (spec.scheme.config.kind) {
     case schemes::SchemeKind::kRungeKutta:
-      return CheckStepStability(cfg);
-    case schemes::SchemeKind::kMrOs: {
-      io::SimulationConfig substeps = cfg;  // cfg.tableau is RK4 for operator splitting
-      substeps.dt = cfg.scheme.substep;
-      try {
-        return CheckStepStability(substeps);
+      return CheckStepStability(spec, spec.scheme.dt);
+    case schemes::SchemeKind::kMrOs:
+      try {  // the tableau is RK4 for operator splitting
+        return CheckStepStability(spec, spec.scheme.config.substep);
       } catch (const ConfigError& e) {
         throw ConfigError(fmt::format("integrator.substep (MR-OS's RK4 substeps): {}", e.what()));
       }
-    }
     case schemes::SchemeKind::kAlphaOs:
       break;
   }
@@ -134,13 +120,11 @@ std::string P0SlipHint(double runner, double bench) {
 }  // namespace
 
 void CheckPhysicalSlotsBeforeMoving(
-    const io::SimulationConfig& cfg,
-    const std::vector<std::unique_ptr<substructures::Substructure>>& subs) {
-  const auto& slots = cfg.model.model.slots();
-  for (std::size_t s = 0; s < subs.size() && s < slots.size(); ++s) {
+    const io::RunSpec& spec, const std::vector<std::unique_ptr<substructures::Substructure>>& subs) {
+  for (std::size_t s = 0; s < subs.size() && s < spec.substructures.size(); ++s) {
     const auto* physical = dynamic_cast<const substructures::PhysicalSubstructure*>(subs[s].get());
     if (physical == nullptr) continue;
-    const std::string where = "substructures." + slots[s].info.name;
+    const std::string where = "substructures." + spec.substructures[s].slot;
     const transfer::BenchAnnouncement announced = physical->transfer().Announce();
     const transfer::SafetyLimits& limits = physical->safety().limits();
     if (announced.p0) {
@@ -163,4 +147,10 @@ void CheckPhysicalSlotsBeforeMoving(
   }
 }
 
-}  // namespace hybridtest::app
+void CheckBeforeMoving(const io::RunSpec& spec,
+                       const std::vector<std::unique_ptr<substructures::Substructure>>& subs) {
+  CheckSchemeStability(spec);
+  CheckPhysicalSlotsBeforeMoving(spec, subs);
+}
+
+}  // namespace hybridtest::runner

@@ -1,5 +1,5 @@
 // See resume_changes.h.
-#include "resume_changes.h"
+#include "hybridtest/runner/resume_changes.h"
 
 #include <fmt/core.h>
 
@@ -9,7 +9,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/transfer/safety.h"
 
-namespace hybridtest::app {
+namespace hybridtest::runner {
 namespace {
 
 constexpr const char* kAccepted =
@@ -95,4 +95,4 @@ nlohmann::json ApplyResumeChanges(io::RunSpec& spec, const std::vector<std::stri
   return changes;
 }
 
-}  // namespace hybridtest::app
+}  // namespace hybridtest::runner

@@ -1,5 +1,5 @@
 // See resume_plan.h.
-#include "resume_plan.h"
+#include "hybridtest/runner/resume_plan.h"
 
 #include <fmt/core.h>
 
@@ -9,25 +9,28 @@
 #include "hybridtest/io/journal.h"
 #include "hybridtest/io/run_inputs.h"
 
-namespace hybridtest::app {
+namespace hybridtest::runner {
 
 namespace {
 
 // A journal publishes by renaming its staged CSV, then its staged sidecar (journal.h): a crash
 // between the two renames leaves the CSV beside "<sidecar>.partial". Resume (which holds the
 // run's lock) completes that rename: both files belong to the same run.
-void CompleteInterruptedPublish(const std::string& csv) {
+// Returns a note for the operator when it did.
+std::string CompleteInterruptedPublish(const std::string& csv) {
   const std::string sidecar = io::SidecarPath(csv);
   const std::string staged = io::StagedPath(sidecar);
   std::error_code ec;
-  if (std::filesystem::exists(sidecar, ec) || !std::filesystem::is_regular_file(staged, ec)) return;
+  if (std::filesystem::exists(sidecar, ec) || !std::filesystem::is_regular_file(staged, ec)) {
+    return "";
+  }
   std::filesystem::rename(staged, sidecar, ec);
   if (ec) {
     throw IoError(fmt::format("{}: the run's sidecar is still staged as {} and cannot be "
                               "renamed: {}", csv, staged, ec.message()));
   }
-  fmt::print(stderr, "hybridtest resume: {}: the run was stopped while publishing its sidecar; "
-             "{} completed from {}\n", csv, sidecar, staged);
+  return fmt::format("{}: the run was stopped while publishing its sidecar; {} completed from {}",
+                     csv, sidecar, staged);
 }
 
 // The commands each slot's bench had received when the run stopped, where recorded.
@@ -47,12 +50,12 @@ std::vector<std::optional<long>> CommandsReceivedAtStop(const nlohmann::json& si
 }
 
 // PlanResume without the translation of JSON type errors.
-ResumePlan PlanResumeChecked(const ResumeCommandOptions& options) {
+ResumePlan PlanResumeChecked(const ResumeRequest& options) {
   if (!std::filesystem::exists(options.csv)) {
     throw ConfigError(fmt::format("{}: no such journal: give the CSV of the run to resume",
                                   options.csv));
   }
-  CompleteInterruptedPublish(options.csv);
+  const std::string note = CompleteInterruptedPublish(options.csv);
   const nlohmann::json sidecar = io::ReadSidecar(options.csv);
   const std::string status = sidecar.value("status", "");
   if (status == "completed") {
@@ -77,7 +80,7 @@ ResumePlan PlanResumeChecked(const ResumeCommandOptions& options) {
           options.csv, stop.value("limit", "?"), stop.value("message", ""), options.csv));
     }
   }
-  const std::string state_path = runner::RunStatePath(options.csv);
+  const std::string state_path = RunStatePath(options.csv);
   if (!std::filesystem::exists(state_path)) {
     throw ConfigError(fmt::format("{}: no run state {} beside it: the run stopped before its "
                                   "first committed row, or was made before resume existed; "
@@ -86,8 +89,8 @@ ResumePlan PlanResumeChecked(const ResumeCommandOptions& options) {
   }
   // The state cannot lie: its checksum (LoadRunState), then its agreement with the journal,
   // before anything is cut or moved.
-  runner::RunState state = runner::LoadRunState(state_path);
-  runner::VerifyRunStateAgainstJournal(state, options.csv);
+  RunState state = LoadRunState(state_path);
+  VerifyRunStateAgainstJournal(state, options.csv);
   const std::string command = sidecar.value("command", "run");
   if (command != "run" && command != "simulate") {
     throw ConfigError(fmt::format("{}: made by `hybridtest {}`; only run and simulate can be "
@@ -100,7 +103,8 @@ ResumePlan PlanResumeChecked(const ResumeCommandOptions& options) {
       sidecar.value("config", ""), config_path, "keys such as model:, integrator:, duration:"));
   io::CheckRunInputs(state.inputs, cfg, options.csv);
   ResumePlan plan{.cfg = std::move(cfg), .command = command, .state = std::move(state),
-                  .step = 0, .t = 0.0, .previous_status = status, .record = {}};
+                  .step = 0, .t = 0.0, .previous_status = status, .record = {},
+                  .commands_received_at_stop = {}, .notes = {}};
   plan.step = plan.state.scheme.value("step", 0L);
   plan.t = plan.state.scheme.value("t", 0.0);
   plan.record = nlohmann::json::object();
@@ -110,12 +114,13 @@ ResumePlan PlanResumeChecked(const ResumeCommandOptions& options) {
   }
   if (options.after_safety_stop) plan.record["after_safety_stop"] = true;
   plan.commands_received_at_stop = CommandsReceivedAtStop(sidecar);
+  if (!note.empty()) plan.notes.push_back(note);
   return plan;
 }
 
 }  // namespace
 
-ResumePlan PlanResume(const ResumeCommandOptions& options) {
+ResumePlan PlanResume(const ResumeRequest& options) {
   try {
     return PlanResumeChecked(options);
   } catch (const nlohmann::json::exception& e) {
@@ -126,4 +131,4 @@ ResumePlan PlanResume(const ResumeCommandOptions& options) {
   }
 }
 
-}  // namespace hybridtest::app
+}  // namespace hybridtest::runner

@@ -1,6 +1,6 @@
 #pragma once
-// `hybridtest resume RUN.csv --set KEY=VALUE`: a deliberate change of a safety limit, a
-// timeout or a resume tolerance, made when a run is continued. A resume otherwise uses the
+// A deliberate change of a safety limit, a timeout or a resume tolerance, made when a run is
+// continued (`hybridtest resume RUN.csv --set KEY=VALUE`, Python's hybridtest.resume(set=...)). A resume otherwise uses the
 // config the run started with (its sidecar's copy), so an edited file changes nothing; a
 // change made here is checked like the config (a limit set must stay consistent) and
 // recorded in the sidecar's resume record ("changes": [{key, from, to}]).
@@ -16,11 +16,11 @@
 
 #include "hybridtest/io/run_spec.h"
 
-namespace hybridtest::app {
+namespace hybridtest::runner {
 
 // Applies every `KEY=VALUE` to `spec`, in order. Throws ConfigError naming the setting and
 // what is accepted (an unknown key, a slot that is not physical, a value that is not a finite
 // number, limits that become inconsistent). Returns the changes made.
 nlohmann::json ApplyResumeChanges(io::RunSpec& spec, const std::vector<std::string>& settings);
 
-}  // namespace hybridtest::app
+}  // namespace hybridtest::runner

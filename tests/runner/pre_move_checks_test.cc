@@ -1,0 +1,117 @@
+// The checks before moving (pre_move_checks.h) are the Session's own: a spec with a step beyond
+// the scheme's stability limit, or a setup.p0 that disagrees with what the bench announces, is
+// refused when the Session is built — before the transfer system is activated or receives a
+// command — unless the caller opts out (SessionOptions::pre_move_checks).
+#include "hybridtest/runner/pre_move_checks.h"
+
+#include <fmt/core.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/io/run_spec_yaml.h"
+#include "hybridtest/runner/session.h"
+#include "hybridtest/transfer/transfer_system.h"
+
+namespace hybridtest::runner {
+namespace {
+
+// What the bench saw.
+struct Calls {
+  int activate = 0;
+  int execute = 0;
+};
+
+// A spring bench (SI) that announces its zero-force position and counts what it receives.
+class CountingSpring final : public transfer::TransferSystem {
+ public:
+  CountingSpring(std::shared_ptr<Calls> calls, double p0) : calls_(std::move(calls)), p0_(p0) {}
+  void Activate() override { ++calls_->activate; }
+  transfer::Measurement Execute(double command) override {
+    ++calls_->execute;
+    return {command, 7200.0 * (command - p0_)};
+  }
+  void Hold() noexcept override {}
+  void Deactivate() override {}
+  transfer::BenchUnits bench_units() const override { return {}; }
+  std::string Describe() const override { return "counting spring"; }
+  transfer::BenchAnnouncement Announce() const override { return {p0_, std::nullopt, "the spring"}; }
+
+ private:
+  std::shared_ptr<Calls> calls_;
+  double p0_;
+};
+
+// The paper's rotor, blade 1 behind the counting spring (setup.p0 = 0.02 m), heun at `dt`.
+io::RunSpec Spec(double dt, double bench_p0, const std::shared_ptr<Calls>& calls) {
+  io::RunSpec spec = io::CompileRunSpec(io::ParseSimulationConfig(YamlInput::FromText(
+      "model: {name: rotor, blades: 3}\n"
+      "integrator: {tableau: heun, dt: " + std::to_string(dt) + "}\n"
+      "duration: 0.02\n"
+      "substructures:\n  r1:\n    type: physical\n"
+      "    transfer: {type: loopback, law: {type: linear, stiffness: 7200}}\n"
+      "    setup: {p0: 0.02}\n"
+      "    safety: {stroke_min: -0.15, stroke_max: 0.15, max_increment: 0.005,\n"
+      "             force_soft: 8000, force_hard: 10000, timeout: 5}\n",
+      "pre_move_checks_test.yaml")));
+  spec.output.files = false;
+  spec.substructures[0].physical->transfer = {
+      "counting", [calls, bench_p0] { return std::make_unique<CountingSpring>(calls, bench_p0); }};
+  return spec;
+}
+
+std::string RefusalOf(io::RunSpec spec, SessionOptions options = {}) {
+  try {
+    Session session(std::move(spec), std::move(options));
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SessionPreMoveChecks, AStepBeyondTheStabilityLimitIsRefusedBeforeTheBenchIsTouched) {
+  auto calls = std::make_shared<Calls>();
+  const std::string message = RefusalOf(Spec(0.004, 0.02, calls));
+  EXPECT_NE(message.find("pre_move_checks_test.yaml:2: integrator.dt = 0.004 s is beyond the "
+                         "stability limit of heun"), std::string::npos) << message;
+  EXPECT_EQ(calls->activate, 0);
+  EXPECT_EQ(calls->execute, 0);
+  // The largest stable step it names, which the step it refuses exceeds and the paper's 1 ms
+  // does not.
+  const io::RunSpec spec = Spec(0.001, 0.02, calls);
+  const double h_max = CheckSchemeStability(spec);
+  EXPECT_GT(h_max, 0.001);
+  EXPECT_LT(h_max, 0.004);
+  EXPECT_NE(message.find(fmt::format("Choose dt ≤ {:.4g} s", h_max)), std::string::npos);
+}
+
+TEST(SessionPreMoveChecks, AP0ThatDisagreesWithTheBenchIsRefusedBeforeTheBenchIsTouched) {
+  auto calls = std::make_shared<Calls>();
+  const std::string message = RefusalOf(Spec(0.001, 0.03, calls));
+  EXPECT_NE(message.find("substructures.r1.setup.p0 = 0.02 m, but the spring announces p0 = "
+                         "0.03 m"), std::string::npos) << message;
+  EXPECT_NE(message.find("Nothing was sent to the bench"), std::string::npos);
+  EXPECT_EQ(calls->activate, 0);
+  EXPECT_EQ(calls->execute, 0);
+  // Within a tenth of max_increment (0.5 mm) the setup agrees, and the run goes.
+  Session agreeing(Spec(0.001, 0.0204, calls));
+  EXPECT_EQ(agreeing.Run().status, SessionStatus::kFinished);
+  EXPECT_EQ(calls->activate, 1);
+  EXPECT_GT(calls->execute, 0);
+}
+
+TEST(SessionPreMoveChecks, ACallerMayOptOut) {
+  auto calls = std::make_shared<Calls>();
+  SessionOptions options;
+  options.pre_move_checks = false;
+  EXPECT_EQ(RefusalOf(Spec(0.001, 0.03, calls), options), "");
+  Session session(Spec(0.001, 0.03, calls), options);
+  EXPECT_EQ(session.Run().status, SessionStatus::kFinished);
+  EXPECT_GT(calls->execute, 0);
+}
+
+}  // namespace
+}  // namespace hybridtest::runner
