@@ -1,7 +1,7 @@
 // hybridtest._core.time_transfer: the cost of one evaluation of a Python transfer system
 // against a C++ in-process one (NumericalLoopback with a linear spring), both called through
 // transfer::TransferSystem::Execute from C++ without the GIL held, as the run loop calls them,
-// in the same process and the same call. Used by python/bench_transfer.py; not a test.
+// in the same process and the same call. Used by bench/python_transfer.py; not a test.
 #include <fmt/core.h>
 
 #include <chrono>
