@@ -71,7 +71,8 @@ YAML::Node Variant(const YAML::Node& root, const std::vector<std::string>& slots
     YAML::Node c;
     c["type"] = "compensated";
     c["method"] = method;
-    c["delay"] = delay.count(slot) ? delay.at(slot) : 0.0;
+    // Shortest round-trip text, so that the printed YAML reads 0.0216, not 0.021600000000000001.
+    c["delay"] = fmt::format("{}", delay.count(slot) ? delay.at(slot) : 0.0);
     if (method == "polynomial") c["order"] = 2;
     c["inner"] = plant;
     sub["transfer"] = c;
@@ -176,7 +177,7 @@ std::string RealTimeCandidateYaml(const std::string& config_path,
   const std::map<std::string, double> delay = {{slots.front(), result.compensation}};
   const YAML::Node v = Variant(root, {slots.front()}, result.compensator, delay, result.dt);
   YAML::Node out;
-  out["integrator"]["dt"] = result.dt;
+  out["integrator"]["dt"] = fmt::format("{}", result.dt);
   out["substructures"][slots.front()]["transfer"] = v["substructures"][slots.front()]["transfer"];
   YAML::Emitter e;
   e << out;
