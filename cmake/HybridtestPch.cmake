@@ -1,0 +1,52 @@
+# Precompiled headers for the layer libraries and the hybridtest executable: the third-party
+# headers that most translation units include (nlohmann/json, Eigen, yaml-cpp, fmt, the standard
+# library; CLI11 for the executable) are parsed once per build instead of once per file. The
+# layer libraries share one precompiled header (REUSE_FROM the first layer), the executable has
+# its own (it adds CLI11). Optimisation flags are unchanged; only the parsing is shared.
+#
+# HYBRIDTEST_PCH: on by default, off by default when the compiler launcher is ccache (ccache 4.7
+# does not cache a file compiled with a precompiled header unless its sloppiness includes
+# pch_defines and time_macros; without the header, ccache's hits are worth more). Decided again
+# at every configure unless given with -DHYBRIDTEST_PCH=ON|OFF.
+if(NOT DEFINED HYBRIDTEST_PCH)
+  if(CMAKE_CXX_COMPILER_LAUNCHER MATCHES "ccache")
+    set(hybridtest_pch_default OFF)
+    message(STATUS "hybridtest: precompiled headers off (ccache launcher; -DHYBRIDTEST_PCH=ON forces them)")
+  else()
+    set(hybridtest_pch_default ON)
+  endif()
+else()
+  set(hybridtest_pch_default ${HYBRIDTEST_PCH})
+endif()
+
+set(HYBRIDTEST_PCH_HEADERS
+  <algorithm> <array> <chrono> <cmath> <cstdint> <filesystem> <fstream> <functional> <limits>
+  <map> <memory> <optional> <span> <sstream> <string> <string_view> <vector>
+  <fmt/core.h> <fmt/format.h>
+  <nlohmann/json.hpp>
+  <yaml-cpp/yaml.h>
+  <Eigen/Core> <Eigen/Cholesky> <Eigen/Eigenvalues> <Eigen/Geometry> <Eigen/LU>)
+
+# hybridtest_pch(TARGET): TARGET (a static layer library) uses the layers' shared precompiled
+# header; the first library given creates it.
+function(hybridtest_pch target)
+  if(NOT hybridtest_pch_default)
+    return()
+  endif()
+  get_property(owner GLOBAL PROPERTY HYBRIDTEST_PCH_OWNER)
+  if(NOT owner)
+    target_precompile_headers(${target} PRIVATE ${HYBRIDTEST_PCH_HEADERS})
+    set_property(GLOBAL PROPERTY HYBRIDTEST_PCH_OWNER ${target})
+  else()
+    target_precompile_headers(${target} REUSE_FROM ${owner})
+  endif()
+endfunction()
+
+# hybridtest_pch_app(TARGET): an executable's own precompiled header (the shared headers and
+# CLI11).
+function(hybridtest_pch_app target)
+  if(NOT hybridtest_pch_default)
+    return()
+  endif()
+  target_precompile_headers(${target} PRIVATE ${HYBRIDTEST_PCH_HEADERS} <CLI/CLI.hpp>)
+endfunction()
