@@ -105,13 +105,11 @@ void SafetyMonitor::Stop(const std::string& limit, double value, double limit_va
 }
 
 void SafetyMonitor::CheckCommand(double command, long step, int stage) {
-  CheckCommand(command, step, stage, PredictForce(command),
-               fmt::format("last force {:.6g} N, stiffness estimate {:.6g} N/m", last_force_,
-                           has_secant_ ? secant_stiffness_ : initial_stiffness_));
+  CheckCommand(command, step, stage, PredictForce(command), {});
 }
 
 void SafetyMonitor::CheckCommand(double command, long step, int stage, double predicted,
-                                 std::string_view basis) {
+                                 std::string_view basis_text) {
   // 1. Finite.
   if (!std::isfinite(command)) {
     Stop("command_finite", command, 0.0, step, stage,
@@ -157,6 +155,11 @@ void SafetyMonitor::CheckCommand(double command, long step, int stage, double pr
   }
   // 4. Predicted force inside force_soft.
   if (std::isfinite(predicted) && std::abs(predicted) > limits_.force_soft) {
+    const std::string basis =
+        basis_text.empty()
+            ? fmt::format("last force {:.6g} N, stiffness estimate {:.6g} N/m", last_force_,
+                          has_secant_ ? secant_stiffness_ : initial_stiffness_)
+            : std::string(basis_text);
     Stop("force_soft", std::abs(predicted), limits_.force_soft, step, stage,
          fmt::format("The command {:.6g} m would produce about {:.6g} N ({}) and was not sent. "
                      "To proceed: check the specimen and p0; raise safety.force_soft (at most "

@@ -52,9 +52,8 @@ void CheckCommands(std::vector<SafetyMonitor>& monitors, const Eigen::MatrixXd* 
     const double f = predicted(static_cast<Eigen::Index>(k));
     if (std::isfinite(f)) {
       checked[k].CheckCommand(commands_m[k], step, stage, f,
-                              fmt::format("actuator {} of {}, predicted with the coupled "
-                                          "stiffness: Σ_j K_a[{}][j] (a_j − x_j) from the last "
-                                          "forces", k + 1, n, k + 1));
+                              "predicted with the coupled stiffness in actuator coordinates: "
+                              "f_last + K_a (a − x_last), every actuator's move counted");
     } else {
       checked[k].CheckCommand(commands_m[k], step, stage);
     }
