@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <fmt/core.h>
 
 #include <filesystem>
@@ -11,6 +12,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/constitutive/linear_spring.h"
 #include "hybridtest/constitutive/parse_law.h"
+#include "hybridtest/constitutive/parse_vector_law.h"
 #include "hybridtest/substructures/numerical_substructure.h"
 #include "hybridtest/substructures/physical_substructure.h"
 #include "hybridtest/transfer/emulated_bench.h"
@@ -129,14 +131,20 @@ void ParseInitialStiffness(const YamlInput& in, const YAML::Node& node, const st
 }
 
 
-// A per-actuator view of a `safety:` mapping: a list gives one value per actuator.
-YAML::Node PickActuator(const YAML::Node& node, std::size_t k) {
+// Actuator k's view of a `safety:` mapping of n actuators: a list gives one value per
+// actuator (its length must be n), a scalar applies to every actuator.
+YAML::Node PickActuator(const YamlInput& in, const YAML::Node& node, std::size_t k,
+                        std::size_t n, const std::string& kp) {
   if (!node.IsMap()) return node;
   YAML::Node out(YAML::NodeType::Map);
   for (const auto& kv : node) {
-    out[kv.first.as<std::string>()] = kv.second.IsSequence() && k < kv.second.size()
-                                          ? YAML::Clone(kv.second[k])
-                                          : YAML::Clone(kv.second);
+    const std::string key = kv.first.as<std::string>();
+    if (kv.second.IsSequence() && kv.second.size() != n) {
+      throw ConfigError(fmt::format("{}: a list of {} values; expected {} (one per actuator, a "
+                                    "row of setup.transform) or one value for every actuator",
+                                    in.Where(kv.second, kp + "." + key), kv.second.size(), n));
+    }
+    out[key] = kv.second.IsSequence() ? YAML::Clone(kv.second[k]) : YAML::Clone(kv.second);
   }
   return out;
 }
@@ -171,16 +179,29 @@ substructures::SubstructureSpec ParseBlock(const YamlInput& in, const YAML::Node
   if (type == "numerical") {
     const YAML::Node law = node["law"];
     const char* expected = "{type: linear, stiffness: [[k11, k12], [k21, k22]]} in N/m, one row "
-                           "per slot";
-    if (!law || !law.IsMap() || !law["type"] || law["type"].as<std::string>() != "linear" ||
-        !law["stiffness"]) {
+                           "per slot, or a coupled law ({type: bouc_wen_biaxial, ...}) with an "
+                           "optional `transform:` (n_axes × m)";
+    if (!law || !law.IsMap() || !law["type"]) {
       throw ConfigError(fmt::format("{}: a numerical substructure of several slots needs `law: "
                                     "{}`", in.Where(node, kp + ".law"), expected));
     }
-    spec.stiffness = ReadMatrix(in, law["stiffness"], kp + ".law.stiffness", expected);
-    if (spec.stiffness->rows() != m || spec.stiffness->cols() != m) {
-      in.ThrowValue(law["stiffness"], kp + ".law.stiffness", expected);
+    if (law["type"].as<std::string>() == "linear" && !node["transform"]) {
+      if (!law["stiffness"]) in.ThrowValue(law, kp + ".law", expected);
+      spec.stiffness = ReadMatrix(in, law["stiffness"], kp + ".law.stiffness", expected);
+      if (spec.stiffness->rows() != m || spec.stiffness->cols() != m) {
+        in.ThrowValue(law["stiffness"], kp + ".law.stiffness", expected);
+      }
+      return spec;
     }
+    // A coupled law of n axes seen through T (n × m): r = Tᵀ F(T d) (law_block.h).
+    Eigen::MatrixXd t = Eigen::MatrixXd::Identity(m, m);
+    if (node["transform"]) {
+      t = ReadMatrix(in, node["transform"], kp + ".transform",
+                     "a list of rows, one per axis of the law, one column per slot");
+      if (t.cols() != m) in.ThrowValue(node["transform"], kp + ".transform", "one column per slot");
+    }
+    spec.block_law = constitutive::ParseVectorLaw(law, static_cast<int>(t.rows()), kp + ".law");
+    spec.block_transform = t;
     return spec;
   }
   if (type != "physical") {
@@ -226,9 +247,14 @@ substructures::SubstructureSpec ParseBlock(const YamlInput& in, const YAML::Node
   substructures::PhysicalSpec physical;
   for (Eigen::Index k = 0; k < n; ++k) {
     physical.actuator_limits.push_back(ParseSafety(
-        in, PickActuator(node["safety"], static_cast<std::size_t>(k)), kp + ".safety"));
+        in, PickActuator(in, node["safety"], static_cast<std::size_t>(k),
+                         static_cast<std::size_t>(n), kp + ".safety"),
+        fmt::format("{}.safety (actuator {})", kp, k + 1)));
   }
   physical.limits = physical.actuator_limits[0];
+  for (const auto& l : physical.actuator_limits) {  // the transfer waits for the slowest
+    physical.limits.timeout = std::max(physical.limits.timeout, l.timeout);
+  }
   const YAML::Node tr = in.Mapping(node, "transfer", kp + ".transfer", true);
   physical.transfer = ParseTransfer(in, tr, kp + ".transfer", options, physical.limits.timeout,
                                     nullptr);
@@ -264,7 +290,7 @@ std::vector<substructures::SubstructureSpec> ParseSubstructureSpecs(
       const std::string slot_name = in.String(kv.first, "substructures", "a slot name");
       const std::string kp = "substructures." + slot_name;
       if (kv.second.IsMap() && kv.second["slots"]) {
-        in.CheckKeys(kv.second, kp, {"type", "slots", "law", "transfer", "setup", "safety",
+        in.CheckKeys(kv.second, kp, {"type", "slots", "law", "transform", "transfer", "setup", "safety",
                                      "initial_stiffness"});
         blocks.push_back(ParseBlock(in, kv.second, slot_name, kp, options));
         for (const auto& name : blocks.back().slots) {

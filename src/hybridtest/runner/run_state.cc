@@ -88,6 +88,16 @@ void CheckStateAgreesWithItsRow(const RunState& s) {
       continue;  // a numerical slot has no exchange
     }
     const auto& last = entry["state"]["last"];
+    if (last.is_array()) {  // several actuators: [command, position, force, lab time] each
+      for (const auto& actuator : last) {
+        if (!actuator.is_array() || actuator.size() < 4) {
+          throw ConfigError("an actuator's last exchange is not [command, position, force, "
+                            "lab time]");
+        }
+        for (std::size_t i = 0; i < 4; ++i) expected.push_back(number(actuator[i]));
+      }
+      continue;
+    }
     for (const char* key : {"command_m", "position_m", "force_N", "lab_time_s"}) {
       expected.push_back(number(last.at(key)));
     }

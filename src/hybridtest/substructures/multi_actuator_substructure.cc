@@ -143,6 +143,11 @@ void MultiActuatorSubstructure::SetInitialStiffness(const Eigen::MatrixXd& k0) {
                                   num_slots()));
   }
   k0_ = k0;
+  // The gate predicts every actuator's force with the whole matrix: K_a = T⁺ᵀ K0 T⁺, with
+  // T⁺ = (TᵀT)⁻¹Tᵀ (T⁻ᵀ K0 T⁻¹ for a square T).
+  const Eigen::MatrixXd& t = setup_.transform;
+  const Eigen::MatrixXd pinv = (t.transpose() * t).ldlt().solve(t.transpose());  // m × n
+  gate_.SetStiffness(pinv.transpose() * k0 * pinv);
 }
 
 double MultiActuatorSubstructure::max_displacement_increment() const {
@@ -205,6 +210,7 @@ MultiActuatorSubstructure::StiffnessMeasurement MultiActuatorSubstructure::Measu
                             "cells, or give initial_stiffness as a matrix in N/m", name_));
   }
   SetInitialStiffness(out.k0);
+  gate_.SetStiffness(out.actuator_k);  // measured: better than T⁺ᵀ K0 T⁺ when n > m
   return out;
 }
 
@@ -221,8 +227,17 @@ nlohmann::json MultiActuatorSubstructure::SaveState() const {
       k0.push_back(r);
     }
   }
+  nlohmann::json actuator_k = nullptr;
+  if (const auto& ka = gate_.stiffness()) {
+    actuator_k = nlohmann::json::array();
+    for (Eigen::Index i = 0; i < ka->rows(); ++i) {
+      nlohmann::json r = nlohmann::json::array();
+      for (Eigen::Index j = 0; j < ka->cols(); ++j) r.push_back((*ka)(i, j));
+      actuator_k.push_back(r);
+    }
+  }
   return {{"last", last}, {"evaluations", evaluations_}, {"k0", k0}, {"safety", safety},
-          {"transfer", transfer_->SaveState()}};
+          {"actuator_k", actuator_k}, {"transfer", transfer_->SaveState()}};
 }
 
 void MultiActuatorSubstructure::RestoreState(const nlohmann::json& state) {
@@ -246,6 +261,17 @@ void MultiActuatorSubstructure::RestoreState(const nlohmann::json& state) {
       }
     }
     SetInitialStiffness(m);
+  }
+  if (state.contains("actuator_k") && !state.at("actuator_k").is_null()) {
+    const auto& ka = state.at("actuator_k");
+    const auto n = static_cast<Eigen::Index>(num_actuators());
+    Eigen::MatrixXd m(n, n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      for (Eigen::Index j = 0; j < n; ++j) {
+        m(i, j) = ka.at(static_cast<std::size_t>(i)).at(static_cast<std::size_t>(j)).get<double>();
+      }
+    }
+    gate_.SetStiffness(m);
   }
   if (!state.at("transfer").is_null()) transfer_->RestoreState(state.at("transfer"));
 }

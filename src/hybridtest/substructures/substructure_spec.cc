@@ -4,9 +4,12 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/substructures/law_block.h"
 #include "hybridtest/substructures/linear_block.h"
+#include "hybridtest/transfer/multi_emulated_bench.h"
 #include "hybridtest/substructures/multi_actuator_substructure.h"
 #include "hybridtest/substructures/numerical_substructure.h"
 #include "hybridtest/substructures/physical_substructure.h"
@@ -48,6 +51,11 @@ std::unique_ptr<Substructure> SubstructureSpec::Build() const {
     return built;
   }
   if (stiffness) return std::make_unique<LinearBlock>(*stiffness);
+  if (block_law) {
+    const int n = block_law->num_axes();
+    return std::make_unique<LawBlock>(
+        block_law->Clone(), block_transform ? *block_transform : Eigen::MatrixXd::Identity(n, n));
+  }
   if (!law) {
     throw ConfigError(fmt::format("slot {}: give a restoring-force law (numerical) or a "
                                   "physical spec", slot));
@@ -83,6 +91,25 @@ std::vector<std::vector<int>> SlotIndices(const std::vector<SubstructureSpec>& s
     }
   }
   return out;
+}
+
+std::optional<SubstructureSpec> EmulatedBlockTwin(const Substructure& s) {
+  const auto* multi = dynamic_cast<const MultiActuatorSubstructure*>(&s);
+  if (multi == nullptr) return std::nullopt;
+  const auto* bench = dynamic_cast<const transfer::MultiEmulatedBench*>(&multi->transfer());
+  if (bench == nullptr) return std::nullopt;
+  const auto& setup = multi->setup();
+  for (int k = 0; k < setup.num_actuators(); ++k) {
+    const auto& a = bench->config().actuators[static_cast<std::size_t>(k)];
+    if (std::abs(setup.p0(k) - a.p0) > 1e-12 || setup.load_cell_zero(k) != a.offset) {
+      return std::nullopt;
+    }
+  }
+  SubstructureSpec twin;
+  twin.slot = s.Describe();
+  twin.block_law = bench->specimen().Clone();
+  twin.block_transform = setup.transform;
+  return twin;
 }
 
 SubstructureSpec NumericalSpec(std::string slot,

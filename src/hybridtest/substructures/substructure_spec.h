@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "hybridtest/constitutive/restoring_force_law.h"
+#include "hybridtest/constitutive/vector_law.h"
 #include "hybridtest/substructures/linear_setup.h"
 #include "hybridtest/substructures/setup_transform.h"
 #include "hybridtest/substructures/substructure.h"
@@ -59,6 +60,10 @@ struct SubstructureSpec {
   std::vector<std::string> slots;
   // Numerical, several slots: r = K d with this m × m stiffness [N/m] (then `law` is empty).
   std::optional<Eigen::MatrixXd> stiffness;
+  // Numerical, several slots: r = Tᵀ F(T d) with this coupled law of n axes (a prototype) and
+  // T = block_transform (n × m; unset: the identity). See law_block.h.
+  std::shared_ptr<const constitutive::VectorRestoringForceLaw> block_law;
+  std::optional<Eigen::MatrixXd> block_transform;
   // Numerical: the law (a prototype; never trialled itself).
   std::shared_ptr<const constitutive::RestoringForceLaw> law;
   // Physical (then `law` is empty).
@@ -86,6 +91,12 @@ struct SubstructureSpec {
 // ConfigError unless every model slot is served by exactly one spec.
 std::vector<std::vector<int>> SlotIndices(const std::vector<SubstructureSpec>& specs,
                                           const std::vector<std::string>& model_slots);
+
+// The numerical twin of a substructure on an emulated bench of several actuators whose
+// specimen law and setup it can see (MultiActuatorSubstructure on a MultiEmulatedBench, the
+// setup's p0 equal to the bench's, no load-cell zero): a spec with block_law and
+// block_transform = the setup's T. nullopt for anything else.
+std::optional<SubstructureSpec> EmulatedBlockTwin(const Substructure& s);
 
 // A numerical slot of law `law`.
 SubstructureSpec NumericalSpec(std::string slot, std::unique_ptr<constitutive::RestoringForceLaw> law);

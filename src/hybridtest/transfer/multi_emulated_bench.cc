@@ -7,6 +7,8 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/yaml_input.h"
+#include "hybridtest/constitutive/parse_vector_law.h"
+#include "hybridtest/transfer/safety_gate_group.h"
 #include "hybridtest/transfer/actuator.h"
 #include "hybridtest/transfer/lab_clock.h"
 #include "hybridtest/transfer/load_cell.h"
@@ -49,26 +51,10 @@ MultiBenchConfig ParseMultiBenchConfig(const YAML::Node& bench, std::string_view
     throw ConfigError(fmt::format("{}.faults: not available on a bench with `actuators:`; remove "
                                   "it (inject faults on a one-actuator bench)", where));
   }
-  const YAML::Node spec = bench["specimen"];
-  const char* expected = "{type: linear, stiffness: [[k11, k12, ...], ...]} in N/m, n × n";
-  if (!spec || !spec.IsMap() || !spec["type"] || spec["type"].as<std::string>() != "linear" ||
-      !spec["stiffness"] || !spec["stiffness"].IsSequence() || spec["stiffness"].size() != n) {
-    throw ConfigError(fmt::format("{}.specimen: expected {} for {} actuators", where, expected, n));
-  }
   MultiBenchConfig config;
-  config.stiffness.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
-  for (std::size_t i = 0; i < n; ++i) {
-    const YAML::Node row = spec["stiffness"][i];
-    if (!row.IsSequence() || row.size() != n) {
-      throw ConfigError(fmt::format("{}.specimen.stiffness row {}: expected {} values ({})",
-                                    where, i + 1, n, expected));
-    }
-    for (std::size_t j = 0; j < n; ++j) {
-      config.stiffness(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) =
-          in.Number(row[j], fmt::format("{}.specimen.stiffness[{}][{}]", where, i, j),
-                    "a stiffness in N/m");
-    }
-  }
+  config.specimen = constitutive::ParseVectorLaw(bench["specimen"], static_cast<int>(n),
+                                                 where + ".specimen");
+  config.stiffness = config.specimen->initial_stiffness();
   for (std::size_t k = 0; k < n; ++k) {
     YAML::Node one(YAML::NodeType::Map);
     for (const auto& kv : bench) {
@@ -76,7 +62,7 @@ MultiBenchConfig ParseMultiBenchConfig(const YAML::Node& bench, std::string_view
       if (key == "actuators" || key == "specimen" || key == "openfresco") continue;
       one[key] = Pick(kv.second, k, n, where + "." + key);
     }
-    // The actuator's own monitor predicts forces from the diagonal stiffness.
+    // Each actuator's own fallback (before the coupled prediction has every measurement).
     const double kkk = config.stiffness(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k));
     one["specimen"]["type"] = "linear";
     one["specimen"]["stiffness"] = kkk;
@@ -129,6 +115,14 @@ MultiEmulatedBench::MultiEmulatedBench(const MultiBenchConfig& config) : config_
     load_cells_.push_back(std::make_unique<LoadCell>(a.noise_std, a.resolution, a.offset, a.seed));
   }
   clock_ = std::make_unique<LabClock>(first.realtime);
+  specimen_ = config_.specimen ? config_.specimen->Clone()
+                               : std::make_unique<constitutive::LinearCoupledLaw>(config_.stiffness);
+  if (specimen_->num_axes() != static_cast<int>(n)) {
+    throw ConfigError(fmt::format("multi-actuator bench: a specimen of {} axes on {} actuators",
+                                  specimen_->num_axes(), n));
+  }
+  // The specimen starts deformed if an actuator does not start at its p0.
+  Deform();
 }
 
 MultiEmulatedBench::~MultiEmulatedBench() = default;
@@ -156,13 +150,16 @@ Measurement MultiEmulatedBench::Execute(double command) {
   return m;
 }
 
-Eigen::VectorXd MultiEmulatedBench::Forces() const {
-  Eigen::VectorXd deformation(num_actuators());
-  for (int k = 0; k < num_actuators(); ++k) {
-    deformation(k) = actuators_[static_cast<std::size_t>(k)]->position() -
-                     config_.actuators[static_cast<std::size_t>(k)].p0;
+Eigen::VectorXd MultiEmulatedBench::Deform() {
+  const int n = num_actuators();
+  std::vector<double> deformation(static_cast<std::size_t>(n));
+  for (std::size_t k = 0; k < deformation.size(); ++k) {
+    deformation[k] = actuators_[k]->position() - config_.actuators[k].p0;
   }
-  return config_.stiffness * deformation;
+  Eigen::VectorXd force(n);
+  specimen_->Trial(deformation, std::span<double>(force.data(), deformation.size()));
+  specimen_->Commit();
+  return force;
 }
 
 void MultiEmulatedBench::Execute(std::span<const double> commands, std::span<Measurement> out) {
@@ -182,9 +179,7 @@ void MultiEmulatedBench::Execute(std::span<const double> commands, std::span<Mea
   for (std::size_t k = 0; k < n; ++k) target[k] = commands[k] * first.units.metres_per_length_unit;
   // 0. Every command is checked before any actuator moves.
   try {
-    std::vector<SafetyMonitor> checked = safety_;
-    for (std::size_t k = 0; k < n; ++k) checked[k].CheckCommand(target[k], index, 0);
-    safety_ = std::move(checked);
+    CheckCommands(safety_, &config_.stiffness, target, index, 0);
   } catch (...) {
     Hold();
     throw;
@@ -193,7 +188,7 @@ void MultiEmulatedBench::Execute(std::span<const double> commands, std::span<Mea
   const double dt = first.internal_step;
   auto advance = [&]() {
     for (std::size_t k = 0; k < n; ++k) actuators_[k]->Step(target[k]);
-    const Eigen::VectorXd force = Forces();
+    const Eigen::VectorXd force = Deform();
     for (std::size_t k = 0; k < n; ++k) {
       const double capacity = config_.actuators[k].capacity;
       if (!(std::abs(force(static_cast<Eigen::Index>(k))) <= capacity)) {
@@ -273,8 +268,9 @@ void MultiEmulatedBench::Deactivate() {
 std::string MultiEmulatedBench::Describe() const {
   std::string p0;
   for (const auto& a : config_.actuators) p0 += fmt::format("{}{:g}", p0.empty() ? "" : ", ", a.p0 * 1e3);
-  return fmt::format("emulated bench with {} actuators (coupled linear specimen; p0 = [{}] mm; "
-                     "{}/{}; {})", num_actuators(), p0, config_.actuators[0].units.length_name,
+  return fmt::format("emulated bench with {} actuators ({}; p0 = [{}] mm; {}/{}; {})",
+                     num_actuators(), specimen_->Describe(), p0,
+                     config_.actuators[0].units.length_name,
                      config_.actuators[0].units.force_name,
                      config_.actuators[0].realtime ? "realtime" : "accelerated");
 }
@@ -282,6 +278,40 @@ std::string MultiEmulatedBench::Describe() const {
 double MultiEmulatedBench::lab_time() const { return clock_->lab_time(); }
 double MultiEmulatedBench::actuator_position(int k) const {
   return actuators_[static_cast<std::size_t>(k)]->position();
+}
+
+nlohmann::json MultiEmulatedBench::SaveState() const {
+  nlohmann::json actuators = nlohmann::json::array(), cells = nlohmann::json::array(),
+                 safety = nlohmann::json::array();
+  for (std::size_t k = 0; k < actuators_.size(); ++k) {
+    actuators.push_back(actuators_[k]->SaveState());
+    cells.push_back(load_cells_[k]->SaveState());
+    safety.push_back(safety_[k].SaveState());
+  }
+  return {{"kind", "multi_emulated"}, {"command_count", command_count_},
+          {"lab_time_s", clock_->lab_time()}, {"actuators", actuators}, {"load_cells", cells},
+          {"safety", safety}, {"specimen", specimen_->SaveState()}};
+}
+
+void MultiEmulatedBench::RestoreState(const nlohmann::json& state) {
+  try {
+    const std::size_t n = actuators_.size();
+    if (state.value("kind", "") != "multi_emulated" || state.at("actuators").size() != n ||
+        state.at("load_cells").size() != n || state.at("safety").size() != n) {
+      throw Error(fmt::format("it is not the state of an emulated bench with {} actuators", n));
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      actuators_[k]->RestoreState(state.at("actuators")[k]);
+      load_cells_[k]->RestoreState(state.at("load_cells")[k].get<std::string>());
+      safety_[k].RestoreState(state.at("safety")[k]);
+    }
+    specimen_->RestoreState(state.at("specimen"));
+    clock_->Restore(state.at("lab_time_s").get<double>());
+    command_count_ = state.at("command_count").get<long>();
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(fmt::format("multi-actuator emulated bench: cannot restore its state: {}",
+                            e.what()));
+  }
 }
 
 }  // namespace hybridtest::transfer

@@ -2,9 +2,14 @@
 // MultiEmulatedBench: an in-process bench with n actuators on ONE specimen (a blade tip loaded
 // in flap and edge by two actuators). Each actuator has its own stroke, velocity limit, lag,
 // delay, load cell, settling and safety monitor (an EmulatedBenchConfig each, read from
-// per-actuator lists); the specimen couples them: the force on actuator k is
+// per-actuator lists); the specimen couples them. Its law (constitutive/vector_law.h) is
+// written in actuator coordinates: u_k = p_k − p0_k [m] → F_k, the force on actuator k [N]:
 //
-//   F_k = Σ_j K_kj (p_j − p0_j)                [N]   (K: stiffness in actuator coordinates [N/m])
+//   linear:            F = K u                     (K: n × n stiffness [N/m])
+//   bouc_wen_biaxial:  Park, Wen & Ang (1986), constitutive/bouc_wen_biaxial.h
+//
+// The specimen is deformed along the actuators' path, one internal step at a time (a
+// path-dependent law commits every internal step).
 //
 // Execute(commands, out): every command is checked by its actuator's own monitor before any
 // actuator moves (one refused: none moves, the bench holds); the actuators then move together,
@@ -19,10 +24,15 @@
 //   bench:
 //     actuators: 2
 //     specimen: {type: linear, stiffness: [[5000, 1200], [1200, 3000]]}   # [N/m]
+//     # or: specimen: {type: bouc_wen_biaxial, initial_stiffness: [5000, 3000],   # [N/m]
+//     #                yield_displacement: 0.004, alpha: 0.1}                   # [m], [-]
 //     p0_mm: [20, 30]
 //     actuator: {lag: {type: none}, delay_ms: [0, 0], velocity_limit_mm_per_s: [20, 40]}
 //     load_cell: {noise_std_N: 0}
 //     seed: 1                         # actuator k's load cell uses seed + k − 1
+//
+// Every command is checked by the actuator monitors with the specimen's virgin stiffness
+// matrix coupling the predictions (safety_gate_group.h, CheckCommands).
 //
 // `faults` (a test facility) is not available on a multi-actuator bench.
 #include <Eigen/Core>
@@ -33,6 +43,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "hybridtest/constitutive/vector_law.h"
 #include "hybridtest/transfer/bench_config.h"
 #include "hybridtest/transfer/safety.h"
 #include "hybridtest/transfer/transfer_system.h"
@@ -45,7 +56,11 @@ class LabClock;
 
 struct MultiBenchConfig {
   std::vector<EmulatedBenchConfig> actuators;  // one per actuator (its `specimen` is unused)
-  Eigen::MatrixXd stiffness;                   // n × n coupled specimen stiffness [N/m]
+  // The coupled specimen law (n axes); null: linear with `stiffness`.
+  std::shared_ptr<const constitutive::VectorRestoringForceLaw> specimen;
+  // n × n: the specimen's virgin tangent stiffness in actuator coordinates [N/m] (for a linear
+  // specimen, its stiffness).
+  Eigen::MatrixXd stiffness;
 };
 
 // True if a `bench:` mapping declares `actuators:`.
@@ -74,22 +89,28 @@ class MultiEmulatedBench final : public TransferSystem {
   BenchUnits bench_units() const override { return config_.actuators[0].units; }
   std::string Describe() const override;
   std::optional<long> commands_received() const override { return command_count_; }
+  // {"kind": "multi_emulated", actuators, load cells, monitors, specimen, lab time, count}.
+  nlohmann::json SaveState() const override;
+  void RestoreState(const nlohmann::json& state) override;
 
   double lab_time() const;
   // Actuator k's position [m].
   double actuator_position(int k) const;
   const SafetyMonitor& safety(int k) const { return safety_[static_cast<std::size_t>(k)]; }
+  const constitutive::VectorRestoringForceLaw& specimen() const { return *specimen_; }
   const MultiBenchConfig& config() const { return config_; }
 
  private:
   enum class State { kConfigured, kActive, kHolding, kDeactivated };
-  // The true specimen forces [N] at the actuators' positions now.
-  Eigen::VectorXd Forces() const;
+  // Deforms the specimen to the actuators' positions now (committed) and returns the true
+  // specimen forces [N].
+  Eigen::VectorXd Deform();
 
   MultiBenchConfig config_;
   std::vector<SafetyMonitor> safety_;
   std::vector<std::unique_ptr<Actuator>> actuators_;
   std::vector<std::unique_ptr<LoadCell>> load_cells_;
+  std::unique_ptr<constitutive::VectorRestoringForceLaw> specimen_;
   std::unique_ptr<LabClock> clock_;
   State state_ = State::kConfigured;
   long command_count_ = 0;

@@ -105,6 +105,11 @@ void SafetyMonitor::Stop(const std::string& limit, double value, double limit_va
 }
 
 void SafetyMonitor::CheckCommand(double command, long step, int stage) {
+  CheckCommand(command, step, stage, PredictForce(command), {});
+}
+
+void SafetyMonitor::CheckCommand(double command, long step, int stage, double predicted,
+                                 std::string_view basis_text) {
   // 1. Finite.
   if (!std::isfinite(command)) {
     Stop("command_finite", command, 0.0, step, stage,
@@ -149,15 +154,17 @@ void SafetyMonitor::CheckCommand(double command, long step, int stage) {
     }
   }
   // 4. Predicted force inside force_soft.
-  const double predicted = PredictForce(command);
   if (std::isfinite(predicted) && std::abs(predicted) > limits_.force_soft) {
+    const std::string basis =
+        basis_text.empty()
+            ? fmt::format("last force {:.6g} N, stiffness estimate {:.6g} N/m", last_force_,
+                          has_secant_ ? secant_stiffness_ : initial_stiffness_)
+            : std::string(basis_text);
     Stop("force_soft", std::abs(predicted), limits_.force_soft, step, stage,
-         fmt::format("The command {:.6g} m would produce about {:.6g} N (last force {:.6g} N, "
-                     "stiffness estimate {:.6g} N/m) and was not sent. To proceed: check the "
-                     "specimen and p0; raise safety.force_soft (at most force_hard) only if the "
-                     "specimen is rated for it.",
-                     command, predicted, last_force_,
-                     has_secant_ ? secant_stiffness_ : initial_stiffness_));
+         fmt::format("The command {:.6g} m would produce about {:.6g} N ({}) and was not sent. "
+                     "To proceed: check the specimen and p0; raise safety.force_soft (at most "
+                     "force_hard) only if the specimen is rated for it.",
+                     command, predicted, basis));
   }
   last_safe_command_ = command;
   has_safe_command_ = true;

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "hybridtest/common/error.h"
@@ -69,6 +70,11 @@ class SafetyMonitor {
   // stroke, within max_increment of the last accepted command, and with a predicted force
   // (from the last measurement and a secant stiffness estimate) inside force_soft.
   void CheckCommand(double command, long step, int stage);
+  // The same with the force predicted by the caller [N] (NaN: nothing to predict), e.g. from
+  // a stiffness matrix that couples several actuators (SafetyGateGroup); `basis` says how it
+  // was predicted, for the stop message ("": the monitor's own last force and stiffness).
+  void CheckCommand(double command, long step, int stage, double predicted_force,
+                    std::string_view basis);
 
   // Throws SafetyStop unless the measurement is finite and |force| ≤ force_hard.
   void CheckMeasurement(double command, double position, double force, long step, int stage);
@@ -92,6 +98,10 @@ class SafetyMonitor {
   // The last command that passed CheckCommand, i.e. where a hold keeps the actuator. [m]
   double last_safe_command() const;
   bool has_safe_command() const;
+  // The last measurement that passed CheckMeasurement: position [m] and force [N].
+  bool has_measurement() const { return has_measurement_; }
+  double last_position() const { return last_position_; }
+  double last_force() const { return last_force_; }
   const SafetyLimits& limits() const { return limits_; }
   std::vector<ExchangeRecord> history() const;
   // Everything the monitor remembers (last safe command, last measurement, secant and initial

@@ -3,11 +3,69 @@
 
 #include <fmt/core.h>
 
+#include <cmath>
+#include <limits>
+
 namespace hybridtest::transfer {
 
 SafetyGateGroup::SafetyGateGroup(const std::vector<SafetyLimits>& limits) {
   if (limits.empty()) throw ConfigError("safety: a specimen needs the limits of at least one actuator");
   for (const auto& l : limits) monitors_.emplace_back(l);
+}
+
+void SafetyGateGroup::SetStiffness(const Eigen::MatrixXd& k) {
+  if (k.rows() != size() || k.cols() != size() || !k.allFinite()) {
+    throw ConfigError(fmt::format("safety: a {} × {} stiffness for the force prediction of {} "
+                                  "actuators; expected a finite {} × {} matrix in N/m", k.rows(),
+                                  k.cols(), size(), size(), size()));
+  }
+  stiffness_ = k;
+}
+
+Eigen::VectorXd PredictCoupledForces(const std::vector<SafetyMonitor>& monitors,
+                                     const Eigen::MatrixXd& stiffness,
+                                     const std::vector<double>& commands_m) {
+  const auto n = static_cast<Eigen::Index>(monitors.size());
+  Eigen::VectorXd f = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::quiet_NaN());
+  if (commands_m.size() != monitors.size() || stiffness.rows() != n || stiffness.cols() != n) {
+    return f;
+  }
+  Eigen::VectorXd move(n), last(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const auto& m = monitors[static_cast<std::size_t>(k)];
+    if (!m.has_measurement()) return f;
+    move(k) = commands_m[static_cast<std::size_t>(k)] - m.last_position();
+    last(k) = m.last_force();
+  }
+  return last + stiffness * move;
+}
+
+void CheckCommands(std::vector<SafetyMonitor>& monitors, const Eigen::MatrixXd* stiffness,
+                   const std::vector<double>& commands_m, long step, int stage) {
+  const std::size_t n = monitors.size();
+  std::vector<SafetyMonitor> checked = monitors;
+  const Eigen::VectorXd predicted =
+      stiffness != nullptr ? PredictCoupledForces(monitors, *stiffness, commands_m)
+                           : Eigen::VectorXd::Constant(static_cast<Eigen::Index>(n),
+                                                       std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t k = 0; k < n; ++k) {
+    const double f = predicted(static_cast<Eigen::Index>(k));
+    if (std::isfinite(f)) {
+      checked[k].CheckCommand(commands_m[k], step, stage, f,
+                              "predicted with the coupled stiffness in actuator coordinates: "
+                              "f_last + K_a (a − x_last), every actuator's move counted");
+    } else {
+      checked[k].CheckCommand(commands_m[k], step, stage);
+    }
+  }
+  monitors = std::move(checked);
+}
+
+Eigen::VectorXd SafetyGateGroup::PredictForces(const std::vector<double>& commands_m) const {
+  if (!stiffness_) {
+    return Eigen::VectorXd::Constant(size(), std::numeric_limits<double>::quiet_NaN());
+  }
+  return PredictCoupledForces(monitors_, *stiffness_, commands_m);
 }
 
 void SafetyGateGroup::Move(TransferSystem& transfer, const std::vector<double>& commands_m,
@@ -50,12 +108,9 @@ void SafetyGateGroup::Execute(TransferSystem& transfer, const std::vector<double
   out.resize(n);
   for (auto& o : out) o.executed = false;
   // 1. Every command on a copy of its monitor: the monitors only learn the vector if all pass.
-  std::vector<SafetyMonitor> checked = monitors_;
-  for (std::size_t k = 0; k < n; ++k) {
-    out[k].command = commands_m[k];
-    checked[k].CheckCommand(commands_m[k], label.step, label.stage);
-  }
-  monitors_ = std::move(checked);
+  for (std::size_t k = 0; k < n; ++k) out[k].command = commands_m[k];
+  CheckCommands(monitors_, stiffness_ ? &*stiffness_ : nullptr, commands_m, label.step,
+                label.stage);
   if (before_execute) before_execute();
   // 2. All commands at once.
   const BenchUnits units = transfer.bench_units();

@@ -1,0 +1,59 @@
+// See law_block.h.
+#include "hybridtest/substructures/law_block.h"
+
+#include <fmt/core.h>
+
+#include "hybridtest/common/error.h"
+
+namespace hybridtest::substructures {
+
+LawBlock::LawBlock(std::unique_ptr<constitutive::VectorRestoringForceLaw> law,
+                   Eigen::MatrixXd transform)
+    : law_(std::move(law)), t_(std::move(transform)) {
+  if (!law_) throw ConfigError("law block: no law");
+  if (t_.rows() != law_->num_axes() || t_.cols() < 1 || !t_.allFinite()) {
+    throw ConfigError(fmt::format("law block: transform of {} × {} for a law of {} axes: expected "
+                                  "one row per axis (actuator), one column per slot, finite",
+                                  t_.rows(), t_.cols(), law_->num_axes()));
+  }
+  u_.resize(t_.rows());
+  f_.resize(t_.rows());
+}
+
+double LawBlock::Trial(double displacement, const TrialContext& context) {
+  if (num_slots() != 1) throw Error("LawBlock: a scalar trial of a block of several slots");
+  double r = 0.0;
+  TrialSlots({&displacement, 1}, {&r, 1}, context);
+  return r;
+}
+
+void LawBlock::TrialSlots(std::span<const double> d, std::span<double> r,
+                          const TrialContext& /*context*/) {
+  u_ = t_ * Eigen::Map<const Eigen::VectorXd>(d.data(), t_.cols());
+  law_->Trial({u_.data(), static_cast<std::size_t>(u_.size())},
+              {f_.data(), static_cast<std::size_t>(f_.size())});
+  Eigen::Map<Eigen::VectorXd>(r.data(), t_.cols()) = t_.transpose() * f_;
+}
+
+std::string LawBlock::Describe() const {
+  return fmt::format("numerical block of {} slots: {}", num_slots(), law_->Describe());
+}
+
+std::optional<double> LawBlock::initial_stiffness() const {
+  if (num_slots() != 1) return std::nullopt;
+  return (*initial_stiffness_matrix())(0, 0);
+}
+
+std::optional<Eigen::MatrixXd> LawBlock::initial_stiffness_matrix() const {
+  return Eigen::MatrixXd(t_.transpose() * law_->initial_stiffness() * t_);
+}
+
+void LawBlock::RestoreState(const nlohmann::json& state) {
+  if (!state.is_object() || !state.contains("law")) {
+    throw Error(fmt::format("law block: cannot restore the state {}: expected {{\"law\": ...}}",
+                            state.dump()));
+  }
+  law_->RestoreState(state.at("law"));
+}
+
+}  // namespace hybridtest::substructures
