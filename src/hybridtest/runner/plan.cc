@@ -19,6 +19,7 @@
 #include "hybridtest/substructures/numerical_substructure.h"
 #include "hybridtest/substructures/physical_substructure.h"
 #include "hybridtest/substructures/slot_law.h"
+#include "hybridtest/substructures/substructure_spec.h"
 #include "hybridtest/transfer/emulated_bench.h"
 #include "hybridtest/transfer/multi_emulated_bench.h"
 
@@ -335,7 +336,11 @@ std::vector<PlanResult> PlanTest(const io::RunSpec& configured, const PlanOption
     substructures::SubstructureSpec twin;
     twin.slot = slot;
     twin.slots = ref_spec.substructures[s].slots;
-    if (auto k = TwinStiffness(*built, slot)) {
+    if (auto block = substructures::EmulatedBlockTwin(*built)) {
+      // A specimen law in actuator coordinates (e.g. the biaxial Bouc–Wen): r = Tᵀ F(T d).
+      twin.block_law = block->block_law;
+      twin.block_transform = block->block_transform;
+    } else if (auto k = TwinStiffness(*built, slot)) {
       twin.stiffness = std::move(*k);
     } else {
       twin.law = TwinLaw(*built, slot);
