@@ -32,6 +32,7 @@ void PySession::StartResume(const SessionArguments& args) {
   options.allow_physical = plan.command != "simulate";
   options.physical_hint = "`simulate` is numerical only: use `hybridtest run` for a hybrid test";
   io::RunSpec spec = io::CompileRunSpec(plan.cfg, options);
+  RefuseRealTime(spec, "resume()");
   Substitute(spec, args.transfers, args.laws);
   spec.output.csv_path = r.csv;
   spec.output.command = plan.command;

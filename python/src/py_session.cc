@@ -155,6 +155,15 @@ void PyObserver::OnStop(const runner::StopEvent& e) {
   CallObserver(on_stop_, "on_stop", runner::StatusName(e.status), e.reason);
 }
 
+void RefuseRealTime(const io::RunSpec& spec, const char* caller) {
+  if (!spec.real_time.enabled) return;
+  throw ConfigError(fmt::format(
+      "{}: the config has a `real_time:` block; a real-time run is paced, and its delay "
+      "stability checked, by the command line only: run `hybridtest run CONFIG` (docs/real-time.md), "
+      "or remove `real_time:` to run the test pseudo-dynamically from Python",
+      caller));
+}
+
 PySession::PySession(const SessionArguments& args) {
   if (args.resume) {
     StartResume(args);
@@ -183,6 +192,7 @@ PySession::PySession(const SessionArguments& args) {
     throw ConfigError("simulate(): transfers are for a hybrid test: use hybridtest.run()");
   }
   io::RunSpec spec = io::CompileRunSpec(cfg, options);
+  RefuseRealTime(spec, "Session()");
   Substitute(spec, args.transfers, args.laws);
   spec.output.command = args.command;
   spec.output.files = args.out.has_value();

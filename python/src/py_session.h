@@ -73,6 +73,10 @@ struct SessionArguments {
 // Python transfer systems and laws in place of the spec's slots. Throws ConfigError.
 void Substitute(io::RunSpec& spec, const py::dict& transfers, const py::dict& laws);
 
+// Refuses a run with a `real_time:` block: the paced loop and its delay-stability check are the
+// command line's (`hybridtest run`); from Python the run would go unpaced and unchecked.
+void RefuseRealTime(const io::RunSpec& spec, const char* caller);
+
 class PySession {
  public:
   explicit PySession(const SessionArguments& args);

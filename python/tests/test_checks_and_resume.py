@@ -151,3 +151,10 @@ def test_resume_refuses_what_the_command_line_refuses(tmp_path):
         ht.resume(csv, transfers={"r1": Spring()}, set={"resume.bogus": 1.0})
     with pytest.raises(ht.ConfigError, match="no config"):
         ht.Session(str(csv), resume=str(csv))
+
+
+def test_a_real_time_config_is_refused_from_python():
+    """The paced loop and its delay check are the command line's: from Python a real-time config
+    would run unpaced and unchecked, so it is refused, naming the block and the way on."""
+    with pytest.raises(ht.ConfigError, match=r"real_time:.*hybridtest run CONFIG"):
+        ht.run(str(ROOT / "examples/real-time/storey-ats.yaml"))
