@@ -27,6 +27,7 @@
 #include <chrono>
 #include <cmath>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "hybridtest/models/catalogue.h"
@@ -147,16 +148,18 @@ void BM_KaneEngineAutoDiff(benchmark::State& state) {
 }
 BENCHMARK(BM_KaneEngineAutoDiff)->Name("RotorRhs/KaneEngineAutoDiff");
 
-void BM_EngineOverClosedForm(benchmark::State& state) {
+// The engine and a reference timed in alternating blocks of 256 calls on the same states, so
+// that both see the same machine load; counters engine_ns, <reference>_ns and their ratio.
+// `reference(s)` evaluates the reference's ẋ at s.
+template <class Reference>
+void EngineAgainst(benchmark::State& state, const char* reference_name, Reference&& reference) {
   constexpr int kBlock = 256;
   using Clock = std::chrono::steady_clock;
   const multibody::Model& model = RotorModel();
   multibody::Data<double> data(model);
   Eigen::VectorXd xdot(8);
-  const RotorParameters p;
-  RotorState xdot_fixed;
   const auto& in = Inputs();
-  double engine_s = 0.0, closed_s = 0.0;
+  double engine_s = 0.0, reference_s = 0.0;
   long calls = 0;
   for (auto _ : state) {
     const auto t0 = Clock::now();
@@ -168,21 +171,29 @@ void BM_EngineOverClosedForm(benchmark::State& state) {
     }
     const auto t1 = Clock::now();
     for (int k = 0; k < kBlock; ++k) {
-      const RhsInput& s = in[k & (kStates - 1)];
-      CalcRotorRhs(p, s.t, s.x_fixed, s.r_fixed, xdot_fixed);
-      benchmark::DoNotOptimize(xdot_fixed.data());
+      reference(in[k & (kStates - 1)]);
       benchmark::ClobberMemory();
     }
     const auto t2 = Clock::now();
     engine_s += std::chrono::duration<double>(t1 - t0).count();
-    closed_s += std::chrono::duration<double>(t2 - t1).count();
+    reference_s += std::chrono::duration<double>(t2 - t1).count();
     calls += kBlock;
   }
   if (calls > 0) {
     state.counters["engine_ns"] = 1e9 * engine_s / static_cast<double>(calls);
-    state.counters["closed_form_ns"] = 1e9 * closed_s / static_cast<double>(calls);
-    state.counters["ratio"] = engine_s / closed_s;
+    state.counters[std::string(reference_name) + "_ns"] =
+        1e9 * reference_s / static_cast<double>(calls);
+    state.counters["ratio"] = engine_s / reference_s;
   }
+}
+
+void BM_EngineOverClosedForm(benchmark::State& state) {
+  const RotorParameters p;
+  RotorState xdot;
+  EngineAgainst(state, "closed_form", [&](const RhsInput& s) {
+    CalcRotorRhs(p, s.t, s.x_fixed, s.r_fixed, xdot);
+    benchmark::DoNotOptimize(xdot.data());
+  });
 }
 BENCHMARK(BM_EngineOverClosedForm)->Name("RotorRhs/EngineOverClosedForm");
 
@@ -234,41 +245,12 @@ BENCHMARK(BM_SympyC)->Name("RotorRhs/SympyC");
 
 void BM_EngineOverSympyC(benchmark::State& state) {
   if (!SympyAgrees(state)) return;
-  constexpr int kBlock = 256;
-  using Clock = std::chrono::steady_clock;
-  const multibody::Model& model = RotorModel();
-  multibody::Data<double> data(model);
-  Eigen::VectorXd xdot(8);
   const auto par = SympyParameters();
   double y[8];
-  const auto& in = Inputs();
-  double engine_s = 0.0, sympy_s = 0.0;
-  long calls = 0;
-  for (auto _ : state) {
-    const auto t0 = Clock::now();
-    for (int k = 0; k < kBlock; ++k) {
-      const RhsInput& s = in[k & (kStates - 1)];
-      multibody::CalcStateDerivative<double>(model, data, s.t, s.x, s.r, xdot);
-      benchmark::DoNotOptimize(xdot.data());
-      benchmark::ClobberMemory();
-    }
-    const auto t1 = Clock::now();
-    for (int k = 0; k < kBlock; ++k) {
-      const RhsInput& s = in[k & (kStates - 1)];
-      hybridtest_rotor_sympy_rhs(par.data(), s.t, s.x.data(), s.r.data(), y);
-      benchmark::DoNotOptimize(y);
-      benchmark::ClobberMemory();
-    }
-    const auto t2 = Clock::now();
-    engine_s += std::chrono::duration<double>(t1 - t0).count();
-    sympy_s += std::chrono::duration<double>(t2 - t1).count();
-    calls += kBlock;
-  }
-  if (calls > 0) {
-    state.counters["engine_ns"] = 1e9 * engine_s / static_cast<double>(calls);
-    state.counters["sympy_c_ns"] = 1e9 * sympy_s / static_cast<double>(calls);
-    state.counters["ratio"] = engine_s / sympy_s;
-  }
+  EngineAgainst(state, "sympy_c", [&](const RhsInput& s) {
+    hybridtest_rotor_sympy_rhs(par.data(), s.t, s.x.data(), s.r.data(), y);
+    benchmark::DoNotOptimize(y);
+  });
 }
 BENCHMARK(BM_EngineOverSympyC)->Name("RotorRhs/EngineOverSympyC");
 #endif  // HYBRIDTEST_SYMPY_C

@@ -22,7 +22,6 @@
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/runner/progress.h"
 #include "hybridtest/runner/real_time_run.h"
-#include "hybridtest/runner/resume_changes.h"
 #include "hybridtest/runner/resume_plan.h"
 #include "hybridtest/runner/session.h"
 #include "hybridtest/transfer/safety.h"
@@ -213,31 +212,18 @@ void ExecuteResume(const ResumeCommandOptions& options) {
   }
   // One master per run: nothing of the run is read before the lock is held.
   const io::RunLock lock = io::RunLock::Acquire(options.csv, "resume");
-  const runner::ResumePlan plan = runner::PlanResume(
-      {options.csv, options.after_safety_stop, options.force_tolerance, options.position_tolerance});
+  const runner::ResumeRequest request{options.csv, options.after_safety_stop,
+                                      options.force_tolerance, options.position_tolerance};
+  const runner::ResumePlan plan = runner::PlanResume(request);
   for (const std::string& note : plan.notes) fmt::print(stderr, "hybridtest resume: {}\n", note);
-  io::RunSpec spec = io::CompileRunSpec(
-      plan.cfg, {options.bench, plan.command != "simulate",
-                 "`simulate` is numerical only: use `hybridtest run` for a hybrid test",
-                 std::nullopt});
-  spec.output.csv_path = options.csv;
-  spec.output.command = plan.command;
-  spec.source.inputs = plan.state.inputs;
-  if (options.force_tolerance) spec.resume.force_tolerance = options.force_tolerance;
-  if (options.position_tolerance) spec.resume.position_tolerance = options.position_tolerance;
-  runner::SessionOptions session_options;
-  session_options.resume_record = plan.record;
-  if (!options.set.empty()) {
-    session_options.resume_record["changes"] = runner::ApplyResumeChanges(spec, options.set);
-  }
-  session_options.resume_record["command_line"] = command_line();
-  session_options.commands_received_at_stop = plan.commands_received_at_stop;
+  runner::ResumeSetup setup =
+      runner::PrepareResume(plan, request, options.set, command_line(), options.bench);
   if (!options.quiet) {
     fmt::print("hybridtest resume: {} from step {} (t = {} s, journal row {}); previous status: "
                "{}\n", options.csv, plan.step, plan.t, plan.state.rows - 1, plan.previous_status);
     std::fflush(stdout);
   }
-  RunAndReport(std::move(spec), std::move(session_options), &plan.state,
+  RunAndReport(std::move(setup.spec), std::move(setup.options), &plan.state,
                options.quiet, /*clock=*/"", options.monitor);
 }
 

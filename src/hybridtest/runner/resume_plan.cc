@@ -8,6 +8,8 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/journal.h"
 #include "hybridtest/io/run_inputs.h"
+#include "hybridtest/io/run_spec_yaml.h"
+#include "hybridtest/runner/resume_changes.h"
 
 namespace hybridtest::runner {
 
@@ -129,6 +131,29 @@ ResumePlan PlanResume(const ResumeRequest& options) {
                                   "type ({}); restore the files the run wrote", options.csv,
                                   e.what()));
   }
+}
+
+ResumeSetup PrepareResume(const ResumePlan& plan, const ResumeRequest& request,
+                          const std::vector<std::string>& set, const std::string& command_line,
+                          std::optional<std::string> bench_address,
+                          const std::function<void(io::RunSpec&)>& edit) {
+  io::SubstructureOptions options;
+  options.bench_address = std::move(bench_address);
+  options.allow_physical = plan.command != "simulate";
+  options.physical_hint = "`simulate` is numerical only: use `hybridtest run` for a hybrid test";
+  ResumeSetup setup{io::CompileRunSpec(plan.cfg, options), {}};
+  io::RunSpec& spec = setup.spec;
+  if (edit) edit(spec);
+  spec.output.csv_path = request.csv;
+  spec.output.command = plan.command;
+  spec.source.inputs = plan.state.inputs;
+  if (request.force_tolerance) spec.resume.force_tolerance = request.force_tolerance;
+  if (request.position_tolerance) spec.resume.position_tolerance = request.position_tolerance;
+  setup.options.resume_record = plan.record;
+  if (!set.empty()) setup.options.resume_record["changes"] = ApplyResumeChanges(spec, set);
+  setup.options.resume_record["command_line"] = command_line;
+  setup.options.commands_received_at_stop = plan.commands_received_at_stop;
+  return setup;
 }
 
 }  // namespace hybridtest::runner

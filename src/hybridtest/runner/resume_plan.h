@@ -5,12 +5,14 @@
 // (docs/safety.md, "Resuming a run") throw ConfigError naming the file and the way out.
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "hybridtest/io/config.h"
 #include "hybridtest/runner/run_state.h"
+#include "hybridtest/runner/session.h"
 
 namespace hybridtest::runner {
 
@@ -43,5 +45,19 @@ struct ResumePlan {
 // (a completed run, no run state, a safety stop without after_safety_stop, inputs changed),
 // IoError.
 ResumePlan PlanResume(const ResumeRequest& request);
+
+// What a resume runs, for every caller (the command line, Python): the run's own config
+// compiled (physical slots refused if the run was a `simulate`), the journal as its output, the
+// request's tolerances and the `set` changes (KEY=VALUE, resume_changes.h) applied, and the
+// session options that record them with `command_line`. `edit`, if given, changes the spec
+// before the changes apply (a caller's own transfer systems in place of the configured ones).
+struct ResumeSetup {
+  io::RunSpec spec;
+  SessionOptions options;
+};
+ResumeSetup PrepareResume(const ResumePlan& plan, const ResumeRequest& request,
+                          const std::vector<std::string>& set, const std::string& command_line,
+                          std::optional<std::string> bench_address = std::nullopt,
+                          const std::function<void(io::RunSpec&)>& edit = {});
 
 }  // namespace hybridtest::runner
