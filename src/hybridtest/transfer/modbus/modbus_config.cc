@@ -4,6 +4,7 @@
 #include <fmt/core.h>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/transfer/modbus/register_map_multi.h"
 #include "hybridtest/transfer/socket.h"
 
 namespace hybridtest::transfer::modbus {
@@ -68,7 +69,9 @@ ModbusOptions ParseModbusOptions(const YamlInput& in, const YAML::Node& node,
           p["force"], pkp + ".force", "the largest |force| of the first exchange, in bench force units");
     }
   }
-  o.map = ParseRegisterMap(in, node["map"], kp + ".map");
+  std::vector<RegisterMap> maps = ParseActuatorMaps(in, node["map"], kp + ".map");
+  o.map = maps.front();
+  if (maps.size() > 1) o.maps = std::move(maps);
   // The following error, in the map's length unit; by default the slot's max_increment.
   const SafetyLimits l = limits != nullptr ? *limits : SafetyLimits{};
   const double metres = o.map.units.metres_per_length_unit;

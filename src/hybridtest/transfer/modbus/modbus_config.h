@@ -18,7 +18,9 @@
 //                               #   the ack is in, in the map's length unit (default: the
 //                               #   slot's safety.max_increment; refused if longer than the
 //                               #   stroke). Beyond it: SafetyStop "following_error".
-//     map: {...}                # register map (register_map.h); default profile if absent
+//     map: {...}                # register map (register_map.h); default profile if absent;
+//                               #   `actuators: n` with `stride:` or `per_actuator:` for a
+//                               #   controller of several actuators (register_map_multi.h)
 #include <memory>
 #include <optional>
 #include <string>

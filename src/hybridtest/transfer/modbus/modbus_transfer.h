@@ -48,13 +48,28 @@
 // hold_timeout) and never throws; Execute() refuses to move until the next Activate().
 // Deactivate() sets the hold coil, clears the enable coil and disconnects.
 // Every request is bounded by libmodbus's response timeout; nothing blocks without a bound.
+//
+// Several actuators (`options.maps`, one RegisterMap each; register_map_multi.h and
+// docs/modbus.md, "Several actuators"): num_actuators() = n and Execute(commands, out) writes
+// every actuator's command and its own sequence (one write per contiguous run of command
+// blocks, so one write when they follow each other) before it reads anything, then reads every
+// actuator's readout until each acknowledges its own sequence, within ack_timeout. Every check
+// above applies to every actuator and its message names it ("actuator 2", as the journal's
+// `<name>_a2_…` channels); a fault, a dropped enable or a controller that holds on one actuator
+// sets the hold coil of every actuator before the TransferError, as do an ack timeout and an
+// unexpected ack. Hold() and Deactivate() set every hold coil (a shared coil once), Activate()
+// enables every actuator and waits until each shows enabled and not holding. The scalar
+// Execute and Read serve one actuator only (n > 1: TransferError, and nullopt); ReadAll()
+// reads every actuator; Probe() looks at every actuator and names the first with a problem.
 #include <chrono>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "hybridtest/transfer/modbus/register_map.h"
+#include "hybridtest/transfer/modbus/register_map_multi.h"
 #include "hybridtest/transfer/transfer_system.h"
 
 struct _modbus;  // libmodbus's context (modbus_t), kept out of this header
@@ -66,6 +81,9 @@ struct ModbusOptions {
   std::uint16_t port = 502;
   int unit_id = 1;                     // Modbus unit identifier (0..247; 255 for "any")
   RegisterMap map;                     // default profile unless configured
+  // One map per actuator (register_map_multi.h); empty: one actuator with `map`. The
+  // constructor sets `map` to maps[0].
+  std::vector<RegisterMap> maps;
   double connect_timeout = 5.0;        // longest wait for the TCP connection. Unit: [s].
   double response_timeout = 1.0;       // longest wait for the answer to one request. Unit: [s].
   double ack_timeout = 5.0;            // longest wait for the ack of one command. Unit: [s].
@@ -90,8 +108,9 @@ class ModbusTransfer final : public TransferSystem {
   ModbusTransfer& operator=(const ModbusTransfer&) = delete;
 
   void Activate() override;
-  using TransferSystem::Execute;
   Measurement Execute(double command) override;
+  void Execute(std::span<const double> commands, std::span<Measurement> out) override;
+  int num_actuators() const override { return static_cast<int>(maps_.size()); }
   void Hold() noexcept override;
   void Deactivate() override;
   BenchUnits bench_units() const override { return options_.map.units; }
@@ -100,6 +119,9 @@ class ModbusTransfer final : public TransferSystem {
   // command. nullopt (and the next Execute() refuses) if not connected, the read fails, a value
   // is not finite, or the status shows fault, no enable or holding. Never throws.
   std::optional<Measurement> Read() const override;
+  // Read() for every actuator (n measurements), with the same rules: any actuator that cannot
+  // be read or shows a problem gives nullopt. Never throws.
+  std::optional<std::vector<Measurement>> ReadAll() const;
   // Connects if needed (bounded by connect_timeout) and reads the readout registers once:
   // no write, no coil, so nothing moves and no drive is enabled (modbus_probe.cc). The
   // problem names a fault, holding, or a value that is not a number (a word or byte order
@@ -121,7 +143,9 @@ class ModbusTransfer final : public TransferSystem {
   };
 
   std::string Endpoint() const;
-  std::string Describe(const Readout& r) const;
+  // "the Modbus controller at HOST:PORT unit U" (one actuator), "...: actuator k+1" (several).
+  std::string Subject(std::size_t k) const;
+  std::string Describe(const Readout& r, std::size_t k) const;
   void Connect();
   void Close() noexcept;
   void SetResponseTimeout(double seconds) noexcept;
@@ -130,22 +154,32 @@ class ModbusTransfer final : public TransferSystem {
   [[noreturn]] void FailRequest(const std::string& what, int error);
   [[noreturn]] void Fail(const std::string& message, bool close);
   void WriteCoil(int address, bool value, const std::string& why);
-  // One read of the readout blocks into `r`: 0, or the errno of the failed request (`failed`
-  // names it). Never closes the connection.
-  int ReadBlocks(Readout& r, std::string& failed) const;
+  // One read of the readout blocks into `r` (one Readout per actuator): 0, or the errno of the
+  // failed request (`failed` names it). Never closes the connection.
+  int ReadBlocks(std::vector<Readout>& r, std::string& failed) const;
   // ReadBlocks, or FailRequest.
-  Readout ReadRegisters(const std::string& why);
-  bool Bit(const Readout& r, int bit) const { return bit >= 0 && r.status >= 0 && (r.status >> bit) & 1; }
-  void CheckFault(const Readout& r, const std::string& during);
-  // "" if the status is fit to move (no fault, enabled, not holding); else what is wrong.
-  std::string StatusProblem(const Readout& r) const;
+  std::vector<Readout> ReadRegisters(const std::string& why);
+  static bool Bit(const Readout& r, int bit) {
+    return bit >= 0 && r.status >= 0 && (r.status >> bit) & 1;
+  }
+  // A fault bit on any actuator: (several actuators: every one holds) TransferError.
+  void CheckFault(const std::vector<Readout>& r, const std::string& during);
+  // "" if actuator k's status is fit to move (no fault, enabled, not holding); else what is wrong.
+  std::string StatusProblem(const Readout& r, std::size_t k) const;
+  // Hold() when several actuators share the controller (one stops, every one holds).
+  void HoldIfSeveral() noexcept;
   double WallSinceActivate() const;
 
   ModbusOptions options_;
+  std::vector<RegisterMap> maps_;     // one per actuator
+  std::vector<WriteBlock> writes_;    // the writes of every actuator's command and sequence
+  std::vector<RegisterBlock> reads_;  // the reads of every actuator's readout
+  // The registers last read, by table, at their protocol address (65536 each).
+  mutable std::vector<std::uint16_t> input_, holding_;
   _modbus* ctx_ = nullptr;
   bool active_ = false;              // Activate() done and no Hold() since
   bool first_exchange_ = true;       // the next Execute() is checked for plausibility
-  std::uint64_t last_ack_ = 0;       // the ack the controller shows before the next command
+  std::vector<std::uint64_t> last_ack_;  // per actuator: the ack before the next command
   double lab_time_origin_ = 0.0;     // bench clock at Activate [s]
   std::chrono::steady_clock::time_point activated_at_{};
   bool clock_started_ = false;

@@ -1,0 +1,186 @@
+// See register_map_multi.h: the layout of several actuators' blocks, its rules and its
+// requests. The YAML is read in register_map_parse.cc.
+#include "hybridtest/transfer/modbus/register_map_multi.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <limits>
+#include <utility>
+
+#include "hybridtest/common/error.h"
+
+namespace hybridtest::transfer::modbus {
+namespace {
+
+struct NamedField {
+  std::string name;  // "actuator 2's force", or "lab_time"
+  const RegisterField* field;
+};
+
+// Every register field of actuator k's map ("command", ...), not the lab time.
+std::vector<std::pair<const char*, const RegisterField*>> OwnFields(const RegisterMap& m) {
+  std::vector<std::pair<const char*, const RegisterField*>> fields = {
+      {"command", &m.command}, {"sequence", &m.sequence}, {"position", &m.position},
+      {"force", &m.force},     {"ack", &m.ack}};
+  if (m.status) fields.emplace_back("status", &*m.status);
+  return fields;
+}
+
+// The readout fields (position, force, ack, status) of every actuator and the lab time.
+std::vector<const RegisterField*> ReadFields(const std::vector<RegisterMap>& maps) {
+  std::vector<const RegisterField*> fields;
+  for (const RegisterMap& m : maps) {
+    for (const RegisterField* f : {&m.position, &m.force, &m.ack}) fields.push_back(f);
+    if (m.status) fields.push_back(&*m.status);
+    if (m.lab_time) fields.push_back(&*m.lab_time);
+  }
+  return fields;
+}
+
+// Span of actuator 1's fields in `table` (lab time excluded); 0 if it has none there.
+int Span(const RegisterMap& m, Table table) {
+  int start = std::numeric_limits<int>::max(), end = -1;
+  for (const auto& [name, f] : OwnFields(m)) {
+    if (f->table != table) continue;
+    start = std::min(start, f->address);
+    end = std::max(end, f->end());
+  }
+  return end < 0 ? 0 : end - start;
+}
+
+void AddCoil(std::vector<int>& coils, const std::optional<int>& coil) {
+  if (coil && std::find(coils.begin(), coils.end(), *coil) == coils.end()) coils.push_back(*coil);
+}
+
+}  // namespace
+
+RegisterMap StridedMap(const RegisterMap& base, const Stride& stride, int k) {
+  RegisterMap m = base;
+  if (k == 0) return m;
+  const int holding = stride.holding.value_or(Span(base, Table::kHolding));
+  const int input = stride.input.value_or(Span(base, Table::kInput));
+  int coils = 0;
+  if (stride.coils) {
+    coils = *stride.coils;
+  } else if (base.enable_coil || base.hold_coil) {
+    const int lo = std::min(base.enable_coil.value_or(std::numeric_limits<int>::max()),
+                            base.hold_coil.value_or(std::numeric_limits<int>::max()));
+    const int hi = std::max(base.enable_coil.value_or(-1), base.hold_coil.value_or(-1));
+    coils = hi - lo + 1;
+  }
+  for (RegisterField* f : {&m.command, &m.sequence, &m.position, &m.force, &m.ack}) {
+    f->address += k * (f->table == Table::kHolding ? holding : input);
+  }
+  if (m.status) m.status->address += k * (m.status->table == Table::kHolding ? holding : input);
+  if (m.enable_coil) *m.enable_coil += k * coils;
+  if (m.hold_coil) *m.hold_coil += k * coils;
+  m.lab_time.reset();
+  return m;
+}
+
+std::vector<WriteBlock> CommandWrites(const std::vector<RegisterMap>& maps) {
+  std::vector<int> order(maps.size());
+  for (std::size_t k = 0; k < maps.size(); ++k) order[k] = static_cast<int>(k);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return CommandBlock(maps[static_cast<std::size_t>(a)]).start <
+           CommandBlock(maps[static_cast<std::size_t>(b)]).start;
+  });
+  std::vector<WriteBlock> writes;
+  for (int k : order) {
+    const RegisterBlock b = CommandBlock(maps[static_cast<std::size_t>(k)]);
+    if (!writes.empty()) {
+      RegisterBlock& last = writes.back().block;
+      if (last.start + last.count == b.start && last.count + b.count <= kMaxWriteRegisters) {
+        last.count += b.count;
+        writes.back().actuators.push_back(k);
+        continue;
+      }
+    }
+    writes.push_back({b, {k}});
+  }
+  return writes;
+}
+
+std::vector<RegisterBlock> ReadoutBlocks(const std::vector<RegisterMap>& maps) {
+  std::vector<RegisterBlock> blocks;
+  const std::vector<const RegisterField*> all = ReadFields(maps);
+  for (Table table : {Table::kInput, Table::kHolding}) {
+    std::vector<const RegisterField*> fields;
+    for (const RegisterField* f : all) {
+      if (f->table == table) fields.push_back(f);
+    }
+    std::sort(fields.begin(), fields.end(),
+              [](const RegisterField* a, const RegisterField* b) { return a->address < b->address; });
+    for (const RegisterField* f : fields) {
+      if (!blocks.empty() && blocks.back().table == table &&
+          f->end() - blocks.back().start <= kMaxReadRegisters) {
+        RegisterBlock& b = blocks.back();
+        b.count = std::max(b.count, f->end() - b.start);
+        continue;
+      }
+      blocks.push_back({table, f->address, f->width()});
+    }
+  }
+  return blocks;
+}
+
+std::vector<int> EnableCoils(const std::vector<RegisterMap>& maps) {
+  std::vector<int> coils;
+  for (const RegisterMap& m : maps) AddCoil(coils, m.enable_coil);
+  return coils;
+}
+
+std::vector<int> HoldCoils(const std::vector<RegisterMap>& maps) {
+  std::vector<int> coils;
+  for (const RegisterMap& m : maps) AddCoil(coils, m.hold_coil);
+  return coils;
+}
+
+void ValidateActuatorMaps(const std::vector<RegisterMap>& maps, const std::string& where,
+                          const std::string& fix) {
+  if (maps.empty()) throw ConfigError(fmt::format("{}: expected at least one actuator", where));
+  const std::size_t n = maps.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    ValidateRegisterMap(maps[k], n == 1 ? where : fmt::format("{} (actuator {})", where, k + 1));
+  }
+  if (n == 1) return;
+  // Registers: no two actuators share one, and none is the lab time's.
+  std::vector<NamedField> fields;
+  for (std::size_t k = 0; k < n; ++k) {
+    for (const auto& [name, f] : OwnFields(maps[k])) {
+      fields.push_back({fmt::format("actuator {}'s {}", k + 1, name), f});
+    }
+  }
+  const auto owner = [](const std::string& name) { return name.substr(0, name.find('\'')); };
+  std::vector<NamedField> checked = fields;
+  if (maps[0].lab_time) checked.push_back({"lab_time", &*maps[0].lab_time});
+  for (std::size_t i = 0; i < checked.size(); ++i) {
+    for (std::size_t j = i + 1; j < checked.size(); ++j) {
+      const RegisterField& a = *checked[i].field;
+      const RegisterField& b = *checked[j].field;
+      if (owner(checked[i].name) == owner(checked[j].name)) continue;  // checked per map
+      if (a.table == b.table && a.address < b.end() && b.address < a.end()) {
+        throw ConfigError(fmt::format(
+            "{}: {} ({}) and {} ({}) overlap: every actuator needs registers of its own{}", where,
+            checked[i].name, DescribeField(a), checked[j].name, DescribeField(b), fix));
+      }
+    }
+  }
+  // Coils: one actuator's, or the same role for every actuator that names it.
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = 0; j < n; ++j) {
+      if (i == j) continue;
+      const auto& a = maps[i];
+      const auto& b = maps[j];
+      if (a.enable_coil && b.hold_coil && *a.enable_coil == *b.hold_coil) {
+        throw ConfigError(fmt::format(
+            "{}: coil {} is actuator {}'s enable_coil and actuator {}'s hold_coil: a coil is "
+            "either an enable or a hold; give each its own coil{}", where, *a.enable_coil, i + 1,
+            j + 1, fix));
+      }
+    }
+  }
+}
+
+}  // namespace hybridtest::transfer::modbus
