@@ -27,15 +27,28 @@ std::vector<std::pair<const char*, const RegisterField*>> OwnFields(const Regist
   return fields;
 }
 
-// The readout fields (position, force, ack, status) of every actuator and the lab time.
-std::vector<const RegisterField*> ReadFields(const std::vector<RegisterMap>& maps) {
-  std::vector<const RegisterField*> fields;
+// The readout fields (position, force, ack, status) of each actuator in `table`, and the lab
+// time, as spans [start, end): one per actuator and table (its fields are read together).
+std::vector<std::pair<int, int>> ReadSpans(const std::vector<RegisterMap>& maps, Table table) {
+  std::vector<std::pair<int, int>> spans;
   for (const RegisterMap& m : maps) {
-    for (const RegisterField* f : {&m.position, &m.force, &m.ack}) fields.push_back(f);
-    if (m.status) fields.push_back(&*m.status);
-    if (m.lab_time) fields.push_back(&*m.lab_time);
+    int start = std::numeric_limits<int>::max(), end = -1;
+    for (const auto* f : {&m.position, &m.force, &m.ack}) {
+      if (f->table != table) continue;
+      start = std::min(start, f->address);
+      end = std::max(end, f->end());
+    }
+    if (m.status && m.status->table == table) {
+      start = std::min(start, m.status->address);
+      end = std::max(end, m.status->end());
+    }
+    if (end >= 0) spans.emplace_back(start, end);
+    if (m.lab_time && m.lab_time->table == table) {
+      spans.emplace_back(m.lab_time->address, m.lab_time->end());
+    }
   }
-  return fields;
+  std::sort(spans.begin(), spans.end());
+  return spans;
 }
 
 // Span of actuator 1's fields in `table` (lab time excluded); 0 if it has none there.
@@ -104,22 +117,14 @@ std::vector<WriteBlock> CommandWrites(const std::vector<RegisterMap>& maps) {
 
 std::vector<RegisterBlock> ReadoutBlocks(const std::vector<RegisterMap>& maps) {
   std::vector<RegisterBlock> blocks;
-  const std::vector<const RegisterField*> all = ReadFields(maps);
   for (Table table : {Table::kInput, Table::kHolding}) {
-    std::vector<const RegisterField*> fields;
-    for (const RegisterField* f : all) {
-      if (f->table == table) fields.push_back(f);
-    }
-    std::sort(fields.begin(), fields.end(),
-              [](const RegisterField* a, const RegisterField* b) { return a->address < b->address; });
-    for (const RegisterField* f : fields) {
-      if (!blocks.empty() && blocks.back().table == table &&
-          f->end() - blocks.back().start <= kMaxReadRegisters) {
-        RegisterBlock& b = blocks.back();
-        b.count = std::max(b.count, f->end() - b.start);
-        continue;
+    const std::size_t first = blocks.size();  // this table's blocks start here
+    for (const auto& [start, end] : ReadSpans(maps, table)) {
+      if (blocks.size() > first && end - blocks.back().start <= kMaxReadRegisters) {
+        blocks.back().count = std::max(blocks.back().count, end - blocks.back().start);
+      } else {
+        blocks.push_back({table, start, end - start});
       }
-      blocks.push_back({table, f->address, f->width()});
     }
   }
   return blocks;
