@@ -97,7 +97,7 @@ std::string ControllerStatus(const ModbusServerProcess& server) {
   return observer.Probe()->status;
 }
 
-TEST(ModbusTwoActuators, ContractTheSlotsSeeTheTransformedStiffnessWithin1e9) {
+TEST(ModbusTwoActuatorRun, ContractTheSlotsSeeTheTransformedStiffnessWithin1e9) {
   if (!PymodbusAvailable()) GTEST_SKIP() << kPymodbusMissing;
   auto server = ModbusServerProcess::Pymodbus(Controller());
   const double duration = 10.0;  // 20,001 exchanges
@@ -122,7 +122,7 @@ TEST(ModbusTwoActuators, ContractTheSlotsSeeTheTransformedStiffnessWithin1e9) {
   EXPECT_GT(peak_edge, 1e-4) << "too little motion to test anything";
 }
 
-TEST(ModbusTwoActuators, AFaultOnActuator2StopsTheRunWithBothActuatorsHolding) {
+TEST(ModbusTwoActuatorRun, AFaultOnActuator2StopsTheRunWithBothActuatorsHolding) {
   if (!PymodbusAvailable()) GTEST_SKIP() << kPymodbusMissing;
   const fs::path dir = ResumeTestDir("modbus-2act-fault");
   const fs::path config = ShortExample(dir, "0.2");
@@ -158,7 +158,7 @@ std::vector<std::vector<double>> ReceivedCommands(const fs::path& log) {
   return commands;
 }
 
-TEST(ModbusTwoActuators, KilledAndResumedRunReimposesBothActuators) {
+TEST(ModbusTwoActuatorRun, KilledAndResumedRunReimposesBothActuators) {
   if (!PymodbusAvailable()) GTEST_SKIP() << kPymodbusMissing;
   const fs::path dir = ResumeTestDir("modbus-2act");
   const std::string config = ShortExample(dir, "1.0").string();
