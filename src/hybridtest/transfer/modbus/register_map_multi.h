@@ -1,8 +1,8 @@
 #pragma once
 // Several actuators on one Modbus/TCP controller: one register block per actuator
 // (docs/modbus.md, "Several actuators"). Actuator k has a whole RegisterMap of its own (its
-// command, sequence, position, force, ack, status and coils); units, word and byte order, the
-// status bits and the lab-time register are the controller's and shared by every actuator
+// command, sequence, position, force, ack, status with its bits, and coils); units, word and
+// byte order and the lab-time register are the controller's and shared by every actuator
 // (the lab time is read once, from actuator 1's map).
 //
 //   map:
