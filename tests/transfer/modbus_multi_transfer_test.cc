@@ -107,6 +107,28 @@ TEST(ModbusTwoActuators, BlocksApartAreWrittenOneByOneBeforeAnyAckIsAwaited) {
   EXPECT_DOUBLE_EQ(out[1].force, 1.2 * x1 + 3.0 * x2);
 }
 
+TEST(ModbusTwoActuators, PollsUntilBothLaggedActuatorsAcknowledge) {
+  REQUIRE_PYMODBUS();
+  auto server = ModbusServerProcess::Pymodbus(TwoActuators(
+      {"--actuator", "lag", "--settle-mm", "0.001", "--ack-delay-ms", "30"}));
+  ModbusOptions o = Packed(server);
+  o.poll_interval = 0.002;
+  ModbusTransfer transfer(o);
+  transfer.Activate();
+  std::array<Measurement, 2> out;
+  const std::array<double, 2> c{22.0, 27.0};
+  const long before = transfer.requests();
+  transfer.Execute(c, out);
+  EXPECT_GT(transfer.requests() - before, 3) << "the acks were not awaited";
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_NEAR(out[k].position, c[k], 0.001) << k;  // settled within the tolerance
+    EXPECT_NE(out[k].position, Float32(c[k])) << k;   // ... but not at the command: a real lag
+  }
+  const double x1 = out[0].position - 20.0, x2 = out[1].position - 30.0;
+  EXPECT_NEAR(out[0].force, 5.0 * x1 + 1.2 * x2, 1e-5);
+  EXPECT_NEAR(out[1].force, 1.2 * x1 + 3.0 * x2, 1e-5);
+}
+
 TEST(ModbusTwoActuators, AFaultOnActuator2HoldsBothAndNamesIt) {
   REQUIRE_PYMODBUS();
   auto server = ModbusServerProcess::Pymodbus(TwoActuators({"--fault", "fault@2/2"}));
