@@ -197,6 +197,24 @@ TEST(ModbusMultiMap, TheTransferSectionGivesATransferOfNActuators) {
   const ModbusOptions p = ParseModbusOptions(one, one.root()["transfer"], "transfer", {}, 3.0);
   EXPECT_TRUE(p.maps.empty());
   EXPECT_EQ(ModbusTransfer(p).num_actuators(), 1);
+  // The following error: one for all, or one per actuator.
+  const auto following = [](const std::string& value) {
+    const YamlInput y = YamlInput::FromText(
+        "transfer: {type: modbus, host: h, following_error: " + value + ", map: {actuators: 2}}",
+        "run.yaml");
+    return ParseModbusOptions(y, y.root()["transfer"], "transfer", {}, 3.0);
+  };
+  EXPECT_EQ(following("3").following_error, 3.0);
+  EXPECT_TRUE(following("3").following_errors.empty());
+  EXPECT_EQ(following("[3, 1.5]").following_errors, (std::vector<double>{3.0, 1.5}));
+  try {
+    following("[3, 1.5, 2]");
+    ADD_FAILURE() << "three limits for two actuators";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("run.yaml:1: transfer.following_error: 3 values for the "
+                                         "map's 2 actuators"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(following("[3, -1]"), ConfigError);
   // A hand-built options whose maps disagree on the units is refused.
   ModbusOptions bad = o;
   bad.maps[1].units.length_name = "m";

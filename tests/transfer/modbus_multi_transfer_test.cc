@@ -174,6 +174,33 @@ TEST(ModbusTwoActuators, AMissingAckOnOneActuatorTimesOutNamingItAndHoldsBoth) {
   EXPECT_EQ(status.find("not holding"), std::string::npos) << "both hold: " << status;
 }
 
+TEST(ModbusTwoActuators, EachActuatorHasItsOwnFollowingErrorAndATripHoldsBoth) {
+  REQUIRE_PYMODBUS();
+  // From its first command, actuator 2 measures 3 mm off where it is: within actuator 1's
+  // 5 mm, beyond actuator 2's 2 mm.
+  auto server = ModbusServerProcess::Pymodbus(
+      TwoActuators({"--fault", "offset@1/2", "--offset-mm", "3"}));
+  ModbusOptions o = Packed(server);
+  o.following_errors = {5.0, 2.0};
+  o.position_tolerance = 10.0;  // let the first exchange through to the following error
+  ModbusTransfer transfer(o);
+  transfer.Activate();
+  std::array<Measurement, 2> out;
+  const std::array<double, 2> c{20.5, 30.5};
+  try {
+    transfer.Execute(c, out);
+    ADD_FAILURE() << "no safety stop";
+  } catch (const SafetyStop& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("actuator 2 acknowledged command 30.5 mm"), std::string::npos) << what;
+    EXPECT_NE(what.find("measured position 33.5 mm"), std::string::npos) << what;
+    EXPECT_NE(what.find("> following_error 2 mm"), std::string::npos) << what;
+    EXPECT_NE(what.find("every actuator's hold coil was set"), std::string::npos) << what;
+  }
+  const std::string status = StatusSeenByAnotherClient(server);
+  EXPECT_EQ(status.find("not holding"), std::string::npos) << "both hold: " << status;
+}
+
 TEST(ModbusTwoActuators, HoldSetsEveryHoldCoilAndActivateReleasesThem) {
   REQUIRE_PYMODBUS();
   auto server = ModbusServerProcess::Pymodbus(TwoActuators());

@@ -3,6 +3,9 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
+#include <vector>
+
 #include "hybridtest/common/error.h"
 #include "hybridtest/transfer/modbus/register_map_multi.h"
 #include "hybridtest/transfer/socket.h"
@@ -75,19 +78,38 @@ ModbusOptions ParseModbusOptions(const YamlInput& in, const YAML::Node& node,
   // The following error, in the map's length unit; by default the slot's max_increment.
   const SafetyLimits l = limits != nullptr ? *limits : SafetyLimits{};
   const double metres = o.map.units.metres_per_length_unit;
-  if (node["following_error"]) {
+  if (const YAML::Node f = node["following_error"]; f.IsDefined()) {
+    const std::string fkp = kp + ".following_error";
     const std::string what = fmt::format(
         "the largest |command − measured position| after a move, in the map's length unit ({})",
         o.map.units.length_name);
-    o.following_error = in.PositiveNumber(node["following_error"], kp + ".following_error", what);
-    if (*o.following_error * metres > l.stroke_max - l.stroke_min) {
-      throw ConfigError(fmt::format(
-          "{}: {} {} is longer than the whole stroke ({} m to {} m), so it "
-          "could never stop anything: give it in {} (the map's length unit), e.g. the slot's "
-          "max_increment {} {}", in.Where(node["following_error"], kp + ".following_error"),
-          *o.following_error, o.map.units.length_name, l.stroke_min, l.stroke_max,
-          o.map.units.length_name, l.max_increment / metres, o.map.units.length_name));
+    // A list: one limit per actuator of the map.
+    const std::size_t n = std::max<std::size_t>(1, o.maps.size());
+    std::vector<double> limits;
+    if (f.IsSequence()) {
+      if (f.size() != n) {
+        throw ConfigError(fmt::format("{}: {} values for the map's {} actuator{}: give one "
+                                      "limit per actuator, or one for all",
+                                      in.Where(f, fkp), f.size(), n, n == 1 ? "" : "s"));
+      }
+      for (std::size_t k = 0; k < n; ++k) {
+        limits.push_back(in.PositiveNumber(f[k], fmt::format("{}[{}]", fkp, k), what));
+      }
+    } else {
+      limits.push_back(in.PositiveNumber(f, fkp, what));
     }
+    for (double limit : limits) {
+      if (limit * metres > l.stroke_max - l.stroke_min) {
+        throw ConfigError(fmt::format(
+            "{}: {} {} is longer than the whole stroke ({} m to {} m), so it "
+            "could never stop anything: give it in {} (the map's length unit), e.g. the slot's "
+            "max_increment {} {}", in.Where(f, fkp), limit, o.map.units.length_name,
+            l.stroke_min, l.stroke_max, o.map.units.length_name, l.max_increment / metres,
+            o.map.units.length_name));
+      }
+    }
+    o.following_error = limits[0];
+    if (f.IsSequence() && n > 1) o.following_errors = limits;
   } else {
     o.following_error = l.max_increment / metres;
   }

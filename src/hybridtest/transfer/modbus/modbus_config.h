@@ -18,6 +18,9 @@
 //                               #   the ack is in, in the map's length unit (default: the
 //                               #   slot's safety.max_increment; refused if longer than the
 //                               #   stroke). Beyond it: SafetyStop "following_error".
+//                               #   Several actuators: one value for all, or a list of one
+//                               #   per actuator (default 5 mm: a substructure of several
+//                               #   actuators passes no slot limits)
 //     map: {...}                # register map (register_map.h); default profile if absent;
 //                               #   `actuators: n` with `stride:` or `per_actuator:` for a
 //                               #   controller of several actuators (register_map_multi.h)

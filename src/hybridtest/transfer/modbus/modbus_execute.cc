@@ -161,11 +161,13 @@ void ModbusTransfer::Execute(std::span<const double> commands, std::span<Measure
     }
     // 4. Every exchange: the settled actuator must be where it was sent.
     const double following = std::abs(commands[k] - r[k].position);
-    if (!(following <= *options_.following_error)) {
+    const double limit =
+        options_.following_errors.empty() ? *options_.following_error : options_.following_errors[k];
+    if (!(following <= limit)) {
       Hold();
       const double metres = options_.map.units.metres_per_length_unit;
       throw SafetyStop(
-          "following_error", following * metres, *options_.following_error * metres, -1, -1, {},
+          "following_error", following * metres, limit * metres, -1, -1, {},
           fmt::format("T{} acknowledged command {} {} (sequence {}) but measured position {} {}: "
                       "|command − position| = {} {} > following_error {} {} ({}). The actuator "
                       "is not where it was sent (blocked or slipping, a drive that ignores "
@@ -173,7 +175,7 @@ void ModbusTransfer::Execute(std::span<const double> commands, std::span<Measure
                       "controller; the limit is transfer.following_error (the map's length unit; "
                       "default the slot's safety.max_increment)",
                       Subject(k).substr(1), commands[k], unit, sequence[k], r[k].position, unit,
-                      following, unit, *options_.following_error, unit, Describe(r[k], k), held));
+                      following, unit, limit, unit, Describe(r[k], k), held));
     }
   }
   first_exchange_ = false;

@@ -74,6 +74,17 @@ ModbusTransfer::ModbusTransfer(ModbusOptions options)
     throw ConfigError(fmt::format("modbus transfer: unit_id = {}: expected 0..255 (usually 1; "
                                   "255 addresses a Modbus/TCP device directly)", o.unit_id));
   }
+  if (!o.following_errors.empty() && o.following_errors.size() != o.maps.size()) {
+    throw ConfigError(fmt::format("modbus transfer: {} following errors for {} actuators: give "
+                                  "one per actuator", o.following_errors.size(), o.maps.size()));
+  }
+  for (double limit : o.following_errors) {
+    if (!(limit > 0.0) || !std::isfinite(limit)) {
+      throw ConfigError(fmt::format("modbus transfer: following_error {} {}: expected a positive "
+                                    "distance in the map's length unit", limit,
+                                    o.map.units.length_name));
+    }
+  }
   for (const RegisterMap& m : o.maps) {
     const BenchUnits& u = m.units;
     if (u.length_name != o.map.units.length_name || u.force_name != o.map.units.force_name ||

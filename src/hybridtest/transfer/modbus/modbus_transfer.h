@@ -97,6 +97,9 @@ struct ModbusOptions {
   // length unit. Unset: 5 mm (SafetyLimits' default max_increment) in the map's units;
   // ParseModbusOptions sets it from the slot's safety.max_increment.
   std::optional<double> following_error;
+  // Several actuators: one following error each (bench length unit); empty: following_error
+  // for every actuator.
+  std::vector<double> following_errors;
 };
 
 class ModbusTransfer final : public TransferSystem {
