@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstdio>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -105,6 +107,26 @@ TEST(ModbusTwoActuators, BlocksApartAreWrittenOneByOneBeforeAnyAckIsAwaited) {
   const double x1 = c[0] - 20.0, x2 = c[1] - 30.0;
   EXPECT_DOUBLE_EQ(out[0].force, 5.0 * x1 + 1.2 * x2);
   EXPECT_DOUBLE_EQ(out[1].force, 1.2 * x1 + 3.0 * x2);
+}
+
+TEST(ModbusTwoActuators, ACommandOneActuatorsTypeCannotHoldSendsNone) {
+  REQUIRE_PYMODBUS();
+  const std::string log = ::testing::TempDir() + "modbus_multi_none_sent.log";
+  std::remove(log.c_str());
+  auto server = ModbusServerProcess::Pymodbus(TwoActuators({"--log-commands", log}));
+  ModbusOptions o = Packed(server);
+  // Actuator 2's command in counts of 0.01 mm (int16): 400 mm does not fit. Its block lies
+  // apart from actuator 1's, so that the two are two writes.
+  o.maps[1].command = {Table::kHolding, 10, ValueType::kInt16, 0.01};
+  o.maps[1].sequence.address = 11;
+  ModbusTransfer transfer(o);
+  transfer.Activate();
+  std::array<Measurement, 2> out;
+  const std::array<double, 2> c{20.5, 400.0};
+  EXPECT_THROW(transfer.Execute(c, out), TransferError);
+  std::ifstream in(log);
+  std::string line;
+  EXPECT_FALSE(std::getline(in, line)) << "a command was sent: " << line;
 }
 
 TEST(ModbusTwoActuators, PollsUntilBothLaggedActuatorsAcknowledge) {

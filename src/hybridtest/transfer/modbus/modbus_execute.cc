@@ -1,5 +1,6 @@
 // ModbusTransfer::Execute (modbus_transfer.h): write every actuator's command and sequence,
 // poll until every actuator acknowledges its own, check what came back.
+#include <errno.h>
 #include <fmt/core.h>
 #include <modbus.h>
 
@@ -64,23 +65,32 @@ void ModbusTransfer::Execute(std::span<const double> commands, std::span<Measure
   std::vector<std::uint64_t> sequence(n);
   for (std::size_t k = 0; k < n; ++k) sequence[k] = (last_ack_[k] + 1) % maps_[k].sequence_modulus();
   const std::string sequences = List<std::uint64_t>(sequence);
-  // 1. Every command with its sequence (function 16): one write per run of adjacent blocks.
+  // 1. Every command with its sequence (function 16): one write per run of adjacent blocks,
+  // every one encoded first (a command its type cannot hold is refused before any is sent).
+  std::vector<std::vector<std::uint16_t>> encoded;
   for (const WriteBlock& w : writes_) {
-    std::vector<std::uint16_t> words(static_cast<std::size_t>(w.block.count));
-    std::vector<double> these;
-    std::vector<std::uint64_t> their;
+    std::vector<std::uint16_t>& words = encoded.emplace_back(static_cast<std::size_t>(w.block.count));
     for (int a : w.actuators) {
       const auto k = static_cast<std::size_t>(a);
       const RegisterMap& m = maps_[k];
       EncodeValue(m, m.command, commands[k], words.data() + (m.command.address - w.block.start));
       EncodeValue(m, m.sequence, static_cast<double>(sequence[k]),
                   words.data() + (m.sequence.address - w.block.start));
-      these.push_back(commands[k]);
-      their.push_back(sequence[k]);
     }
+  }
+  for (std::size_t i = 0; i < writes_.size(); ++i) {
+    const WriteBlock& w = writes_[i];
     ++requests_;
-    if (modbus_write_registers(ctx_, w.block.start, w.block.count, words.data()) !=
+    if (modbus_write_registers(ctx_, w.block.start, w.block.count, encoded[i].data()) !=
         w.block.count) {
+      const int error = errno;
+      if (i > 0) HoldIfSeveral();  // an earlier write went through: that actuator moves
+      std::vector<double> these;
+      std::vector<std::uint64_t> their;
+      for (int a : w.actuators) {
+        these.push_back(commands[static_cast<std::size_t>(a)]);
+        their.push_back(sequence[static_cast<std::size_t>(a)]);
+      }
       std::vector<int> numbers;
       for (int a : w.actuators) numbers.push_back(a + 1);
       const std::string whose = several ? fmt::format("actuator{} {} ",
@@ -90,7 +100,7 @@ void ModbusTransfer::Execute(std::span<const double> commands, std::span<Measure
       FailRequest(fmt::format("to accept {}command {} {} with sequence {} (write of holding "
                               "registers {}–{})", whose, List<double>(these), unit,
                               List<std::uint64_t>(their), w.block.start,
-                              w.block.start + w.block.count - 1));
+                              w.block.start + w.block.count - 1), error);
     }
   }
   // 2. Poll until every actuator acknowledges its own sequence.
