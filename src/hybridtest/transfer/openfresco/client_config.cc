@@ -41,15 +41,17 @@ void CheckDofsAgainstSubstructure(const YamlInput& in, const YAML::Node& node,
                                   const std::string& kp, int dofs) {
   const YAML::Node sub = SubstructureOf(in, kp);
   if (!sub.IsDefined()) return;  // not a run config's substructure: nothing to compare with
+  const auto defined = [](const YAML::Node& n) { return n.IsDefined() && !n.IsNull(); };
   const YAML::Node setup = sub["setup"];
-  const YAML::Node transform = setup.IsMap() ? setup["transform"] : YAML::Node();
+  const YAML::Node transform =
+      defined(setup) && setup.IsMap() ? setup["transform"] : YAML::Node();
   int channels = 1;
   std::string what = "serves one slot";
-  if (transform.IsDefined() && transform.IsSequence()) {
+  if (defined(transform) && transform.IsSequence()) {
     channels = static_cast<int>(transform.size());
     what = fmt::format("drives {} actuator{} (the rows of its setup.transform)", channels,
                        channels == 1 ? "" : "s");
-  } else if (sub["slots"].IsSequence()) {
+  } else if (defined(sub["slots"]) && sub["slots"].IsSequence()) {
     channels = static_cast<int>(sub["slots"].size());
     what = fmt::format("serves {} slots", channels);
   }
