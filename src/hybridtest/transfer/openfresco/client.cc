@@ -144,10 +144,14 @@ void Client::Execute(std::span<const double> commands, std::span<Measurement> ou
                                     options_.port, commands.size(), out.size(), n));
   }
   const long count = ++commands_;
-  if (socket_.is_open()) CheckNothingPending(fmt::format("command {}", count - 1));
+  // Bytes left over from the last reply (a late tail of a reply longer than dataSize).
+  if (socket_.is_open() && count > 1) {
+    CheckNothingPending(fmt::format("getForce of command {}", count - 1));
+  }
   std::copy(commands.begin(), commands.end(), trial_.begin() + 1);
   Send(trial_, fmt::format("the trial response of command {}", count));
-  const std::vector<double> disp = Request(Action::kGetDisp, fmt::format("getDisp of command {}", count));
+  const std::vector<double> disp =
+      Request(Action::kGetDisp, fmt::format("getDisp of command {}", count));
   const std::vector<double> force =
       Request(Action::kGetForce, fmt::format("getForce of command {}", count));
   const double lab_time =
