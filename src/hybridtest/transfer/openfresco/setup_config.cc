@@ -55,7 +55,9 @@ std::pair<YAML::Node, std::string> FindSection(const YamlInput& file, const std:
   if (!top && !inner) {
     throw ConfigError(fmt::format(
         "{}: no 'openfresco:' section; --protocol openfresco needs one with `units:` and "
-        "`transform: [[t1, ..., tn]]` (see examples/rotor/bench-openfresco.yaml)", path));
+        "`transform: [[t1, ..., tn]]`, one row per actuator (see "
+        "examples/rotor/bench-openfresco.yaml, examples/06_blade_two_actuators/"
+        "bench-2act-openfresco.yaml)", path));
   }
   return top ? std::pair{top, fmt::format("{}: openfresco", path)}
              : std::pair{inner, fmt::format("{}: bench.openfresco", path)};
