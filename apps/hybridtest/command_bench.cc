@@ -13,7 +13,8 @@
 // (docs/real-time.md, "Over TCP"). The safety limits and p0 are the slot's.
 //
 // --protocol openfresco serves OpenFresco's generic TCP protocol instead (OpenSees's
-// `expElement genericClient`; docs/openfresco.md), with the config's `openfresco:` setup.
+// `expElement genericClient`; docs/openfresco.md), with the config's `openfresco:` setup (one
+// row of its transform per actuator for a bench file with `actuators:`).
 //
 // The token comes from --token-file or the environment (HYBRIDTEST_BENCH_TOKEN), never from
 // the command line, which every user of the machine can read in /proc/PID/cmdline.
