@@ -13,7 +13,8 @@
 // (docs/real-time.md, "Over TCP"). The safety limits and p0 are the slot's.
 //
 // --protocol openfresco serves OpenFresco's generic TCP protocol instead (OpenSees's
-// `expElement genericClient`; docs/openfresco.md), with the config's `openfresco:` setup.
+// `expElement genericClient`; docs/openfresco.md), with the config's `openfresco:` setup (one
+// row of its transform per actuator for a bench file with `actuators:`).
 //
 // The token comes from --token-file or the environment (HYBRIDTEST_BENCH_TOKEN), never from
 // the command line, which every user of the machine can read in /proc/PID/cmdline.
@@ -103,6 +104,21 @@ void ServeOpenFresco(const BenchArgs& args, const transfer::EmulatedBenchConfig&
   ServeUntilSignal(server, g_openfresco_server);
 }
 
+// --protocol openfresco with a bench of several actuators: T of one row per actuator. The
+// coupled prediction uses the section's `initial_stiffness` matrix, else the specimen's.
+void ServeOpenFrescoMulti(const BenchArgs& args, const transfer::MultiBenchConfig& config,
+                          transfer::TransferSystem& bench, transfer::BenchServerOptions options) {
+  transfer::openfresco::ExpSetup setup = transfer::openfresco::LoadMultiSetup(args.config, config);
+  options.actuator_stiffness.reset();  // the server takes the setup's K_a
+  transfer::openfresco::Server server(bench, std::move(setup), options);
+  std::printf("hybridtest bench: listening on %s (OpenFresco protocol, n = %d, %d actuators; %s; "
+              "token %s)\n", server.address().c_str(), server.setup().dofs(),
+              server.setup().actuators, bench.Describe().c_str(),
+              options.token.empty() ? "none" : "required");
+  std::fflush(stdout);
+  ServeUntilSignal(server, g_openfresco_server);
+}
+
 // --real-time CONFIG: the first physical slot's rt_plant, paced on this process's clock.
 void ServeRealTime(const BenchArgs& args, transfer::BenchServerOptions options) {
   const io::RunSpec spec = io::LoadRunSpec(args.real_time);
@@ -150,10 +166,9 @@ void RunBench(const BenchArgs& args) {
   std::optional<MultiBenchConfig> multi;
   if (!args.config.empty() && IsMultiBenchFile(args.config)) {
     multi = LoadMultiBenchConfig(args.config);
-    if (args.protocol == "openfresco" || !args.inject.empty()) {
-      throw ConfigError(fmt::format("{}: a bench of several actuators serves the hybridtest "
-                                    "protocol without --inject; remove --protocol openfresco and "
-                                    "--inject", args.config));
+    if (!args.inject.empty()) {
+      throw ConfigError(fmt::format("{}: a bench of several actuators serves without --inject; "
+                                    "remove --inject", args.config));
     }
   }
   const EmulatedBenchConfig config =
@@ -187,7 +202,9 @@ void RunBench(const BenchArgs& args) {
   std::unique_ptr<TransferSystem> served;
   if (multi) {
     for (const auto& a : multi->actuators) options.start_positions.push_back(a.initial_position);
+    options.actuator_stiffness = multi->stiffness;  // the coupled force prediction
     served = std::make_unique<MultiEmulatedBench>(*multi);
+    if (args.protocol == "openfresco") return ServeOpenFrescoMulti(args, *multi, *served, options);
   } else {
     std::unique_ptr<EmulatedBench> one = MakeEmulatedBench(config);
     if (args.protocol == "openfresco") return ServeOpenFresco(args, config, *one, options);

@@ -58,6 +58,7 @@ BenchServer::BenchServer(TransferSystem& bench, BenchServerOptions options)
     for (std::size_t k = 0; k < n && k < options_.start_positions.size(); ++k) {
       group_->monitor(static_cast<int>(k)).SetStartPosition(options_.start_positions[k]);
     }
+    if (options_.actuator_stiffness) UseCoupledStiffness(*group_, *options_.actuator_stiffness);
   }
 }
 

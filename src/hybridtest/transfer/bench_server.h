@@ -19,6 +19,8 @@
 //    the bench's BenchUnits) before the bench moves. A refused command is answered with
 //    ERROR(SAFETY, limit, value, limit value), the bench holds, and every further COMMAND of
 //    that session is refused the same way (the refusal latches until the client reconnects).
+//    A bench of several actuators checks the whole command vector before any actuator moves,
+//    with the coupled force prediction when options.actuator_stiffness is given.
 //  - Every measurement is checked too (finite, |force| ≤ force_hard); a violation is
 //    answered with ERROR(SAFETY) and latches in the same way.
 //  - On a silent client (no frame for heartbeat_timeout), a malformed frame, an unexpected
@@ -68,6 +70,12 @@ struct BenchServerOptions {
                                          // that its increment is checked. Unit: [m].
   std::optional<double> initial_stiffness;  // for the force prediction before two
                                             // measurements exist. Unit: [N/m].
+  // A bench of several actuators: the specimen's stiffness in actuator coordinates (n × n),
+  // when known (a bench file's specimen, an `initial_stiffness` matrix). Every command vector
+  // is then checked with the coupled prediction f_last + K_a (a − x_last), so a move of one
+  // actuator loads the others (safety_gate_group.h); its diagonal is each actuator's own
+  // stiffness until every actuator has a measurement. Unit: [N/m].
+  std::optional<Eigen::MatrixXd> actuator_stiffness;
   std::vector<Fault> faults;       // TEST FACILITY ONLY (bench_faults.h); empty in real use
   std::function<void(const std::string&)> log;  // one line per event; may be empty
 };

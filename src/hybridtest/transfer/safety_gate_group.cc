@@ -22,6 +22,11 @@ void SafetyGateGroup::SetStiffness(const Eigen::MatrixXd& k) {
   stiffness_ = k;
 }
 
+void UseCoupledStiffness(SafetyGateGroup& group, const Eigen::MatrixXd& k) {
+  group.SetStiffness(k);
+  for (int a = 0; a < group.size(); ++a) group.monitor(a).SetInitialStiffness(k(a, a));
+}
+
 Eigen::VectorXd PredictCoupledForces(const std::vector<SafetyMonitor>& monitors,
                                      const Eigen::MatrixXd& stiffness,
                                      const std::vector<double>& commands_m) {

@@ -40,6 +40,13 @@ Eigen::VectorXd PredictCoupledForces(const std::vector<SafetyMonitor>& monitors,
                                      const Eigen::MatrixXd& stiffness,
                                      const std::vector<double>& commands_m);
 
+class SafetyGateGroup;
+// Gives `group` the specimen's stiffness in actuator coordinates (n × n) [N/m]: the coupled
+// prediction (SetStiffness), and each monitor its diagonal term as the initial stiffness of its
+// own prediction until every actuator has a measurement. Throws ConfigError unless it is a
+// finite n × n matrix. Used by the servers (bench_server.h, openfresco/server.h).
+void UseCoupledStiffness(SafetyGateGroup& group, const Eigen::MatrixXd& actuator_stiffness);
+
 class SafetyGateGroup {
  public:
   // One monitor per actuator. Throws ConfigError if a set of limits is inconsistent or the

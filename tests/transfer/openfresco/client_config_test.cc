@@ -114,5 +114,43 @@ TEST(OpenFrescoClientConfig, TokenComesFromTheFileOrTheEnvironment) {
   std::filesystem::remove_all(dir);
 }
 
+// `dofs:` against the substructure the transfer belongs to (found from the document's root).
+std::string DofsErrorOf(const std::string& substructure) {
+  const YamlInput in = YamlInput::FromText("substructures:\n  blade1: " + substructure, "run.yaml");
+  try {
+    auto t = MakeClientTransfer(in, in.root()["substructures"]["blade1"]["transfer"],
+                                "substructures.blade1.transfer", std::nullopt, 3.0);
+    return "accepted, n = " + std::to_string(t->num_actuators());
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+}
+
+TEST(OpenFrescoClientConfig, DofsMatchTheSubstructuresActuators) {
+  const std::string two =
+      "{type: physical, slots: [r_flap, r_edge], setup: {p0: [0, 0], transform: [[1, 0], [0, "
+      "1]]}, transfer: {type: openfresco, host: h, port: 1";
+  EXPECT_EQ(DofsErrorOf(two + ", dofs: 2}}"), "accepted, n = 2");
+  EXPECT_EQ(DofsErrorOf("{type: physical, transfer: {type: openfresco, host: h, port: 1}}"),
+            "accepted, n = 1");
+  // Two slots, the default dofs (1): the fix is `dofs: 2`.
+  std::string what = DofsErrorOf(two + "}}");
+  EXPECT_NE(what.find("run.yaml:2"), std::string::npos) << what;
+  EXPECT_NE(what.find("dofs = 1 (the default"), std::string::npos) << what;
+  EXPECT_NE(what.find("substructures.blade1 drives 2 actuators"), std::string::npos) << what;
+  EXPECT_NE(what.find("give `dofs: 2`"), std::string::npos) << what;
+  // dofs: 3 on two slots; dofs: 2 on one slot (the fix names the identity setup).
+  what = DofsErrorOf(two + ", dofs: 3}}");
+  EXPECT_NE(what.find("substructures.blade1.transfer.dofs"), std::string::npos) << what;
+  EXPECT_NE(what.find("dofs = 3"), std::string::npos) << what;
+  what = DofsErrorOf("{type: physical, transfer: {type: openfresco, host: h, port: 1, dofs: 2}}");
+  EXPECT_NE(what.find("serves one slot"), std::string::npos) << what;
+  EXPECT_NE(what.find("transform: [[1, 0], [0, 1]]"), std::string::npos) << what;
+  EXPECT_NE(what.find("p0: [0, 0]"), std::string::npos) << what;
+  EXPECT_NE(DofsErrorOf(two + ", dofs: 0}}").find("1 to 1024"), std::string::npos);
+  EXPECT_NE(DofsErrorOf(two + ", dofs: two}}").find("substructures.blade1.transfer.dofs"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace hybridtest::transfer::openfresco

@@ -12,12 +12,78 @@
 #include "hybridtest/transfer/socket.h"
 
 namespace hybridtest::transfer::openfresco {
+namespace {
+
+// The substructure whose `transfer:` is at `kp` ("substructures.NAME.transfer"), found from
+// the document's root; an undefined node when kp does not lead to one.
+YAML::Node SubstructureOf(const YamlInput& in, const std::string& kp) {
+  const std::string suffix = ".transfer";
+  if (kp.size() <= suffix.size() || kp.compare(kp.size() - suffix.size(), suffix.size(), suffix) != 0) {
+    return YAML::Node(YAML::NodeType::Undefined);
+  }
+  const std::string path = kp.substr(0, kp.size() - suffix.size());
+  YAML::Node node = in.root();
+  std::size_t at = 0;
+  while (at <= path.size()) {
+    const std::size_t dot = std::min(path.find('.', at), path.size());
+    const YAML::Node& here = node;
+    const YAML::Node child = here.IsMap() ? here[path.substr(at, dot - at)] : YAML::Node();
+    if (!child.IsDefined() || child.IsNull()) return YAML::Node(YAML::NodeType::Undefined);
+    node.reset(child);  // rebinds the handle; never writes into the document
+    at = dot + 1;
+  }
+  return node.IsMap() ? node : YAML::Node(YAML::NodeType::Undefined);
+}
+
+// The element's n must be the number of actuators the substructure drives: the rows of its
+// `setup.transform` (several slots), else 1. Throws ConfigError naming `dofs` and the fix.
+void CheckDofsAgainstSubstructure(const YamlInput& in, const YAML::Node& node,
+                                  const std::string& kp, int dofs) {
+  const YAML::Node sub = SubstructureOf(in, kp);
+  if (!sub.IsDefined()) return;  // not a run config's substructure: nothing to compare with
+  const auto defined = [](const YAML::Node& n) { return n.IsDefined() && !n.IsNull(); };
+  const YAML::Node setup = sub["setup"];
+  const YAML::Node transform =
+      defined(setup) && setup.IsMap() ? setup["transform"] : YAML::Node();
+  int channels = 1;
+  std::string what = "serves one slot";
+  if (defined(transform) && transform.IsSequence()) {
+    channels = static_cast<int>(transform.size());
+    what = fmt::format("drives {} actuator{} (the rows of its setup.transform)", channels,
+                       channels == 1 ? "" : "s");
+  } else if (defined(sub["slots"]) && sub["slots"].IsSequence()) {
+    channels = static_cast<int>(sub["slots"].size());
+    what = fmt::format("serves {} slots", channels);
+  }
+  if (channels == dofs) return;
+  const std::string name = kp.substr(0, kp.size() - std::string(".transfer").size());
+  std::string identity, zeros;
+  for (int i = 0; i < dofs; ++i) {
+    zeros += i == 0 ? "0" : ", 0";
+    identity += i == 0 ? "[" : ", [";
+    for (int j = 0; j < dofs; ++j) identity += fmt::format("{}{}", j == 0 ? "" : ", ", i == j ? 1 : 0);
+    identity += "]";
+  }
+  const std::string fix =
+      dofs == 1 ? fmt::format("give `dofs: {}` (one degree of freedom per actuator)", channels)
+                : fmt::format("give `dofs: {}`, or serve {} slots with `slots: [..]` and `setup: "
+                              "{{p0: [{}], transform: [{}]}}` (the site applies its own setup)",
+                              channels, dofs, zeros, identity);
+  throw ConfigError(fmt::format(
+      "{}: the OpenFresco element has dofs = {}{} but substructure {} {}: one degree of freedom "
+      "of the element per actuator; {}",
+      node["dofs"] ? in.Where(node["dofs"], kp + ".dofs") : in.Where(node, kp), dofs,
+      node["dofs"] ? "" : " (the default: no `dofs:`)", name, what, fix));
+}
+
+}  // namespace
 
 ClientOptions ParseClientOptions(const YamlInput& in, const YAML::Node& node,
                                  const std::string& kp,
                                  const std::optional<std::string>& bench_address,
                                  double reply_timeout) {
-  in.CheckKeys(node, kp, {"type", "host", "port", "units", "timeout", "token", "token_file"});
+  in.CheckKeys(node, kp, {"type", "host", "port", "units", "timeout", "token", "token_file",
+                             "dofs"});
   ClientOptions client;
   if (bench_address && !bench_address->empty()) {
     const HostPort hp = ParseHostPort(*bench_address, "--bench");
@@ -56,6 +122,14 @@ ClientOptions ParseClientOptions(const YamlInput& in, const YAML::Node& node,
   } else {
     client.token = TokenFromEnvironment();
   }
+  if (node["dofs"]) {
+    client.dofs = in.Integer(node["dofs"], kp + ".dofs", "the element's degrees of freedom");
+    if (client.dofs < 1 || client.dofs > kMaxDofs) {
+      in.ThrowValue(node["dofs"], kp + ".dofs",
+                    fmt::format("the element's degrees of freedom, 1 to {}", kMaxDofs));
+    }
+  }
+  CheckDofsAgainstSubstructure(in, node, kp, client.dofs);
   client.reply_timeout = node["timeout"]
                              ? in.PositiveNumber(node["timeout"], kp + ".timeout", "seconds")
                              : reply_timeout;

@@ -1,6 +1,7 @@
 // See server.h.
 #include "hybridtest/transfer/openfresco/server.h"
 
+#include <Eigen/Core>
 #include <fmt/core.h>
 #include <poll.h>
 
@@ -10,6 +11,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/transfer/handshake_queue.h"
+#include "hybridtest/transfer/openfresco/server_session.h"
 
 namespace hybridtest::transfer::openfresco {
 namespace {
@@ -34,29 +36,8 @@ BenchServerOptions CheckOptions(BenchServerOptions options) {
   return options;
 }
 
-// True if the peer of `fd` has closed or reset its end, even with bytes still unread.
-bool PeerHasLeft(int fd) {
-  pollfd p{fd, POLLRDHUP, 0};
-  if (poll(&p, 1, 0) < 0) return false;
-  return (p.revents & (POLLRDHUP | POLLHUP | POLLERR)) != 0;
-}
-
 }  // namespace
 
-struct Server::Session {
-  Session(Socket socket, std::string peer_address)
-      : client(std::move(socket)), peer(std::move(peer_address)) {}
-  Socket client;
-  std::string peer;                  // the client's address (auth throttle, logs)
-  Header header;
-  std::vector<double> trial_vel;     // last trial velocities (wire units), n or empty
-  std::vector<double> trial_accel;   // last trial accelerations (wire units), n or empty
-  bool measured = false;             // a trial has been executed in this session
-  double offset = 0.0;               // measured position − p0. Unit: [m].
-  std::vector<double> offsets, forces;  // several actuators: per actuator. Units: [m], [N].
-  double force = 0.0;                // measured force. Unit: [N].
-  double lab_time = 0.0;             // lab time of the measurement. Unit: [s].
-};
 
 Server::Server(TransferSystem& bench, ExpSetup setup, BenchServerOptions options)
     : bench_(bench),
@@ -80,6 +61,11 @@ Server::Server(TransferSystem& bench, ExpSetup setup, BenchServerOptions options
     for (std::size_t k = 0; k < na && k < options_.start_positions.size(); ++k) {
       group_->monitor(static_cast<int>(k)).SetStartPosition(options_.start_positions[k]);
     }
+    // The coupled force prediction: the options' matrix, else the setup's K_a.
+    const Eigen::MatrixXd setup_k = Eigen::Map<const Eigen::Matrix<
+        double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+        setup_.stiffness_matrix.data(), setup_.actuators, setup_.actuators);
+    UseCoupledStiffness(*group_, options_.actuator_stiffness.value_or(setup_k));
   }
 }
 
@@ -246,162 +232,6 @@ bool Server::OpenSession(Session& session, const std::vector<std::uint8_t>& byte
   Log(fmt::format("OpenFresco client connected from {}: n = {}, dataSize = {}", session.peer,
                   setup_.dofs(), session.header.data_size));
   return true;
-}
-
-bool Server::HandleMessage(Session& session, const std::vector<double>& message) {
-  const int n = setup_.dofs();
-  const int action = ActionOf(message);
-  switch (action) {
-    case static_cast<int>(Action::kSetTrialResponse):
-      return HandleTrial(session, message);
-    case static_cast<int>(Action::kCommitState):
-      return true;
-    case static_cast<int>(Action::kGetDaqResponse):
-      return Reply(session, DaqResponse(session));
-    case static_cast<int>(Action::kGetDisp):
-      if (!session.measured) return Reply(session, std::vector<double>(n, 0.0));
-      return Reply(session, group_ ? ElementDisplacementOf(setup_, session.offsets)
-                                   : ElementDisplacement(setup_, session.offset));
-    case static_cast<int>(Action::kGetVel):
-      return Reply(session, session.trial_vel.empty()
-                                ? std::vector<double>(n, 0.0)
-                                : group_ ? ProjectOnActuators(setup_, session.trial_vel)
-                                         : ProjectOnActuator(setup_, session.trial_vel));
-    case static_cast<int>(Action::kGetAccel):
-      return Reply(session, session.trial_accel.empty()
-                                ? std::vector<double>(n, 0.0)
-                                : group_ ? ProjectOnActuators(setup_, session.trial_accel)
-                                         : ProjectOnActuator(setup_, session.trial_accel));
-    case static_cast<int>(Action::kGetForce):
-      if (group_) {
-        return Reply(session, session.measured ? ElementForcesOf(setup_, session.forces)
-                                               : std::vector<double>(n, 0.0));
-      }
-      return Reply(session, ElementForces(setup_, session.measured ? session.force : 0.0));
-    case static_cast<int>(Action::kGetTime):
-      return Reply(session, {session.lab_time});
-    case static_cast<int>(Action::kGetInitialStiff):
-    case static_cast<int>(Action::kGetTangentStiff):
-      return Reply(session, group_ ? ElementStiffnessOf(setup_)
-                                   : ElementStiffness(setup_, setup_.initial_stiffness));
-    case static_cast<int>(Action::kGetDamp):
-    case static_cast<int>(Action::kGetMass):
-      return Reply(session, std::vector<double>(static_cast<std::size_t>(n) * n, 0.0));
-    case static_cast<int>(Action::kShutdown):
-      HoldBench("client sent shutdown (98)");
-      return false;
-    case static_cast<int>(Action::kDie):
-      HoldBench("client ended the session (99)");
-      return false;
-    default:
-      Log(fmt::format("ERROR: action {} ({}) is not served; expected 3, 5, 6, 7-15, 98 or 99",
-                      message.empty() ? 0.0 : message[0], ActionName(action)));
-      HoldBench("unknown action");
-      return false;
-  }
-}
-
-bool Server::HandleTrial(Session& session, const std::vector<double>& message) {
-  const auto& size = session.header.size_ctrl;
-  // A trial whose client is gone (it gave up waiting, or vanished) is stale: never executed.
-  if (PeerHasLeft(session.client.fd())) {
-    Log(fmt::format("ERROR: trial {} not executed: the client at {} has closed its connection "
-                    "(a trial whose client is gone never moves the bench)", trials_.load() + 1,
-                    session.peer));
-    HoldBench("client left before its trial was executed");
-    return false;
-  }
-  const long count = ++trials_;
-  // [3 | d | v | a | force | time]: every value must be finite.
-  const std::size_t used = 1 + static_cast<std::size_t>(size[0] + size[1] + size[2] + size[3] +
-                                                        size[4]);
-  for (std::size_t i = 1; i < used; ++i) {
-    if (!std::isfinite(message[i])) {
-      Log(fmt::format("ERROR: trial {}: word {} is {}; expected finite values", count, i,
-                      message[i]));
-      HoldBench("non-finite trial response");
-      return false;
-    }
-  }
-  const std::span<const double> words(message);
-  const auto block = [&](int index) {
-    std::size_t start = 1;
-    for (int k = 0; k < index; ++k) start += static_cast<std::size_t>(size[k]);
-    return std::vector<double>(words.begin() + static_cast<long>(start),
-                               words.begin() + static_cast<long>(start + size[index]));
-  };
-  const std::vector<double> d = block(kDisp);
-  session.trial_vel = size[kVel] == size[kDisp] ? block(kVel) : std::vector<double>();
-  session.trial_accel = size[kAccel] == size[kDisp] ? block(kAccel) : std::vector<double>();
-  // Check, move, check, as BenchServer does; a refusal or a bench failure ends the session.
-  const double command = ActuatorCommand(setup_, d);  // [m]
-  const double m_per_unit = bench_units_.metres_per_length_unit;
-  const double n_per_unit = bench_units_.newtons_per_force_unit;
-  const auto resume = [&] {
-    if (bench_held_) {
-      bench_.Activate();
-      bench_held_ = false;
-    }
-  };
-  try {
-    if (group_) {  // every actuator, every command checked before any moves
-      std::vector<GatedMove> moves;
-      group_->Move(bench_, ActuatorCommands(setup_, d), {count, 0},
-                   std::vector<double>(setup_.p0s.size(), 0.0), moves, resume);
-      session.offsets.clear();
-      session.forces.clear();
-      for (std::size_t k = 0; k < moves.size(); ++k) {
-        session.offsets.push_back(moves[k].position - setup_.p0s[k]);
-        session.forces.push_back(moves[k].force);
-      }
-      session.measured = true;
-      session.lab_time = moves[0].lab_time;
-      return true;
-    }
-    GatedMove move;
-    gate_.Move(bench_, command, {count, 0}, 0.0, move, [&] {
-      if (bench_held_) {
-        bench_.Activate();
-        bench_held_ = false;
-      }
-    });
-    const Measurement& m = move.raw;
-    session.measured = true;
-    session.offset = m.position * m_per_unit - setup_.p0;
-    session.force = m.force * n_per_unit;
-    session.lab_time = m.lab_time;
-    return true;
-  } catch (const SafetyStop& e) {
-    Log(fmt::format("ERROR: safety refusal at trial {} ({}): {}", count, e.limit(), e.what()));
-    HoldBench(fmt::format("safety refusal at trial {}", count));
-  } catch (const Error& e) {
-    Log(fmt::format("ERROR: the bench failed to execute trial {}: {}", count, e.what()));
-    HoldBench(fmt::format("bench failure at trial {}", count));
-  }
-  return false;
-}
-
-std::vector<double> Server::DaqResponse(const Session& session) const {
-  const auto& size = session.header.size_daq;
-  const double first[5] = {
-      session.offset / setup_.wire_units.metres_per_length_unit, 0.0, 0.0,
-      session.force / setup_.wire_units.newtons_per_force_unit, session.lab_time};
-  std::vector<double> out;
-  for (int k = 0; k < 5; ++k) {
-    for (int i = 0; i < size[k]; ++i) {
-      double v = i == 0 && session.measured ? first[k] : 0.0;
-      if (group_ && session.measured && k != 4) {  // several actuators: actuator i's value
-        const auto a = static_cast<std::size_t>(i);
-        v = k == 0 && a < session.offsets.size()
-                ? session.offsets[a] / setup_.wire_units.metres_per_length_unit
-            : k == 3 && a < session.forces.size()
-                ? session.forces[a] / setup_.wire_units.newtons_per_force_unit
-                : 0.0;
-      }
-      out.push_back(v);
-    }
-  }
-  return out;
 }
 
 }  // namespace hybridtest::transfer::openfresco

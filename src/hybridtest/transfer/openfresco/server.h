@@ -36,7 +36,10 @@
 //    client has closed or reset its end (it gave up waiting, or vanished) is logged, never
 //    executed, and puts the bench in Hold().
 //  - every trial command is checked (SafetyLimits, SI) before the bench moves, and every
-//    measurement after; a refusal holds the bench and ends the session. The OpenFresco
+//    measurement after; a refusal holds the bench and ends the session. With several
+//    actuators every command of a trial is checked before any actuator moves, the forces
+//    predicted coupled, f_last + K_a (a − x_last), with options.actuator_stiffness or else the
+//    setup's K_a (safety_gate_group.h). The OpenFresco
 //    protocol has no error message, so the client learns of it by the closed connection.
 //  - a malformed opening, an unknown action, a non-finite trial value, a message not complete
 //    within heartbeat_timeout, a client silent for heartbeat_timeout, or a disconnect is
@@ -45,6 +48,7 @@
 // After a hold, the next trial resumes the bench with Activate() before Execute().
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -55,8 +59,6 @@
 #include "hybridtest/transfer/openfresco/setup.h"
 #include "hybridtest/transfer/openfresco/wire.h"
 #include "hybridtest/transfer/safety.h"
-#include <memory>
-
 #include "hybridtest/transfer/safety_gate.h"
 #include "hybridtest/transfer/safety_gate_group.h"
 #include "hybridtest/transfer/socket.h"
@@ -67,7 +69,8 @@ namespace hybridtest::transfer::openfresco {
 class Server {
  public:
   // Binds and listens. Uses host, port, token, heartbeat_timeout, handshake_timeout,
-  // max_pending, send_timeout, limits, start_position and log of `options` (initial_stiffness defaults to the setup's K0).
+  // max_pending, send_timeout, limits, start_position(s), initial_stiffness (default: the
+  // setup's K0), actuator_stiffness (default: the setup's K_a) and log of `options`.
   // Throws ConfigError for a non-loopback host without a token, an invalid setup, inconsistent
   // limits or test faults (they belong to the hybridtest protocol); TransferError if the
   // address cannot be bound. `bench` must outlive the server.

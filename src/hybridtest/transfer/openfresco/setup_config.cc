@@ -3,8 +3,11 @@
 
 #include <fmt/core.h>
 
+#include <utility>
+
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/yaml_input.h"
+#include "hybridtest/transfer/multi_emulated_bench.h"
 
 namespace hybridtest::transfer::openfresco {
 
@@ -37,8 +40,10 @@ ExpSetup ParseSetup(const YAML::Node& node, std::string_view where,
   return s;
 }
 
-ExpSetup LoadSetup(const std::string& path, const EmulatedBenchConfig& bench) {
-  const YamlInput file = YamlInput::FromFile(path, "a 'bench:' mapping and an 'openfresco:' one");
+namespace {
+
+// The file's `openfresco:` section (at the top level or inside `bench:`) and its key path.
+std::pair<YAML::Node, std::string> FindSection(const YamlInput& file, const std::string& path) {
   const YAML::Node top = file.root()["openfresco"];
   const YAML::Node b = file.root()["bench"];
   const YAML::Node inner =
@@ -50,10 +55,77 @@ ExpSetup LoadSetup(const std::string& path, const EmulatedBenchConfig& bench) {
   if (!top && !inner) {
     throw ConfigError(fmt::format(
         "{}: no 'openfresco:' section; --protocol openfresco needs one with `units:` and "
-        "`transform: [[t1, ..., tn]]` (see examples/rotor/bench-openfresco.yaml)", path));
+        "`transform: [[t1, ..., tn]]`, one row per actuator (see "
+        "examples/rotor/bench-openfresco.yaml, examples/06_blade_two_actuators/"
+        "bench-2act-openfresco.yaml)", path));
   }
-  return top ? ParseSetup(top, fmt::format("{}: openfresco", path), bench)
-             : ParseSetup(inner, fmt::format("{}: bench.openfresco", path), bench);
+  return top ? std::pair{top, fmt::format("{}: openfresco", path)}
+             : std::pair{inner, fmt::format("{}: bench.openfresco", path)};
+}
+
+}  // namespace
+
+ExpSetup LoadSetup(const std::string& path, const EmulatedBenchConfig& bench) {
+  const YamlInput file = YamlInput::FromFile(path, "a 'bench:' mapping and an 'openfresco:' one");
+  const auto [node, where] = FindSection(file, path);
+  return ParseSetup(node, where, bench);
+}
+
+ExpSetup ParseMultiSetup(const YAML::Node& node, std::string_view where_view,
+                         const MultiBenchConfig& bench) {
+  const std::string where(where_view);
+  const YamlInput in = YamlInput::ForNode(node);
+  in.RequireMapping(node, where);
+  in.CheckKeys(node, where, {"units", "transform", "initial_stiffness"});
+  const auto na = bench.actuators.size();
+  ExpSetup s;
+  s.actuators = static_cast<int>(na);
+  if (node["units"]) s.wire_units = ParseBenchUnits(node["units"], JoinKeyPath(where, "units"));
+  const auto matrix = [&](const YAML::Node& m, const std::string& kp, std::size_t rows,
+                          std::size_t cols, const std::string& expected) {
+    if (!m || !m.IsSequence() || m.size() != rows) in.ThrowValue(m, kp, expected);
+    std::vector<double> out;
+    for (std::size_t i = 0; i < rows; ++i) {
+      const auto row = in.Numbers(m[i], fmt::format("{}[{}]", kp, i), expected);
+      if (row.empty() || (cols != 0 && row.size() != cols) ||
+          (!out.empty() && row.size() != out.size() / i)) {
+        in.ThrowValue(m[i], fmt::format("{}[{}]", kp, i), expected);
+      }
+      out.insert(out.end(), row.begin(), row.end());
+    }
+    return out;
+  };
+  s.transform = matrix(node["transform"], JoinKeyPath(where, "transform"), na, 0,
+                       fmt::format("{} rows (one per actuator of the bench) of n numbers each, "
+                                   "e.g. [[1, 0], [0, 1]] (n element dofs)", na));
+  for (const auto& a : bench.actuators) s.p0s.push_back(a.p0);
+  s.p0 = s.p0s[0];
+  if (node["initial_stiffness"]) {
+    s.stiffness_matrix = matrix(node["initial_stiffness"], JoinKeyPath(where, "initial_stiffness"),
+                                na, na,
+                                fmt::format("the specimen's initial stiffness in actuator "
+                                            "coordinates, {} × {} in N/m", na, na));
+  } else {
+    for (std::size_t i = 0; i < na; ++i) {
+      for (std::size_t j = 0; j < na; ++j) {
+        s.stiffness_matrix.push_back(bench.stiffness(static_cast<Eigen::Index>(i),
+                                                     static_cast<Eigen::Index>(j)));
+      }
+    }
+  }
+  try {
+    ValidateSetup(s);
+    ValidateMultiSetup(s);
+  } catch (const ConfigError& e) {
+    throw ConfigError(fmt::format("{}: {}", where, e.what()));
+  }
+  return s;
+}
+
+ExpSetup LoadMultiSetup(const std::string& path, const MultiBenchConfig& bench) {
+  const YamlInput file = YamlInput::FromFile(path, "a 'bench:' mapping and an 'openfresco:' one");
+  const auto [node, where] = FindSection(file, path);
+  return ParseMultiSetup(node, where, bench);
 }
 
 }  // namespace hybridtest::transfer::openfresco

@@ -10,6 +10,16 @@
 //                                       # initial stiffness (bench.specimen)
 //
 // p0 is the bench's own (bench.p0_mm).
+//
+// A bench of several actuators (`bench: {actuators: n_act, ...}`) takes T with one row per
+// actuator (n_act × n) and, optionally, `initial_stiffness` as an n_act × n_act matrix in
+// actuator coordinates [N/m] (default: the specimen's virgin stiffness matrix); p0 is each
+// actuator's own:
+//
+//   openfresco:
+//     units: {length: mm, force: N}
+//     transform: [[1, 0], [0.6, 0.8]]   # T (n_act × n): a − p0 = T d
+//     initial_stiffness: [[5000, 1200], [1200, 3000]]   # optional K_a [N/m]
 #include <string>
 #include <string_view>
 
@@ -17,6 +27,10 @@
 
 #include "hybridtest/transfer/bench_config.h"
 #include "hybridtest/transfer/openfresco/setup.h"
+
+namespace hybridtest::transfer {
+struct MultiBenchConfig;
+}  // namespace hybridtest::transfer
 
 namespace hybridtest::transfer::openfresco {
 
@@ -28,5 +42,12 @@ ExpSetup ParseSetup(const YAML::Node& node, std::string_view where,
 // Reads the `openfresco:` section of the bench file at `path`. Throws ConfigError if the file
 // has none (naming the example to copy), has two, or the section is invalid.
 ExpSetup LoadSetup(const std::string& path, const EmulatedBenchConfig& bench);
+
+// The same for a bench of several actuators: T of n_act rows, p0 per actuator, K_a. Throws
+// ConfigError naming the key (a row count other than the bench's actuators, rows of unequal
+// length, dependent rows, a stiffness of the wrong size).
+ExpSetup ParseMultiSetup(const YAML::Node& node, std::string_view where,
+                         const MultiBenchConfig& bench);
+ExpSetup LoadMultiSetup(const std::string& path, const MultiBenchConfig& bench);
 
 }  // namespace hybridtest::transfer::openfresco

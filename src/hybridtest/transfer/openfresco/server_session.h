@@ -1,0 +1,26 @@
+#pragma once
+// The state of one OpenFresco session (server.h), shared by the server's files: server.cc
+// (openings, the session loop) and server_messages.cc (the actions of a session). Internal.
+#include <string>
+#include <vector>
+
+#include "hybridtest/transfer/openfresco/server.h"
+
+namespace hybridtest::transfer::openfresco {
+
+struct Server::Session {
+  Session(Socket socket, std::string peer_address)
+      : client(std::move(socket)), peer(std::move(peer_address)) {}
+  Socket client;
+  std::string peer;                  // the client's address (auth throttle, logs)
+  Header header;
+  std::vector<double> trial_vel;     // last trial velocities (wire units), n or empty
+  std::vector<double> trial_accel;   // last trial accelerations (wire units), n or empty
+  bool measured = false;             // a trial has been executed in this session
+  double offset = 0.0;               // measured position − p0. Unit: [m].
+  std::vector<double> offsets, forces;  // several actuators: per actuator. Units: [m], [N].
+  double force = 0.0;                // measured force. Unit: [N].
+  double lab_time = 0.0;             // lab time of the measurement. Unit: [s].
+};
+
+}  // namespace hybridtest::transfer::openfresco
