@@ -112,6 +112,34 @@ TEST(MultiEmulatedBench, SaveAndRestoreContinueIdentically) {
   EXPECT_THROW(c.RestoreState({{"kind", "emulated"}}), Error);
 }
 
+// ReadAll reads where the actuators are and what the specimen carries there, without moving
+// and without touching the specimen's committed (hysteretic) state.
+TEST(MultiEmulatedBench, ReadAllReadsWithoutMovingOrDeforming) {
+  MultiEmulatedBench a(Bench(kBoucWen));
+  MultiEmulatedBench b(Bench(kBoucWen));
+  a.Activate();
+  b.Activate();
+  std::array<Measurement, 2> last{};
+  for (int i = 1; i <= 20; ++i) {
+    last = Move(a, 0.4 * i, -0.3 * i);
+    Move(b, 0.4 * i, -0.3 * i);
+  }
+  const auto read = a.ReadAll();
+  ASSERT_TRUE(read.has_value());
+  ASSERT_EQ(read->size(), 2U);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_NEAR((*read)[k].position, last[k].position, 1e-9) << k;  // [mm]
+    EXPECT_NEAR((*read)[k].force, last[k].force, 1e-9 * std::abs(last[k].force)) << k;
+  }
+  EXPECT_EQ(*a.commands_received(), 20);
+  // The read left the specimen as it was: both benches go on identically.
+  for (int i = 1; i <= 10; ++i) {
+    const auto ma = Move(a, 8.0 - 1.1 * i, -6.0 + 0.9 * i);
+    const auto mb = Move(b, 8.0 - 1.1 * i, -6.0 + 0.9 * i);
+    for (std::size_t k = 0; k < 2; ++k) ASSERT_EQ(ma[k].force, mb[k].force) << i;
+  }
+}
+
 SafetyLimits Limits() {
   SafetyLimits l;
   l.max_increment = 0.05;

@@ -276,6 +276,26 @@ std::string MultiEmulatedBench::Describe() const {
 }
 
 double MultiEmulatedBench::lab_time() const { return clock_->lab_time(); }
+std::optional<std::vector<Measurement>> MultiEmulatedBench::ReadAll() const {
+  const int n = num_actuators();
+  std::vector<double> deformation(static_cast<std::size_t>(n));
+  for (std::size_t k = 0; k < deformation.size(); ++k) {
+    deformation[k] = actuators_[k]->position() - config_.actuators[k].p0;
+  }
+  // The specimen's forces at the committed state: a trial of a copy of its law.
+  auto law = specimen_->Clone();
+  std::vector<double> force(deformation.size());
+  law->Trial(deformation, force);
+  std::vector<Measurement> out;
+  for (std::size_t k = 0; k < deformation.size(); ++k) {
+    const EmulatedBenchConfig& a = config_.actuators[k];
+    out.push_back(Measurement{actuators_[k]->position() / a.units.metres_per_length_unit,
+                              (force[k] + a.offset) / a.units.newtons_per_force_unit,
+                              clock_->lab_time(), 0});
+  }
+  return out;
+}
+
 double MultiEmulatedBench::actuator_position(int k) const {
   return actuators_[static_cast<std::size_t>(k)]->position();
 }

@@ -89,6 +89,9 @@ class MultiEmulatedBench final : public TransferSystem {
   BenchUnits bench_units() const override { return config_.actuators[0].units; }
   std::string Describe() const override;
   std::optional<long> commands_received() const override { return command_count_; }
+  // Every actuator's position and the specimen's force there, without moving (bench units;
+  // the specimen's committed state is untouched). Never throws.
+  std::optional<std::vector<Measurement>> ReadAll() const override;
   // {"kind": "multi_emulated", actuators, load cells, monitors, specimen, lab time, count}.
   nlohmann::json SaveState() const override;
   void RestoreState(const nlohmann::json& state) override;

@@ -11,6 +11,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "hybridtest/common/clock.h"
 #include "hybridtest/common/error.h"
@@ -90,6 +91,15 @@ class TransferSystem {
   // transfer system cannot be queried without a command (resume then re-imposes the last
   // committed command at once). Never throws.
   virtual std::optional<Measurement> Read() const { return std::nullopt; }
+  // Read() for every actuator: n measurements (bench units, actuator order), read WITHOUT
+  // moving; nullopt if this transfer system cannot read every actuator so (resume then
+  // re-imposes the last committed commands at once). Default: Read() of a one-actuator
+  // system. Never throws.
+  virtual std::optional<std::vector<Measurement>> ReadAll() const {
+    if (num_actuators() != 1) return std::nullopt;
+    if (auto one = Read()) return std::vector<Measurement>{*one};
+    return std::nullopt;
+  }
   // What the bench announces about itself (see BenchAnnouncement); may be empty. For a remote
   // bench, known only after Activate() (its WELCOME). Never throws.
   virtual BenchAnnouncement Announce() const { return {}; }

@@ -124,7 +124,7 @@ class ModbusTransfer final : public TransferSystem {
   std::optional<Measurement> Read() const override;
   // Read() for every actuator (n measurements), with the same rules: any actuator that cannot
   // be read or shows a problem gives nullopt. Never throws.
-  std::optional<std::vector<Measurement>> ReadAll() const;
+  std::optional<std::vector<Measurement>> ReadAll() const override;
   // Connects if needed (bounded by connect_timeout) and reads the readout registers once:
   // no write, no coil, so nothing moves and no drive is enabled (modbus_probe.cc). The
   // problem names a fault, holding, or a value that is not a number (a word or byte order
