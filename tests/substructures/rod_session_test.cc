@@ -11,6 +11,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/run_spec_yaml.h"
+#include "hybridtest/runner/plan.h"
 #include "hybridtest/runner/session.h"
 #include "hybridtest/substructures/substructure.h"
 
@@ -144,6 +145,25 @@ TEST(RodSession, SlotLimitStopsTheRunAndNamesTheSlot) {
   ASSERT_FALSE(rows.empty());
   for (const auto& row : rows) EXPECT_LE(std::abs(row[1]), 0.03);
   fs::remove_all(dir);
+}
+
+TEST(RodSession, PlanJudgesTheSchemesAgainstTheRodsTwin) {
+  // plan's reference is the bench's law seen through the rods, r = J(d)ᵀ F(ℓ(d) − L0): the
+  // configured Heun at 1 ms is within 1 % of it (against the linear twin T0ᵀ K T0 it would be
+  // several times the flap's peak-to-peak off).
+  runner::PlanOptions options;
+  options.seeds = {1};
+  const auto results =
+      runner::PlanTest(io::LoadRunSpec(kExample + "large-displacement.yaml"), options);
+  ASSERT_FALSE(results.empty());
+  ASSERT_TRUE(results[0].ok) << results[0].failure;
+  EXPECT_EQ(results[0].evaluations, 20001);
+  EXPECT_LT(results[0].error, 0.01);
+  bool mr_os = false;
+  for (const auto& r : results) {
+    if (r.candidate.label.starts_with("mr-os") && r.ok && r.error < 0.01) mr_os = true;
+  }
+  EXPECT_TRUE(mr_os);
 }
 
 }  // namespace
