@@ -111,6 +111,36 @@ TEST(RodConfig, BadSetupsNameTheirKey) {
   }
 }
 
+TEST(RodConfig, MissingSetupOrSafetyIsNamed) {
+  const std::string text = ExampleText();
+  const auto safety = text.find("    safety:"), output = text.find("output:");
+  const auto setup = text.find("    setup:");
+  ASSERT_NE(safety, std::string::npos);
+  const fs::path dir = fs::temp_directory_path() / "hybridtest-rod-config-missing";
+  fs::create_directories(dir);
+  for (const char* f : {"blade_tip.yaml", "bench-2act.yaml"}) {
+    fs::copy_file(kExample + f, dir / f, fs::copy_options::overwrite_existing);
+  }
+  auto error_of = [&](const std::string& config) -> std::string {
+    std::ofstream(dir / "missing.yaml") << config;
+    try {
+      io::LoadRunSpec((dir / "missing.yaml").string());
+    } catch (const ConfigError& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  const std::string no_safety = text.substr(0, safety) + text.substr(output);
+  const std::string m1 = error_of(no_safety);
+  EXPECT_NE(m1.find("blade1.safety"), std::string::npos) << m1;
+  EXPECT_NE(m1.find("missing"), std::string::npos) << m1;
+  const std::string no_setup = text.substr(0, setup) + text.substr(safety);
+  const std::string m2 = error_of(no_setup);
+  EXPECT_NE(m2.find("blade1.setup"), std::string::npos) << m2;
+  EXPECT_NE(m2.find("large_displacement"), std::string::npos) << m2;
+  fs::remove_all(dir);
+}
+
 TEST(RodConfig, ARodSetupThatTurnsSingularWithinTheStrokeIsRefused) {
   std::string text = ExampleText();
   auto edit = [&](const std::string& from, const std::string& to) {

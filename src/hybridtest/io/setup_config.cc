@@ -52,7 +52,7 @@ Eigen::VectorXd PerSlot(const YamlInput& in, const YAML::Node& node, const std::
 // actuator (its length must be n), a scalar applies to every actuator.
 YAML::Node PickActuator(const YamlInput& in, const YAML::Node& node, std::size_t k,
                         std::size_t n, const std::string& kp) {
-  if (!node.IsMap()) return node;
+  if (!node || !node.IsMap()) return node;
   YAML::Node out(YAML::NodeType::Map);
   for (const auto& kv : node) {
     const std::string key = kv.first.as<std::string>();
@@ -85,7 +85,11 @@ Eigen::MatrixXd ReadMatrix(const YamlInput& in, const YAML::Node& node, const st
 
 substructures::LinearSetup ParseLinearSetup(const YamlInput& in, const YAML::Node& setup,
                                             const std::string& sp, int m) {
-  if (!setup.IsMap() || !setup["transform"] || !setup["p0"]) {
+  const char* expected = "a mapping: {p0: [..], transform: [[..]]} (a − p0 = T d, T n_act × m) "
+                         "or {geometry: large_displacement, p0: [..], directions: [..], "
+                         "actuators: [..]}";
+  if (!setup || !setup.IsMap()) in.ThrowValue(setup, sp, expected);
+  if (!setup["transform"] || !setup["p0"]) {
     throw ConfigError(fmt::format("{}: a physical substructure of several slots needs `setup: "
                                   "{{p0: [..], transform: [[..]]}}` (a − p0 = T d, T n_act × m) "
                                   "or `setup: {{geometry: large_displacement, p0: [..], "
@@ -120,7 +124,7 @@ substructures::LinearSetup ParseLinearSetup(const YamlInput& in, const YAML::Nod
 }
 
 bool IsLargeDisplacementSetup(const YamlInput& in, const YAML::Node& setup, const std::string& sp) {
-  if (!setup.IsMap() || !setup["geometry"]) return false;
+  if (!setup || !setup.IsMap() || !setup["geometry"]) return false;
   const std::string g = in.String(setup["geometry"], sp + ".geometry",
                                   "linear or large_displacement");
   if (g == "large_displacement") return true;
@@ -193,7 +197,7 @@ std::shared_ptr<const substructures::RodSetup> ParseRodSetup(const YamlInput& in
 }
 
 YAML::Node WithoutSlotLimits(const YAML::Node& safety) {
-  if (!safety.IsMap() || !safety["slots"]) return safety;
+  if (!safety || !safety.IsMap() || !safety["slots"]) return safety;
   YAML::Node out(YAML::NodeType::Map);
   for (const auto& kv : safety) {
     const std::string key = kv.first.as<std::string>();
@@ -206,7 +210,7 @@ std::optional<substructures::SlotLimits> ParseSlotLimits(const YamlInput& in,
                                                          const YAML::Node& safety,
                                                          const std::string& kp,
                                                          const std::vector<std::string>& names) {
-  if (!safety.IsMap() || !safety["slots"]) return std::nullopt;
+  if (!safety || !safety.IsMap() || !safety["slots"]) return std::nullopt;
   const std::string sp = kp + ".slots";
   const YAML::Node node = safety["slots"];
   in.RequireMapping(node, sp);
