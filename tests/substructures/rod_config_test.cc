@@ -82,7 +82,7 @@ TEST(RodConfig, BadSetupsNameTheirKey) {
   const BadCase cases[] = {
       {"geometry: large_displacement", "geometry: large", "blade1.setup.geometry"},
       {"directions: [[1, 0], [0, 1]]", "directions: [[1, 0]]", "blade1.setup.directions"},
-      {"directions: [[1, 0], [0, 1]]", "directions: [[1, 0], [0, 0]]", "slots[1]"},
+      {"directions: [[1, 0], [0, 1]]", "directions: [[1, 0], [0, 0]]", "directions[1]"},
       {"directions: [[1, 0], [0, 1]]", "directions: [[1, 0, 0], [0, 1]]",
        "blade1.setup.directions[1]"},
       {"{base: [-0.15, -0.20], attach: [0.0, 0.0]}", "{base: [-0.15, -0.20, 0], attach: [0, 0]}",

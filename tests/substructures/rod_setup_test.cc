@@ -144,14 +144,16 @@ TEST(RodSetup, SmallDisplacementsGiveTheLinearSetupOfItsLinearisation) {
     linear.CalcCommands(eps * dir, al);
     const double diff = (ag - al).cwiseAbs().maxCoeff();
     EXPECT_GT(diff, 0.0);
-    if (last > 0.0) EXPECT_NEAR(last / diff, 4.0, 0.1) << "at " << eps << " m";
+    if (last > 0.0) {
+      EXPECT_NEAR(last / diff, 4.0, 0.1) << "at " << eps << " m";
+    }
     last = diff;
   }
   // At d = 0 the slot forces are exactly the linear setup's.
-  const Eigen::Vector3d f(120.0, -40.0, 75.0);
-  Eigen::VectorXd rg(2), rl(2);
-  setup.CalcSlotForces(Eigen::Vector2d::Zero(), f, rg);
-  linear.CalcSlotForces(Eigen::Vector2d::Zero(), f, rl);
+  Eigen::VectorXd f(3), rg(2);
+  f << 120.0, -40.0, 75.0;
+  setup.CalcSlotForces(Eigen::VectorXd::Zero(2), f, rg);
+  const Eigen::VectorXd rl = t0.transpose() * f;  // the linear setup's r = Tᵀ f
   EXPECT_LT((rg - rl).cwiseAbs().maxCoeff(), 1e-12);
 }
 
@@ -236,7 +238,7 @@ TEST(RodSetup, BadGeometriesAreConfigErrors) {
   EXPECT_NE(error_of(g).find("rank 1"), std::string::npos) << error_of(g);
   g = TwoRods();
   g.directions.col(1).setZero();
-  EXPECT_NE(error_of(g).find("slots[1]"), std::string::npos) << error_of(g);
+  EXPECT_NE(error_of(g).find("directions[1]"), std::string::npos) << error_of(g);
   g = TwoRods();
   g.p0 = Eigen::Vector3d::Zero();
   EXPECT_NE(error_of(g).find("p0"), std::string::npos) << error_of(g);

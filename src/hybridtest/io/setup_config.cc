@@ -155,12 +155,38 @@ std::shared_ptr<const substructures::RodSetup> ParseRodSetup(const YamlInput& in
   int dim = 0;
   substructures::RodGeometry g;
   const auto n = static_cast<Eigen::Index>(rods.size());
+  Eigen::VectorXd axis;
   for (std::size_t i = 0; i < dirs.size(); ++i) {
-    const Eigen::VectorXd e = ReadPoint(in, dirs[i], fmt::format("{}.directions[{}]", sp, i), dim,
-                                        "a direction in the setup's frame, [m/m]");
+    const std::string dp = fmt::format("{}.directions[{}]", sp, i);
+    if (dirs[i].IsMap()) {  // the rotational slot: {rotation_about: [x, y(, z)], axis: [..]}
+      in.CheckKeys(dirs[i], dp, {"rotation_about", "axis"});
+      if (g.rotation_slot >= 0) {
+        throw ConfigError(fmt::format("{}: a second rotational slot; at most one slot may turn "
+                                      "the specimen", in.Where(dirs[i], dp)));
+      }
+      g.rotation_slot = static_cast<int>(i);
+      g.rotation_point = ReadPoint(in, dirs[i]["rotation_about"], dp + ".rotation_about", dim,
+                                   "a point on the rotation axis, in m");
+      if (dirs[i]["axis"]) {
+        axis = ReadPoint(in, dirs[i]["axis"], dp + ".axis", dim, "the rotation axis [ax, ay, az]");
+      }
+      if (dim == 3 && axis.size() == 0) {
+        in.ThrowValue(dirs[i]["axis"], dp + ".axis", "the rotation axis [ax, ay, az] (3-D)");
+      }
+      if (dim == 2 && axis.size() != 0) {
+        in.ThrowValue(dirs[i]["axis"], dp + ".axis",
+                      "no axis in 2-D (the rotation is in the plane, about rotation_about)");
+      }
+      if (i == 0) g.directions = Eigen::MatrixXd::Zero(dim, m);
+      continue;
+    }
+    const Eigen::VectorXd e = ReadPoint(in, dirs[i], dp, dim,
+                                        "a direction in the setup's frame, [m/m], or "
+                                        "{rotation_about: [x, y, z], axis: [ax, ay, az]}");
     if (i == 0) g.directions.resize(dim, m);
     g.directions.col(static_cast<Eigen::Index>(i)) = e;
   }
+  g.rotation_axis = axis;
   g.bases.resize(dim, n);
   g.attachments.resize(dim, n);
   for (std::size_t k = 0; k < rods.size(); ++k) {
@@ -240,8 +266,14 @@ void CheckGeometryWithinStroke(const YamlInput& in, const YAML::Node& setup, con
     stroke = std::max({stroke, l.stroke_max - geometry.p0()(k), geometry.p0()(k) - l.stroke_min});
   }
   Eigen::VectorXd half(m);
+  double arm = std::numeric_limits<double>::infinity();  // the shortest non-zero lever arm [m]
+  for (int k = 0; k < geometry.num_actuators(); ++k) {
+    if (geometry.lever_arm(k) > 0.0) arm = std::min(arm, geometry.lever_arm(k));
+  }
   for (int i = 0; i < m; ++i) {
-    half(i) = stroke / geometry.geometry().directions.col(i).norm();
+    half(i) = i == geometry.geometry().rotation_slot
+                  ? std::min(std::acos(-1.0) / 2.0, stroke / arm)  // [rad]
+                  : stroke / geometry.geometry().directions.col(i).norm();
     if (slot_limits && std::isfinite(slot_limits->max_displacement(i))) {
       half(i) = slot_limits->max_displacement(i);
     }

@@ -7,7 +7,9 @@
 //                                    # `linear` (the default) is a = p0 + T d with `transform:`
 //     p0: [0.02, 0.03]               # [m] actuator positions at zero specimen force
 //     directions: [[1, 0], [0, 1]]   # [m/m] e_i, one per slot of `slots:`, in its order: slot i
-//                                    # moves the specimen by d_i e_i (2 or 3 coordinates)
+//                                    # moves the specimen by d_i e_i (2 or 3 coordinates); at
+//                                    # most one entry {rotation_about: [x, y(, z)] [m],
+//                                    # axis: [ax, ay, az] (3-D only)} turns it by d_i [rad]
 //     actuators:                     # one per actuator, in the bench's order
 //       - {base: [-0.4, 0.0], attach: [0.0, 0.0]}      # [m] pin on the floor / on the specimen
 //       - {base: [-0.24, -0.32], attach: [0.0, 0.0]}   #     (attach: at d = 0)

@@ -27,6 +27,12 @@ void LinearSetup::Validate() const {
   }
 }
 
+void ActuatorSetup::CalcSlotForces(const Eigen::Ref<const Eigen::VectorXd>& d,
+                                   const Eigen::Ref<const Eigen::VectorXd>& f,
+                                   Eigen::Ref<Eigen::VectorXd> r) const {
+  r.noalias() = CalcJacobian(d).transpose() * f;
+}
+
 LinearActuatorSetup::LinearActuatorSetup(LinearSetup setup) : setup_(std::move(setup)) {
   setup_.Validate();
 }

@@ -51,9 +51,7 @@ class ActuatorSetup {
   // r = J(d)ᵀ f (m) [N] for the forces f (n) [N] measured at d.
   void CalcSlotForces(const Eigen::Ref<const Eigen::VectorXd>& d,
                       const Eigen::Ref<const Eigen::VectorXd>& f,
-                      Eigen::Ref<Eigen::VectorXd> r) const {
-    r.noalias() = CalcJacobian(d).transpose() * f;
-  }
+                      Eigen::Ref<Eigen::VectorXd> r) const;
   // Σ_k f_k ∂²a_k/∂d² (m × m) [N/m] at d with forces f (n) [N]; zero for the linear kind.
   virtual Eigen::MatrixXd CalcGeometricStiffness(const Eigen::Ref<const Eigen::VectorXd>& d,
                                                  const Eigen::Ref<const Eigen::VectorXd>& f) const = 0;

@@ -28,7 +28,7 @@ RodSetup::RodSetup(RodGeometry geometry) : g_(std::move(geometry)) {
   const auto dim = g_.directions.rows();
   const auto m = g_.directions.cols(), n = g_.bases.cols();
   if (dim != 2 && dim != 3) {
-    throw ConfigError(fmt::format("slots: directions of {} coordinates; expected 2 ([x, y]) or 3 "
+    throw ConfigError(fmt::format("directions: {} coordinates; expected 2 ([x, y]) or 3 "
                                   "([x, y, z]) in the setup's frame", dim));
   }
   if (m < 1 || n < 1) {
@@ -47,9 +47,31 @@ RodSetup::RodSetup(RodGeometry geometry) : g_(std::move(geometry)) {
   if (!g_.p0.allFinite() || !g_.load_cell_zero.allFinite()) {
     throw ConfigError("p0 and load_cell_zero must be finite");
   }
+  const int rot = g_.rotation_slot;
+  if (rot >= m || rot < -1) {
+    throw ConfigError(fmt::format("rotation slot {} of {} slots", rot + 1, m));
+  }
+  if (rot >= 0) {
+    g_.directions.col(rot).setZero();
+    if (g_.rotation_point.size() != dim || !g_.rotation_point.allFinite()) {
+      throw ConfigError(fmt::format("directions[{}].rotation_about: expected a finite point of {} "
+                                    "coordinates in m", rot, dim));
+    }
+    if (dim == 3) {
+      if (g_.rotation_axis.size() != 3 || !g_.rotation_axis.allFinite() ||
+          g_.rotation_axis.norm() == 0.0) {
+        throw ConfigError(fmt::format("directions[{}].axis: expected a finite, non-zero direction "
+                                      "[ax, ay, az] of the rotation axis", rot));
+      }
+      g_.rotation_axis.normalize();
+    } else {
+      g_.rotation_axis = Eigen::Vector3d(0.0, 0.0, 1.0);
+    }
+  }
   for (Eigen::Index i = 0; i < m; ++i) {
+    if (i == rot) continue;
     if (!g_.directions.col(i).allFinite() || g_.directions.col(i).norm() == 0.0) {
-      throw ConfigError(fmt::format("slots[{}] = {}: expected a finite, non-zero direction "
+      throw ConfigError(fmt::format("directions[{}] = {}: expected a finite, non-zero direction "
                                     "(a unit vector for a slot that is the specimen's "
                                     "displacement along it)", i, Point(g_.directions.col(i))));
     }
@@ -78,25 +100,48 @@ RodSetup::RodSetup(RodGeometry geometry) : g_(std::move(geometry)) {
   }
 }
 
+Eigen::VectorXd RodSetup::Cross(const Eigen::VectorXd& v) const {
+  if (v.size() == 2) return Eigen::Vector2d(-v(1), v(0));
+  return Eigen::Vector3d(g_.rotation_axis).cross(Eigen::Vector3d(v));
+}
+
 void RodSetup::CalcRods(const Eigen::Ref<const Eigen::VectorXd>& d, Eigen::MatrixXd& rods,
-                        Eigen::VectorXd& lengths) const {
-  const Eigen::VectorXd shift = g_.directions * d;  // D(d)
+                        Eigen::VectorXd& lengths, Eigen::MatrixXd& arms) const {
+  const Eigen::VectorXd shift = g_.directions * d;  // the translations (the rotation's column is 0)
   rods = g_.attachments - g_.bases;
   rods.colwise() += shift;
+  arms = Eigen::MatrixXd::Zero(g_.dimension(), g_.num_actuators());
+  if (g_.rotation_slot >= 0) {
+    // Rodrigues: R v = v cos θ + (a × v) sin θ + a (a · v)(1 − cos θ); in 2-D a = z.
+    const double theta = d(g_.rotation_slot), c = std::cos(theta), s = std::sin(theta);
+    for (Eigen::Index k = 0; k < rods.cols(); ++k) {
+      const Eigen::VectorXd v = g_.attachments.col(k) - g_.rotation_point;
+      Eigen::VectorXd w = c * v + s * Cross(v);
+      if (v.size() == 3) w += (1.0 - c) * g_.rotation_axis.dot(v) * g_.rotation_axis;
+      arms.col(k) = w;
+      rods.col(k) += w - v;
+    }
+  }
   lengths = rods.colwise().norm().transpose();
   for (Eigen::Index k = 0; k < lengths.size(); ++k) {
     if (!(lengths(k) >= kMinRodLength)) {
-      throw Error(fmt::format("large-displacement setup: at slot displacements {} m rod {} has "
+      throw Error(fmt::format("large-displacement setup: at slot displacements {} rod {} has "
                               "length {} m; its axis is undefined", Point(d), k + 1,
                               lengths(k)));
     }
   }
 }
 
+Eigen::MatrixXd RodSetup::SlotGradients(const Eigen::VectorXd& arm) const {
+  Eigen::MatrixXd g = g_.directions;
+  if (g_.rotation_slot >= 0) g.col(g_.rotation_slot) = Cross(arm);
+  return g;
+}
+
 Eigen::VectorXd RodSetup::CalcLengths(const Eigen::Ref<const Eigen::VectorXd>& d) const {
-  Eigen::MatrixXd rods;
+  Eigen::MatrixXd rods, arms;
   Eigen::VectorXd lengths;
-  CalcRods(d, rods, lengths);
+  CalcRods(d, rods, lengths, arms);
   return lengths;
 }
 
@@ -106,32 +151,51 @@ void RodSetup::CalcCommands(const Eigen::Ref<const Eigen::VectorXd>& d,
 }
 
 Eigen::MatrixXd RodSetup::CalcJacobian(const Eigen::Ref<const Eigen::VectorXd>& d) const {
-  Eigen::MatrixXd rods;
+  Eigen::MatrixXd rods, arms;
   Eigen::VectorXd lengths;
-  CalcRods(d, rods, lengths);
-  // J_ki = n_k · e_i with n_k = rod_k / ℓ_k.
-  return (rods.transpose() * g_.directions).array().colwise() / lengths.array();
+  CalcRods(d, rods, lengths, arms);
+  if (g_.rotation_slot < 0) {
+    // J_ki = n_k · e_i with n_k = rod_k / ℓ_k.
+    return (rods.transpose() * g_.directions).array().colwise() / lengths.array();
+  }
+  Eigen::MatrixXd j(rods.cols(), g_.num_slots());
+  for (Eigen::Index k = 0; k < rods.cols(); ++k) {
+    j.row(k) = (SlotGradients(arms.col(k)).transpose() * rods.col(k)).transpose() / lengths(k);
+  }
+  return j;
 }
 
 Eigen::MatrixXd RodSetup::CalcGeometricStiffness(const Eigen::Ref<const Eigen::VectorXd>& d,
                                                  const Eigen::Ref<const Eigen::VectorXd>& f) const {
-  Eigen::MatrixXd rods;
+  Eigen::MatrixXd rods, arms;
   Eigen::VectorXd lengths;
-  CalcRods(d, rods, lengths);
+  CalcRods(d, rods, lengths, arms);
   const auto m = g_.directions.cols();
   Eigen::MatrixXd g = Eigen::MatrixXd::Zero(m, m);
-  const Eigen::MatrixXd ete = g_.directions.transpose() * g_.directions;  // (m × m)
   for (Eigen::Index k = 0; k < lengths.size(); ++k) {
-    // Eᵀ (I − n nᵀ) E / ℓ = (EᵀE − (Eᵀn)(Eᵀn)ᵀ) / ℓ
-    const Eigen::VectorXd etn = g_.directions.transpose() * (rods.col(k) / lengths(k));
-    g += f(k) / lengths(k) * (ete - etn * etn.transpose());
+    // gᵀ (I − n nᵀ) g / ℓ = (gᵀg − (gᵀn)(gᵀn)ᵀ) / ℓ, plus n · ∂²p/∂θ² for the rotation.
+    const Eigen::MatrixXd grad = SlotGradients(arms.col(k));
+    const Eigen::VectorXd n = rods.col(k) / lengths(k);
+    const Eigen::VectorXd gtn = grad.transpose() * n;
+    g += f(k) / lengths(k) * (grad.transpose() * grad - gtn * gtn.transpose());
+    if (g_.rotation_slot >= 0) {
+      const int r = g_.rotation_slot;
+      g(r, r) += f(k) * n.dot(Cross(Cross(arms.col(k))));
+    }
   }
   return g;
 }
 
-double RodSetup::CommandStepBound(int /*k*/) const {
+double RodSetup::lever_arm(int k) const {
+  if (g_.rotation_slot < 0) return 0.0;
+  const Eigen::VectorXd v = g_.attachments.col(k) - g_.rotation_point;
+  if (v.size() == 2) return v.norm();
+  return (v - g_.rotation_axis.dot(v) * g_.rotation_axis).norm();
+}
+
+double RodSetup::CommandStepBound(int k) const {
   const auto m = g_.directions.cols();
-  if (m > 12) return g_.directions.colwise().norm().sum();
+  if (m > 12) return g_.directions.colwise().norm().sum() + lever_arm(k);
   double worst = 0.0;
   // Sign vectors with s_0 = +1 (−s gives the same norm).
   for (long bits = 0; bits < (1L << (m - 1)); ++bits) {
@@ -141,7 +205,7 @@ double RodSetup::CommandStepBound(int /*k*/) const {
     }
     worst = std::max(worst, v.norm());
   }
-  return worst;
+  return worst + lever_arm(k);
 }
 
 std::string RodSetup::Describe() const {
@@ -149,8 +213,10 @@ std::string RodSetup::Describe() const {
   for (Eigen::Index k = 0; k < l0_.size(); ++k) {
     lengths += fmt::format("{}{:.4g}", k ? ", " : "", l0_(k));
   }
-  return fmt::format("large-displacement setup: {} rods (L0 = {} m), {} translational slots in "
-                     "{}-D", num_actuators(), lengths, num_slots(), g_.dimension());
+  const int rotations = g_.rotation_slot >= 0 ? 1 : 0;
+  return fmt::format("large-displacement setup: {} rods (L0 = {} m), {} translational and {} "
+                     "rotational slots in {}-D", num_actuators(), lengths,
+                     num_slots() - rotations, rotations, g_.dimension());
 }
 
 std::optional<NearSingularPoint> FindNearSingular(const RodSetup& setup,

@@ -2,20 +2,23 @@
 // RodSetup: the large-displacement geometry of n actuators on a specimen (OpenFresco's
 // setups with nonlinear geometry, written from the geometry itself). Each actuator k is a
 // rod pinned at a fixed base point b_k and at an attachment point on the specimen; each slot i
-// is a translation of the attachment points along a direction e_i of the setup's frame
-// (2-D or 3-D, SI). Rotational slots are not modelled: every attachment point moves with the
-// same translation
+// is a translation of the specimen (a rigid body) along a direction e_i of the setup's frame
+// (2-D or 3-D, SI), and at most one slot θ may instead turn it [rad] about an axis a through a
+// point o (2-D: about o, in the plane). Rotations about several axes are not modelled. The
+// attachment point of actuator k, at c_k when d = 0, moves to
 //
-//   D(d) = Σ_i d_i e_i                                   [m]     (E = [e_1 … e_m], dim × m)
+//   p_k(d) = c_k + Σ_{i translational} d_i e_i + (R(θ) − I)(c_k − o)       [m]
 //
-// Actuator k, attached at c_k when d = 0 (L0_k = |c_k − b_k| > 0):
+// and with L0_k = |c_k − b_k| > 0:
 //
-//   ℓ_k(d) = |c_k + D(d) − b_k|,   n_k(d) = (c_k + D(d) − b_k) / ℓ_k       (unit rod axis)
+//   ℓ_k(d) = |p_k(d) − b_k|,   n_k(d) = (p_k(d) − b_k) / ℓ_k                (unit rod axis)
 //   a_k    = p0_k + ℓ_k(d) − L0_k                                [m]  (the command)
-//   J_ki   = ∂ℓ_k/∂d_i = n_k(d) · e_i                            [m/m]
-//   r      = J(d)ᵀ f                                            [N]  (virtual work; f_k is
-//                                                                     the force along rod k)
-//   ∂²ℓ_k/∂d_i∂d_j = e_iᵀ (I − n_k n_kᵀ) e_j / ℓ_k                [1/m]
+//   J_ki   = ∂ℓ_k/∂d_i = n_k · g_ki,   g_ki = ∂p_k/∂d_i          [m/m] or [m/rad]
+//            (g = e_i for a translation, a × R(θ)(c_k − o) for the rotation)
+//   r      = J(d)ᵀ f                                            [N] or [N·m] (virtual work;
+//                                                                     f_k along rod k)
+//   ∂²ℓ_k/∂d_i∂d_j = g_kiᵀ (I − n_k n_kᵀ) g_kj / ℓ_k + n_k · ∂²p_k/∂d_i∂d_j
+//            (the last term only for i = j = θ: a × (a × R(θ)(c_k − o)))
 //
 // At d = 0 it linearises to the linear setup with T = J(0) (rows: the rods' unit axes
 // projected on the slot directions). A command grows with the rod's length: an actuator
@@ -37,6 +40,12 @@ struct RodGeometry {
   Eigen::MatrixXd bases;           // (dim × n) b_k, the fixed end of rod k [m]
   Eigen::MatrixXd attachments;     // (dim × n) c_k, rod k's end on the specimen at d = 0 [m]
   Eigen::VectorXd load_cell_zero;  // (n) readings at zero load, subtracted [N]
+  // The rotational slot (−1: none); its column of `directions` is not used (zero). It turns the
+  // specimen by d_i [rad] about the axis through rotation_point (dim) [m] along rotation_axis
+  // (3-D: any non-zero vector, normalised; 2-D: unused, the plane's normal).
+  int rotation_slot = -1;
+  Eigen::VectorXd rotation_point;
+  Eigen::VectorXd rotation_axis;
 
   int dimension() const { return static_cast<int>(directions.rows()); }
   int num_actuators() const { return static_cast<int>(bases.cols()); }
@@ -65,7 +74,8 @@ class RodSetup final : public ActuatorSetup {
   Eigen::MatrixXd CalcGeometricStiffness(const Eigen::Ref<const Eigen::VectorXd>& d,
                                          const Eigen::Ref<const Eigen::VectorXd>& f) const override;
   // max over sign vectors s ∈ {±1}^m of |E s| (a rod's length changes by at most the
-  // attachment point's travel); Σ_i |e_i| for m > 12.
+  // attachment point's travel; Σ_i |e_i| for m > 12), plus the attachment point's distance from
+  // the rotation axis (a chord is shorter than its arc) if a slot rotates.
   double CommandStepBound(int k) const override;
   std::string Describe() const override;
   std::unique_ptr<ActuatorSetup> Clone() const override { return std::make_unique<RodSetup>(*this); }
@@ -75,12 +85,18 @@ class RodSetup final : public ActuatorSetup {
   const Eigen::VectorXd& rest_lengths() const { return l0_; }
   // ℓ(d) (n) [m]: the rods' lengths at d.
   Eigen::VectorXd CalcLengths(const Eigen::Ref<const Eigen::VectorXd>& d) const;
+  // Actuator k's attachment point's distance from the rotation axis [m] (0 without one).
+  double lever_arm(int k) const;
 
  private:
-  // The rod vectors c_k + D(d) − b_k (dim × n) and their lengths; throws Error for a rod of
-  // (nearly) zero length.
+  // The rod vectors p_k(d) − b_k (dim × n), their lengths and the turned arms R(θ)(c_k − o)
+  // (dim × n; zero without a rotation); throws Error for a rod of (nearly) zero length.
   void CalcRods(const Eigen::Ref<const Eigen::VectorXd>& d, Eigen::MatrixXd& rods,
-                Eigen::VectorXd& lengths) const;
+                Eigen::VectorXd& lengths, Eigen::MatrixXd& arms) const;
+  // a × v (2-D: v turned by +90°).
+  Eigen::VectorXd Cross(const Eigen::VectorXd& v) const;
+  // g_k (dim × m): ∂p_k/∂d at the turned arm w = R(θ)(c_k − o).
+  Eigen::MatrixXd SlotGradients(const Eigen::VectorXd& arm) const;
 
   RodGeometry g_;
   Eigen::VectorXd l0_;
