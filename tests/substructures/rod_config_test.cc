@@ -111,6 +111,33 @@ TEST(RodConfig, BadSetupsNameTheirKey) {
   }
 }
 
+TEST(RodConfig, ARotationalSlotIsReadFromItsDirectionEntry) {
+  // The edge slot read as a turn about a point 0.5 m behind the tip: at d = 0 it moves the
+  // tip along y by 0.5 m per rad, so J(0)'s second column is 0.5 times the linear one.
+  const io::RunSpec spec = LoadEdited("directions: [[1, 0], [0, 1]]",
+                                      "directions: [[1, 0], {rotation_about: [-0.5, 0]}]");
+  const auto& rods =
+      static_cast<const RodSetup&>(*spec.substructures[0].physical->actuator_setup);
+  EXPECT_EQ(rods.geometry().rotation_slot, 1);
+  EXPECT_NEAR(rods.linearisation()(1, 1), 0.8 * 0.5, 1e-15);
+  EXPECT_NEAR(rods.linearisation()(0, 1), 0.0, 1e-15);
+  EXPECT_NE(rods.Describe().find("1 rotational"), std::string::npos) << rods.Describe();
+  const BadCase cases[] = {
+      {"directions: [[1, 0], [0, 1]]",
+       "directions: [{rotation_about: [0, 0]}, {rotation_about: [-0.5, 0]}]",
+       "a second rotational slot"},
+      {"directions: [[1, 0], [0, 1]]", "directions: [[1, 0], {rotation_about: [-0.5, 0], axis: [0, 0, 1]}]",
+       "directions[1].axis"},
+      {"directions: [[1, 0], [0, 1]]", "directions: [[1, 0], {about: [-0.5, 0]}]", "about"},
+      {"directions: [[1, 0], [0, 1]]", "directions: [[1, 0], {rotation_about: [-0.5, 0, 0]}]",
+       "directions[1].rotation_about"},
+  };
+  for (const auto& c : cases) {
+    const std::string message = ErrorOf(c.from, c.to);
+    EXPECT_NE(message.find(c.expected), std::string::npos) << "'" << c.to << "': " << message;
+  }
+}
+
 TEST(RodConfig, MissingSetupOrSafetyIsNamed) {
   const std::string text = ExampleText();
   const auto safety = text.find("    safety:"), output = text.find("output:");
