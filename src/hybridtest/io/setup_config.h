@@ -68,7 +68,8 @@ YAML::Node WithoutSlotLimits(const YAML::Node& safety);
 
 // Refuses (ConfigError at `sp`) a geometry whose J(d) gets nearly singular (σ_min below 1 %
 // of that at d = 0) at a slot displacement within every actuator's stroke, in the box of the
-// slots' max_displacement or, without it, of the longest stroke from p0 along each direction.
+// slots' max_displacement or, without it, of the longest stroke from p0 along each direction
+// (for a rotational slot: over the shortest lever arm, at most π/2 rad).
 void CheckGeometryWithinStroke(const YamlInput& in, const YAML::Node& setup, const std::string& sp,
                                const substructures::RodSetup& geometry,
                                const std::vector<transfer::SafetyLimits>& limits,
