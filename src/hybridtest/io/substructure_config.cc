@@ -1,6 +1,7 @@
 // See substructure_config.h.
 #include "hybridtest/io/substructure_config.h"
 #include "hybridtest/io/transfer_readers.h"
+#include "hybridtest/io/setup_config.h"
 
 #include <Eigen/Core>
 
@@ -131,41 +132,6 @@ void ParseInitialStiffness(const YamlInput& in, const YAML::Node& node, const st
 }
 
 
-// Actuator k's view of a `safety:` mapping of n actuators: a list gives one value per
-// actuator (its length must be n), a scalar applies to every actuator.
-YAML::Node PickActuator(const YamlInput& in, const YAML::Node& node, std::size_t k,
-                        std::size_t n, const std::string& kp) {
-  if (!node.IsMap()) return node;
-  YAML::Node out(YAML::NodeType::Map);
-  for (const auto& kv : node) {
-    const std::string key = kv.first.as<std::string>();
-    if (kv.second.IsSequence() && kv.second.size() != n) {
-      throw ConfigError(fmt::format("{}: a list of {} values; expected {} (one per actuator, a "
-                                    "row of setup.transform) or one value for every actuator",
-                                    in.Where(kv.second, kp + "." + key), kv.second.size(), n));
-    }
-    out[key] = kv.second.IsSequence() ? YAML::Clone(kv.second[k]) : YAML::Clone(kv.second);
-  }
-  return out;
-}
-
-Eigen::MatrixXd ReadMatrix(const YamlInput& in, const YAML::Node& node, const std::string& kp,
-                           const char* expected) {
-  if (!node.IsSequence() || node.size() == 0 || !node[0].IsSequence()) {
-    in.ThrowValue(node, kp, expected);
-  }
-  Eigen::MatrixXd m(static_cast<Eigen::Index>(node.size()),
-                    static_cast<Eigen::Index>(node[0].size()));
-  for (std::size_t i = 0; i < node.size(); ++i) {
-    const auto row = in.Numbers(node[i], fmt::format("{}[{}]", kp, i), expected);
-    if (static_cast<Eigen::Index>(row.size()) != m.cols()) in.ThrowValue(node[i], kp, expected);
-    for (std::size_t j = 0; j < row.size(); ++j) {
-      m(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = row[j];
-    }
-  }
-  return m;
-}
-
 // A substructure of several slots (`slots: [rA, rB]`): numerical with a stiffness matrix, or
 // physical with a linear setup (`setup: {p0: [..], transform: [[..]]}`) on n actuators.
 substructures::SubstructureSpec ParseBlock(const YamlInput& in, const YAML::Node& node,
@@ -185,13 +151,25 @@ substructures::SubstructureSpec ParseBlock(const YamlInput& in, const YAML::Node
       throw ConfigError(fmt::format("{}: a numerical substructure of several slots needs `law: "
                                     "{}`", in.Where(node, kp + ".law"), expected));
     }
-    if (law["type"].as<std::string>() == "linear" && !node["transform"]) {
+    if (law["type"].as<std::string>() == "linear" && !node["transform"] && !node["setup"]) {
       if (!law["stiffness"]) in.ThrowValue(law, kp + ".law", expected);
       spec.stiffness = ReadMatrix(in, law["stiffness"], kp + ".law.stiffness", expected);
       if (spec.stiffness->rows() != m || spec.stiffness->cols() != m) {
         in.ThrowValue(law["stiffness"], kp + ".law.stiffness", expected);
       }
       return spec;
+    }
+    // A coupled law of n axes seen through a large-displacement setup: r = J(d)ᵀ F(ℓ(d) − L0).
+    if (IsLargeDisplacementSetup(in, node["setup"], kp + ".setup")) {
+      spec.block_setup = ParseRodSetup(in, node["setup"], kp + ".setup", static_cast<int>(m));
+      spec.block_law = constitutive::ParseVectorLaw(law, spec.block_setup->num_actuators(),
+                                                    kp + ".law");
+      return spec;
+    }
+    if (node["setup"]) {
+      in.ThrowValue(node["setup"], kp + ".setup",
+                    "`{geometry: large_displacement, ...}` (a numerical block gives a linear map "
+                    "as `transform:` beside `law:`)");
     }
     // A coupled law of n axes seen through T (n × m): r = Tᵀ F(T d) (law_block.h).
     Eigen::MatrixXd t = Eigen::MatrixXd::Identity(m, m);
@@ -214,40 +192,18 @@ substructures::SubstructureSpec ParseBlock(const YamlInput& in, const YAML::Node
   }
   const YAML::Node setup = node["setup"];
   const std::string sp = kp + ".setup";
-  if (!setup.IsMap() || !setup["transform"] || !setup["p0"]) {
-    throw ConfigError(fmt::format("{}: a physical substructure of several slots needs `setup: "
-                                  "{{p0: [..], transform: [[..]]}}` (a − p0 = T d, T n_act × m)",
-                                  in.Where(node, sp)));
-  }
-  in.CheckKeys(setup, sp, {"p0", "transform", "load_cell_zero"});
-  substructures::LinearSetup linear;
-  linear.transform = ReadMatrix(in, setup["transform"], sp + ".transform",
-                                "a list of rows, one per actuator, one column per slot");
-  const auto n = linear.transform.rows();
-  auto vec = [&](const char* key, const char* what) {
-    Eigen::VectorXd v = Eigen::VectorXd::Zero(n);
-    if (!setup[key]) return v;
-    const auto values = in.Numbers(setup[key], sp + "." + key, what);
-    if (static_cast<Eigen::Index>(values.size()) != n) in.ThrowValue(setup[key], sp + "." + key, what);
-    for (Eigen::Index k = 0; k < n; ++k) v(k) = values[static_cast<std::size_t>(k)];
-    return v;
-  };
-  linear.p0 = vec("p0", "one actuator position at zero specimen force per actuator, in m");
-  linear.load_cell_zero = vec("load_cell_zero", "one load-cell zero per actuator, in N");
-  if (linear.transform.cols() != m) {
-    throw ConfigError(fmt::format("{}: T has {} columns for the {} slots of `slots:`; give one "
-                                  "column per slot", in.Where(setup["transform"], sp + ".transform"),
-                                  linear.transform.cols(), m));
-  }
-  try {
-    linear.Validate();
-  } catch (const ConfigError& e) {
-    throw ConfigError(fmt::format("{}: {}", in.Where(setup, sp), e.what()));
-  }
   substructures::PhysicalSpec physical;
+  Eigen::Index n = 0;
+  if (IsLargeDisplacementSetup(in, setup, sp)) {
+    physical.actuator_setup = ParseRodSetup(in, setup, sp, static_cast<int>(m));
+    n = physical.actuator_setup->num_actuators();
+  } else {
+    physical.linear = ParseLinearSetup(in, setup, sp, static_cast<int>(m));
+    n = physical.linear->num_actuators();
+  }
   for (Eigen::Index k = 0; k < n; ++k) {
     physical.actuator_limits.push_back(ParseSafety(
-        in, PickActuator(in, node["safety"], static_cast<std::size_t>(k),
+        in, PickActuator(in, WithoutSlotLimits(node["safety"]), static_cast<std::size_t>(k),
                          static_cast<std::size_t>(n), kp + ".safety"),
         fmt::format("{}.safety (actuator {})", kp, k + 1)));
   }
@@ -256,9 +212,14 @@ substructures::SubstructureSpec ParseBlock(const YamlInput& in, const YAML::Node
     physical.limits.timeout = std::max(physical.limits.timeout, l.timeout);
   }
   const YAML::Node tr = in.Mapping(node, "transfer", kp + ".transfer", true);
+  physical.slot_limits = ParseSlotLimits(in, node["safety"], kp + ".safety", spec.slots);
+  if (physical.actuator_setup) {
+    CheckGeometryWithinStroke(in, setup, sp,
+                              static_cast<const substructures::RodSetup&>(*physical.actuator_setup),
+                              physical.actuator_limits, physical.slot_limits);
+  }
   physical.transfer = ParseTransfer(in, tr, kp + ".transfer", options, physical.limits.timeout,
                                     nullptr);
-  physical.linear = linear;
   if (const YAML::Node k0 = node["initial_stiffness"]) {
     if (k0.IsSequence()) {
       physical.initial_stiffness_matrix =

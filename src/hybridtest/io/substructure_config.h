@@ -25,6 +25,12 @@
 //     r2:
 //       type: numerical
 //       law: {type: linear, stiffness: 7200}   # or bouc_wen / cantilever (constitutive/)
+//     blade1:                         # a specimen that serves several slots, on n actuators
+//       type: physical
+//       slots: [r_flap, r_edge]
+//       setup: {p0: [..], transform: [[..]]}   # linear, a = p0 + T d; or the rods of
+//                                              # {geometry: large_displacement, ...} (setup_config.h)
+//       safety: {..., slots: {max_displacement: [..], max_force: [..]}}   # lists per actuator / slot
 #include <memory>
 #include <optional>
 #include <string>

@@ -56,7 +56,8 @@ std::shared_ptr<const constitutive::RestoringForceLaw> TwinLaw(
   return std::make_unique<constitutive::LinearSpring>(*k0, "plan reference (K0)");
 }
 
-// The numerical twin of a specimen on several actuators of an emulated bench: Tᵀ K T.
+// The numerical twin of a specimen on several actuators of an emulated bench: T0ᵀ K T0, with
+// T0 = J(0) the setup's linearisation (EmulatedBlockTwin, asked first, sees the geometry).
 std::optional<Eigen::MatrixXd> TwinStiffness(const substructures::Substructure& s,
                                              const std::string& name) {
   const auto* multi = dynamic_cast<const substructures::MultiActuatorSubstructure*>(&s);
@@ -65,15 +66,15 @@ std::optional<Eigen::MatrixXd> TwinStiffness(const substructures::Substructure& 
   const auto& setup = multi->setup();
   if (bench != nullptr) {
     for (int k = 0; k < setup.num_actuators(); ++k) {
-      if (std::abs(setup.p0(k) - bench->config().actuators[static_cast<std::size_t>(k)].p0) > 1e-12 ||
-          setup.load_cell_zero(k) != bench->config().actuators[static_cast<std::size_t>(k)].offset) {
+      if (std::abs(setup.p0()(k) - bench->config().actuators[static_cast<std::size_t>(k)].p0) > 1e-12 ||
+          setup.load_cell_zero()(k) != bench->config().actuators[static_cast<std::size_t>(k)].offset) {
         throw ConfigError(fmt::format("plan: substructure {}: the setup's p0 and load-cell zero "
                                       "of actuator {} differ from the bench's; the reference "
                                       "needs them equal", name, k + 1));
       }
     }
-    return Eigen::MatrixXd(setup.transform.transpose() * bench->config().stiffness *
-                           setup.transform);
+    const Eigen::MatrixXd& t0 = setup.linearisation();
+    return Eigen::MatrixXd(t0.transpose() * bench->config().stiffness * t0);
   }
   if (auto k0 = multi->initial_stiffness_matrix()) return k0;
   throw ConfigError(fmt::format("plan: substructure {} has no emulated specimen and no "
@@ -337,9 +338,11 @@ std::vector<PlanResult> PlanTest(const io::RunSpec& configured, const PlanOption
     twin.slot = slot;
     twin.slots = ref_spec.substructures[s].slots;
     if (auto block = substructures::EmulatedBlockTwin(*built)) {
-      // A specimen law in actuator coordinates (e.g. the biaxial Bouc–Wen): r = Tᵀ F(T d).
+      // A specimen law in actuator coordinates (e.g. the biaxial Bouc–Wen): r = Tᵀ F(T d),
+      // or r = J(d)ᵀ F(ℓ(d) − L0) through a large-displacement setup.
       twin.block_law = block->block_law;
       twin.block_transform = block->block_transform;
+      twin.block_setup = block->block_setup;
     } else if (auto k = TwinStiffness(*built, slot)) {
       twin.stiffness = std::move(*k);
     } else {

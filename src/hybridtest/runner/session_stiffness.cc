@@ -39,6 +39,9 @@ void MultiActuatorStiffness(substructures::MultiActuatorSubstructure& multi, nlo
   } else {
     entry.update({{"k0", nullptr}, {"source", "unknown"}});
   }
+  // The setup K0 is seen through: a measured K0 is T0ᵀ K_a T0 with T0 = J(0) [m/m].
+  entry["setup"] = {{"kind", multi.setup().kind()}, {"description", multi.setup().Describe()},
+                    {"T0", MatrixJson(multi.setup().linearisation())}};
 }
 
 }  // namespace

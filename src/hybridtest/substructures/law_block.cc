@@ -20,6 +20,20 @@ LawBlock::LawBlock(std::unique_ptr<constitutive::VectorRestoringForceLaw> law,
   f_.resize(t_.rows());
 }
 
+LawBlock::LawBlock(std::unique_ptr<constitutive::VectorRestoringForceLaw> law,
+                   std::shared_ptr<const ActuatorSetup> setup)
+    : law_(std::move(law)), setup_(std::move(setup)) {
+  if (!law_ || !setup_) throw ConfigError("law block: no law or no setup");
+  if (setup_->num_actuators() != law_->num_axes()) {
+    throw ConfigError(fmt::format("law block: a setup of {} actuators for a law of {} axes: "
+                                  "expected one actuator per axis", setup_->num_actuators(),
+                                  law_->num_axes()));
+  }
+  t_ = setup_->linearisation();
+  u_.resize(t_.rows());
+  f_.resize(t_.rows());
+}
+
 double LawBlock::Trial(double displacement, const TrialContext& context) {
   if (num_slots() != 1) throw Error("LawBlock: a scalar trial of a block of several slots");
   double r = 0.0;
@@ -29,14 +43,26 @@ double LawBlock::Trial(double displacement, const TrialContext& context) {
 
 void LawBlock::TrialSlots(std::span<const double> d, std::span<double> r,
                           const TrialContext& /*context*/) {
-  u_ = t_ * Eigen::Map<const Eigen::VectorXd>(d.data(), t_.cols());
+  const Eigen::Map<const Eigen::VectorXd> dv(d.data(), t_.cols());
+  if (setup_) {
+    setup_->CalcCommands(dv, u_);
+    u_ -= setup_->p0();
+  } else {
+    u_ = t_ * dv;
+  }
   law_->Trial({u_.data(), static_cast<std::size_t>(u_.size())},
               {f_.data(), static_cast<std::size_t>(f_.size())});
-  Eigen::Map<Eigen::VectorXd>(r.data(), t_.cols()) = t_.transpose() * f_;
+  if (setup_) {
+    setup_->CalcSlotForces(dv, f_, Eigen::Map<Eigen::VectorXd>(r.data(), t_.cols()));
+  } else {
+    Eigen::Map<Eigen::VectorXd>(r.data(), t_.cols()) = t_.transpose() * f_;
+  }
 }
 
 std::string LawBlock::Describe() const {
-  return fmt::format("numerical block of {} slots: {}", num_slots(), law_->Describe());
+  return fmt::format("numerical block of {} slots{}: {}", num_slots(),
+                     setup_ ? " through a " + setup_->Describe() : std::string(),
+                     law_->Describe());
 }
 
 std::optional<double> LawBlock::initial_stiffness() const {

@@ -11,41 +11,84 @@
 
 namespace hybridtest::substructures {
 
-void LinearSetup::Validate() const {
-  const auto n = transform.rows(), m = transform.cols();
-  if (n < 1 || m < 1 || p0.size() != n || load_cell_zero.size() != n) {
-    throw ConfigError(fmt::format("setup: transform is {} × {}, p0 has {} values and "
-                                  "load_cell_zero {}: expected T of n_actuators × n_slots, and "
-                                  "one p0 and one load-cell zero per actuator (row of T)",
-                                  n, m, p0.size(), load_cell_zero.size()));
-  }
-  if (!transform.allFinite() || !p0.allFinite() || !load_cell_zero.allFinite()) {
-    throw ConfigError("setup: transform, p0 and load_cell_zero must be finite");
-  }
-  Eigen::FullPivLU<Eigen::MatrixXd> lu(transform);
-  if (lu.rank() < m) {
-    throw ConfigError(fmt::format("setup: transform ({} × {}) has rank {}: the actuators cannot "
-                                  "tell the {} slots apart; give T full column rank", n, m,
-                                  lu.rank(), m));
-  }
-}
-
 MultiActuatorSubstructure::MultiActuatorSubstructure(
     std::string name, std::unique_ptr<transfer::TransferSystem> transfer, LinearSetup setup,
     std::vector<transfer::SafetyLimits> limits)
+    : MultiActuatorSubstructure(std::move(name), std::move(transfer),
+                                std::make_unique<LinearActuatorSetup>(std::move(setup)),
+                                std::move(limits)) {}
+
+MultiActuatorSubstructure::MultiActuatorSubstructure(
+    std::string name, std::unique_ptr<transfer::TransferSystem> transfer,
+    std::unique_ptr<ActuatorSetup> setup, std::vector<transfer::SafetyLimits> limits)
     : name_(std::move(name)), transfer_(std::move(transfer)), setup_(std::move(setup)),
       gate_(limits) {
   if (!transfer_) throw Error("MultiActuatorSubstructure '" + name_ + "': no transfer system");
-  setup_.Validate();
-  const int n = setup_.num_actuators();
+  if (!setup_) throw Error("MultiActuatorSubstructure '" + name_ + "': no setup");
+  const int n = setup_->num_actuators();
   if (gate_.size() != n) {
-    throw ConfigError(fmt::format("{}: the setup's transform has {} rows (actuators) and {} sets "
-                                  "of safety limits were given", name_, n, gate_.size()));
+    throw ConfigError(fmt::format("{}: the setup has {} actuators and {} sets of safety limits "
+                                  "were given", name_, n, gate_.size()));
   }
-  for (int k = 0; k < n; ++k) gate_.monitor(k).SetStartPosition(setup_.p0(k));
+  for (int k = 0; k < n; ++k) gate_.monitor(k).SetStartPosition(setup_->p0()(k));
   last_.resize(static_cast<std::size_t>(n));
   commands_.resize(static_cast<std::size_t>(n));
-  zeros_.assign(setup_.load_cell_zero.data(), setup_.load_cell_zero.data() + n);
+  zeros_.assign(setup_->load_cell_zero().data(), setup_->load_cell_zero().data() + n);
+  f_.resize(n);
+}
+
+void MultiActuatorSubstructure::SetSlotLimits(SlotLimits limits) {
+  const auto m = static_cast<Eigen::Index>(num_slots());
+  auto check = [&](const Eigen::VectorXd& v, const char* key, const char* unit) {
+    if (v.size() != m || !(v.array() > 0.0).all() || v.hasNaN()) {
+      throw ConfigError(fmt::format("{}: safety.slots.{} has {} values: expected one positive "
+                                    "limit in {} per slot ({})", name_, key, v.size(), unit, m));
+    }
+  };
+  if (limits.max_displacement.size() == 0) {
+    limits.max_displacement = Eigen::VectorXd::Constant(m, std::numeric_limits<double>::infinity());
+  }
+  if (limits.max_force.size() == 0) {
+    limits.max_force = Eigen::VectorXd::Constant(m, std::numeric_limits<double>::infinity());
+  }
+  check(limits.max_displacement, "max_displacement", "m");
+  check(limits.max_force, "max_force", "N");
+  if (limits.names.size() != static_cast<std::size_t>(m)) {
+    limits.names.clear();
+    for (Eigen::Index i = 0; i < m; ++i) limits.names.push_back(fmt::format("{}", i + 1));
+  }
+  slot_limits_ = std::move(limits);
+}
+
+void MultiActuatorSubstructure::CheckSlotDisplacements(std::span<const double> d,
+                                                       const TrialContext& ctx) {
+  if (!slot_limits_) return;
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    const double limit = slot_limits_->max_displacement(static_cast<Eigen::Index>(i));
+    if (std::abs(d[i]) <= limit) continue;  // NaN falls through: refused
+    Hold();
+    throw transfer::SafetyStop(
+        "slot_max_displacement", d[i], limit, ctx.step, ctx.stage, gate_.monitor(0).history(),
+        fmt::format("{}: slot {} displacement {} m is beyond its safety.slots.max_displacement "
+                    "{} m (step {}, stage {}, t = {} s); refused before any actuator moved, "
+                    "every actuator holds", name_, slot_limits_->names[i], d[i], limit, ctx.step,
+                    ctx.stage, ctx.t));
+  }
+}
+
+void MultiActuatorSubstructure::CheckSlotForces(std::span<const double> r,
+                                                const TrialContext& ctx) {
+  if (!slot_limits_) return;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    const double limit = slot_limits_->max_force(static_cast<Eigen::Index>(i));
+    if (std::abs(r[i]) <= limit) continue;
+    Hold();
+    throw transfer::SafetyStop(
+        "slot_max_force", r[i], limit, ctx.step, ctx.stage, gate_.monitor(0).history(),
+        fmt::format("{}: slot {} restoring force {} N is beyond its safety.slots.max_force {} N "
+                    "(step {}, stage {}, t = {} s); every actuator holds", name_,
+                    slot_limits_->names[i], r[i], limit, ctx.step, ctx.stage, ctx.t));
+  }
 }
 
 MultiActuatorSubstructure::~MultiActuatorSubstructure() {
@@ -100,18 +143,24 @@ double MultiActuatorSubstructure::Trial(double displacement, const TrialContext&
 void MultiActuatorSubstructure::TrialSlots(std::span<const double> d, std::span<double> r,
                                            const TrialContext& ctx) {
   const Eigen::Map<const Eigen::VectorXd> dv(d.data(), static_cast<Eigen::Index>(d.size()));
-  Eigen::Map<Eigen::VectorXd>(commands_.data(), setup_.num_actuators()) =
-      setup_.p0 + setup_.transform * dv;
+  CheckSlotDisplacements(d, ctx);
+  try {
+    setup_->CalcCommands(dv, Eigen::Map<Eigen::VectorXd>(commands_.data(), num_actuators()));
+  } catch (const Error& e) {
+    Hold();
+    throw Error(fmt::format("{}: {} (step {}, stage {}, t = {} s; every actuator holds)", name_,
+                            e.what(), ctx.step, ctx.stage, ctx.t));
+  }
   try {
     MoveAll(commands_, {ctx.step, ctx.stage});
   } catch (const TransferError& e) {
     throw TransferError(fmt::format("{}: {} (step {}, stage {}, t = {} s; every actuator holds)",
                                     name_, e.what(), ctx.step, ctx.stage, ctx.t));
   }
-  Eigen::VectorXd f(setup_.num_actuators());
-  for (int k = 0; k < f.size(); ++k) f(k) = last_[static_cast<std::size_t>(k)].force;
-  Eigen::Map<Eigen::VectorXd>(r.data(), static_cast<Eigen::Index>(r.size())) =
-      setup_.transform.transpose() * f;
+  for (int k = 0; k < f_.size(); ++k) f_(k) = last_[static_cast<std::size_t>(k)].force;
+  setup_->CalcSlotForces(dv, f_, Eigen::Map<Eigen::VectorXd>(r.data(),
+                                                             static_cast<Eigen::Index>(r.size())));
+  CheckSlotForces(r, ctx);
 }
 
 void MultiActuatorSubstructure::Hold() noexcept {
@@ -127,8 +176,8 @@ void MultiActuatorSubstructure::Deactivate() {
 }
 
 std::string MultiActuatorSubstructure::Describe() const {
-  return fmt::format("physical ({}; {} slots, {} actuators): {}", name_, num_slots(),
-                     num_actuators(), transfer_->Describe());
+  return fmt::format("physical ({}; {} slots, {} actuators, {}): {}", name_, num_slots(),
+                     num_actuators(), setup_->Describe(), transfer_->Describe());
 }
 
 std::optional<double> MultiActuatorSubstructure::initial_stiffness() const {
@@ -144,8 +193,8 @@ void MultiActuatorSubstructure::SetInitialStiffness(const Eigen::MatrixXd& k0) {
   }
   k0_ = k0;
   // The gate predicts every actuator's force with the whole matrix: K_a = T⁺ᵀ K0 T⁺, with
-  // T⁺ = (TᵀT)⁻¹Tᵀ (T⁻ᵀ K0 T⁻¹ for a square T).
-  const Eigen::MatrixXd& t = setup_.transform;
+  // T⁺ = (TᵀT)⁻¹Tᵀ (T⁻ᵀ K0 T⁻¹ for a square T), T = T0 = J(0).
+  const Eigen::MatrixXd& t = setup_->linearisation();
   const Eigen::MatrixXd pinv = (t.transpose() * t).ldlt().solve(t.transpose());  // m × n
   gate_.SetStiffness(pinv.transpose() * k0 * pinv);
 }
@@ -153,7 +202,7 @@ void MultiActuatorSubstructure::SetInitialStiffness(const Eigen::MatrixXd& k0) {
 double MultiActuatorSubstructure::max_displacement_increment() const {
   double inc = std::numeric_limits<double>::infinity();
   for (int k = 0; k < num_actuators(); ++k) {
-    const double row = setup_.transform.row(k).cwiseAbs().sum();
+    const double row = setup_->CommandStepBound(k);
     if (row > 0.0) inc = std::min(inc, gate_.monitor(k).limits().max_increment / row);
   }
   return inc;
@@ -175,7 +224,7 @@ MultiActuatorSubstructure::StiffnessMeasurement MultiActuatorSubstructure::Measu
       const int level = k <= steps ? k : 2 * steps - k;
       Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
       x(j) = amplitude * static_cast<double>(level) / steps;
-      for (int i = 0; i < n; ++i) commands_[static_cast<std::size_t>(i)] = setup_.p0(i) + x(i);
+      for (int i = 0; i < n; ++i) commands_[static_cast<std::size_t>(i)] = setup_->p0()(i) + x(i);
       MoveAll(commands_, {-1, j * 2 * steps + k});
       Eigen::VectorXd f(n);
       for (int i = 0; i < n; ++i) f(i) = last_[static_cast<std::size_t>(i)].force;
@@ -203,7 +252,8 @@ MultiActuatorSubstructure::StiffnessMeasurement MultiActuatorSubstructure::Measu
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) out.actuator_k(i, j) = kv(index(i, j));
   }
-  out.k0 = setup_.transform.transpose() * out.actuator_k * setup_.transform;
+  const Eigen::MatrixXd& t0 = setup_->linearisation();
+  out.k0 = t0.transpose() * out.actuator_k * t0;
   if (!out.k0.allFinite() || !(out.k0.diagonal().minCoeff() > 0.0)) {
     throw Error(fmt::format("{}: the stiffness ramps gave a K0 with a non-positive or non-finite "
                             "diagonal; check the specimen, the setup's transform and the load "

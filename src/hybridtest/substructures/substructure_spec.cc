@@ -32,11 +32,20 @@ std::unique_ptr<Substructure> SubstructureSpec::Build() const {
       throw ConfigError(fmt::format("slot {}: a physical substructure needs a transfer system",
                                     slot));
     }
-    if (physical->linear) {
+    if (physical->linear || physical->actuator_setup) {
+      std::unique_ptr<ActuatorSetup> setup =
+          physical->linear ? std::make_unique<LinearActuatorSetup>(*physical->linear)
+                           : physical->actuator_setup->Clone();
       std::vector<transfer::SafetyLimits> limits = physical->actuator_limits;
-      if (limits.empty()) limits.assign(physical->linear->p0.size(), physical->limits);
+      if (limits.empty()) limits.assign(static_cast<std::size_t>(setup->num_actuators()),
+                                        physical->limits);
       auto multi = std::make_unique<MultiActuatorSubstructure>(slot, physical->transfer.make(),
-                                                               *physical->linear, limits);
+                                                               std::move(setup), limits);
+      if (physical->slot_limits) {
+        SlotLimits slot_limits = *physical->slot_limits;
+        if (slot_limits.names.empty()) slot_limits.names = SlotNames();
+        multi->SetSlotLimits(std::move(slot_limits));
+      }
       if (physical->initial_stiffness_matrix) {
         multi->SetInitialStiffness(*physical->initial_stiffness_matrix);
       }
@@ -51,6 +60,7 @@ std::unique_ptr<Substructure> SubstructureSpec::Build() const {
     return built;
   }
   if (stiffness) return std::make_unique<LinearBlock>(*stiffness);
+  if (block_law && block_setup) return std::make_unique<LawBlock>(block_law->Clone(), block_setup);
   if (block_law) {
     const int n = block_law->num_axes();
     return std::make_unique<LawBlock>(
@@ -101,14 +111,18 @@ std::optional<SubstructureSpec> EmulatedBlockTwin(const Substructure& s) {
   const auto& setup = multi->setup();
   for (int k = 0; k < setup.num_actuators(); ++k) {
     const auto& a = bench->config().actuators[static_cast<std::size_t>(k)];
-    if (std::abs(setup.p0(k) - a.p0) > 1e-12 || setup.load_cell_zero(k) != a.offset) {
+    if (std::abs(setup.p0()(k) - a.p0) > 1e-12 || setup.load_cell_zero()(k) != a.offset) {
       return std::nullopt;
     }
   }
   SubstructureSpec twin;
   twin.slot = s.Describe();
   twin.block_law = bench->specimen().Clone();
-  twin.block_transform = setup.transform;
+  if (setup.kind() == "linear") {
+    twin.block_transform = setup.linearisation();
+  } else {
+    twin.block_setup = setup.Clone();
+  }
   return twin;
 }
 

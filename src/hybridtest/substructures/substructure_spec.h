@@ -19,7 +19,9 @@
 
 #include "hybridtest/constitutive/restoring_force_law.h"
 #include "hybridtest/constitutive/vector_law.h"
+#include "hybridtest/substructures/actuator_setup.h"
 #include "hybridtest/substructures/linear_setup.h"
+#include "hybridtest/substructures/slot_limits.h"
 #include "hybridtest/substructures/setup_transform.h"
 #include "hybridtest/substructures/substructure.h"
 #include "hybridtest/transfer/safety.h"
@@ -50,6 +52,11 @@ struct PhysicalSpec {
   std::vector<transfer::SafetyLimits> actuator_limits;
   // K0 = dr/dd given as an m × m matrix. Unit: [N/m].
   std::optional<Eigen::MatrixXd> initial_stiffness_matrix;
+  // Several actuators with another setup than `linear` (`setup: {geometry:
+  // large_displacement, ...}`: a RodSetup); used when `linear` is unset.
+  std::shared_ptr<const ActuatorSetup> actuator_setup;
+  // Several actuators: limits per slot (`safety: {slots: {...}}`); names filled by Build().
+  std::optional<SlotLimits> slot_limits;
 };
 
 struct SubstructureSpec {
@@ -64,6 +71,9 @@ struct SubstructureSpec {
   // T = block_transform (n × m; unset: the identity). See law_block.h.
   std::shared_ptr<const constitutive::VectorRestoringForceLaw> block_law;
   std::optional<Eigen::MatrixXd> block_transform;
+  // Numerical, several slots: block_law seen through this setup instead of T,
+  // r = J(d)ᵀ F(a(d) − p0) (law_block.h); the twin of a large-displacement setup.
+  std::shared_ptr<const ActuatorSetup> block_setup;
   // Numerical: the law (a prototype; never trialled itself).
   std::shared_ptr<const constitutive::RestoringForceLaw> law;
   // Physical (then `law` is empty).
@@ -77,10 +87,12 @@ struct SubstructureSpec {
   bool is_physical() const { return physical.has_value() || (custom && custom_is_physical); }
   // The slots served, in order.
   std::vector<std::string> SlotNames() const { return slots.empty() ? std::vector{slot} : slots; }
-  // Actuators moved: 0 numerical, n for a linear setup, else 1.
+  // Actuators moved: 0 numerical, n for a setup of several actuators, else 1.
   int num_actuators() const {
     if (!is_physical()) return 0;
-    return physical && physical->linear ? physical->linear->num_actuators() : 1;
+    if (physical && physical->linear) return physical->linear->num_actuators();
+    if (physical && physical->actuator_setup) return physical->actuator_setup->num_actuators();
+    return 1;
   }
   // A fresh substructure. Throws ConfigError if the spec is empty or inconsistent, and what
   // the transfer factory throws.
@@ -95,7 +107,8 @@ std::vector<std::vector<int>> SlotIndices(const std::vector<SubstructureSpec>& s
 // The numerical twin of a substructure on an emulated bench of several actuators whose
 // specimen law and setup it can see (MultiActuatorSubstructure on a MultiEmulatedBench, the
 // setup's p0 equal to the bench's, no load-cell zero): a spec with block_law and
-// block_transform = the setup's T. nullopt for anything else.
+// block_transform = the setup's T (linear) or block_setup = the setup (any other geometry).
+// nullopt for anything else.
 std::optional<SubstructureSpec> EmulatedBlockTwin(const Substructure& s);
 
 // A numerical slot of law `law`.
