@@ -181,20 +181,36 @@ TEST(ModbusTwoActuatorRun, KilledAndResumedRunReimposesBothActuators) {
   ASSERT_EQ(status, 0) << output;
   ExpectSameJournal(ReadLines(reference), ReadLines(csv), true);
   EXPECT_EQ(Sidecar(csv)["status"], "completed");
-  // The first command each actuator received is its committed command of the resumed step
-  // (one re-imposition of both, in one write), then the run went on.
-  const long k = Sidecar(csv)["resumes"][0]["step"].get<long>();
+  // The controller came back at 20 and 30 mm, away from the committed commands: resume read
+  // both actuators there, walked them back together in moves within max_increment (2 mm;
+  // stage −2), then re-imposed both committed commands in one write (stage −1) and went on.
+  const nlohmann::json sidecar = Sidecar(csv);
+  const long k = sidecar["resumes"][0]["step"].get<long>();
+  const auto& checks = sidecar["resumes"][0]["checks"];
+  ASSERT_EQ(checks.size(), 2U) << checks;
+  const long ramps = checks[0]["ramp_moves"].get<long>();
+  EXPECT_GT(ramps, 0) << checks;
   const io::RunData journal = io::LoadRun(csv.string());
   const auto received = ReceivedCommands(log);
   const char* channels[] = {"blade1_a1_command", "blade1_a2_command"};
+  const double restart_mm[] = {20.0, 30.0};
   for (std::size_t a = 0; a < 2; ++a) {
-    ASSERT_FALSE(received[a].empty()) << channels[a];
-    EXPECT_NEAR(received[a][0] * 1e-3, journal.Get(channels[a])(k), 1e-15) << channels[a];
+    EXPECT_NEAR(checks[a]["read_position_m"].get<double>(), restart_mm[a] * 1e-3, 1e-12);
+    ASSERT_GT(received[a].size(), static_cast<std::size_t>(ramps)) << channels[a];
+    double from = restart_mm[a];
+    for (long j = 0; j <= ramps; ++j) {
+      EXPECT_LT(std::abs(received[a][static_cast<std::size_t>(j)] - from), 2.0)
+          << channels[a] << " move " << j;
+      from = received[a][static_cast<std::size_t>(j)];
+    }
+    EXPECT_NEAR(received[a][static_cast<std::size_t>(ramps)] * 1e-3,
+                journal.Get(channels[a])(k), 1e-15) << channels[a];
   }
   EXPECT_EQ(received[0].size(), received[1].size());
   const io::RunData stages =
       io::LoadRun((csv.parent_path() / (csv.stem().string() + ".stages.csv")).string());
   EXPECT_EQ((stages.Get("stage").array() == -1.0).count(), 1);
+  EXPECT_EQ((stages.Get("stage").array() == -2.0).count(), ramps);
   std::cout << "[ resume over Modbus, two actuators: from step " << k << ", "
             << received[0].size() << " commands per actuator ]\n";
   fs::remove_all(dir);

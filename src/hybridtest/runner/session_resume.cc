@@ -45,12 +45,29 @@ void Session::ReimposeCommitted() {
     for (std::size_t s = 0; s < subs_.size(); ++s) {
       const std::string& name = spec_.substructures[s].slot;
       if (auto* multi = dynamic_cast<substructures::MultiActuatorSubstructure*>(subs_[s].get())) {
-        // Every actuator re-imposed together, every force checked.
-        multi->ReimposeCommitted(spec_.resume.force_tolerance.value_or(0.0), p.step);
-        PublishTrial({p.step, -1, p.t}, none, none);
-        nlohmann::json forces = nlohmann::json::array();
-        for (int k = 0; k < multi->num_actuators(); ++k) forces.push_back(multi->actuator_exchange(k).force);
-        event.checks.push_back({{"slot", name}, {"force_N", forces}});
+        // Every actuator walked back from where it is and re-imposed together; every
+        // position and force checked. One record per actuator, named like its channels.
+        const auto check = multi->ReimposeCommitted(
+            spec_.resume.force_tolerance.value_or(0.0),
+            spec_.resume.position_tolerance.value_or(0.0), p.step, [&](bool reimposition) {
+              PublishTrial({p.step, reimposition ? -1 : -2, p.t}, none, none);
+            });
+        for (std::size_t k = 0; k < check.actuators.size(); ++k) {
+          const auto& a = check.actuators[k];
+          nlohmann::json c = {{"slot", fmt::format("{}_a{}", name, k + 1)},
+                              {"actuator", k + 1},
+                              {"command_m", a.command},
+                              {"committed_force_N", a.committed_force},
+                              {"ramp_moves", check.ramp_moves},
+                              {"position_m", a.position},
+                              {"force_N", a.force},
+                              {"tolerance_N", a.force_tolerance},
+                              {"committed_position_m", a.committed_position},
+                              {"position_tolerance_m", a.position_tolerance}};
+          c["read_position_m"] = a.read_position ? nlohmann::json(*a.read_position) : nullptr;
+          c["read_force_N"] = a.read_force ? nlohmann::json(*a.read_force) : nullptr;
+          event.checks.push_back(c);
+        }
         continue;
       }
       auto* physical = dynamic_cast<substructures::PhysicalSubstructure*>(subs_[s].get());

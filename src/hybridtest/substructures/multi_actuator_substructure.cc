@@ -326,28 +326,4 @@ void MultiActuatorSubstructure::RestoreState(const nlohmann::json& state) {
   if (!state.at("transfer").is_null()) transfer_->RestoreState(state.at("transfer"));
 }
 
-void MultiActuatorSubstructure::ReimposeCommitted(double force_tolerance, long step) {
-  std::vector<double> committed(last_.size()), forces(last_.size());
-  for (std::size_t k = 0; k < last_.size(); ++k) {
-    committed[k] = last_[k].command;
-    forces[k] = last_[k].force;
-  }
-  MoveAll(committed, {step, -1});
-  for (std::size_t k = 0; k < last_.size(); ++k) {
-    const double tol = force_tolerance > 0.0
-                           ? force_tolerance
-                           : 0.01 * gate_.monitor(static_cast<int>(k)).limits().force_hard;
-    const double diff = std::abs(last_[k].force - forces[k]);
-    if (diff > tol) {
-      Hold();
-      throw transfer::SafetyStop(
-          "resume_force_tolerance", diff, tol, step, -1,
-          gate_.monitor(static_cast<int>(k)).history(),
-          fmt::format("{}: actuator {} measures {} N at its committed command {} m, the journal "
-                      "{} N; every actuator holds. Check the specimen before resuming.",
-                      name_, k + 1, last_[k].force, committed[k], forces[k]));
-    }
-  }
-}
-
 }  // namespace hybridtest::substructures

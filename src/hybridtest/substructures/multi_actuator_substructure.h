@@ -6,6 +6,7 @@
 // checked before any actuator moves), with optional limits per slot (slot_limits.h). On any
 // violation or communication failure the transfer system holds (every actuator) and the error
 // propagates.
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -80,11 +81,36 @@ class MultiActuatorSubstructure final : public Substructure {
   void RequestStiffnessMeasurement(double amplitude) { k0_ramp_ = amplitude; }
   std::optional<double> requested_stiffness_ramp() const { return k0_ramp_; }
 
-  // Resume: re-imposes every actuator's last committed command at once (all actuators move
-  // together, every command checked) and compares each force with the committed one within
-  // force_tolerance [N] (≤ 0: 1 % of that actuator's force_hard). Throws SafetyStop (limit
-  // "resume_force_tolerance") after putting the bench on hold.
-  void ReimposeCommitted(double force_tolerance, long step);
+  // What a resume did on each actuator (see ReimposeCommitted; recorded in the sidecar).
+  struct ResumeCheck {
+    struct Actuator {
+      double command = 0.0;                 // the last committed command [m]
+      double committed_position = 0.0;      // the journal's committed position [m]
+      double committed_force = 0.0;         // the journal's committed force [N]
+      std::optional<double> read_position;  // read before anything moved [m] (if it can)
+      std::optional<double> read_force;     // read before anything moved [N] (if it can)
+      double position = 0.0;                // measured after the re-imposition [m]
+      double force = 0.0;                   // measured after the re-imposition [N]
+      double position_tolerance = 0.0;      // accepted |position − committed| [m]
+      double force_tolerance = 0.0;         // accepted |force − committed| [N]
+    };
+    std::vector<Actuator> actuators;
+    int ramp_moves = 0;  // moves before the re-imposition (an actuator had moved)
+  };
+  // Resume (multi_actuator_resume.cc), the several-actuator form of
+  // PhysicalSubstructure::ReimposeCommitted: if the transfer system can read every actuator
+  // without moving (TransferSystem::ReadAll), every monitor starts from the MEASURED
+  // positions, and if an actuator is more than its max_increment from its committed command,
+  // all actuators walk back together in equal moves strictly within every max_increment; then
+  // every committed command is re-imposed at once (all checked before any moves). Each
+  // actuator's measured position and force are compared with the committed ones within
+  // position_tolerance [m] (≤ 0: a quarter of its max_increment) and force_tolerance [N]
+  // (≤ 0: the smaller of 1 % of its force_hard and K_a,kk times its position tolerance, when
+  // the gate knows K_a). Beyond either, every actuator holds and SafetyStop (limit
+  // "resume_position_tolerance" or "resume_force_tolerance") names the actuator. on_move(false)
+  // after each ramp move, on_move(true) after the re-imposition.
+  ResumeCheck ReimposeCommitted(double force_tolerance, double position_tolerance, long step,
+                                const std::function<void(bool reimposition)>& on_move);
 
  private:
   void MoveAll(const std::vector<double>& commands, transfer::MoveLabel label);

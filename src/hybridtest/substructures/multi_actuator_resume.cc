@@ -1,0 +1,99 @@
+// MultiActuatorSubstructure::ReimposeCommitted: a resume of a specimen on several actuators
+// starts from where every actuator IS (see multi_actuator_substructure.h and docs/safety.md,
+// "Resuming a run").
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/substructures/multi_actuator_substructure.h"
+
+namespace hybridtest::substructures {
+
+MultiActuatorSubstructure::ResumeCheck MultiActuatorSubstructure::ReimposeCommitted(
+    double force_tolerance, double position_tolerance, long step,
+    const std::function<void(bool)>& on_move) {
+  const std::size_t n = last_.size();
+  ResumeCheck check;
+  check.actuators.resize(n);
+  std::vector<double> committed(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    ResumeCheck::Actuator& a = check.actuators[k];
+    const transfer::SafetyLimits& limits = gate_.monitor(static_cast<int>(k)).limits();
+    a.command = committed[k] = last_[k].command;
+    a.committed_position = last_[k].position;
+    a.committed_force = last_[k].force;
+    a.position_tolerance =
+        position_tolerance > 0.0 ? position_tolerance : 0.25 * limits.max_increment;
+    a.force_tolerance = force_tolerance;
+    if (!(a.force_tolerance > 0.0)) {
+      a.force_tolerance = 0.01 * limits.force_hard;
+      // A force tolerance wider than the stiffness times the position tolerance would accept
+      // a position error the position check refuses.
+      if (const auto& ka = gate_.stiffness()) {
+        const double kk = (*ka)(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k));
+        if (std::isfinite(kk) && kk > 0.0) {
+          a.force_tolerance = std::min(a.force_tolerance, kk * a.position_tolerance);
+        }
+      }
+    }
+  }
+  auto move = [&](const std::vector<double>& commands, bool reimposition) {
+    MoveAll(commands, {step, -1});
+    if (on_move) on_move(reimposition);
+  };
+  if (const auto read = transfer_->ReadAll(); read && read->size() == n) {
+    const transfer::BenchUnits units = transfer_->bench_units();
+    std::vector<double> measured(n);
+    int moves = 1;
+    for (std::size_t k = 0; k < n; ++k) {
+      ResumeCheck::Actuator& a = check.actuators[k];
+      measured[k] = (*read)[k].position * units.metres_per_length_unit;
+      a.read_position = measured[k];
+      a.read_force = (*read)[k].force * units.newtons_per_force_unit - zeros_[k];
+      // Every move from here is checked against where the actuator is, not where the state
+      // says it was: the increment limit then holds for the first move too.
+      gate_.monitor(static_cast<int>(k)).SetStartPosition(measured[k]);
+      const double gap = std::abs(committed[k] - measured[k]);
+      const double limit = gate_.monitor(static_cast<int>(k)).limits().max_increment;
+      // Equal moves of at most 99.9 % of the limit, so that rounding never pushes one over.
+      if (gap > limit) moves = std::max(moves, static_cast<int>(std::ceil(gap / (0.999 * limit))));
+    }
+    std::vector<double> ramp(n);
+    for (int j = 1; j < moves; ++j) {
+      for (std::size_t k = 0; k < n; ++k) {
+        ramp[k] = measured[k] + (committed[k] - measured[k]) * static_cast<double>(j) / moves;
+      }
+      move(ramp, false);
+      ++check.ramp_moves;
+    }
+  }
+  move(committed, true);
+  for (std::size_t k = 0; k < n; ++k) {
+    ResumeCheck::Actuator& a = check.actuators[k];
+    a.position = last_[k].position;
+    a.force = last_[k].force;
+    const double dp = std::abs(a.position - a.committed_position);
+    const double df = std::abs(a.force - a.committed_force);
+    const bool position_bad = !(dp <= a.position_tolerance);
+    if (!position_bad && df <= a.force_tolerance) continue;
+    Hold();
+    throw transfer::SafetyStop(
+        position_bad ? "resume_position_tolerance" : "resume_force_tolerance",
+        position_bad ? dp : df, position_bad ? a.position_tolerance : a.force_tolerance, step,
+        -1, gate_.monitor(static_cast<int>(k)).history(),
+        fmt::format("{}: resume refused: actuator {}'s last committed command {} m was "
+                    "re-imposed and it measured position {} m and force {} N, but the "
+                    "journal's committed position is {} m and force {} N (differences {} m and "
+                    "{} N; accepted {} m and {} N). Every actuator holds there. To proceed: "
+                    "check the specimen, the actuators and the load cells; if the difference is "
+                    "understood, resume with --position-tolerance M / --force-tolerance N (or "
+                    "resume.position_tolerance, resume.force_tolerance)",
+                    name_, k + 1, a.command, a.position, a.force, a.committed_position,
+                    a.committed_force, dp, df, a.position_tolerance, a.force_tolerance));
+  }
+  return check;
+}
+
+}  // namespace hybridtest::substructures
