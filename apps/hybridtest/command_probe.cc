@@ -9,6 +9,7 @@
 //   - |position − setup.p0| ≤ safety.max_increment: the first command starts from p0, so an
 //     actuator elsewhere would jump (a hint names a factor of 1000 as a unit slip);
 //   - |force| ≤ safety.force_soft: the specimen must be unloaded at rest.
+// A specimen on several actuators: every actuator read (ReadAll) and checked the same way.
 // Prints one block per slot and exits 0 when every check passes, 2 (ConfigError) otherwise.
 // Nothing is written to the bench: no command, no coil, no drive enabled.
 #include <fmt/core.h>
@@ -22,6 +23,7 @@
 #include "hybridtest/io/config.h"
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/runner/pre_move_checks.h"
+#include "hybridtest/substructures/multi_actuator_substructure.h"
 #include "hybridtest/substructures/physical_substructure.h"
 
 namespace hybridtest::app {
@@ -64,19 +66,82 @@ std::vector<std::string> ProbeProblems(const transfer::ProbeReading& reading,
   return problems;
 }
 
+// A specimen on several actuators: Probe() for the controller's status (it connects if it
+// must), then every actuator read without moving (ReadAll) and checked like one slot.
+// Returns whether it was probed; adds 1 to failed if a check does not pass.
+bool ProbeActuators(const std::string& name, substructures::MultiActuatorSubstructure& sub,
+                    long& failed) {
+  fmt::print("{}: {}\n", name, sub.transfer().Describe());
+  const std::optional<transfer::ProbeReading> reading = sub.transfer().Probe();
+  const auto all = sub.transfer().ReadAll();
+  if (!all || static_cast<int>(all->size()) != sub.num_actuators()) {
+    if (reading && !reading->problem.empty()) {
+      fmt::print("  PROBLEM: {}\n", reading->problem);
+      ++failed;
+      return true;
+    }
+    fmt::print("  not probed: this transfer system cannot read its actuators without moving; "
+               "their checks run when the test connects\n");
+    return false;
+  }
+  if (reading && !reading->status.empty()) fmt::print("  status   {}\n", reading->status);
+  const transfer::BenchUnits units = sub.transfer().bench_units();
+  std::vector<std::string> problems;
+  if (reading && !reading->problem.empty()) problems.push_back(reading->problem);
+  for (int k = 0; k < sub.num_actuators(); ++k) {
+    const auto i = static_cast<Eigen::Index>(k);
+    const transfer::Measurement& m = (*all)[static_cast<std::size_t>(k)];
+    const double position = m.position * units.metres_per_length_unit;
+    const double force = m.force * units.newtons_per_force_unit - sub.setup().load_cell_zero()(i);
+    const double p0 = sub.setup().p0()(i);
+    const transfer::SafetyLimits& l = sub.safety().monitor(k).limits();
+    fmt::print("  actuator {}: position {} {} = {} m (setup.p0 = {} m), force {} {} = {} N\n",
+               k + 1, m.position, units.length_name, position, p0, m.force, units.force_name,
+               force);
+    if (!std::isfinite(position) || !std::isfinite(force)) {
+      problems.push_back(fmt::format("actuator {}: a position or force that is not a number", k + 1));
+      continue;
+    }
+    if (position < l.stroke_min || position > l.stroke_max) {
+      problems.push_back(fmt::format("actuator {}: position {} m is outside the stroke [{}, {}] m",
+                                     k + 1, position, l.stroke_min, l.stroke_max));
+    }
+    if (std::abs(position - p0) > l.max_increment) {
+      problems.push_back(fmt::format(
+          "actuator {}: position {} m is {} m from setup.p0 = {} m, more than its "
+          "max_increment = {} m: the first command would jump; move the actuator to p0, or "
+          "correct setup.p0", k + 1, position, std::abs(position - p0), p0, l.max_increment));
+    }
+    if (std::abs(force) > l.force_soft) {
+      problems.push_back(fmt::format(
+          "actuator {}: force {} N at rest exceeds its force_soft = {} N: the specimen is loaded "
+          "before the test; check p0, setup.load_cell_zero and the force unit", k + 1, force,
+          l.force_soft));
+    }
+  }
+  for (const std::string& p : problems) fmt::print("  PROBLEM: {}\n", p);
+  if (problems.empty()) fmt::print("  ok: every actuator at p0, unloaded, inside its limits\n");
+  failed += problems.empty() ? 0 : 1;
+  return true;
+}
+
 void RunProbe(const ProbeOptions& options) {
   const io::SimulationConfig cfg = io::LoadSimulationConfig(options.config);
   const io::RunSpec spec = io::CompileRunSpec(cfg, {options.bench, true, "", std::nullopt});
   std::vector<std::unique_ptr<substructures::Substructure>> subs;
   for (const auto& sub : spec.substructures) subs.push_back(sub.Build());
   runner::CheckPhysicalSlotsBeforeMoving(spec, subs);
-  const auto& slots = cfg.model.model.slots();
   long failed = 0, probed = 0, physical = 0;
-  for (std::size_t s = 0; s < subs.size() && s < slots.size(); ++s) {
+  for (std::size_t s = 0; s < subs.size(); ++s) {
+    if (auto* multi = dynamic_cast<substructures::MultiActuatorSubstructure*>(subs[s].get())) {
+      ++physical;
+      probed += ProbeActuators(spec.substructures[s].slot, *multi, failed) ? 1 : 0;
+      continue;
+    }
     auto* slot = dynamic_cast<substructures::PhysicalSubstructure*>(subs[s].get());
     if (slot == nullptr) continue;
     ++physical;
-    const std::string name = slots[s].info.name;
+    const std::string name = spec.substructures[s].slot;
     fmt::print("{}: {}\n", name, slot->transfer().Describe());
     const std::optional<transfer::ProbeReading> reading = slot->transfer().Probe();
     if (!reading) {

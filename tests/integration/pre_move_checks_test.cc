@@ -106,6 +106,30 @@ TEST(PreMoveChecks, ProbeReadsTheEmulatedBenchAndFindsAMismatch) {
   EXPECT_NE(text.find("PROBLEM: position 0.005 m"), std::string::npos) << text;
 }
 
+// A specimen on two actuators: every actuator is read and checked, and one that stands away
+// from its setup.p0 is named.
+TEST(PreMoveChecks, ProbeReadsEveryActuatorOfATwoActuatorSpecimen) {
+  const std::string example = kSource + "/examples/06_blade_two_actuators/";
+  const auto [ok, good] = Hybridtest("probe " + example + "emulated.yaml");
+  EXPECT_EQ(ok, 0) << good;
+  EXPECT_NE(good.find("actuator 2: position 30 mm = 0.03 m"), std::string::npos) << good;
+  EXPECT_NE(good.find("ok: every actuator at p0"), std::string::npos) << good;
+  const fs::path dir = TempDir() / "probe_two";
+  fs::create_directories(dir);
+  fs::copy_file(example + "bench-2act.yaml", dir / "bench-2act.yaml",
+                fs::copy_options::overwrite_existing);
+  fs::copy_file(example + "blade_tip.yaml", dir / "blade_tip.yaml",
+                fs::copy_options::overwrite_existing);
+  const std::string run = Slurp(example + "emulated.yaml");
+  ASSERT_NE(run.find("p0: [0.02, 0.03]"), std::string::npos);
+  std::ofstream(dir / "emulated.yaml")
+      << std::regex_replace(run, std::regex("p0: \\[0.02, 0.03\\]"), "p0: [0.02, 0.04]");
+  const auto [bad, text] = Hybridtest(fmt::format("probe {}/emulated.yaml", dir.string()));
+  EXPECT_EQ(bad, 2) << text;
+  EXPECT_NE(text.find("PROBLEM: actuator 2: position 0.03 m"), std::string::npos) << text;
+  EXPECT_EQ(text.find("PROBLEM: actuator 1"), std::string::npos) << text;
+}
+
 TEST(PreMoveChecks, ProbeReadsAModbusControllerWithoutWritingAnything) {
   if (!testing::PymodbusAvailable()) GTEST_SKIP() << testing::kPymodbusMissing;
   const fs::path log = TempDir() / "modbus-commands.log";
