@@ -270,8 +270,23 @@ Model ModelBuilder::Build() && {
   }
   const int n = static_cast<int>(elements_.coordinates.size());
   m.mass_terms_ = internal::CompileMassTerms(elements_, compiled.points);
+  m.grouped_mass_terms_ = m.mass_terms_;
+  std::stable_sort(m.grouped_mass_terms_.begin(), m.grouped_mass_terms_.end(),
+                   [](const MassTerm& a, const MassTerm& b) { return a.m_jk < b.m_jk; });
+  for (std::size_t t = 1; t < m.grouped_mass_terms_.size(); ++t) {
+    m.grouped_mass_terms_[t].continues =
+        m.grouped_mass_terms_[t].m_jk == m.grouped_mass_terms_[t - 1].m_jk;
+  }
   m.loaded_points_.assign(loaded_points.begin(), loaded_points.end());
   m.loaded_frames_.assign(loaded_frames.begin(), loaded_frames.end());
+  for (int p : m.loaded_points_)
+    for (int j : compiled.points[p].active) m.projection_terms_.push_back({false, false, p, j});
+  for (int f : m.loaded_frames_)
+    for (int j : compiled.frames[f].active) m.projection_terms_.push_back({true, false, f, j});
+  std::stable_sort(m.projection_terms_.begin(), m.projection_terms_.end(),
+                   [](const ProjectionTerm& a, const ProjectionTerm& b) { return a.j < b.j; });
+  for (std::size_t t = 1; t < m.projection_terms_.size(); ++t)
+    m.projection_terms_[t].continues = m.projection_terms_[t].j == m.projection_terms_[t - 1].j;
   m.has_general_fields_ = general;
   m.planar_axis_ = compiled.planar_axis;
   m.tree_mass_matrix_reason_ = internal::PlanTreeMassMatrix(elements_, compiled.frames,
@@ -302,6 +317,21 @@ Model ModelBuilder::Build() && {
       internal::CompileMassStructure(elements_, compiled.frames, m.mass_terms_, m.tree_mass_plan_);
   m.factor_pattern_ = internal::CompileFactorPattern(structure, n);
   m.sparse_factor_plan_ = internal::CompileSparseFactor(structure, n);
+  if (!m.tree_mass_matrix_ && !m.sparse_factor()) {
+    m.constant_mass_ = internal::CompileConstantMass(elements_, compiled.frames, compiled.points,
+                                                     m.planar_axis_, m.factor_pattern_);
+    if (!m.constant_mass_.any()) m.constant_mass_ = ConstantMassPlan{};
+  }
+  if (!m.constant_mass_.entry.empty()) {
+    // The constant entries' terms are not evaluated (CalcMassMatrixPairwise).
+    std::erase_if(m.grouped_mass_terms_, [&](const MassTerm& t) {
+      return m.constant_mass_.entry[static_cast<std::size_t>(t.m_jk)] != 0;
+    });
+    for (std::size_t t = 0; t < m.grouped_mass_terms_.size(); ++t) {
+      m.grouped_mass_terms_[t].continues =
+          t > 0 && m.grouped_mass_terms_[t].m_jk == m.grouped_mass_terms_[t - 1].m_jk;
+    }
+  }
   m.compiled_frames_ = std::move(compiled.frames);
   m.compiled_points_ = std::move(compiled.points);
   m.elements_ = std::move(elements_);
