@@ -270,23 +270,6 @@ Model ModelBuilder::Build() && {
   }
   const int n = static_cast<int>(elements_.coordinates.size());
   m.mass_terms_ = internal::CompileMassTerms(elements_, compiled.points);
-  m.grouped_mass_terms_ = m.mass_terms_;
-  std::stable_sort(m.grouped_mass_terms_.begin(), m.grouped_mass_terms_.end(),
-                   [](const MassTerm& a, const MassTerm& b) { return a.m_jk < b.m_jk; });
-  for (std::size_t t = 1; t < m.grouped_mass_terms_.size(); ++t) {
-    m.grouped_mass_terms_[t].continues =
-        m.grouped_mass_terms_[t].m_jk == m.grouped_mass_terms_[t - 1].m_jk;
-  }
-  m.loaded_points_.assign(loaded_points.begin(), loaded_points.end());
-  m.loaded_frames_.assign(loaded_frames.begin(), loaded_frames.end());
-  for (int p : m.loaded_points_)
-    for (int j : compiled.points[p].active) m.projection_terms_.push_back({false, false, p, j});
-  for (int f : m.loaded_frames_)
-    for (int j : compiled.frames[f].active) m.projection_terms_.push_back({true, false, f, j});
-  std::stable_sort(m.projection_terms_.begin(), m.projection_terms_.end(),
-                   [](const ProjectionTerm& a, const ProjectionTerm& b) { return a.j < b.j; });
-  for (std::size_t t = 1; t < m.projection_terms_.size(); ++t)
-    m.projection_terms_[t].continues = m.projection_terms_[t].j == m.projection_terms_[t - 1].j;
   m.has_general_fields_ = general;
   m.planar_axis_ = compiled.planar_axis;
   m.tree_mass_matrix_reason_ = internal::PlanTreeMassMatrix(elements_, compiled.frames,
@@ -322,15 +305,29 @@ Model ModelBuilder::Build() && {
                                                      m.planar_axis_, m.factor_pattern_);
     if (!m.constant_mass_.any()) m.constant_mass_ = ConstantMassPlan{};
   }
-  if (!m.constant_mass_.entry.empty()) {
-    // The constant entries' terms are not evaluated (CalcMassMatrixPairwise).
-    std::erase_if(m.grouped_mass_terms_, [&](const MassTerm& t) {
-      return m.constant_mass_.entry[static_cast<std::size_t>(t.m_jk)] != 0;
-    });
-    for (std::size_t t = 0; t < m.grouped_mass_terms_.size(); ++t) {
-      m.grouped_mass_terms_[t].continues =
-          t > 0 && m.grouped_mass_terms_[t].m_jk == m.grouped_mass_terms_[t - 1].m_jk;
+  // Small models sum M's entries and the generalized forces entry by entry in a register
+  // (Model::grouped_sums()); larger ones keep the point-by-point loops, whose memory access
+  // is sequential. The constant entries' terms are not evaluated.
+  m.grouped_sums_ = n <= Model::kGroupedSumsMax;
+  if (m.grouped_sums_) {
+    for (const MassTerm& t : m.mass_terms_) {
+      if (m.constant_mass_.entry.empty() || !m.constant_mass_.entry[static_cast<std::size_t>(t.m_jk)])
+        m.grouped_mass_terms_.push_back(t);
     }
+    std::stable_sort(m.grouped_mass_terms_.begin(), m.grouped_mass_terms_.end(),
+                     [](const MassTerm& a, const MassTerm& b) { return a.m_jk < b.m_jk; });
+    for (std::size_t t = 1; t < m.grouped_mass_terms_.size(); ++t) {
+      m.grouped_mass_terms_[t].continues =
+          m.grouped_mass_terms_[t].m_jk == m.grouped_mass_terms_[t - 1].m_jk;
+    }
+    for (int p : m.loaded_points_)
+      for (int j : compiled.points[p].active) m.projection_terms_.push_back({false, false, p, j});
+    for (int f : m.loaded_frames_)
+      for (int j : compiled.frames[f].active) m.projection_terms_.push_back({true, false, f, j});
+    std::stable_sort(m.projection_terms_.begin(), m.projection_terms_.end(),
+                     [](const ProjectionTerm& a, const ProjectionTerm& b) { return a.j < b.j; });
+    for (std::size_t t = 1; t < m.projection_terms_.size(); ++t)
+      m.projection_terms_[t].continues = m.projection_terms_[t].j == m.projection_terms_[t - 1].j;
   }
   m.compiled_frames_ = std::move(compiled.frames);
   m.compiled_points_ = std::move(compiled.points);

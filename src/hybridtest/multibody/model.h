@@ -349,8 +349,12 @@ class Model {
   const KinematicMatrixFunction& kinematic_matrix() const { return elements_.kinematic_matrix; }
   // Translational mass-matrix terms of all particles and rigid-body mass centres.
   const std::vector<MassTerm>& mass_terms() const { return mass_terms_; }
-  // The same terms grouped by entry of M (mass_terms()' order within an entry), so that each
-  // entry is summed in a register and stored, not read back and added to term by term.
+  // n ≤ kGroupedSumsMax: doubles sum each entry of M and of g in a register, from
+  // grouped_mass_terms() (mass_terms() grouped by entry, their order kept within an entry,
+  // the constant entries left out) and projection_terms(), instead of adding term by term
+  // into memory.
+  static constexpr int kGroupedSumsMax = 8;
+  bool grouped_sums() const { return grouped_sums_; }
   const std::vector<MassTerm>& grouped_mass_terms() const { return grouped_mass_terms_; }
   // Points and frames that receive a force/torque or carry mass (visited by CalcForcing).
   const std::vector<int>& loaded_points() const { return loaded_points_; }
@@ -392,6 +396,7 @@ class Model {
   std::vector<int> loaded_points_;
   std::vector<int> loaded_frames_;
   std::vector<ProjectionTerm> projection_terms_;
+  bool grouped_sums_ = false;
   bool has_general_fields_ = false;
   int planar_axis_ = -1;
   bool is_joint_tree_ = false;
