@@ -270,6 +270,8 @@ Model ModelBuilder::Build() && {
   }
   const int n = static_cast<int>(elements_.coordinates.size());
   m.mass_terms_ = internal::CompileMassTerms(elements_, compiled.points);
+  m.loaded_points_.assign(loaded_points.begin(), loaded_points.end());
+  m.loaded_frames_.assign(loaded_frames.begin(), loaded_frames.end());
   m.has_general_fields_ = general;
   m.planar_axis_ = compiled.planar_axis;
   m.tree_mass_matrix_reason_ = internal::PlanTreeMassMatrix(elements_, compiled.frames,
@@ -311,8 +313,10 @@ Model ModelBuilder::Build() && {
   m.grouped_sums_ = n <= Model::kGroupedSumsMax;
   if (m.grouped_sums_) {
     for (const MassTerm& t : m.mass_terms_) {
-      if (m.constant_mass_.entry.empty() || !m.constant_mass_.entry[static_cast<std::size_t>(t.m_jk)])
+      const auto& constant = m.constant_mass_.entry;
+      if (constant.empty() || !constant[static_cast<std::size_t>(t.m_jk)]) {
         m.grouped_mass_terms_.push_back(t);
+      }
     }
     std::stable_sort(m.grouped_mass_terms_.begin(), m.grouped_mass_terms_.end(),
                      [](const MassTerm& a, const MassTerm& b) { return a.m_jk < b.m_jk; });
