@@ -15,6 +15,44 @@
 
 namespace hybridtest::multibody {
 
+namespace {
+
+// Out of line: inlined, they change the surrounding loops' code for the worse (measured).
+// For doubles and Model::grouped_sums(): the mass terms' sums, entry by entry in a register
+// (grouped_mass_terms()): each term's partial sum is stored, the entry's last store holds the
+// total; no entry is read back (a chain of stores and loads through memory). An entry's sum
+// starts from +0, as M's does in the term-by-term loop.
+[[gnu::noinline]] void AddGroupedMassTerms(const Model& model, Data<double>& data) {
+  double* m = data.M.data();
+  double s = 0.0;
+  for (const MassTerm& term : model.grouped_mass_terms()) {
+    const double* v = data.v_partial[term.point].data();
+    const double* vj = v + term.vj;
+    const double* vk = v + term.vk;
+    const double value = term.mass * (vj[0] * vk[0] + vj[1] * vk[1] + vj[2] * vk[2]);
+    s = term.continues ? s + value : 0.0 + value;
+    m[term.m_jk] = s;
+    m[term.m_kj] = s;
+  }
+}
+void AddGroupedMassTerms(const Model&, Data<AutoDiff>&) {}
+
+// The generalized forces' sums, speed by speed in a register (projection_terms()).
+[[gnu::noinline]] void ProjectGrouped(const Model& model, Data<double>& data) {
+  double* g = data.g.data();
+  double s = 0.0;
+  for (const ProjectionTerm& term : model.projection_terms()) {
+    const double* V = (term.frame ? data.w_partial : data.v_partial)[term.index].data();
+    const double* f = (term.frame ? data.torque : data.force)[term.index].data();
+    const double value = internal::Dot(V + 3 * term.j, f);
+    s = term.continues ? s + value : 0.0 + value;
+    g[term.j] = s;
+  }
+}
+void ProjectGrouped(const Model&, Data<AutoDiff>&) {}
+
+}  // namespace
+
 template <typename T>
 void CalcMassMatrix(const Model& model, Data<T>& data) {
   if (model.tree_mass_matrix()) {
@@ -40,26 +78,9 @@ void CalcMassMatrixPairwise(const Model& model, Data<T>& data) {
   auto is_constant = [&](int j, int k) {
     return !constant.empty() && constant[static_cast<std::size_t>(j + k * data.n)] != 0;
   };
-  bool grouped = false;
-  if constexpr (std::is_same_v<T, double>) {
-    // The same sums, entry by entry in a register (grouped_mass_terms()): each term's partial
-    // sum is stored, the entry's last store holds the total; no entry is read back (a chain
-    // of stores and loads through memory). An entry's sum starts from +0, as M's does below.
-    grouped = model.grouped_sums();
-    double s = 0.0;
-    if (grouped) {
-      for (const MassTerm& term : model.grouped_mass_terms()) {
-        const double* v = data.v_partial[term.point].data();
-        const double* vj = v + term.vj;
-        const double* vk = v + term.vk;
-        const double value = term.mass * (vj[0] * vk[0] + vj[1] * vk[1] + vj[2] * vk[2]);
-        s = term.continues ? s + value : 0.0 + value;
-        m[term.m_jk] = s;
-        m[term.m_kj] = s;
-      }
-    }
-  }
-  if (!grouped) {
+  if (std::is_same_v<T, double> && model.grouped_sums()) {
+    AddGroupedMassTerms(model, data);
+  } else {
     // Translational inertia: m v_j·v_k, one precomputed term per pair j ≤ k (both triangles).
     for (const MassTerm& term : model.mass_terms()) {
       if (is_constant(term.j, term.k)) continue;
@@ -182,20 +203,9 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
   // Projection onto the partial velocities (Kane's generalized forces).
   T* g = data.g.data();
   internal::ZeroN(n, g);
-  if constexpr (std::is_same_v<T, double>) {
-    if (model.grouped_sums()) {
-      // The same sums, speed by speed in a register (projection_terms(), as in the mass
-      // matrix).
-      double s = 0.0;
-      for (const ProjectionTerm& term : model.projection_terms()) {
-        const double* V = (term.frame ? data.w_partial : data.v_partial)[term.index].data();
-        const double* f = (term.frame ? data.torque : data.force)[term.index].data();
-        const double value = internal::Dot(V + 3 * term.j, f);
-        s = term.continues ? s + value : 0.0 + value;
-        g[term.j] = s;
-      }
-      return;
-    }
+  if (std::is_same_v<T, double> && model.grouped_sums()) {
+    ProjectGrouped(model, data);
+    return;
   }
   for (int p : model.loaded_points()) {
     const T* V = data.v_partial[p].data();
