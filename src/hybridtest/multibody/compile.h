@@ -40,4 +40,13 @@ std::vector<char> CompileFactorPattern(std::vector<char> structure, int n);
 // either order).
 SparseFactorPlan CompileSparseFactor(const std::vector<char>& structure, int n);
 
+// The constant entries of a planar model's mass matrix and the columns of its factor that
+// follow from them (constant_mass.h). Empty (no constant entry) unless the model is planar
+// (`planar_axis` ≥ 0) and n ≤ 6 (the fixed-size factor kernels); `factor_pattern` is
+// CompileFactorPattern's.
+ConstantMassPlan CompileConstantMass(const ModelElements& elements,
+                                     const std::vector<CompiledFrame>& frames,
+                                     const std::vector<CompiledPoint>& points, int planar_axis,
+                                     const std::vector<char>& factor_pattern);
+
 }  // namespace hybridtest::multibody::internal

@@ -41,6 +41,16 @@ Data<T>::Data(const Model& model) : n(model.num_coordinates()) {
   cholesky_factor.setZero(n, n);  // the sparse solve relies on its structural zeros
   factor_work.setZero(n);
   factor_inv_diag.setZero(n);
+  const ConstantMassPlan& constant = model.constant_mass();
+  for (int j = 0; j < static_cast<int>(constant.factor_column.size()); ++j) {
+    if (!constant.factor_column[static_cast<std::size_t>(j)]) continue;
+    // Columns the factorisation skips (mass_solve.cc): L(i, j) at [i n + j], and 1/L_jj.
+    factor_inv_diag(j) = T(constant.factor_inv_diag[static_cast<std::size_t>(j)]);
+    for (int i = j + 1; i < n; ++i) {
+      const std::size_t at = static_cast<std::size_t>(i) * n + j;
+      cholesky_factor.data()[at] = T(constant.factor[at]);
+    }
+  }
   joint_w.setZero(3, n);
   joint_v.setZero(3, n);
   momentum_lin.setZero(3, n);

@@ -15,6 +15,44 @@
 
 namespace hybridtest::multibody {
 
+namespace {
+
+// Out of line: inlined, they change the surrounding loops' code for the worse (measured).
+// For doubles and Model::grouped_sums(): the mass terms' sums, entry by entry in a register
+// (grouped_mass_terms()): each term's partial sum is stored, the entry's last store holds the
+// total; no entry is read back (a chain of stores and loads through memory). An entry's sum
+// starts from +0, as M's does in the term-by-term loop.
+[[gnu::noinline]] void AddGroupedMassTerms(const Model& model, Data<double>& data) {
+  double* m = data.M.data();
+  double s = 0.0;
+  for (const MassTerm& term : model.grouped_mass_terms()) {
+    const double* v = data.v_partial[term.point].data();
+    const double* vj = v + term.vj;
+    const double* vk = v + term.vk;
+    const double value = term.mass * (vj[0] * vk[0] + vj[1] * vk[1] + vj[2] * vk[2]);
+    s = term.continues ? s + value : 0.0 + value;
+    m[term.m_jk] = s;
+    m[term.m_kj] = s;
+  }
+}
+void AddGroupedMassTerms(const Model&, Data<AutoDiff>&) {}
+
+// The generalized forces' sums, speed by speed in a register (projection_terms()).
+[[gnu::noinline]] void ProjectGrouped(const Model& model, Data<double>& data) {
+  double* g = data.g.data();
+  double s = 0.0;
+  for (const ProjectionTerm& term : model.projection_terms()) {
+    const double* V = (term.frame ? data.w_partial : data.v_partial)[term.index].data();
+    const double* f = (term.frame ? data.torque : data.force)[term.index].data();
+    const double value = internal::Dot(V + 3 * term.j, f);
+    s = term.continues ? s + value : 0.0 + value;
+    g[term.j] = s;
+  }
+}
+void ProjectGrouped(const Model&, Data<AutoDiff>&) {}
+
+}  // namespace
+
 template <typename T>
 void CalcMassMatrix(const Model& model, Data<T>& data) {
   if (model.tree_mass_matrix()) {
@@ -28,15 +66,31 @@ template <typename T>
 void CalcMassMatrixPairwise(const Model& model, Data<T>& data) {
   MatrixX<T>& M = data.M;
   T* m = M.data();  // column-major: M(j, k) = m[j + k n] (offsets in MassTerm)
-  internal::ZeroN(M.size(), m);
-  // Translational inertia: m v_j·v_k, one precomputed term per pair j ≤ k (both triangles).
-  for (const MassTerm& term : model.mass_terms()) {
-    const T* v = data.v_partial[term.point].data();
-    const T* vj = v + term.vj;
-    const T* vk = v + term.vk;
-    const T value = term.mass * (vj[0] * vk[0] + vj[1] * vk[1] + vj[2] * vk[2]);
-    m[term.m_jk] += value;
-    if (term.j != term.k) m[term.m_kj] += value;
+  // The constant entries (planar models, constant_mass.h) are copied, not summed; the others
+  // start from zero.
+  const std::vector<char>& constant = model.constant_mass().entry;
+  if (constant.empty()) {
+    internal::ZeroN(M.size(), m);
+  } else {
+    const double* value = model.constant_mass().value.data();
+    for (Eigen::Index i = 0; i < M.size(); ++i) m[i] = T(value[i]);
+  }
+  auto is_constant = [&](int j, int k) {
+    return !constant.empty() && constant[static_cast<std::size_t>(j + k * data.n)] != 0;
+  };
+  if (std::is_same_v<T, double> && model.grouped_sums()) {
+    AddGroupedMassTerms(model, data);
+  } else {
+    // Translational inertia: m v_j·v_k, one precomputed term per pair j ≤ k (both triangles).
+    for (const MassTerm& term : model.mass_terms()) {
+      if (is_constant(term.j, term.k)) continue;
+      const T* v = data.v_partial[term.point].data();
+      const T* vj = v + term.vj;
+      const T* vk = v + term.vk;
+      const T value = term.mass * (vj[0] * vk[0] + vj[1] * vk[1] + vj[2] * vk[2]);
+      m[term.m_jk] += value;
+      if (term.j != term.k) m[term.m_kj] += value;
+    }
   }
   const int planar = model.planar_axis();
   for (const RigidBodySpec& body : model.bodies()) {
@@ -50,6 +104,7 @@ void CalcMassMatrixPairwise(const Model& model, Data<T>& data) {
         for (std::size_t a = 0; a < active.size(); ++a) {
           const double Iw = I_AA * W[3 * active[a] + planar];
           for (std::size_t b = a; b < active.size(); ++b) {
+            if (is_constant(active[a], active[b])) continue;
             const double value = W[3 * active[b] + planar] * Iw;
             M(active[a], active[b]) += value;
             if (b != a) M(active[b], active[a]) += value;
@@ -68,6 +123,7 @@ void CalcMassMatrixPairwise(const Model& model, Data<T>& data) {
     for (std::size_t a = 0; a < active.size(); ++a) {
       const Vector3<T> Iw = internal::InertiaTimes(body.inertia, Vector3<T>(Wb.col(active[a])));
       for (std::size_t b = a; b < active.size(); ++b) {
+        if (is_constant(active[a], active[b])) continue;
         const T value = Wb.col(active[b]).dot(Iw);
         M(active[a], active[b]) += value;
         if (b != a) M(active[b], active[a]) += value;
@@ -147,6 +203,10 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
   // Projection onto the partial velocities (Kane's generalized forces).
   T* g = data.g.data();
   internal::ZeroN(n, g);
+  if (std::is_same_v<T, double> && model.grouped_sums()) {
+    ProjectGrouped(model, data);
+    return;
+  }
   for (int p : model.loaded_points()) {
     const T* V = data.v_partial[p].data();
     const T* f = data.force[p].data();

@@ -65,11 +65,15 @@ void CholeskySolve(const MatrixX<T>& U, const VectorX<T>& inv_diag, const Vector
 // square root and division (a tree's branches factor in parallel in the pipeline). The
 // skipped entries of L are neither written nor read.
 template <int N, typename T>
-bool CholeskyFactorFixed(const MatrixX<T>& M, const char* nz, T* u, T* inv_diag) {
+bool CholeskyFactorFixed(const MatrixX<T>& M, const char* nz, const char* constant, T* u,
+                         T* inv_diag) {
   using std::sqrt;
   const T* m = M.data();
   auto L = [u](int i, int k) -> T& { return u[i * N + k]; };
   for (int j = 0; j < N; ++j) {
+    // A column that follows from constant entries of M alone was factored by Build() and
+    // written into u and inv_diag by Data's constructor (constant_mass.h).
+    if (constant != nullptr && constant[j]) continue;
     T d = m[j + j * N];
     for (int k = 0; k < j; ++k)
       if (nz[j + k * N]) d = Sub(d, Mul(L(j, k), L(j, k)));
@@ -193,13 +197,18 @@ bool FactorMassMatrix(const Model& model, Data<T>& data) {
   const char* nz = model.factor_pattern().data();
   T* u = data.cholesky_factor.data();
   T* id = data.factor_inv_diag.data();
+  // Doubles skip the constant columns; AutoDiff factors them (the same values) so that their
+  // derivatives, exact zeros, are written too.
+  const std::vector<char>& constant_columns = model.constant_mass().factor_column;
+  const char* cc = std::is_same_v<T, double> && !constant_columns.empty()
+                       ? constant_columns.data() : nullptr;
   switch (data.n) {
-    case 1: return CholeskyFactorFixed<1>(data.M, nz, u, id);
-    case 2: return CholeskyFactorFixed<2>(data.M, nz, u, id);
-    case 3: return CholeskyFactorFixed<3>(data.M, nz, u, id);
-    case 4: return CholeskyFactorFixed<4>(data.M, nz, u, id);
-    case 5: return CholeskyFactorFixed<5>(data.M, nz, u, id);
-    case 6: return CholeskyFactorFixed<6>(data.M, nz, u, id);
+    case 1: return CholeskyFactorFixed<1>(data.M, nz, cc, u, id);
+    case 2: return CholeskyFactorFixed<2>(data.M, nz, cc, u, id);
+    case 3: return CholeskyFactorFixed<3>(data.M, nz, cc, u, id);
+    case 4: return CholeskyFactorFixed<4>(data.M, nz, cc, u, id);
+    case 5: return CholeskyFactorFixed<5>(data.M, nz, cc, u, id);
+    case 6: return CholeskyFactorFixed<6>(data.M, nz, cc, u, id);
     default: return CholeskyFactor(data.M, data.cholesky_factor, data.factor_inv_diag);
   }
 }

@@ -302,6 +302,37 @@ Model ModelBuilder::Build() && {
       internal::CompileMassStructure(elements_, compiled.frames, m.mass_terms_, m.tree_mass_plan_);
   m.factor_pattern_ = internal::CompileFactorPattern(structure, n);
   m.sparse_factor_plan_ = internal::CompileSparseFactor(structure, n);
+  if (!m.tree_mass_matrix_ && !m.sparse_factor()) {
+    m.constant_mass_ = internal::CompileConstantMass(elements_, compiled.frames, compiled.points,
+                                                     m.planar_axis_, m.factor_pattern_);
+    if (!m.constant_mass_.any()) m.constant_mass_ = ConstantMassPlan{};
+  }
+  // Small models sum M's entries and the generalized forces entry by entry in a register
+  // (Model::grouped_sums()); larger ones keep the point-by-point loops, whose memory access
+  // is sequential. The constant entries' terms are not evaluated.
+  m.grouped_sums_ = n <= Model::kGroupedSumsMax;
+  if (m.grouped_sums_) {
+    for (const MassTerm& t : m.mass_terms_) {
+      const auto& constant = m.constant_mass_.entry;
+      if (constant.empty() || !constant[static_cast<std::size_t>(t.m_jk)]) {
+        m.grouped_mass_terms_.push_back(t);
+      }
+    }
+    std::stable_sort(m.grouped_mass_terms_.begin(), m.grouped_mass_terms_.end(),
+                     [](const MassTerm& a, const MassTerm& b) { return a.m_jk < b.m_jk; });
+    for (std::size_t t = 1; t < m.grouped_mass_terms_.size(); ++t) {
+      m.grouped_mass_terms_[t].continues =
+          m.grouped_mass_terms_[t].m_jk == m.grouped_mass_terms_[t - 1].m_jk;
+    }
+    for (int p : m.loaded_points_)
+      for (int j : compiled.points[p].active) m.projection_terms_.push_back({false, false, p, j});
+    for (int f : m.loaded_frames_)
+      for (int j : compiled.frames[f].active) m.projection_terms_.push_back({true, false, f, j});
+    std::stable_sort(m.projection_terms_.begin(), m.projection_terms_.end(),
+                     [](const ProjectionTerm& a, const ProjectionTerm& b) { return a.j < b.j; });
+    for (std::size_t t = 1; t < m.projection_terms_.size(); ++t)
+      m.projection_terms_[t].continues = m.projection_terms_[t].j == m.projection_terms_[t - 1].j;
+  }
   m.compiled_frames_ = std::move(compiled.frames);
   m.compiled_points_ = std::move(compiled.points);
   m.elements_ = std::move(elements_);

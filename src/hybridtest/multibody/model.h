@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "hybridtest/multibody/constant_mass.h"
 #include "hybridtest/multibody/kinematic_field.h"
 
 namespace hybridtest::multibody {
@@ -164,6 +165,19 @@ struct MassTerm {
   int vk = 0;
   int m_jk = 0;
   int m_kj = 0;
+  // In Model::grouped_mass_terms(): adds to the previous term's entry (else starts its sum).
+  bool continues = false;
+};
+
+// One term of Kane's generalized forces: g_j += column j of a loaded point's partial velocity
+// (frame: partial angular velocity) · its resultant force (torque). Model::projection_terms()
+// holds them grouped by j, in the order points then frames within a j; `continues` as in
+// MassTerm.
+struct ProjectionTerm {
+  bool frame = false;
+  bool continues = false;
+  int index = -1;  // point or frame
+  int j = -1;
 };
 
 // The mass matrix of a tree of joints (composite-rigid-body form; decision 0012), derived by
@@ -335,9 +349,17 @@ class Model {
   const KinematicMatrixFunction& kinematic_matrix() const { return elements_.kinematic_matrix; }
   // Translational mass-matrix terms of all particles and rigid-body mass centres.
   const std::vector<MassTerm>& mass_terms() const { return mass_terms_; }
+  // n ≤ kGroupedSumsMax: doubles sum each entry of M and of g in a register, from
+  // grouped_mass_terms() (mass_terms() grouped by entry, their order kept within an entry,
+  // the constant entries left out) and projection_terms(), instead of adding term by term
+  // into memory.
+  static constexpr int kGroupedSumsMax = 8;
+  bool grouped_sums() const { return grouped_sums_; }
+  const std::vector<MassTerm>& grouped_mass_terms() const { return grouped_mass_terms_; }
   // Points and frames that receive a force/torque or carry mass (visited by CalcForcing).
   const std::vector<int>& loaded_points() const { return loaded_points_; }
   const std::vector<int>& loaded_frames() const { return loaded_frames_; }
+  const std::vector<ProjectionTerm>& projection_terms() const { return projection_terms_; }
   // Indices of loads acting on each point/frame, for accumulation.
   bool has_general_fields() const { return has_general_fields_; }
   // 0, 1 or 2 if every frame turns about that axis of N (by an affine or constant angle) and
@@ -358,6 +380,9 @@ class Model {
   const std::vector<char>& factor_pattern() const { return factor_pattern_; }
   // True if the solve takes the sparse factorisation (sparse_factor_plan()).
   bool sparse_factor() const { return !sparse_factor_plan_.row_start.empty(); }
+  // The constant entries of M and columns of its factor (planar models on the pairwise path
+  // with n ≤ 6; otherwise `entry` is empty). See constant_mass.h.
+  const ConstantMassPlan& constant_mass() const { return constant_mass_; }
   const SparseFactorPlan& sparse_factor_plan() const { return sparse_factor_plan_; }
 
  private:
@@ -367,8 +392,11 @@ class Model {
   std::vector<CompiledFrame> compiled_frames_;
   std::vector<CompiledPoint> compiled_points_;
   std::vector<MassTerm> mass_terms_;
+  std::vector<MassTerm> grouped_mass_terms_;
   std::vector<int> loaded_points_;
   std::vector<int> loaded_frames_;
+  std::vector<ProjectionTerm> projection_terms_;
+  bool grouped_sums_ = false;
   bool has_general_fields_ = false;
   int planar_axis_ = -1;
   bool is_joint_tree_ = false;
@@ -377,6 +405,7 @@ class Model {
   std::string tree_mass_matrix_reason_;
   std::vector<char> factor_pattern_;
   SparseFactorPlan sparse_factor_plan_;
+  ConstantMassPlan constant_mass_;
 };
 
 }  // namespace hybridtest::multibody
