@@ -8,6 +8,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/substructures/rod_setup.h"
+#include "support/temp_dir.h"
 
 namespace hybridtest::substructures {
 namespace {
@@ -30,7 +31,7 @@ io::RunSpec LoadEdited(const std::string& from, const std::string& to) {
   const auto at = text.find(from);
   if (at == std::string::npos) throw std::runtime_error("test: no '" + from + "' in the example");
   text.replace(at, from.size(), to);
-  const fs::path dir = fs::temp_directory_path() / "hybridtest-rod-config";
+  const fs::path dir = test_support::FreshTempDir("hybridtest-rod-config");
   fs::create_directories(dir);
   for (const char* f : {"blade_tip.yaml", "bench-2act.yaml"}) {
     fs::copy_file(kExample + f, dir / f, fs::copy_options::overwrite_existing);
@@ -143,7 +144,7 @@ TEST(RodConfig, MissingSetupOrSafetyIsNamed) {
   const auto safety = text.find("    safety:"), output = text.find("output:");
   const auto setup = text.find("    setup:");
   ASSERT_NE(safety, std::string::npos);
-  const fs::path dir = fs::temp_directory_path() / "hybridtest-rod-config-missing";
+  const fs::path dir = test_support::FreshTempDir("hybridtest-rod-config-missing");
   fs::create_directories(dir);
   for (const char* f : {"blade_tip.yaml", "bench-2act.yaml"}) {
     fs::copy_file(kExample + f, dir / f, fs::copy_options::overwrite_existing);
@@ -178,7 +179,7 @@ TEST(RodConfig, ARodSetupThatTurnsSingularWithinTheStrokeIsRefused) {
   edit("{base: [-0.25, 0.0], attach: [0.0, 0.0]}", "{base: [-0.1, 0.0], attach: [0.0, 0.0]}");
   edit("{base: [-0.15, -0.20], attach: [0.0, 0.0]}", "{base: [0.0, -0.1], attach: [0.0, 0.0]}");
   edit("max_displacement: [0.08, 0.08]", "max_displacement: [0.05, 0.05]");
-  const fs::path dir = fs::temp_directory_path() / "hybridtest-rod-config";
+  const fs::path dir = test_support::FreshTempDir("hybridtest-rod-config");
   fs::create_directories(dir);
   for (const char* f : {"blade_tip.yaml", "bench-2act.yaml"}) {
     fs::copy_file(kExample + f, dir / f, fs::copy_options::overwrite_existing);

@@ -14,6 +14,7 @@
 #include "hybridtest/runner/plan.h"
 #include "hybridtest/runner/session.h"
 #include "hybridtest/substructures/substructure.h"
+#include "support/temp_dir.h"
 
 namespace hybridtest::substructures {
 namespace {
@@ -125,7 +126,7 @@ TEST(RodSession, DummyConfigIsTheSameTwin) {
 
 TEST(RodSession, SlotLimitStopsTheRunAndNamesTheSlot) {
   // The edge deflection reaches about 47 mm; a 30 mm limit on it stops the run there.
-  const fs::path dir = fs::temp_directory_path() / "hybridtest-rod-session";
+  const fs::path dir = test_support::FreshTempDir("hybridtest-rod-session");
   fs::create_directories(dir);
   std::ifstream in(kExample + "large-displacement.yaml");
   std::string text, line;
