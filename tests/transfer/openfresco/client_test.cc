@@ -32,7 +32,11 @@ class FakeSite {
   explicit FakeSite(Reply reply) : reply_(reply), listener_("127.0.0.1", 0) {
     thread_ = std::thread([this] { Serve(); });
   }
-  ~FakeSite() { thread_.join(); }
+  ~FakeSite() { Wait(); }
+  // Waits until the site has served its connection (to the client's 99, or a close).
+  void Wait() {
+    if (thread_.joinable()) thread_.join();
+  }
   std::uint16_t port() const { return listener_.port(); }
   std::vector<std::int32_t> header() {
     std::lock_guard lock(mutex_);
@@ -120,6 +124,7 @@ TEST(OpenFrescoClient, TwoDofsHeaderMessagesAndMeasurements) {
     EXPECT_DOUBLE_EQ(out[1].force, 40.0);
     client.Deactivate();
   }
+  site.Wait();  // the 99 is recorded once the site has read it
   // The plain-C header for n = 2: {n,n,n,0,0, 0,0,0,n,0, max(256, 3n+2, n²)}.
   EXPECT_EQ(site.header(), (std::vector<std::int32_t>{2, 2, 2, 0, 0, 0, 0, 0, 2, 0, 256}));
   const auto m = site.messages();
