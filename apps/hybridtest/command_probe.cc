@@ -34,24 +34,27 @@ struct ProbeOptions {
   std::optional<std::string> bench;
 };
 
-// What is wrong with one reading (SI), or "" when it passes.
-std::vector<std::string> ProbeProblems(const transfer::ProbeReading& reading,
-                                       const substructures::PhysicalSubstructure& slot,
-                                       double position, double force) {
+// What is wrong with one actuator's reading (SI): the bench's own problem (may be empty), then
+// position and force against the stroke, p0 and force_soft. `who` prefixes each message
+// ("" for a one-actuator slot, "actuator 2: " for one of several).
+std::vector<std::string> ProbeProblems(const std::string& bench_problem,
+                                       const transfer::SafetyLimits& l, double p0,
+                                       double position, double force, const std::string& who) {
   std::vector<std::string> problems;
-  const transfer::SafetyLimits& l = slot.safety().limits();
-  const double p0 = slot.setup().p0;
-  if (!reading.problem.empty()) problems.push_back(reading.problem);
-  if (!std::isfinite(position) || !std::isfinite(force)) return problems;
+  if (!bench_problem.empty()) problems.push_back(bench_problem);
+  if (!std::isfinite(position) || !std::isfinite(force)) {
+    if (bench_problem.empty()) problems.push_back(who + "a position or force that is not a number");
+    return problems;
+  }
   if (position < l.stroke_min || position > l.stroke_max) {
-    problems.push_back(fmt::format("position {} m is outside the stroke [{}, {}] m", position,
-                                   l.stroke_min, l.stroke_max));
+    problems.push_back(fmt::format("{}position {} m is outside the stroke [{}, {}] m", who,
+                                   position, l.stroke_min, l.stroke_max));
   }
   if (std::abs(position - p0) > l.max_increment) {
     const double ratio = p0 != 0.0 ? std::abs(position / p0) : 0.0;
     problems.push_back(fmt::format(
-        "position {} m is {} m from setup.p0 = {} m, more than safety.max_increment = {} m: the "
-        "first command would jump{}; move the actuator to p0, or correct setup.p0",
+        "{}position {} m is {} m from setup.p0 = {} m, more than safety.max_increment = {} m: "
+        "the first command would jump{}; move the actuator to p0, or correct setup.p0", who,
         position, std::abs(position - p0), p0, l.max_increment,
         (ratio > 300 && ratio < 3000) || (ratio > 1.0 / 3000 && ratio < 1.0 / 300)
             ? " (a factor of about 1000: a unit slip between mm and m?)"
@@ -59,8 +62,8 @@ std::vector<std::string> ProbeProblems(const transfer::ProbeReading& reading,
   }
   if (std::abs(force) > l.force_soft) {
     problems.push_back(fmt::format(
-        "force {} N at rest exceeds safety.force_soft = {} N: the specimen is loaded before the "
-        "test; check p0, the load-cell zero (setup.load_cell_zero) and the force unit",
+        "{}force {} N at rest exceeds safety.force_soft = {} N: the specimen is loaded before "
+        "the test; check p0, the load-cell zero (setup.load_cell_zero) and the force unit", who,
         force, l.force_soft));
   }
   return problems;
@@ -94,29 +97,12 @@ bool ProbeActuators(const std::string& name, substructures::MultiActuatorSubstru
     const double position = m.position * units.metres_per_length_unit;
     const double force = m.force * units.newtons_per_force_unit - sub.setup().load_cell_zero()(i);
     const double p0 = sub.setup().p0()(i);
-    const transfer::SafetyLimits& l = sub.safety().monitor(k).limits();
     fmt::print("  actuator {}: position {} {} = {} m (setup.p0 = {} m), force {} {} = {} N\n",
                k + 1, m.position, units.length_name, position, p0, m.force, units.force_name,
                force);
-    if (!std::isfinite(position) || !std::isfinite(force)) {
-      problems.push_back(fmt::format("actuator {}: a position or force that is not a number", k + 1));
-      continue;
-    }
-    if (position < l.stroke_min || position > l.stroke_max) {
-      problems.push_back(fmt::format("actuator {}: position {} m is outside the stroke [{}, {}] m",
-                                     k + 1, position, l.stroke_min, l.stroke_max));
-    }
-    if (std::abs(position - p0) > l.max_increment) {
-      problems.push_back(fmt::format(
-          "actuator {}: position {} m is {} m from setup.p0 = {} m, more than its "
-          "max_increment = {} m: the first command would jump; move the actuator to p0, or "
-          "correct setup.p0", k + 1, position, std::abs(position - p0), p0, l.max_increment));
-    }
-    if (std::abs(force) > l.force_soft) {
-      problems.push_back(fmt::format(
-          "actuator {}: force {} N at rest exceeds its force_soft = {} N: the specimen is loaded "
-          "before the test; check p0, setup.load_cell_zero and the force unit", k + 1, force,
-          l.force_soft));
+    for (std::string& p : ProbeProblems("", sub.safety().monitor(k).limits(), p0, position,
+                                        force, fmt::format("actuator {}: ", k + 1))) {
+      problems.push_back(std::move(p));
     }
   }
   for (const std::string& p : problems) fmt::print("  PROBLEM: {}\n", p);
@@ -158,7 +144,8 @@ void RunProbe(const ProbeOptions& options) {
     fmt::print("  force    {} {} = {} N (load-cell zero removed)\n", reading->measurement.force,
                units.force_name, force);
     if (!reading->status.empty()) fmt::print("  status   {}\n", reading->status);
-    const std::vector<std::string> problems = ProbeProblems(*reading, *slot, position, force);
+    const std::vector<std::string> problems = ProbeProblems(
+        reading->problem, slot->safety().limits(), slot->setup().p0, position, force, "");
     for (const std::string& p : problems) fmt::print("  PROBLEM: {}\n", p);
     if (problems.empty()) fmt::print("  ok: at p0, unloaded, inside the limits\n");
     failed += problems.empty() ? 0 : 1;

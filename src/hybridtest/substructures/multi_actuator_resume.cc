@@ -8,6 +8,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/substructures/multi_actuator_substructure.h"
+#include "hybridtest/substructures/resume_rules.h"
 
 namespace hybridtest::substructures {
 
@@ -25,19 +26,13 @@ MultiActuatorSubstructure::ResumeCheck MultiActuatorSubstructure::ReimposeCommit
     a.committed_position = last_[k].position;
     a.committed_force = last_[k].force;
     a.position_tolerance =
-        position_tolerance > 0.0 ? position_tolerance : 0.25 * limits.max_increment;
-    a.force_tolerance = force_tolerance;
-    if (!(a.force_tolerance > 0.0)) {
-      a.force_tolerance = 0.01 * limits.force_hard;
-      // A force tolerance wider than the stiffness times the position tolerance would accept
-      // a position error the position check refuses.
-      if (const auto& ka = gate_.stiffness()) {
-        const double kk = (*ka)(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k));
-        if (std::isfinite(kk) && kk > 0.0) {
-          a.force_tolerance = std::min(a.force_tolerance, kk * a.position_tolerance);
-        }
-      }
-    }
+        position_tolerance > 0.0 ? position_tolerance : DefaultResumePositionTolerance(limits);
+    const auto& ka = gate_.stiffness();
+    const auto i = static_cast<Eigen::Index>(k);
+    a.force_tolerance = force_tolerance > 0.0
+                            ? force_tolerance
+                            : DefaultResumeForceTolerance(limits, ka ? (*ka)(i, i) : 0.0,
+                                                          a.position_tolerance);
   }
   auto move = [&](const std::vector<double>& commands, bool reimposition) {
     MoveAll(commands, {step, -1});
@@ -55,10 +50,8 @@ MultiActuatorSubstructure::ResumeCheck MultiActuatorSubstructure::ReimposeCommit
       // Every move from here is checked against where the actuator is, not where the state
       // says it was: the increment limit then holds for the first move too.
       gate_.monitor(static_cast<int>(k)).SetStartPosition(measured[k]);
-      const double gap = std::abs(committed[k] - measured[k]);
-      const double limit = gate_.monitor(static_cast<int>(k)).limits().max_increment;
-      // Equal moves of at most 99.9 % of the limit, so that rounding never pushes one over.
-      if (gap > limit) moves = std::max(moves, static_cast<int>(std::ceil(gap / (0.999 * limit))));
+      moves = std::max(moves, ResumeMoves(committed[k] - measured[k],
+                                          gate_.monitor(static_cast<int>(k)).limits().max_increment));
     }
     std::vector<double> ramp(n);
     for (int j = 1; j < moves; ++j) {

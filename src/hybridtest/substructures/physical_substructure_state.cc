@@ -7,6 +7,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/substructures/physical_substructure.h"
+#include "hybridtest/substructures/resume_rules.h"
 
 namespace hybridtest::substructures {
 
@@ -34,17 +35,12 @@ void PhysicalSubstructure::RestoreState(const nlohmann::json& state) {
 }
 
 double PhysicalSubstructure::DefaultResumePositionTolerance() const {
-  return 0.25 * gate_.monitor().limits().max_increment;
+  return substructures::DefaultResumePositionTolerance(gate_.monitor().limits());
 }
 
 double PhysicalSubstructure::DefaultResumeForceTolerance(double position_tolerance) const {
-  const double by_limit = 0.01 * gate_.monitor().limits().force_hard;
-  // A force tolerance wider than the stiffness times the position tolerance would accept a
-  // position error the position check refuses (100 N on a 7.2 N/mm specimen is 13.9 mm).
-  if (const auto k0 = initial_stiffness(); k0 && std::isfinite(*k0) && *k0 > 0.0) {
-    return std::min(by_limit, *k0 * position_tolerance);
-  }
-  return by_limit;
+  return substructures::DefaultResumeForceTolerance(
+      gate_.monitor().limits(), initial_stiffness().value_or(0.0), position_tolerance);
 }
 
 PhysicalSubstructure::ResumeCheck PhysicalSubstructure::ReimposeCommitted(
@@ -73,16 +69,11 @@ PhysicalSubstructure::ResumeCheck PhysicalSubstructure::ReimposeCommitted(
     const double measured_command = *check.read_position;  // commands are actuator positions [m]
     gate_.monitor().SetStartPosition(measured_command);
     const double gap = check.command - measured_command;
-    const double limit = gate_.monitor().limits().max_increment;
-    if (std::abs(gap) > limit) {
-      // The bench has moved since the commit: walk back in equal moves of at most 99.9 % of
-      // the limit, so that rounding never pushes a move over it (a gap of exactly k limits
-      // takes k + 1 moves).
-      const int moves = static_cast<int>(std::ceil(std::abs(gap) / (0.999 * limit)));
-      for (int k = 1; k < moves; ++k) {
-        move(measured_command + gap * static_cast<double>(k) / moves, false);
-        ++check.ramp_moves;
-      }
+    // The bench has moved since the commit: walk back in equal moves within max_increment.
+    const int moves = ResumeMoves(gap, gate_.monitor().limits().max_increment);
+    for (int k = 1; k < moves; ++k) {
+      move(measured_command + gap * static_cast<double>(k) / moves, false);
+      ++check.ramp_moves;
     }
   }
   move(check.command, true);
