@@ -12,6 +12,7 @@
 #include "cli_values.h"
 #include "command.h"
 #include "hybridtest/common/error.h"
+#include "hybridtest/io/output_guard.h"
 #include "hybridtest/io/run_reader.h"
 #include "hybridtest/report/compare.h"
 #include "hybridtest/report/compare_plot.h"
@@ -58,6 +59,12 @@ void AddCompareCommand(CLI::App& root) {
       const std::filesystem::path pa(options->run_a), pb(options->run_b);
       out_dir = (pa.parent_path() / (pa.stem().string() + "-vs-" + pb.stem().string())).string();
     }
+    // The table and figures never replace a file of either run or one they read.
+    std::vector<io::ProtectedFile> inputs = io::RunProtectedFiles(options->run_a, "run A");
+    const auto more = io::RunProtectedFiles(options->run_b, "run B");
+    inputs.insert(inputs.end(), more.begin(), more.end());
+    io::CheckOutputDirectory(out_dir, inputs, "--out", {"comparison.csv", "rths_criteria.json"},
+                             {".png", ".svg"});
     std::error_code error;
     std::filesystem::create_directories(out_dir, error);
     if (error) throw IoError("cannot create the directory " + out_dir + ": " + error.message());

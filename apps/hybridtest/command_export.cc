@@ -8,8 +8,10 @@
 #include <memory>
 
 #include "command.h"
+#include "hybridtest/io/output_guard.h"
 #include "hybridtest/io/run_reader.h"
 #include "hybridtest/common/error.h"
+#include "hybridtest/io/run_outputs.h"
 #include "hybridtest/report/csv_export.h"
 #include "hybridtest/report/hdf5_export.h"
 
@@ -45,6 +47,22 @@ void AddExportCommand(CLI::App& root) {
                         "HDF5 file keeps SI); add --csv FILE.csv");
     }
     std::string h5_path = options->h5_path;
+    // Nothing the export reads (the run, its companions, what it read) is written over, and
+    // neither output is a device or a FIFO: checked before anything is written.
+    const std::vector<io::ProtectedFile> inputs = io::RunProtectedFiles(options->run_csv);
+    if (!options->csv_path.empty()) io::CheckOutputFile(options->csv_path, inputs, "--csv");
+    if (!h5_path.empty() || options->csv_path.empty()) {
+      io::CheckOutputFile(
+          h5_path.empty()
+              ? std::filesystem::path(options->run_csv).replace_extension(".h5").string()
+              : h5_path,
+          inputs, "--hdf5");
+    }
+    if (!options->csv_path.empty() && !h5_path.empty() &&
+        io::SameFile(options->csv_path, h5_path)) {
+      throw ConfigError(fmt::format("--csv {} and --hdf5 {} name the same file; give two "
+                                    "different files", options->csv_path, h5_path));
+    }
     if (!options->csv_path.empty()) {
       const report::PlotUnits units = report::ParsePlotUnits(options->units);
       const io::RunData run = io::LoadRun(options->run_csv);

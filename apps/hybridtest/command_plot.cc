@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "command.h"
+#include "hybridtest/io/output_guard.h"
 #include "hybridtest/io/run_reader.h"
 #include "hybridtest/report/plot.h"
 
@@ -35,6 +36,9 @@ void AddPlotCommand(CLI::App& root) {
     const report::PlotUnits units = report::ParsePlotUnits(options->units);
     const std::string out_dir =
         options->out_dir.empty() ? report::DefaultPlotDir(options->run_csv) : options->out_dir;
+    // The figures never replace a file of the run or one it read.
+    io::CheckOutputDirectory(out_dir, io::RunProtectedFiles(options->run_csv), "--out", {},
+                             {".png", ".svg"});
     const io::RunData run = io::LoadRun(options->run_csv);
     for (const auto& warning : run.warnings) fmt::print(stderr, "warning: {}\n", warning);
     if (run.metadata.is_null()) {

@@ -9,6 +9,7 @@
 
 #include "cli_values.h"
 #include "command.h"
+#include "hybridtest/io/output_guard.h"
 #include "hybridtest/io/run_reader.h"
 #include "hybridtest/report/html_report.h"
 
@@ -47,6 +48,15 @@ void AddReportCommand(CLI::App& root) {
   command->callback([options] {
     report::HtmlReportOptions report_options;
     report_options.units = report::ParsePlotUnits(options->units);
+    const std::string out =
+        options->out_path.empty() ? report::DefaultReportPath(options->run_csv) : options->out_path;
+    // Nothing a report reads (the runs, their companions, what they read) is written over.
+    std::vector<io::ProtectedFile> inputs = io::RunProtectedFiles(options->run_csv);
+    if (!options->against_csv.empty()) {
+      const auto more = io::RunProtectedFiles(options->against_csv);
+      inputs.insert(inputs.end(), more.begin(), more.end());
+    }
+    io::CheckOutputFile(out, inputs, "--out");
     const io::RunData run = io::LoadRun(options->run_csv);
     for (const auto& w : run.warnings) fmt::print(stderr, "warning: {}\n", w);
     std::unique_ptr<io::RunData> against;
@@ -54,8 +64,6 @@ void AddReportCommand(CLI::App& root) {
       against = std::make_unique<io::RunData>(io::LoadRun(options->against_csv));
       for (const auto& w : against->warnings) fmt::print(stderr, "warning: {}\n", w);
     }
-    const std::string out =
-        options->out_path.empty() ? report::DefaultReportPath(options->run_csv) : options->out_path;
     // Like `run`: the folders of --out are created.
     const auto parent = std::filesystem::path(out).parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent);

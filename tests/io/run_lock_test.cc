@@ -6,9 +6,11 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/io/journal.h"
 #include "support/temp_dir.h"
 
 namespace hybridtest::io {
@@ -56,6 +58,72 @@ TEST(RunLock, ASymlinkAtTheLocksNameIsNeverFollowed) {
   std::filesystem::create_symlink(dir / "precious.txt", dir / "k.lock");
   EXPECT_THROW(RunLock::Acquire((dir / "k.csv").string(), "run"), IoError);
   EXPECT_EQ(test_support::ReadText(dir / "precious.txt"), "keep me\n");
+}
+
+TEST(RunLock, AFileThatIsNotALockFileIsNeverTruncatedOrRemoved) {
+  const auto dir = test_support::FreshTempDir("run_lock_config");
+  // A config named like the run's lock file.
+  test_support::WriteText(dir / "k.lock", "duration: 1.0\n");
+  std::string message;
+  try {
+    RunLock::Acquire((dir / "k.csv").string(), "run");
+  } catch (const ConfigError& e) {
+    message = e.what();
+  }
+  EXPECT_THAT(message, AllOf(HasSubstr("not a hybridtest lock file"), HasSubstr("untouched"),
+                             HasSubstr("choose another --out")));
+  EXPECT_EQ(test_support::ReadText(dir / "k.lock"), "duration: 1.0\n");
+}
+
+// A live writer: a journal published with one row and kept open.
+std::unique_ptr<Journal> LiveJournal(const std::string& csv) {
+  auto journal = std::make_unique<Journal>(csv, std::vector<Channel>{{"t", "s", "time"}},
+                                           JournalMetadata{}, SyncPolicy::kEveryRow);
+  const std::vector<double> row{0.0};
+  journal->Append(row);
+  return journal;
+}
+
+TEST(RunLock, RemovingTheLockFileOfALiveRunDoesNotLetASecondProcessIn) {
+  const auto dir = test_support::FreshTempDir("run_lock_removed");
+  const std::string csv = (dir / "k.csv").string();
+  std::optional<RunLock> first(RunLock::Acquire(csv, "run"));
+  const auto journal = LiveJournal(csv);
+  const std::string before = test_support::ReadText(csv);
+  std::filesystem::remove(RunLockPath(csv));
+  // The journal's own lock refuses: a resume, a run --overwrite, a reopen, a cut.
+  std::string message;
+  try {
+    RunLock::Acquire(csv, "resume");
+  } catch (const ConfigError& e) {
+    message = e.what();
+  }
+  EXPECT_THAT(message, AllOf(HasSubstr("a live hybridtest process"),
+                             HasSubstr("pid " + std::to_string(::getpid())),
+                             HasSubstr("removed or replaced"), HasSubstr("nothing was changed")));
+  EXPECT_FALSE(std::filesystem::exists(RunLockPath(csv)));  // the refused one removed its own
+  EXPECT_THROW(Journal(kReopenForAppend, csv, SyncPolicy::kEveryRow), ConfigError);
+  EXPECT_EQ(test_support::ReadText(csv), before);
+}
+
+TEST(RunLock, AResumeHoldsTheJournalAndItsOwnWriterMayReopenIt) {
+  const auto dir = test_support::FreshTempDir("run_lock_resume");
+  const std::string csv = (dir / "k.csv").string();
+  {
+    const auto journal = LiveJournal(csv);
+    journal->Finish({}, "stopped: test");
+  }
+  std::optional<RunLock> resume(RunLock::Acquire(csv, "resume"));
+  // This process holds the journal through its RunLock: its own reopening is allowed...
+  std::optional<Journal> reopened(std::in_place, kReopenForAppend, csv, SyncPolicy::kEveryRow);
+  EXPECT_EQ(reopened->rows(), 1);
+  // ...and while it holds it, a second RunLock (another process, after the lock file was
+  // removed) is refused on the journal.
+  std::filesystem::remove(RunLockPath(csv));
+  EXPECT_THROW(RunLock::Acquire(csv, "resume"), ConfigError);
+  reopened.reset();
+  resume.reset();
+  EXPECT_NO_THROW(RunLock::Acquire(csv, "resume"));
 }
 
 }  // namespace

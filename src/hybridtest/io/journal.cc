@@ -15,6 +15,7 @@
 #include "hybridtest/common/version.h"
 #include "hybridtest/io/atomic_file.h"
 #include "hybridtest/io/csv.h"
+#include "hybridtest/io/run_lock.h"
 #include "hybridtest/io/utc_time.h"
 
 namespace hybridtest::io {
@@ -80,16 +81,35 @@ Journal::Journal(std::string csv_path, std::vector<Channel> channels, JournalMet
               {"channels", channel_list},
               {"status", "running"}};
 
-  // Staged sidecar first, so that a CSV never exists without its metadata.
-  WriteSidecar(/*reserve_next=*/false);
+  // The staged CSV is opened and locked first (never truncated before it is locked: another
+  // writer's staged journal is left alone), then the staged sidecar is written, so that a
+  // CSV is never published without its metadata.
   const std::string staged = StagedPath(csv_path_);
-  fd_ = ::open(staged.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  fd_ = ::open(staged.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
   if (fd_ < 0) {
-    const std::string error = OsError();
-    Discard();
     throw IoError(fmt::format("{}: cannot create the journal: {}; check that the directory "
                               "exists and is writable",
-                              staged, error));
+                              staged, OsError()));
+  }
+  try {
+    // The writer's lock, held for the journal's life (run_lock.h): it moves with the file
+    // when the staged journal is published.
+    LockJournalFile(fd_, staged);
+  } catch (...) {
+    ::close(fd_);
+    fd_ = -1;
+    throw;
+  }
+  if (::ftruncate(fd_, 0) != 0) {
+    const std::string error = OsError();
+    Discard();
+    throw IoError(fmt::format("{}: cannot empty the staged journal: {}", staged, error));
+  }
+  try {
+    WriteSidecar(/*reserve_next=*/false);
+  } catch (...) {
+    Discard();
+    throw;
   }
   if (policy_ == SyncPolicy::kBuffered) pending_.reserve(kJournalBlockBytes + 64 * 1024);
   last_write_ = last_sync_ = Now();

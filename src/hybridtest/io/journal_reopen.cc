@@ -11,6 +11,7 @@
 #include "hybridtest/io/atomic_file.h"
 #include "hybridtest/io/csv.h"
 #include "hybridtest/io/journal.h"
+#include "hybridtest/io/run_lock.h"
 
 namespace hybridtest::io {
 namespace {
@@ -102,6 +103,9 @@ Journal::Journal(ReopenForAppend, std::string csv_path, SyncPolicy policy, int b
   // Everything below closes fd_ on failure: the destructor does not run for a constructor
   // that throws.
   try {
+    // The writer's lock (run_lock.h): a live run's journal is never cut or appended to by a
+    // second process, even if the run's lock file was removed.
+    LockJournalFile(fd_, csv_path_);
     const LineScan scan = ScanLines(fd_, csv_path_);
     if (scan.newlines == 0) {
       throw IoError(fmt::format("{}:1: the header line is incomplete (no '\\n'); the run "

@@ -8,16 +8,117 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <sys/sysmacros.h>
+
 #include <array>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <utility>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/atomic_file.h"
+#include "hybridtest/io/journal.h"
 #include "hybridtest/io/utc_time.h"
 
 namespace hybridtest::io {
+
+namespace {
+
+using FileId = std::pair<dev_t, ino_t>;
+
+// The journal files whose flock this process holds through a RunLock.
+std::mutex& HeldMutex() {
+  static std::mutex m;
+  return m;
+}
+std::set<FileId>& HeldJournals() {
+  static std::set<FileId> held;
+  return held;
+}
+
+// The PID holding a flock on the file (dev, ino), from /proc/locks; 0 if unknown.
+long FlockHolder(dev_t dev, ino_t ino) {
+  std::ifstream in("/proc/locks");
+  std::string line;
+  const std::string id = fmt::format("{:02x}:{:02x}:{}", major(dev), minor(dev), ino);
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    std::string number, kind, mode, access, pid, file;
+    fields >> number >> kind;
+    if (kind == "->") fields >> kind;  // a waiter
+    fields >> mode >> access >> pid >> file;
+    if (kind == "FLOCK" && file == id) return std::atol(pid.c_str());
+  }
+  return 0;
+}
+
+// Takes the flock; returns false if another open file description holds it.
+bool TryFlock(int fd) {
+  int rc = 0;
+  do {
+    rc = ::flock(fd, LOCK_EX | LOCK_NB);
+  } while (rc != 0 && errno == EINTR);
+  if (rc == 0) return true;
+  if (errno == EWOULDBLOCK) return false;
+  throw IoError(fmt::format("cannot lock a journal file: {}", OsError()));
+}
+
+std::string LiveWriterMessage(const std::string& path, const struct stat& st) {
+  const long pid = FlockHolder(st.st_dev, st.st_ino);
+  return fmt::format(
+      "{}: a live hybridtest process ({}) is writing this journal and holds its lock, although "
+      "the run's lock file {} did not stop us: it was removed or replaced while the run was "
+      "live. One process at a time may drive a run, and nothing was changed. Wait for that run "
+      "to finish, or stop it (Ctrl-C, or kill {}) and then run hybridtest resume on it",
+      path, pid > 0 ? fmt::format("pid {}", pid) : std::string("holder unknown"),
+      RunLockPath(path), pid > 0 ? std::to_string(pid) : std::string("its PID"));
+}
+
+}  // namespace
+
+void LockJournalFile(int fd, const std::string& path) {
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) {
+    throw IoError(fmt::format("{}: cannot read the journal's file status: {}", path, OsError()));
+  }
+  if (TryFlock(fd)) return;
+  {
+    const std::lock_guard<std::mutex> guard(HeldMutex());
+    if (HeldJournals().count({st.st_dev, st.st_ino}) != 0) return;  // our own RunLock holds it
+  }
+  throw ConfigError(LiveWriterMessage(path, st));
+}
+
+void RunLock::LockJournal(const std::string& csv_path) {
+  for (const std::string& path : {csv_path, StagedPath(csv_path)}) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) continue;  // no such file (yet): its writer locks it when it creates it
+    struct stat st {};
+    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+      ::close(fd);  // not a journal: the run's output checks refuse it
+      continue;
+    }
+    bool locked = false;
+    try {
+      locked = TryFlock(fd);
+    } catch (...) {
+      ::close(fd);
+      throw;
+    }
+    if (!locked) {
+      ::close(fd);
+      throw ConfigError(LiveWriterMessage(path, st));
+    }
+    journal_fds_.push_back(fd);
+    const std::lock_guard<std::mutex> guard(HeldMutex());
+    HeldJournals().insert({st.st_dev, st.st_ino});
+  }
+}
 
 std::string RunLockPath(const std::string& csv_path) {
   const std::filesystem::path p(csv_path);
@@ -48,7 +149,21 @@ RunLock RunLock::Acquire(const std::string& csv_path, const std::string& command
     if (rc != 0) break;  // held by another process: reported below
     struct stat now {};
     if (::lstat(path.c_str(), &now) == 0 && now.st_ino == st.st_ino && now.st_dev == st.st_dev) {
-      return Locked(fd, path, command);
+      // Only a lock file is ever rewritten and removed: anything else at its name (a config
+      // called "<stem>.lock") is left as it is.
+      std::array<char, 64> head{};
+      const ssize_t n = ::pread(fd, head.data(), head.size(), 0);
+      if (n > 0 && std::string(head.data(), static_cast<std::size_t>(n)).rfind("pid ", 0) != 0) {
+        ::close(fd);
+        throw ConfigError(fmt::format(
+            "{}: the run {} uses this name for its lock file, but a file that is not a "
+            "hybridtest lock file is there (a config or data file?); it was left untouched. "
+            "Rename that file, or choose another --out for the run",
+            path, csv_path));
+      }
+      RunLock lock = Locked(fd, path, command);
+      lock.LockJournal(csv_path);
+      return lock;
     }
     ::close(fd);  // locked a file its holder had just removed: try the new one
     if (attempt == 100) {
@@ -88,6 +203,14 @@ RunLock RunLock::Locked(int fd, const std::string& path, const std::string& comm
 }
 
 RunLock::~RunLock() {
+  for (const int fd : journal_fds_) {
+    struct stat st {};
+    if (::fstat(fd, &st) == 0) {
+      const std::lock_guard<std::mutex> guard(HeldMutex());
+      HeldJournals().erase({st.st_dev, st.st_ino});
+    }
+    ::close(fd);
+  }
   if (fd_ < 0) return;
   // Removed while still held (a process waiting on the old file sees it gone and retries),
   // then released by closing the last descriptor.

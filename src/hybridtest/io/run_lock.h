@@ -12,7 +12,21 @@
 // so removing it never lets two processes hold the run. A process killed by a signal leaves
 // the file behind, unlocked. flock is local to one machine: two hosts that share the results
 // directory over NFS are not serialised by it (documented in docs/safety.md).
+//
+// The lock file is one file, and one file can be removed. The journal is locked too: its
+// writer (io::Journal) holds an exclusive flock on the journal's own descriptor for its whole
+// life, and Acquire takes the same lock on an existing journal (and its staged copy) and holds
+// it until it is released, before a resume cuts or a run --overwrite replaces anything. So
+// removing the lock file of a live run does not let a second process in: it is refused on the
+// journal (ConfigError, exit 2).
+//
+// The lock file never replaces a file it does not own: a file at the lock's name whose text is
+// not a holder's line (a config named "<stem>.lock", say) is refused, never truncated or
+// removed.
+#include <sys/types.h>
+
 #include <string>
+#include <vector>
 
 namespace hybridtest::io {
 
@@ -27,8 +41,11 @@ class RunLock {
   // the lock file cannot be created or is not a regular file.
   static RunLock Acquire(const std::string& csv_path, const std::string& command);
 
-  RunLock(RunLock&& other) noexcept : fd_(other.fd_), path_(std::move(other.path_)) {
+  RunLock(RunLock&& other) noexcept
+      : fd_(other.fd_), journal_fds_(std::move(other.journal_fds_)),
+        path_(std::move(other.path_)) {
     other.fd_ = -1;
+    other.journal_fds_.clear();
   }
   RunLock& operator=(RunLock&&) = delete;
   RunLock(const RunLock&) = delete;
@@ -40,8 +57,19 @@ class RunLock {
  private:
   static RunLock Locked(int fd, const std::string& path, const std::string& command);
   RunLock(int fd, std::string path) : fd_(fd), path_(std::move(path)) {}
+  // Locks the journal (and its staged copy) where they exist; throws ConfigError if a live
+  // writer holds one.
+  void LockJournal(const std::string& csv_path);
   int fd_ = -1;
+  std::vector<int> journal_fds_;  // descriptors holding the journal files' flocks
   std::string path_;
 };
+
+// The lock a journal's writer holds on its own file (journal.h). Takes an exclusive flock on
+// `fd` (open on the journal file at `path`) without waiting. Returns normally if it is taken,
+// or if this process already holds that file's lock through a RunLock (a resume: the RunLock
+// took it before the journal was cut). Throws ConfigError (exit 2) naming the file if another
+// process holds it: a live run writes there.
+void LockJournalFile(int fd, const std::string& path);
 
 }  // namespace hybridtest::io

@@ -3,6 +3,8 @@
 
 #include <fmt/core.h>
 
+#include <yaml-cpp/yaml.h>
+
 #include <filesystem>
 
 #include "hybridtest/common/error.h"
@@ -51,6 +53,47 @@ std::vector<std::optional<long>> CommandsReceivedAtStop(const nlohmann::json& si
   return out;
 }
 
+// Why a run has no run state, from what its journal and sidecar say. A real-time run keeps its
+// state in memory and writes it when it stops (a hold, a stop, its end: runner/run_files.cc);
+// one killed (kill -9, a power cut) never wrote it, though its journal holds committed rows.
+std::string NoStateMessage(const std::string& csv, const std::string& state_path,
+                           const nlohmann::json& sidecar, const std::string& status) {
+  const long rows = ReadJournalRows(csv, {}).complete;
+  bool real_time = false;
+  try {
+    const YAML::Node config = YAML::Load(sidecar.value("config", std::string()));
+    const YAML::Node rt = config["real_time"];
+    real_time = rt && !rt.IsNull() && !(rt.IsScalar() && rt.Scalar() == "false");
+  } catch (const std::exception&) {
+    // An unreadable config copy: the generic reason below.
+  }
+  const std::string restart = fmt::format(
+      "start the test again with another --out (or hybridtest run --overwrite {} to replace "
+      "it)", csv);
+  if (real_time && rows > 0) {
+    return fmt::format(
+        "{}: no run state {} beside it. This is a real-time run: it writes its state only when "
+        "it stops (Stop, a hold, a safety stop or its end), and it was {} before it could, so "
+        "its last committed point was never verified and recorded; resume cannot continue it "
+        "without risking a step run twice on the specimen. Its {} journal rows are kept as "
+        "they are: {}",
+        csv, state_path,
+        status == "running" ? "killed (status 'running': kill -9, a crash or a power cut)"
+                            : "ended with status '" + status + "'",
+        rows, restart);
+  }
+  if (rows > 0) {
+    return fmt::format(
+        "{}: no run state {} beside it, though its journal holds {} rows (status '{}'): the "
+        "state was removed, or the run was written without one (by a program that turned it off, "
+        "or by a hybridtest without resume). Restore the state if you have the one the run wrote "
+        "last; otherwise {}",
+        csv, state_path, rows, status, restart);
+  }
+  return fmt::format("{}: no run state {} beside it: the run stopped before its first "
+                     "committed row; {}", csv, state_path, restart);
+}
+
 // PlanResume without the translation of JSON type errors.
 ResumePlan PlanResumeChecked(const ResumeRequest& options) {
   if (!std::filesystem::exists(options.csv)) {
@@ -84,10 +127,7 @@ ResumePlan PlanResumeChecked(const ResumeRequest& options) {
   }
   const std::string state_path = RunStatePath(options.csv);
   if (!std::filesystem::exists(state_path)) {
-    throw ConfigError(fmt::format("{}: no run state {} beside it: the run stopped before its "
-                                  "first committed row, or was made before resume existed; "
-                                  "start it again with hybridtest run --overwrite",
-                                  options.csv, state_path));
+    throw ConfigError(NoStateMessage(options.csv, state_path, sidecar, status));
   }
   // The state cannot lie: its checksum (LoadRunState), then its agreement with the journal,
   // before anything is cut or moved.

@@ -21,6 +21,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/atomic_file.h"
 #include "hybridtest/io/digest.h"
+#include "hybridtest/io/run_lock.h"
 #include "hybridtest/io/run_outputs.h"
 
 namespace hybridtest::runner {
@@ -108,6 +109,64 @@ void CheckStateAgreesWithItsRow(const RunState& s) {
   }
 }
 
+// The counters of a state and the relation between its step and its rows (the relation the
+// runner writes): row 0 is step 0, and every step commits one row; a multi-rate scheme
+// (mr-os) also journals its substeps as intermediate rows, so its rows may exceed step + 1.
+// Counters are never negative and never ahead of the committed point they describe.
+void CheckStateCounters(const RunState& s) {
+  const auto& step_json = s.scheme.at("step");
+  const long step = step_json.get<long>();
+  const nlohmann::json& t_json = s.scheme.at("t");
+  if (!t_json.is_number() || !std::isfinite(t_json.get<double>()) || t_json.get<double>() < 0.0) {
+    throw ConfigError(fmt::format("scheme.t = {}: expected a finite time >= 0 s", t_json.dump()));
+  }
+  if (step < 0) throw ConfigError(fmt::format("scheme.step = {}: a step count is >= 0", step));
+  if (s.stage_rows < 0) {
+    throw ConfigError(fmt::format("stage_rows = {}: a row count is >= 0", s.stage_rows));
+  }
+  const bool substeps = s.scheme.value("scheme", std::string()) == "mr-os";
+  if (substeps ? s.rows < step + 1 : s.rows != step + 1) {
+    throw ConfigError(fmt::format(
+        "rows = {} but scheme.step = {}: the committed row of step n is row n{} (rows = step + "
+        "1{})", s.rows, step, substeps ? " or later" : "", substeps ? " or more" : ""));
+  }
+  if (s.statistics.is_object()) {
+    for (const char* key : {"steps", "rows", "physical_evaluations"}) {
+      const auto it = s.statistics.find(key);
+      if (it == s.statistics.end()) continue;
+      if (!it->is_number_integer() || it->get<long>() < 0) {
+        throw ConfigError(fmt::format("statistics.{} = {}: expected a count >= 0", key,
+                                      it->dump()));
+      }
+    }
+    for (const char* key : {"sim_time_s", "wall_time_s", "lab_time_s"}) {
+      const auto it = s.statistics.find(key);
+      if (it == s.statistics.end()) continue;
+      if (!it->is_number() || !std::isfinite(it->get<double>()) || it->get<double>() < 0.0) {
+        throw ConfigError(fmt::format("statistics.{} = {}: expected a time >= 0 s", key,
+                                      it->dump()));
+      }
+    }
+    if (s.statistics.value("steps", 0L) > step) {
+      throw ConfigError(fmt::format("statistics.steps = {} is ahead of scheme.step = {}",
+                                    s.statistics.value("steps", 0L), step));
+    }
+    if (s.statistics.value("rows", 0L) > s.rows) {
+      throw ConfigError(fmt::format("statistics.rows = {} is ahead of rows = {}",
+                                    s.statistics.value("rows", 0L), s.rows));
+    }
+  }
+  for (const auto& entry : s.substructures) {
+    if (!entry.is_object() || !entry.contains("state") || !entry["state"].is_object()) continue;
+    const auto& state = entry["state"];
+    const auto it = state.find("evaluations");
+    if (it != state.end() && (!it->is_number_integer() || it->get<long>() < 0)) {
+      throw ConfigError(fmt::format("substructure '{}': evaluations = {}: expected a count >= 0",
+                                    entry.value("slot", std::string("?")), it->dump()));
+    }
+  }
+}
+
 }  // namespace
 
 std::string RunStateChecksum(const nlohmann::json& j) {
@@ -184,6 +243,7 @@ RunState RunStateFromJson(const nlohmann::json& j, const std::string& where) {
         (s.journal_rows > 0) != s.journal_last_row.has_value()) {
       throw ConfigError("inconsistent counts (rows, journal.rows, row)");
     }
+    CheckStateCounters(s);
     CheckStateAgreesWithItsRow(s);
     return s;
   } catch (const std::exception& e) {
@@ -216,9 +276,82 @@ JournalRows ReadJournalRows(const std::string& csv_path, const std::vector<long>
   return result;
 }
 
+namespace {
+
+// Where a journal row's columns are, from the state: t, x (nx), r (m), then command, position,
+// force and lab time of each of `actuators` physical actuators.
+struct RowLayout {
+  std::size_t nx = 0, m = 0, actuators = 0;
+};
+
+RowLayout LayoutOf(const RunState& s) {
+  RowLayout layout;
+  layout.nx = s.scheme.at("x").size();
+  layout.m = s.scheme.at("r").size();
+  const std::size_t fixed = 1 + layout.nx + layout.m;
+  if (s.row.size() > fixed && (s.row.size() - fixed) % 4 == 0) {
+    layout.actuators = (s.row.size() - fixed) / 4;
+  }
+  return layout;
+}
+
+// The journal read once: the rows asked for, and which rows are committed points with a
+// specimen sample (Session::FillRow: only a committed row carries the actuators' exchange;
+// an intermediate row and an uncommitted one have NaN there).
+struct JournalScan {
+  JournalRows rows;
+  long committed_before = 0;  // committed rows among rows 0..state_rows−1
+  long committed_after = 0;   // committed rows from row state_rows on
+  long last_committed = -1;   // index of the last committed row
+};
+
+JournalScan ScanJournal(const std::string& csv_path, const std::vector<long>& indices,
+                        const RowLayout& layout, long state_rows) {
+  std::ifstream in(csv_path, std::ios::binary);
+  if (!in) throw IoError(fmt::format("{}: cannot read the journal: {}", csv_path, io::OsError()));
+  JournalScan scan;
+  std::string line;
+  long index = -1;  // the header is line −1
+  std::vector<double> values;
+  while (std::getline(in, line)) {
+    if (in.eof()) break;  // no newline: a partial last line, not a row
+    if (index >= 0) {
+      values.clear();
+      const char* p = line.c_str();
+      const char* end = p + line.size();
+      while (p <= end) {
+        const char* comma = std::find(p, end, ',');
+        values.push_back(std::strtod(std::string(p, comma).c_str(), nullptr));
+        p = comma + 1;
+      }
+      if (std::find(indices.begin(), indices.end(), index) != indices.end()) {
+        scan.rows.rows.emplace(index, values);
+      }
+      if (layout.actuators > 0 && values.size() == 1 + layout.nx + layout.m + 4 * layout.actuators) {
+        bool committed = true;
+        for (std::size_t k = 0; k < layout.actuators && committed; ++k) {
+          committed = !std::isnan(values[1 + layout.nx + layout.m + 4 * k]);
+        }
+        if (committed) {
+          (index < state_rows ? scan.committed_before : scan.committed_after) += 1;
+          scan.last_committed = index;
+        }
+      }
+    }
+    ++index;
+  }
+  scan.rows.complete = std::max(index, 0L);
+  return scan;
+}
+
+}  // namespace
+
 void VerifyRunStateAgainstJournal(const RunState& state, const std::string& csv_path) {
   const std::string state_path = RunStatePath(csv_path);
-  const JournalRows j = ReadJournalRows(csv_path, {state.journal_rows - 1, state.rows - 1});
+  const RowLayout layout = LayoutOf(state);
+  const JournalScan scan =
+      ScanJournal(csv_path, {state.journal_rows - 1, state.rows - 1}, layout, state.rows);
+  const JournalRows& j = scan.rows;
   auto refuse = [&](const std::string& what) {
     throw ConfigError(fmt::format(
         "{}: the run state {} does not belong to this journal: {}. Resume refuses, and nothing "
@@ -246,6 +379,45 @@ void VerifyRunStateAgainstJournal(const RunState& state, const std::string& csv_
     refuse(fmt::format("the journal has {} rows; the state's committed row is row {}",
                        j.complete, state.rows - 1));
   }
+  // The journal is the truth: the state must be the latest. A run with a physical slot saves
+  // its state at every committed row, before the row (a real-time run when it stops, at its
+  // last committed row): no committed row may follow the state's. An older state would cut
+  // those rows and re-run their steps on the specimen.
+  const long step = state.scheme.at("step").get<long>();
+  auto refuse_older = [&](const std::string& what) {
+    throw ConfigError(fmt::format(
+        "{}: the run state {} is older than the journal: {}. Resuming from it would cut "
+        "committed rows and run their steps again{}. Resume refuses, and nothing was changed "
+        "or moved: restore the run state the run wrote last (an older copy of a state, or one "
+        "edited and re-checksummed, cannot be continued)",
+        csv_path, state_path, what, layout.actuators > 0 ? " on the specimen" : ""));
+  };
+  if (layout.actuators > 0) {
+    if (scan.committed_after > 0) {
+      refuse_older(fmt::format(
+          "it belongs to committed row {} (step {}, t = {} s), but the journal holds {} "
+          "committed row{} after it, the last being row {}",
+          state.rows - 1, step, state.row.empty() ? 0.0 : state.row[0], scan.committed_after,
+          scan.committed_after == 1 ? "" : "s", scan.last_committed));
+    }
+    // Every step commits one row with a specimen sample: rows 0..rows−1 hold step + 1 of them
+    // (the state's own row counts where a crash lost it).
+    const long committed = scan.committed_before + (j.complete == state.rows - 1 ? 1 : 0);
+    if (committed != step + 1) {
+      refuse(fmt::format("it says step {}, but the journal's rows 0 to {} hold {} committed "
+                         "steps' rows (step + 1 = {} expected)",
+                         step, state.rows - 1, committed, step + 1));
+    }
+  } else if (state.scheme.value("scheme", std::string()) != "mr-os") {
+    // Numerical: the state is saved every kStateInterval rows (and at the end), so it may be
+    // older than the journal by less than two intervals; re-running those steps moves nothing.
+    constexpr long kStateInterval = 1000;
+    if (j.complete - state.rows >= 2 * kStateInterval) {
+      refuse_older(fmt::format("it belongs to row {}, but the journal holds {} rows; a "
+                               "numerical run saves its state every {} rows",
+                               state.rows - 1, j.complete, kStateInterval));
+    }
+  }
 }
 
 long CutJournalToRows(const std::string& csv_path, long rows) {
@@ -264,7 +436,16 @@ long CutJournalToRows(const std::string& csv_path, long rows) {
   }
   if (complete <= rows) return 0;
   in.close();
-  const int fd = ::open(csv_path.c_str(), O_WRONLY);
+  const int fd = ::open(csv_path.c_str(), O_WRONLY | O_CLOEXEC);
+  if (fd >= 0) {
+    // Never a live run's journal (run_lock.h): refused if another process writes it.
+    try {
+      io::LockJournalFile(fd, csv_path);
+    } catch (...) {
+      ::close(fd);
+      throw;
+    }
+  }
   if (fd < 0 || ::ftruncate(fd, static_cast<off_t>(keep)) != 0 || ::fsync(fd) != 0) {
     const std::string error = io::OsError();
     if (fd >= 0) ::close(fd);
