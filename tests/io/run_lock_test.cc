@@ -75,6 +75,16 @@ TEST(RunLock, AFileThatIsNotALockFileIsNeverTruncatedOrRemoved) {
   EXPECT_EQ(test_support::ReadText(dir / "k.lock"), "duration: 1.0\n");
 }
 
+TEST(RunLock, AnEmptyFileFoundAtTheLocksNameIsNotRemoved) {
+  const auto dir = test_support::FreshTempDir("run_lock_empty");
+  test_support::WriteText(dir / "k.lock", "");
+  { const RunLock lock = RunLock::Acquire((dir / "k.csv").string(), "run"); }
+  EXPECT_TRUE(std::filesystem::exists(dir / "k.lock"));
+  // A lock file it created is removed.
+  { const RunLock lock = RunLock::Acquire((dir / "m.csv").string(), "run"); }
+  EXPECT_FALSE(std::filesystem::exists(dir / "m.lock"));
+}
+
 // A live writer: a journal published with one row and kept open.
 std::unique_ptr<Journal> LiveJournal(const std::string& csv) {
   auto journal = std::make_unique<Journal>(csv, std::vector<Channel>{{"t", "s", "time"}},

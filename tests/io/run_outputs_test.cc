@@ -130,5 +130,14 @@ substructures:
   EXPECT_EQ(inputs[1].path, (dir / "secret/token.txt").string());
 }
 
+TEST(RunOutputs, TheRunsLockFileIsNeverAnInput) {
+  const fs::path dir = TempDir("lock_input");
+  // An empty file (the lock itself would not refuse it) named like the run's lock.
+  std::ofstream(dir / "k.lock").close();
+  const std::string message =
+      MessageOf((dir / "k.csv").string(), {(dir / "k.lock").string()}, true);
+  EXPECT_NE(message.find("k.lock would be written over"), std::string::npos) << message;
+}
+
 }  // namespace
 }  // namespace hybridtest::io

@@ -132,7 +132,15 @@ RunLock RunLock::Acquire(const std::string& csv_path, const std::string& command
   int fd = -1;
   for (int attempt = 0;; ++attempt) {
     // O_NOFOLLOW: a symlink planted at the lock's name is refused, never followed.
-    fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    // Created here, or found: only a file created here or holding a holder's line is ever
+    // removed (an empty file someone else made stays).
+    bool created = true;
+    fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd < 0 && errno == EEXIST) {
+      created = false;
+      fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC | O_NOFOLLOW);
+      if (fd < 0 && errno == ENOENT && attempt < 100) continue;  // removed in between
+    }
     if (fd < 0) {
       throw IoError(fmt::format("{}: cannot create the run's lock file: {}; the lock file must "
                                 "be a regular file in a writable directory", path, OsError()));
@@ -162,6 +170,7 @@ RunLock RunLock::Acquire(const std::string& csv_path, const std::string& command
             path, csv_path));
       }
       RunLock lock = Locked(fd, path, command);
+      lock.remove_ = created || n > 0;
       lock.LockJournal(csv_path);
       return lock;
     }
@@ -214,7 +223,7 @@ RunLock::~RunLock() {
   if (fd_ < 0) return;
   // Removed while still held (a process waiting on the old file sees it gone and retries),
   // then released by closing the last descriptor.
-  ::unlink(path_.c_str());
+  if (remove_) ::unlink(path_.c_str());
   ::close(fd_);
 }
 

@@ -43,7 +43,7 @@ class RunLock {
 
   RunLock(RunLock&& other) noexcept
       : fd_(other.fd_), journal_fds_(std::move(other.journal_fds_)),
-        path_(std::move(other.path_)) {
+        path_(std::move(other.path_)), remove_(other.remove_) {
     other.fd_ = -1;
     other.journal_fds_.clear();
   }
@@ -63,6 +63,7 @@ class RunLock {
   int fd_ = -1;
   std::vector<int> journal_fds_;  // descriptors holding the journal files' flocks
   std::string path_;
+  bool remove_ = true;  // false for an empty file found at the lock's name: left in place
 };
 
 // The lock a journal's writer holds on its own file (journal.h). Takes an exclusive flock on

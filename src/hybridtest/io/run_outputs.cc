@@ -8,6 +8,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/journal.h"
+#include "hybridtest/io/run_lock.h"
 
 namespace hybridtest::io {
 
@@ -70,7 +71,10 @@ void CheckRunOutputs(const std::string& csv_path, const std::vector<std::string>
                      bool overwrite) {
   std::vector<std::string> outputs = RunOutputFiles(csv_path);
   outputs.push_back(RunStatePath(csv_path));
-  for (const std::string& out : outputs) {
+  // The lock file is written and removed by the run too (run_lock.h): never an input.
+  std::vector<std::string> written = outputs;
+  written.push_back(RunLockPath(csv_path));
+  for (const std::string& out : written) {
     for (const std::string& in : inputs) {
       if (!SameFile(out, in)) continue;
       const std::string what =
