@@ -350,7 +350,7 @@ void VerifyRunStateAgainstJournal(const RunState& state, const std::string& csv_
   const std::string state_path = RunStatePath(csv_path);
   const RowLayout layout = LayoutOf(state);
   const JournalScan scan =
-      ScanJournal(csv_path, {state.journal_rows - 1, state.rows - 1}, layout, state.rows);
+      ScanJournal(csv_path, {state.journal_rows - 1, state.rows - 1, 1}, layout, state.rows);
   const JournalRows& j = scan.rows;
   auto refuse = [&](const std::string& what) {
     throw ConfigError(fmt::format(
@@ -378,6 +378,20 @@ void VerifyRunStateAgainstJournal(const RunState& state, const std::string& csv_
   } else if (j.complete != state.rows - 1) {
     refuse(fmt::format("the journal has {} rows; the state's committed row is row {}",
                        j.complete, state.rows - 1));
+  }
+  // A fixed-step Runge-Kutta run commits step n at t = n·h exactly (runge_kutta_scheme.cc),
+  // h being row 1's t.
+  if (state.scheme.value("scheme", std::string()) == "runge-kutta" &&
+      state.scheme.at("step").get<long>() >= 1 && j.rows.count(1) != 0 &&
+      !j.rows.at(1).empty()) {
+    const double h = j.rows.at(1)[0];
+    const long n = state.scheme.at("step").get<long>();
+    const double t = state.scheme.at("t").get<double>();
+    if (t != static_cast<double>(n) * h) {
+      refuse(fmt::format("its step {} and time t = {} s disagree: the run's fixed step is {} s "
+                         "(the journal's row 1), so step {} is at t = {} s",
+                         n, t, h, n, static_cast<double>(n) * h));
+    }
   }
   // The journal is the truth: the state must be the latest. A run with a physical slot saves
   // its state at every committed row, before the row (a real-time run when it stops, at its
