@@ -220,6 +220,20 @@ TEST(RunStateAgainstJournal, RefusesAnOlderGenuineStateOfAPhysicalRun) {
               HasSubstr("2 committed rows after it, the last being row 3"));
 }
 
+TEST(RunStateAgainstJournal, AFixedStepStatesTimeIsStepTimesH) {
+  const auto dir = test_support::FreshTempDir("run_state_time");
+  const std::string csv = (dir / "k.csv").string();
+  // A journal and state that agree with each other, at t = 0.0025 for step 2 of h = 1 ms.
+  test_support::WriteText(csv, std::string(kHeader) + kRow0 + kRow1 +
+                                   "0.0025,4.0000000000000002e-06,0.004,-0.0288,0.020004,"
+                                   "0.020004,-0.0288,2.5\n");
+  RunState s = ExampleState();
+  s.scheme["t"] = 0.0025;
+  s.row[0] = 0.0025;
+  EXPECT_THAT(ErrorOf([&] { VerifyRunStateAgainstJournal(RunStateFromJson(ToJson(s), "k"), csv); }),
+              HasSubstr("its step 2 and time t = 0.0025 s disagree"));
+}
+
 TEST(RunStateAgainstJournal, CountsTheCommittedRowsOfAMultiRateRun) {
   const auto dir = test_support::FreshTempDir("run_state_mros");
   const std::string csv = (dir / "k.csv").string();
