@@ -138,5 +138,37 @@ TEST(JournalIsTruth, RemovingTheLockFileOfALiveRunDoesNotLetResumeIn) {
   EXPECT_THAT(Sidecar(csv).value("status", ""), HasSubstr("stopped"));
 }
 
+TEST(JournalIsTruth, AKilledWallClockRunGivesTheRightReason) {
+  const fs::path dir = ResumeTestDir("journal_rt_kill");
+  // The real-time storey paced on the wall clock (10 s), the miss policy off so that a loaded
+  // machine does not hold it before it is killed.
+  std::string config = test_support::ReadText(kSource + "/examples/real-time/storey-ats.yaml");
+  const std::string policy = "hold_after_misses: 10";
+  config.replace(config.find(policy), policy.size(), "hold_after_misses: 0");
+  const std::string model = "file: storey.model.yaml";
+  config.replace(config.find(model), model.size(),
+                 "file: " + kSource + "/examples/real-time/storey.model.yaml");
+  test_support::WriteText(dir / "wall.yaml", config);
+  const fs::path csv = dir / "w.csv";
+  Child run(HybridtestArgv({"run", (dir / "wall.yaml").string(), "--clock", "wall", "--out",
+                            csv.string(), "--quiet"}),
+            dir / "run.log");
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (ReadLines(csv).size() < 50 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  run.Signal(SIGKILL);
+  const int status = run.WaitExit(30.0);
+  if (status != 128 + SIGKILL) GTEST_SKIP() << "the run ended before the kill: " << run.output();
+  ASSERT_GE(ReadLines(csv).size(), 2u);
+  const RunFilesText before = RunFilesText::Of(csv);
+  const auto [code, out] = Resume(csv, {"--quiet"}, dir / "resume.log");
+  EXPECT_EQ(code, 2) << out;
+  EXPECT_THAT(out, HasSubstr("real-time run: it writes its state only when it stops"));
+  EXPECT_THAT(out, HasSubstr("killed (status 'running'"));
+  EXPECT_THAT(out, ::testing::Not(HasSubstr("before its first committed row")));
+  EXPECT_TRUE(RunFilesText::Of(csv) == before);
+}
+
 }  // namespace
 }  // namespace hybridtest::testing
