@@ -9,6 +9,7 @@
 //    never asserted (they depend on the machine's load).
 #include <atomic>
 #include <fstream>
+#include <iterator>
 #include <iostream>
 
 #include "monitor/monitor_process.h"
@@ -216,7 +217,7 @@ TEST_F(MonitorContract, TheRealTimeStoreyWithThirtyViewersCompletes) {
   ASSERT_EQ(status, 0) << run.child().output();
   const nlohmann::json rt = Sidecar(csv)["statistics"]["real_time"];
   std::cout << "real-time storey with 30 viewers: " << rt.dump() << "\n";
-  RecordProperty("misses", rt.value("misses", -1L));
+  RecordProperty("misses", std::to_string(rt.value("misses", -1L)));
   EXPECT_EQ(ReadLines(csv).size(), 10242u);  // 10 s at 1024 Hz, and the header and t = 0
   EXPECT_GT(viewers.answered(), 30);
 }

@@ -87,7 +87,7 @@ struct Connection {
   bool receiving = false;      // a request has begun
 };
 
-struct Route {
+struct RouteEntry {
   std::string method, path;
   HttpHandler handler;
   bool priority = false;
@@ -106,7 +106,7 @@ struct HttpServer::Impl {
   HttpLimits limits;
   int listen_fd = -1;
   int wake_fd = -1;
-  std::vector<Route> routes;
+  std::vector<RouteEntry> routes;
   std::list<Connection> connections;
   std::atomic<bool> stop{false};
   std::thread thread;
@@ -153,7 +153,7 @@ struct HttpServer::Impl {
 
 HttpResponse HttpServer::Impl::Dispatch(const HttpRequest& req) const {
   bool path_known = false;
-  for (const Route& r : routes) {
+  for (const RouteEntry& r : routes) {
     if (r.path != req.path) continue;
     path_known = true;
     if (r.method == req.method) return r.handler(req);
@@ -238,9 +238,11 @@ void HttpServer::Impl::Loop() {
             dead.push_back(polled[i]);
             continue;
           }
-          c.receiving = false;
-          c.deadline = std::min(Clock::now() + Seconds(limits.idle_timeout),
-                                c.opened + Seconds(limits.connection_lifetime));
+          // The next request: a pipelined one already begun has the request deadline.
+          c.receiving = !c.in.empty();
+          c.deadline = std::min(
+              Clock::now() + Seconds(c.receiving ? limits.request_deadline : limits.idle_timeout),
+              c.opened + Seconds(limits.connection_lifetime));
         }
         // A request that came with the last one (pipelined) is parsed below.
         if (c.writing || c.in.empty()) continue;
@@ -263,7 +265,7 @@ void HttpServer::Impl::Loop() {
       if (parsed.status == ParseStatus::kIncomplete) continue;
       bool priority = false;
       if (parsed.status == ParseStatus::kComplete) {
-        for (const Route& r : routes) {
+        for (const RouteEntry& r : routes) {
           priority = priority || (r.priority && r.path == parsed.request.path);
         }
       }
