@@ -126,7 +126,9 @@ TEST(HttpServer, AClientThatDripsItsHeadIsCutOff) {
   }
   ::close(fd);
   EXPECT_LT(dripped, 25) << "still connected after 10 s of dripping";
-  if (!answer.empty()) EXPECT_EQ(StatusOf(answer), 408) << answer;
+  if (!answer.empty()) {
+    EXPECT_EQ(StatusOf(answer), 408) << answer;
+  }
   EXPECT_GE(s.server.counters().timed_out, 1);
 }
 

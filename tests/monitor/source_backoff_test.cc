@@ -52,7 +52,7 @@ TEST(SourceBackoff, AnIPv6SourceIsItsSlash64AndAMappedAddressItsIPv4) {
 TEST(SourceBackoff, TheTableStaysBoundedWhateverTheNumberOfAddresses) {
   SourceBackoff b;
   auto t = Clock::time_point{} + std::chrono::hours(1);
-  for (int i = 0; i < 20000; ++i) {
+  for (int i = 0; i < 3000; ++i) {
     t += milliseconds(1);
     b.Failure("10." + std::to_string(i / 65536) + "." + std::to_string((i / 256) % 256) + "." +
                   std::to_string(i % 256),
@@ -61,8 +61,8 @@ TEST(SourceBackoff, TheTableStaysBoundedWhateverTheNumberOfAddresses) {
   }
   EXPECT_EQ(b.sources(), SourceBackoff::kMaxSources);
   // The most recent sources are still remembered.
-  for (int i = 0; i < 3; ++i) b.Failure("10.0.78.31", t);
-  EXPECT_GT(b.Failure("10.0.78.31", t), Clock::duration::zero());
+  for (int i = 0; i < 3; ++i) b.Failure("10.0.11.183", t);
+  EXPECT_GT(b.Failure("10.0.11.183", t), Clock::duration::zero());
 }
 
 }  // namespace

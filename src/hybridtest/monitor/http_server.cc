@@ -319,6 +319,8 @@ void HttpServer::Impl::Loop() {
       dead.push_back(it);
     }
     for (auto it : dead) Close(it);
+    // New connections last: making room may close one (the iterators above are done).
+    if ((fds[0].revents & POLLIN) != 0) Accept();
   }
   for (auto it = connections.begin(); it != connections.end();) Close(it++);
 }
