@@ -54,6 +54,12 @@ LiveMonitor::LiveMonitor(const MonitorCliOptions& options, runner::Session& sess
                                   "are only allowed on loopback; give --token-file FILE instead",
                                   *options.listen));
   }
+  // A real-time run: the server's thread takes no time from the stepping thread
+  // (monitor/background_thread.h), and Stop reaches the paced loop directly.
+  const io::RealTimeSpec& rt = session.spec().real_time;
+  server.background = rt.enabled;
+  server.avoid_cpu = rt.cpu;
+  if (rt.enabled) parts_->control.ActOnPacedRun(session);
   server.log = [](const std::string& line) {
     std::fprintf(stderr, "hybridtest monitor: %s\n", line.c_str());
   };

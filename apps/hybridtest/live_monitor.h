@@ -32,7 +32,8 @@ class LiveMonitor {
   LiveMonitor& operator=(const LiveMonitor&) = delete;
 
   // Session::Run() with the operator's Hold, Continue and Stop between steps; then serves the
-  // final state for --monitor-linger seconds.
+  // final state for --monitor-linger seconds (Ctrl-C ends it sooner). The process then exits
+  // at once: the server's Stop() closes every viewer's connection, whatever they do.
   runner::StepResult Run(runner::Session& session);
 
  private:

@@ -1,6 +1,7 @@
 // The monitor's HTTP server on 127.0.0.1: the page and the API, the token rules of the
-// actions (as the bench server's: 401 without, 403 wrong, 429 once locked out; none at all
-// without a configured token unless the run allows it; 405 for a follower), the bind policy,
+// actions (401 without, 403 wrong, 429 while the source waits, and the right token served
+// whatever came before, from any address; none at all without a configured token unless the
+// run allows it; 405 for a follower), the bind policy,
 // and viewers that send garbage or stall without taking the server down.
 #include <gtest/gtest.h>
 
@@ -10,6 +11,11 @@
 // After Eigen (through the session): <resolv.h>, which httplib includes, defines `_res`.
 #include <arpa/inet.h>
 #include <httplib.h>
+
+#include <atomic>
+#include <thread>
+
+#include "monitor/raw_http.h"
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -86,12 +92,58 @@ TEST(MonitorServer, ActionsNeedTheToken) {
   EXPECT_EQ(actions[1]["refused"], 403);
 }
 
-TEST(MonitorServer, WrongTokensLockTheAddressBlockOut) {
+TEST(MonitorServer, WrongTokensSlowTheirSourceButNeverTheRightToken) {
   Fixture f(WithToken());
-  for (int i = 0; i < transfer::AuthThrottle::kMaxFailures; ++i) {
-    EXPECT_EQ(f.Post("/api/stop", "guess" + std::to_string(i)), 403);
+  // The operator's own address, after many wrong tokens from it: 403 while free, then 429
+  // with Retry-After, and the right token is still served at once.
+  std::vector<int> statuses;
+  for (int i = 0; i < 8; ++i) statuses.push_back(f.Post("/api/stop", "guess" + std::to_string(i)));
+  for (int i = 0; i < SourceBackoff::kFreeFailures; ++i) EXPECT_EQ(statuses[i], 403) << i;
+  EXPECT_EQ(statuses.back(), 429);
+  auto res = f.client.Post("/api/stop", httplib::Headers{{"Authorization", "Bearer x"}}, "",
+                           "text/plain");
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->status, 429);
+  EXPECT_FALSE(res->get_header_value("Retry-After").empty());
+  EXPECT_EQ(f.Post("/api/hold", kToken), 200);
+  EXPECT_TRUE(f.control.holding());
+  // Another address is not slowed by them.
+  EXPECT_EQ(testing::RequestFrom("127.0.0.3", f.server.port(), "POST", "/api/stop", "nope"), 403);
+  // The flood is not listed on the page: only counted failures are (8 + 1 tried, 3 + 1 shown).
+  const auto actions = f.state.StateJson()["actions"];
+  EXPECT_EQ(actions.size(), 4u);
+}
+
+TEST(MonitorServer, AWrongTokenFloodFromRotatingAddressesNeverRefusesTheOperator) {
+  Fixture f(WithToken());
+  const int port = f.server.port();
+  std::atomic<bool> done{false};
+  std::atomic<long> flood{0};
+  // Wrong tokens from 127.0.0.2 .. 127.0.0.201 in turn, as fast as they are answered.
+  std::thread attacker([&] {
+    for (int i = 0; !done.load() && i < 20000; ++i) {
+      const std::string source = "127.0.0." + std::to_string(2 + i % 200);
+      testing::RequestFrom(source, port, "POST", "/api/hold", "guess" + std::to_string(i), 2.0);
+      ++flood;
+    }
+  });
+  // The operator, from 127.0.0.1 (after 5 wrong tokens of its own): Hold and Continue 17 times.
+  for (int i = 0; i < 5; ++i) testing::RequestFrom("127.0.0.1", port, "POST", "/api/stop", "typo");
+  int served = 0;
+  for (int i = 0; i < 17; ++i) {
+    const bool hold = i % 2 == 0;
+    const int status = testing::RequestFrom("127.0.0.1", port, "POST",
+                                            hold ? "/api/hold" : "/api/continue", kToken);
+    EXPECT_EQ(status, 200) << "attempt " << i;
+    served += status == 200;
+    EXPECT_EQ(f.control.holding(), hold);
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
-  EXPECT_EQ(f.Post("/api/stop", kToken), 429);  // even the right token, for a while
+  done = true;
+  attacker.join();
+  ::testing::Test::RecordProperty("wrong_tokens_sent", std::to_string(flood.load()));
+  EXPECT_EQ(served, 17);
+  EXPECT_GT(flood.load(), 17) << "the flood did not run alongside";
 }
 
 TEST(MonitorServer, WithoutATokenActionsAreRefusedUnlessTheRunAllowsThem) {
@@ -134,8 +186,8 @@ int Connect(std::uint16_t port) {
 
 TEST(MonitorServer, GarbageAndStalledViewersDoNotStopIt) {
   MonitorServerOptions o = WithToken();
-  o.threads = 2;
-  o.io_timeout = 0.5;
+  o.limits.request_deadline = 0.5;
+  o.limits.idle_timeout = 0.5;
   Fixture f(o);
   // Garbage, a request line without an end, a huge body, and connections that say nothing.
   std::vector<int> stalled;

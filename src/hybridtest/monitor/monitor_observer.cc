@@ -1,6 +1,8 @@
 // See monitor_observer.h.
 #include "hybridtest/monitor/monitor_observer.h"
 
+#include "hybridtest/monitor/background_thread.h"
+
 #include <fmt/core.h>
 
 #include <chrono>
@@ -54,7 +56,15 @@ void MonitorObserver::OnStart(const runner::Session& session) {
   state_.SetIdentity(std::move(identity), layout_, std::move(actuators));
   ring_ = std::make_unique<FrameRing>(options_.ring_capacity, layout_.width());
   last_d_.assign(static_cast<std::size_t>(layout_.slots), std::nan(""));
-  if (!collector_.joinable()) collector_ = std::thread([this] { Collect(); });
+  // On a real-time run the collector stays off the stepping thread's core and time
+  // (background_thread.h); it would otherwise inherit the stepping thread's SCHED_FIFO.
+  const io::RealTimeSpec& rt = session.spec().real_time;
+  if (!collector_.joinable()) {
+    collector_ = std::thread([this, background = rt.enabled, cpu = rt.cpu] {
+      if (background) MoveThisThreadToBackground(cpu);
+      Collect();
+    });
+  }
 }
 
 void MonitorObserver::OnTrial(const runner::TrialEvent& event) {

@@ -7,17 +7,23 @@
 //   GET  /api/series?since=SEQ&generation=G   the scopes' history (MonitorState::SeriesJson)
 //   POST /api/hold, /api/continue, /api/stop  with `Authorization: Bearer TOKEN`
 //
-// The rules of the bench server (transfer/auth.h): it binds 127.0.0.1 by default and any other
-// address only with a token of at least 16 bytes. Actions need the token even on loopback
-// (401 without an Authorization header, 403 with a wrong token; both throttled per address
-// block and globally, 429 while locked out) unless the run was started with
-// `actions_without_token` (then any local client may act); with no token and without that
-// flag every action is refused (403) and says how to give one. A follower of a journal
-// (`hybridtest monitor`) is read-only: actions answer 405.
+// Who may act (docs/monitor.md, "Threat model"): it binds 127.0.0.1 by default and any other
+// address only with a token of at least 16 bytes (transfer/auth.h's CheckBindPolicy). Actions
+// need the token even on loopback unless the run was started with `actions_without_token`
+// (then any local client may act); with no token and without that flag every action is
+// refused (403) and says how to give one. A follower of a journal (`hybridtest monitor`) is
+// read-only: actions answer 405.
 //
-// Never in the way of the run: the server reads only the MonitorState. Requests are small
-// (bodies over 4 KiB are refused), a connection idle or stalled for `io_timeout` is dropped,
-// and a fixed pool of threads serves every viewer.
+// The operator keeps Stop: the token is compared first, in constant time, and a right token
+// is served whatever anyone sent before (no lockout, no global budget). A missing or wrong
+// token is answered 401/403 and slows only its own source (source_backoff.h: 429 with
+// Retry-After while it waits; only counted failures are logged and listed on the page).
+//
+// Never in the way of the run: the server reads only the MonitorState, on one thread of its
+// own (http_server.h: bounded heads and bodies, a deadline per request and per connection, a
+// bounded connection table, the operator's actions handled before the viewers' requests,
+// a bounded Stop()). On a real-time run that thread runs SCHED_IDLE and off the stepping
+// thread's CPU (background_thread.h).
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -27,11 +33,8 @@
 
 #include "hybridtest/monitor/monitor_state.h"
 #include "hybridtest/monitor/operator_control.h"
-#include "hybridtest/transfer/auth.h"
-
-namespace httplib {
-class Server;
-}
+#include "hybridtest/monitor/http_server.h"
+#include "hybridtest/monitor/source_backoff.h"
 
 namespace hybridtest::monitor {
 
@@ -40,8 +43,9 @@ struct MonitorServerOptions {
   std::uint16_t port = 0;          // 0 picks a free port (see port())
   std::string token;               // the actions' bearer token (may be empty on loopback)
   bool actions_without_token = false;  // an explicit flag of the run: no token for actions
-  int threads = 8;                 // the pool that serves every viewer
-  double io_timeout = 5.0;         // a connection silent this long is closed. Unit: [s]
+  HttpLimits limits;               // sizes, deadlines and connections (http_server.h)
+  bool background = false;         // a real-time run: SCHED_IDLE (background_thread.h)
+  int avoid_cpu = -1;              // the stepping thread's CPU, kept free of the server's
   std::function<void(const std::string&)> log;  // one line per action or refusal; may be empty
 };
 
@@ -60,20 +64,27 @@ class MonitorServer {
   std::string url() const;      // "http://HOST:PORT/"
 
   void Start();  // serves on a thread of its own
-  void Stop();
+  void Stop();   // bounded: closes every connection, whatever the clients do
+
+  HttpCounters counters() const { return server_->counters(); }
 
  private:
+  struct Verdict {
+    int status = 200;
+    std::string why;
+    bool log = true;            // false for a source that is waiting (no flood in the log)
+    long retry_after = 0;       // [s] for 429
+  };
   void Routes();
-  int Authorize(const std::string& peer, const std::string& header, std::string& why);
+  Verdict Authorize(const std::string& peer, const std::string& header);
 
   MonitorState& state_;
   OperatorControl* control_;
   MonitorServerOptions options_;
-  std::unique_ptr<httplib::Server> server_;
+  std::unique_ptr<HttpServer> server_;
   std::uint16_t port_ = 0;
   std::mutex auth_mutex_;
-  transfer::AuthThrottle throttle_;
-  std::thread thread_;
+  SourceBackoff backoff_;
 };
 
 }  // namespace hybridtest::monitor
