@@ -6,6 +6,7 @@
 
 #include <memory>
 
+#include "cli_values.h"
 #include "command.h"
 #include "hybridtest/io/run_reader.h"
 #include "hybridtest/report/plot.h"
@@ -25,7 +26,7 @@ void AddPlotCommand(CLI::App& root) {
       "plot", "Draw a run's figures (PNG and SVG) with gnuplot, like the paper's Fig. 6");
   command->add_option("run", options->run_csv, "The run's CSV file, e.g. results/run.csv")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(RegularInputFile());
   command->add_option("--out", options->out_dir,
                       "Directory for the figures (default: <CSV directory>/<run name>-figures)");
   command->add_option("--units", options->units,
@@ -35,7 +36,7 @@ void AddPlotCommand(CLI::App& root) {
     const report::PlotUnits units = report::ParsePlotUnits(options->units);
     const std::string out_dir =
         options->out_dir.empty() ? report::DefaultPlotDir(options->run_csv) : options->out_dir;
-    const io::RunData run = io::LoadRun(options->run_csv);
+    const io::RunData run = LoadRunInput(options->run_csv, "run");
     for (const auto& warning : run.warnings) fmt::print(stderr, "warning: {}\n", warning);
     if (run.metadata.is_null()) {
       fmt::print(stderr,
