@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <sstream>
 
 #include "hybridtest/common/error.h"
@@ -103,6 +104,23 @@ io::RunData LoadRunInput(const std::string& path, const std::string& what) {
     return io::LoadRun(path);
   } catch (const IoError& e) {
     throw ConfigError(fmt::format("{} = '{}': not a readable run: {}", what, path, e.what()));
+  }
+}
+
+void CheckJournalHeader(const std::string& path, const std::string& what) {
+  RequireRegularFile(path, what, "run journal (the .csv file written by 'hybridtest run')");
+  std::ifstream in(path, std::ios::binary);  // a regular file: opening it cannot block
+  std::string first(4096, '\0');
+  in.read(first.data(), static_cast<std::streamsize>(first.size()));
+  first.resize(static_cast<std::size_t>(in.gcount()));
+  const std::size_t eol = first.find('\n');
+  const std::string header = first.substr(0, eol);
+  if (eol == std::string::npos || (header != "t" && header.rfind("t,", 0) != 0)) {
+    throw ConfigError(fmt::format(
+        "{} = '{}': not a run journal: expected a first line of channel names starting with "
+        "t (t,q1,...), got {}; give the .csv file written by 'hybridtest run'", what, path,
+        first.empty() ? std::string("an empty file")
+                      : fmt::format("'{}'", header.substr(0, 60))));
   }
 }
 

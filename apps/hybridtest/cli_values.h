@@ -35,6 +35,11 @@ const CLI::Validator& RegularInputFile();
 // instead of an IoError (exit 1).
 io::RunData LoadRunInput(const std::string& path, const std::string& what);
 
+// Checks that `path` (given as `what`) is a regular file that starts with a journal's header
+// line, "t,..." (monitor and resume read it piece by piece later; a file that is not a
+// journal is refused now). Throws ConfigError naming `what`, the path and what was found.
+void CheckJournalHeader(const std::string& path, const std::string& what);
+
 // Checks the live-monitor options of `run` and `resume` that CLI11 cannot: --monitor-linger
 // a finite number, and --token-file, --monitor-no-token and --monitor-linger only with
 // --monitor (alone they would be ignored: an operator would believe a token guards the run).

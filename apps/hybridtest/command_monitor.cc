@@ -80,7 +80,10 @@ void AddMonitorCommand(CLI::App& root) {
   cmd->add_option("--interval", args->interval, "how often the files are read again [s]")
       ->capture_default_str()
       ->check(FiniteRange(0.05, 60.0));
-  cmd->callback([args] { ServeFollower(*args); });
+  cmd->callback([args] {
+    CheckJournalHeader(args->csv, "run");
+    ServeFollower(*args);
+  });
 }
 
 const CommandRegistration kRegistration{"monitor", &AddMonitorCommand};

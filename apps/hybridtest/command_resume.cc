@@ -41,6 +41,7 @@ void AddResumeCommand(CLI::App& root) {
   AddMonitorOptions(*cmd, opt->monitor);
   cmd->callback([opt] {
     CheckMonitorOptions(opt->monitor);
+    CheckJournalHeader(opt->csv, "run");
     ExecuteResume(*opt);
   });
 }

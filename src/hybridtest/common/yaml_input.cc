@@ -39,40 +39,47 @@ void CheckNoDuplicateKeys(const YAML::Node& root, const std::string& path) {
   // Aliases share nodes, so a small hostile file can name billions of them: bound the walk.
   constexpr long kMaxNodes = 4'000'000;
   long visited = 0;
-  std::vector<YAML::Node> pending{root};
+  // Each node with its key path ("initial_state.q", "a[2]"), for the messages.
+  std::vector<std::pair<YAML::Node, std::string>> pending{{root, ""}};
   while (!pending.empty()) {
     if (++visited > kMaxNodes) {
       throw ConfigError(fmt::format("{}: more than {} YAML nodes once aliases (*name) are "
                                     "expanded; a configuration has a few hundred: remove the "
                                     "aliases", path, kMaxNodes));
     }
-    const YAML::Node node = pending.back();
+    const YAML::Node node = pending.back().first;
+    const std::string key_path = std::move(pending.back().second);
     pending.pop_back();
     if (node.IsSequence()) {
       // Every list of every file is bounded here, whichever reader takes it later.
       if (node.size() > kMaxListLength) {
-        throw ConfigError(fmt::format("{}:{}: a list of {} entries; at most {} are allowed in "
-                                      "one list (docs/safety.md, \"Counts and sizes\"): "
-                                      "shorten it", path, node.Mark().line + 1, node.size(),
+        throw ConfigError(fmt::format("{}:{}: {}: a list of {} entries; at most {} are allowed "
+                                      "in one list (docs/safety.md, \"Counts and sizes\"): "
+                                      "shorten it", path, node.Mark().line + 1,
+                                      key_path.empty() ? "(top level)" : key_path, node.size(),
                                       kMaxListLength));
       }
-      for (const auto& item : node) pending.push_back(item);
+      for (std::size_t i = 0; i < node.size(); ++i) {
+        pending.emplace_back(node[i], fmt::format("{}[{}]", key_path, i));
+      }
       continue;
     }
     if (!node.IsMap()) continue;
     std::map<std::string, int> lines;
     for (const auto& kv : node) {
+      std::string key = "?";
       if (kv.first.IsScalar()) {
+        key = kv.first.Scalar();
         const int line = kv.first.Mark().line + 1;
-        const auto [it, inserted] = lines.emplace(kv.first.Scalar(), line);
+        const auto [it, inserted] = lines.emplace(key, line);
         if (!inserted) {
           throw ConfigError(fmt::format(
               "{}:{}: the key '{}' appears twice in one mapping (lines {} and {}); a YAML "
-              "mapping holds each key once: delete one of them", path, line, kv.first.Scalar(),
+              "mapping holds each key once: delete one of them", path, line, key,
               it->second, line));
         }
       }
-      pending.push_back(kv.second);
+      pending.emplace_back(kv.second, JoinKeyPath(key_path, key));
     }
   }
 }
