@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_values.h"
 #include "command.h"
 #include "hybridtest/common/clock.h"
 #include "hybridtest/common/error.h"
@@ -228,7 +229,7 @@ void AddBenchCommand(CLI::App& root) {
       "bench", "Serve the emulated test bench over TCP (bench protocol v1) until SIGINT/SIGTERM");
   cmd->add_option("--config", args->config,
                   "YAML file with a `bench:` mapping (default: the seed paper's cantilever)")
-      ->check(CLI::ExistingFile);
+      ->check(RegularInputFile());
   cmd->add_option("--listen", args->listen,
                   "HOST:PORT to listen on; port 0 picks a free port (default 127.0.0.1:7471). "
                   "A non-loopback host requires a token (--token-file or HYBRIDTEST_BENCH_TOKEN)");
@@ -240,7 +241,7 @@ void AddBenchCommand(CLI::App& root) {
       ->group("");
   cmd->add_option("--heartbeat-timeout", args->heartbeat_timeout,
                   "seconds without a frame after which a client is dropped and the bench holds")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveFiniteNumber());
   cmd->add_option("--inject", args->inject,
                   "TEST FACILITY ONLY: inject a fault KIND@N at the N-th command "
                   "(nan, spike, corrupt, stale_seq, duplicate, silence, close)");
@@ -252,10 +253,11 @@ void AddBenchCommand(CLI::App& root) {
   cmd->add_option("--real-time", args->real_time,
                   "serve the emulated real-time plant (rt_plant) of this run config's first "
                   "physical slot on the server's own clock (docs/real-time.md)")
-      ->check(CLI::ExistingFile);
+      ->check(RegularInputFile());
   cmd->add_option("--tick", args->tick, "with --real-time: the client's tick in seconds "
-                                        "(default 0.001)")
-      ->check(CLI::PositiveNumber);
+                                        "(default 0.001; 1e-5 to 1, the tick range of a "
+                                        "real-time run)")
+      ->check(FiniteRange(1e-5, 1.0));
   cmd->callback([args] { RunBench(*args); });
 }
 

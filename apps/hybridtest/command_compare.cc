@@ -34,10 +34,10 @@ void AddCompareCommand(CLI::App& root) {
                  "overlay figures (e.g. hybrid test against numerical simulation)");
   command->add_option("run_a", options->run_a, "Run A's CSV (e.g. the hybrid test)")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(RegularInputFile());
   command->add_option("run_b", options->run_b, "Run B's CSV (e.g. the numerical simulation)")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(RegularInputFile());
   command->add_option("--out", options->out_dir,
                       "Directory for comparison.csv and the figures (default: <A's "
                       "directory>/<A>-vs-<B>)");
@@ -46,8 +46,8 @@ void AddCompareCommand(CLI::App& root) {
                       "(default: 30 % of A's duration)")
       ->check(NonNegativeFiniteNumber());
   command->callback([options] {
-    const io::RunData a = io::LoadRun(options->run_a);
-    const io::RunData b = io::LoadRun(options->run_b);
+    const io::RunData a = LoadRunInput(options->run_a, "run_a");
+    const io::RunData b = LoadRunInput(options->run_b, "run_b");
     for (const auto& w : a.warnings) fmt::print(stderr, "warning: {}\n", w);
     for (const auto& w : b.warnings) fmt::print(stderr, "warning: {}\n", w);
     const double transient =

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "cli_values.h"
 #include "command.h"
 #include "hybridtest/io/output_guard.h"
 #include "hybridtest/io/run_reader.h"
@@ -32,7 +33,7 @@ void AddExportCommand(CLI::App& root) {
                 "with a units row (optionally in lab units)");
   command->add_option("run", options->run_csv, "The run's CSV file, e.g. results/run.csv")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(RegularInputFile());
   command->add_option("--hdf5", options->h5_path,
                       "HDF5 file to write (default: the CSV's path with extension .h5)");
   command->add_option("--csv", options->csv_path,
@@ -65,7 +66,7 @@ void AddExportCommand(CLI::App& root) {
     }
     if (!options->csv_path.empty()) {
       const report::PlotUnits units = report::ParsePlotUnits(options->units);
-      const io::RunData run = io::LoadRun(options->run_csv);
+      const io::RunData run = LoadRunInput(options->run_csv, "run");
       for (const auto& warning : run.warnings) fmt::print(stderr, "warning: {}\n", warning);
       report::ExportCsvWithUnits(run, options->csv_path, units);
       fmt::print("exported {} rows x {} channels with a units row to {}\n", run.num_rows(),
@@ -75,7 +76,7 @@ void AddExportCommand(CLI::App& root) {
     if (h5_path.empty()) {
       h5_path = std::filesystem::path(options->run_csv).replace_extension(".h5").string();
     }
-    const io::RunData run = io::LoadRun(options->run_csv);
+    const io::RunData run = LoadRunInput(options->run_csv, "run");
     for (const auto& warning : run.warnings) fmt::print(stderr, "warning: {}\n", warning);
     if (run.metadata.is_null()) {
       fmt::print(stderr, "warning: {}: no sidecar; units inferred from the channel names\n",

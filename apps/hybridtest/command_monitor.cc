@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <thread>
 
+#include "cli_values.h"
 #include "command.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/monitor/monitor_server.h"
@@ -72,13 +73,17 @@ void AddMonitorCommand(CLI::App& root) {
       "monitor", "Serve the live monitor's page for a run started elsewhere (read-only), or "
                  "for a finished run");
   cmd->add_option("run", args->csv, "journal CSV of the run (its .meta.json beside it)")
-      ->required();
+      ->required()
+      ->check(RegularInputFile());
   cmd->add_option("--listen", args->listen, "HOST:PORT to serve on (port 0 picks a free one)")
       ->capture_default_str();
   cmd->add_option("--interval", args->interval, "how often the files are read again [s]")
       ->capture_default_str()
-      ->check(CLI::Range(0.05, 60.0));
-  cmd->callback([args] { ServeFollower(*args); });
+      ->check(FiniteRange(0.05, 60.0));
+  cmd->callback([args] {
+    CheckJournalHeader(args->csv, "run");
+    ServeFollower(*args);
+  });
 }
 
 const CommandRegistration kRegistration{"monitor", &AddMonitorCommand};

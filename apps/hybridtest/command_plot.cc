@@ -6,6 +6,7 @@
 
 #include <memory>
 
+#include "cli_values.h"
 #include "command.h"
 #include "hybridtest/io/output_guard.h"
 #include "hybridtest/io/run_reader.h"
@@ -26,7 +27,7 @@ void AddPlotCommand(CLI::App& root) {
       "plot", "Draw a run's figures (PNG and SVG) with gnuplot, like the paper's Fig. 6");
   command->add_option("run", options->run_csv, "The run's CSV file, e.g. results/run.csv")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(RegularInputFile());
   command->add_option("--out", options->out_dir,
                       "Directory for the figures (default: <CSV directory>/<run name>-figures)");
   command->add_option("--units", options->units,
@@ -39,7 +40,7 @@ void AddPlotCommand(CLI::App& root) {
     // The figures never replace a file of the run or one it read.
     io::CheckOutputDirectory(out_dir, io::RunProtectedFiles(options->run_csv), "--out", {},
                              {".png", ".svg"});
-    const io::RunData run = io::LoadRun(options->run_csv);
+    const io::RunData run = LoadRunInput(options->run_csv, "run");
     for (const auto& warning : run.warnings) fmt::print(stderr, "warning: {}\n", warning);
     if (run.metadata.is_null()) {
       fmt::print(stderr,

@@ -32,10 +32,10 @@ void AddReportCommand(CLI::App& root) {
                 "configuration and model parameters");
   command->add_option("run", options->run_csv, "The run's CSV file, e.g. results/run.csv")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(RegularInputFile());
   command->add_option("--against", options->against_csv,
                       "Another run to compare with (e.g. the numerical simulation)")
-      ->check(CLI::ExistingFile);
+      ->check(RegularInputFile());
   command->add_option("--out", options->out_path,
                       "HTML file to write (default: <CSV directory>/<run name>-report.html)");
   command->add_option("--transient", options->transient,
@@ -57,11 +57,11 @@ void AddReportCommand(CLI::App& root) {
       inputs.insert(inputs.end(), more.begin(), more.end());
     }
     io::CheckOutputFile(out, inputs, "--out");
-    const io::RunData run = io::LoadRun(options->run_csv);
+    const io::RunData run = LoadRunInput(options->run_csv, "run");
     for (const auto& w : run.warnings) fmt::print(stderr, "warning: {}\n", w);
     std::unique_ptr<io::RunData> against;
     if (!options->against_csv.empty()) {
-      against = std::make_unique<io::RunData>(io::LoadRun(options->against_csv));
+      against = std::make_unique<io::RunData>(LoadRunInput(options->against_csv, "--against"));
       for (const auto& w : against->warnings) fmt::print(stderr, "warning: {}\n", w);
     }
     // Like `run`: the folders of --out are created.

@@ -16,7 +16,8 @@ void AddResumeCommand(CLI::App& root) {
   CLI::App* cmd = root.add_subcommand(
       "resume", "Continue a stopped or killed run from its last committed step");
   cmd->add_option("run", opt->csv, "journal CSV of the run (its sidecar and state beside it)")
-      ->required();
+      ->required()
+      ->check(RegularInputFile());
   cmd->add_option("--bench", opt->bench,
                   "HOST:PORT of a bench server, for remote transfer systems");
   cmd->add_flag("--quiet", opt->quiet, "no progress output and no summary");
@@ -38,7 +39,11 @@ void AddResumeCommand(CLI::App& root) {
                   "[m], force_soft, force_hard [N], timeout [s]) or resume.force_tolerance / "
                   "resume.position_tolerance (repeatable)");
   AddMonitorOptions(*cmd, opt->monitor);
-  cmd->callback([opt] { ExecuteResume(*opt); });
+  cmd->callback([opt] {
+    CheckMonitorOptions(opt->monitor);
+    CheckJournalHeader(opt->csv, "run");
+    ExecuteResume(*opt);
+  });
 }
 
 const CommandRegistration kRegistration{"resume", &AddResumeCommand};

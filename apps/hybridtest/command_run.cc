@@ -2,6 +2,7 @@
 //                  [--clock virtual|wall]
 // A hybrid test: physical substructures through their transfer systems, numerical ones in the
 // loop. Exits non-zero on a safety stop or a lost bench, after writing every committed step.
+#include "cli_values.h"
 #include "command.h"
 #include "run_commands.h"
 
@@ -24,7 +25,10 @@ void AddRunCommand(CLI::App& root) {
                                        "virtual (simulated time, no sleeping, reproducible)")
       ->check(CLI::IsMember({"virtual", "wall"}));
   AddMonitorOptions(*cmd, opt->monitor);
-  cmd->callback([opt] { ExecuteRun(*opt); });
+  cmd->callback([opt] {
+    CheckMonitorOptions(opt->monitor);
+    ExecuteRun(*opt);
+  });
 }
 
 const CommandRegistration kRegistration{"run", &AddRunCommand};

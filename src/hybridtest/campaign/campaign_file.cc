@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/common/input_file.h"
 #include "hybridtest/common/yaml_input.h"
 #include "hybridtest/io/csv.h"
 
@@ -17,6 +18,13 @@ namespace fs = std::filesystem;
 namespace {
 
 using Params = std::vector<std::pair<std::string, std::string>>;
+
+// The most cases a campaign may have (table rows × grid × seeds), checked before the product
+// is formed: each case is a run with a folder of its own, so more is a slip (a grid of
+// 1,000 values on three keys is 10⁹ cases), not a plan. docs/campaigns.md.
+constexpr std::size_t kMaxCases = 100000;
+// The largest campaign table, a CSV of at most kMaxCases lines. Unit: [bytes].
+constexpr std::size_t kMaxTableBytes = 64u << 20;
 
 std::string Scalar(const YamlInput& in, const YAML::Node& node, const std::string& key_path) {
   if (!node || !node.IsScalar()) {
@@ -46,13 +54,12 @@ std::string Trim(std::string_view s) {
 }
 
 // The table's cases: (id or "", params) per line.
-std::vector<std::pair<std::string, Params>> ReadTable(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) {
-    throw ConfigError(fmt::format("{}: cannot read the campaign's table (table:): give a CSV "
-                                  "of cases, a header of key paths then one case per line",
-                                  path));
-  }
+std::vector<std::pair<std::string, Params>> ReadTable(const std::string& path,
+                                                     const std::string& where) {
+  // Regular files only (a FIFO would block for ever), of a bounded size.
+  std::istringstream in(ReadInputFile(path, where,
+                                      "CSV of cases (a header of key paths, then one case per "
+                                      "line)", kMaxTableBytes));
   std::string line;
   std::vector<std::string> header;
   std::vector<std::pair<std::string, Params>> rows;
@@ -82,6 +89,11 @@ std::vector<std::pair<std::string, Params>> ReadTable(const std::string& path) {
       }
     }
     rows.push_back(std::move(row));
+    if (rows.size() > kMaxCases) {
+      throw ConfigError(fmt::format("{}:{}: more than {} cases in the table; a campaign has at "
+                                    "most {} (docs/campaigns.md): split it into several "
+                                    "campaigns", path, line_no, kMaxCases, kMaxCases));
+    }
   }
   if (rows.empty()) {
     throw ConfigError(fmt::format("{}: no case in the table: add one line per case below the "
@@ -215,11 +227,20 @@ Campaign LoadCampaign(const std::string& path) {
   std::vector<std::pair<std::string, Params>> cases{{"", {}}};
   bool named = false;
   if (root["table"]) {
-    cases = ReadTable(resolve(Scalar(in, root["table"], "table")));
+    cases = ReadTable(resolve(Scalar(in, root["table"], "table")), in.Where(root["table"], "table"));
     named = !cases.front().first.empty();
   }
-  auto multiply = [&](const std::string& key, const std::vector<std::string>& values) {
+  // `where` names the key that multiplies the cases, for the message when there are too many.
+  auto multiply = [&](const std::string& key, const std::vector<std::string>& values,
+                      const std::string& where) {
+    if (cases.size() * values.size() > kMaxCases) {  // each at most 10⁵: no overflow
+      throw ConfigError(fmt::format(
+          "{}: {} values make {} × {} = {} cases; a campaign has at most {} (docs/campaigns.md): "
+          "use fewer values, or split the campaign", where, values.size(), cases.size(),
+          values.size(), cases.size() * values.size(), kMaxCases));
+    }
     std::vector<std::pair<std::string, Params>> next;
+    next.reserve(cases.size() * values.size());
     for (const auto& row : cases) {
       for (const auto& v : values) {
         auto r = row;
@@ -233,7 +254,7 @@ Campaign LoadCampaign(const std::string& path) {
   if (const YAML::Node grid = in.Mapping(root, "grid", "grid", false)) {
     for (const auto& kv : grid) {
       const std::string key = kv.first.Scalar();
-      multiply(key, ScalarList(in, kv.second, "grid." + key));
+      multiply(key, ScalarList(in, kv.second, "grid." + key), in.Where(kv.second, "grid." + key));
     }
   }
   if (const YAML::Node seeds = in.Mapping(root, "seeds", "seeds", false)) {
@@ -243,13 +264,15 @@ Campaign LoadCampaign(const std::string& path) {
     if (seeds["values"]) {
       values = ScalarList(in, seeds["values"], "seeds.values");
     } else {
-      const long long count =
-          in.Count(seeds["count"], "seeds.count", "a number of seeds", 1, 1000000);
+      const long long count = in.Count(seeds["count"], "seeds.count", "a number of seeds", 1,
+                                       static_cast<long long>(kMaxCases));
       const long long first = seeds["first"] ? in.Count(seeds["first"], "seeds.first",
                                                         "the first seed", 0, 1LL << 53) : 1;
       for (long long s = 0; s < count; ++s) values.push_back(std::to_string(first + s));
     }
-    multiply(key, values);
+    multiply(key, values,
+             in.Where(seeds["values"] ? seeds["values"] : seeds["count"],
+                      seeds["values"] ? "seeds.values" : "seeds.count"));
   }
   if (cases.size() == 1 && cases.front().second.empty()) {
     in.ThrowValue(root["grid"], "grid", "variations: grid:, table: or seeds: (at least one)");

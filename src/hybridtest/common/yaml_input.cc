@@ -3,10 +3,6 @@
 
 #include <fmt/format.h>
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -14,6 +10,7 @@
 #include <vector>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/common/input_file.h"
 #include "hybridtest/common/text.h"
 
 namespace hybridtest {
@@ -35,49 +32,54 @@ std::string AllowedList(std::initializer_list<std::string_view> allowed) {
   return list;
 }
 
-// "a FIFO", "a directory", ... for messages about a path that is not a regular file.
-std::string FileKind(mode_t mode) {
-  if (S_ISDIR(mode)) return "a directory";
-  if (S_ISFIFO(mode)) return "a FIFO";
-  if (S_ISCHR(mode) || S_ISBLK(mode)) return "a device";
-  if (S_ISSOCK(mode)) return "a socket";
-  return "not a regular file";
-}
-
-// Refuses a mapping that names the same key twice (yaml-cpp keeps both and a lookup finds the
+// Refuses a list longer than kMaxListLength, and a mapping that names the same key twice (yaml-cpp keeps both and a lookup finds the
 // first, so `force_hard: 60` then `force_hard: 10000` would silently mean 60). Iterative: the
 // depth of a document is bounded by its size, not by the stack.
 void CheckNoDuplicateKeys(const YAML::Node& root, const std::string& path) {
   // Aliases share nodes, so a small hostile file can name billions of them: bound the walk.
   constexpr long kMaxNodes = 4'000'000;
   long visited = 0;
-  std::vector<YAML::Node> pending{root};
+  // Each node with its key path ("initial_state.q", "a[2]"), for the messages.
+  std::vector<std::pair<YAML::Node, std::string>> pending{{root, ""}};
   while (!pending.empty()) {
     if (++visited > kMaxNodes) {
       throw ConfigError(fmt::format("{}: more than {} YAML nodes once aliases (*name) are "
                                     "expanded; a configuration has a few hundred: remove the "
                                     "aliases", path, kMaxNodes));
     }
-    const YAML::Node node = pending.back();
+    const YAML::Node node = pending.back().first;
+    const std::string key_path = std::move(pending.back().second);
     pending.pop_back();
     if (node.IsSequence()) {
-      for (const auto& item : node) pending.push_back(item);
+      // Every list of every file is bounded here, whichever reader takes it later.
+      if (node.size() > kMaxListLength) {
+        throw ConfigError(fmt::format("{}:{}: {}: a list of {} entries; at most {} are allowed "
+                                      "in one list (docs/safety.md, \"Counts and sizes\"): "
+                                      "shorten it", path, node.Mark().line + 1,
+                                      key_path.empty() ? "(top level)" : key_path, node.size(),
+                                      kMaxListLength));
+      }
+      for (std::size_t i = 0; i < node.size(); ++i) {
+        pending.emplace_back(node[i], fmt::format("{}[{}]", key_path, i));
+      }
       continue;
     }
     if (!node.IsMap()) continue;
     std::map<std::string, int> lines;
     for (const auto& kv : node) {
+      std::string key = "?";
       if (kv.first.IsScalar()) {
+        key = kv.first.Scalar();
         const int line = kv.first.Mark().line + 1;
-        const auto [it, inserted] = lines.emplace(kv.first.Scalar(), line);
+        const auto [it, inserted] = lines.emplace(key, line);
         if (!inserted) {
           throw ConfigError(fmt::format(
               "{}:{}: the key '{}' appears twice in one mapping (lines {} and {}); a YAML "
-              "mapping holds each key once: delete one of them", path, line, kv.first.Scalar(),
+              "mapping holds each key once: delete one of them", path, line, key,
               it->second, line));
         }
       }
-      pending.push_back(kv.second);
+      pending.emplace_back(kv.second, JoinKeyPath(key_path, key));
     }
   }
 }
@@ -94,40 +96,8 @@ YamlInput YamlInput::FromFile(const std::string& path, std::string_view top_leve
     throw ConfigError(fmt::format("{}: the file name is not valid UTF-8 (at {}); rename the file "
                                   "with UTF-8 characters only", Printable(path), bad));
   }
-  // Opened without blocking and checked to be a regular file before anything is read: a FIFO,
-  // a device or a directory given by mistake must not hang or feed the parser.
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) {
-    throw ConfigError(fmt::format("{}: cannot open this YAML file ({}); check that it exists "
-                                  "(relative paths start at the current directory)", path,
-                                  std::strerror(errno)));
-  }
-  struct stat st {};
-  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-    ::close(fd);
-    throw ConfigError(fmt::format("{}: not a regular file ({}); give the path of a YAML file",
-                                  path, FileKind(st.st_mode)));
-  }
-  std::string text(kMaxConfigBytes + 1, '\0');
-  std::size_t got = 0;
-  while (got < text.size()) {
-    const ssize_t n = ::read(fd, text.data() + got, text.size() - got);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {
-      const std::string error = std::strerror(errno);
-      ::close(fd);
-      throw ConfigError(fmt::format("{}: cannot read this YAML file: {}", path, error));
-    }
-    if (n == 0) break;
-    got += static_cast<std::size_t>(n);
-  }
-  ::close(fd);
-  text.resize(got);
-  if (text.size() > kMaxConfigBytes) {
-    throw ConfigError(fmt::format("{}: larger than {} MiB; a configuration is a few kilobytes: "
-                                  "check that this is the right file", path,
-                                  kMaxConfigBytes >> 20));
-  }
+  // A FIFO, a device or a directory given by mistake must not hang or feed the parser.
+  const std::string text = ReadInputFile(path, "", "YAML file", kMaxConfigBytes);
   return FromText(text, path, top_level_hint);
 }
 

@@ -14,6 +14,10 @@
 namespace hybridtest::io {
 
 namespace {
+// The most stages a user tableau may have: explicit methods in use have at most 17 (Feagin's
+// order 10); the bound keeps an s×s matrix small.
+constexpr int kMaxStages = 64;
+
 // Applies `model.parameters` overrides to `parameters`; returns the overrides node.
 YAML::Node ApplyOverrides(const YamlInput& in, const YAML::Node& node,
                           models::ParameterSet& parameters) {
@@ -110,9 +114,24 @@ integrators::ButcherTableau ParseTableau(const YamlInput& in, const YAML::Node& 
   const std::vector<double> b = in.Numbers(node["b"], kp + ".b", "weights b_i");
   const std::vector<double> c = in.Numbers(node["c"], kp + ".c", "nodes c_i");
   const YAML::Node a = node["a"];
-  if (!a.IsSequence()) {
-    throw ConfigError(fmt::format("{}: expected the s×s matrix a as a list of rows [[..], [..]]",
-                                  in.Where(node, kp + ".a")));
+  // A const node's absent key is an invalid node, on which IsSequence() throws a YAML
+  // exception (found by fuzzing): test that it is there first.
+  if (!a.IsDefined() || a.IsNull() || !a.IsSequence()) {
+    throw ConfigError(fmt::format("{}: {}; expected the s×s matrix a as a list of rows [[..], "
+                                  "[..]], one row per stage (s = {}, the length of b): add `a:` "
+                                  "under {}", in.Where(a.IsDefined() ? a : node, kp + ".a"),
+                                  a.IsDefined() ? "not a list of rows" : "missing", b.size(), kp));
+  }
+  // Sized before anything is allocated: an s×s matrix of s up to the list bound would take
+  // tens of gigabytes.
+  if (b.size() < 1 || b.size() > static_cast<std::size_t>(kMaxStages)) {
+    in.ThrowValue(node["b"], kp + ".b",
+                  fmt::format("1 to {} weights b_i (one per stage)", kMaxStages));
+  }
+  if (a.size() != b.size() || c.size() != b.size()) {
+    throw ConfigError(fmt::format("{}: a has {} rows and c {} entries for the {} weights of b; "
+                                  "give s = {} of each (one per stage)", in.Where(node, kp),
+                                  a.size(), c.size(), b.size(), b.size()));
   }
   const int s = static_cast<int>(b.size());
   t.b = Eigen::Map<const Eigen::VectorXd>(b.data(), s);
@@ -303,7 +322,14 @@ SimulationConfig ParseSimulationConfig(const YamlInput& in) {
   const YAML::Node progress = in.Mapping(root, "progress", "progress", false);
   if (progress.IsDefined()) {
     in.CheckKeys(progress, "progress", {"quiet"});
-    cfg.quiet = progress["quiet"] && progress["quiet"].as<bool>(false);
+    if (progress["quiet"]) {
+      // true or false only: `maybe` (or a typo) silently meaning false would be a lie.
+      const std::string quiet = in.String(progress["quiet"], "progress.quiet", "true or false");
+      if (quiet != "true" && quiet != "false") {
+        in.ThrowValue(progress["quiet"], "progress.quiet", "true or false");
+      }
+      cfg.quiet = quiet == "true";
+    }
   }
   const YAML::Node resume = in.Mapping(root, "resume", "resume", false);
   if (resume.IsDefined()) {

@@ -6,6 +6,29 @@
 #include "hybridtest/common/error.h"
 
 namespace hybridtest::io {
+namespace {
+
+// The shortest tick a paced run takes. Unit: [s]. A paced loop cannot keep a shorter one on a
+// general-purpose kernel, and the plant's delay line and the compensator's window are sized
+// in ticks (at most 1 s / 10 µs and 10 s / 10 µs entries).
+constexpr double kMinRealTimeTick = 1e-5;
+
+// A real-time run steps once per tick of dt: integrator.dt must be at least kMinRealTimeTick.
+void CheckTick(const YamlInput& in) {
+  const YAML::Node& root = in.root();
+  if (!root.IsMap() || !root["integrator"] || !root["integrator"].IsMap()) return;
+  const YAML::Node dt = root["integrator"]["dt"];
+  if (!dt.IsDefined() || !dt.IsScalar()) return;  // the integrator's reader reports it
+  const double value = in.Number(dt, "integrator.dt", "a time step in seconds");
+  if (value < kMinRealTimeTick) {
+    in.ThrowValue(dt, "integrator.dt",
+                  fmt::format("a tick of at least {:g} s for a real-time run (real_time:), the "
+                              "shortest a paced loop keeps: enlarge dt or remove real_time:",
+                              kMinRealTimeTick));
+  }
+}
+
+}  // namespace
 
 RealTimeSpec ReadRealTime(const YamlInput& in) {
   RealTimeSpec rt;
@@ -14,12 +37,14 @@ RealTimeSpec ReadRealTime(const YamlInput& in) {
   const std::string kp = "real_time";
   if (node.IsScalar() && node.Scalar() == "true") {
     rt.enabled = true;
+    CheckTick(in);
     return rt;
   }
   in.RequireMapping(node, kp);
   in.CheckKeys(node, kp, {"hold_after_misses", "miss_tolerance", "lock_memory", "priority",
                           "cpu", "queue", "force"});
   rt.enabled = true;
+  CheckTick(in);
   if (node["hold_after_misses"]) {
     rt.hold_after_misses = in.Count(node["hold_after_misses"], kp + ".hold_after_misses",
                                     "consecutive missed deadlines before a hold (0: never)", 0,

@@ -9,6 +9,31 @@
 #include "hybridtest/transfer/delay_compensator.h"
 
 namespace hybridtest::io {
+namespace {
+
+// Bounds of the keys that size a buffer or a loop of the emulated real-time plant and of the
+// compensator (docs/real-time.md): the plant takes ceil(tick · rate_hz) RK4 substeps per tick,
+// its delay line holds delay / tick commands and the ATS window window / tick samples, so an
+// unbounded value (rate_hz: 1e12, window: 1e12) would hang the first tick or exhaust memory.
+constexpr double kMinPlantRate = 1.0;      // Unit: [Hz]
+constexpr double kMaxPlantRate = 1.0e6;    // Unit: [Hz]: 1,000 substeps per 1 ms tick
+constexpr double kMaxPlantDelay = 1.0;     // Unit: [s]: actuator delays are milliseconds
+constexpr double kMaxCompensatorWindow = 10.0;  // Unit: [s]
+
+// parent[key] (or `fallback` when absent), a finite number in [min, max]; the message names
+// the key and the range.
+double BoundedNumber(const YamlInput& in, const YAML::Node& parent, const std::string& kp,
+                     const std::string& key, const std::string& expected, double fallback,
+                     double min, double max) {
+  const double value = in.ReadNumber(parent, kp, key, expected, fallback);
+  if (!(value >= min && value <= max)) {
+    in.ThrowValue(parent[key], JoinKeyPath(kp, key),
+                  fmt::format("{} from {:g} to {:g}", expected, min, max));
+  }
+  return value;
+}
+
+}  // namespace
 
 transfer::RtPlantConfig ReadRtPlantConfig(const TransferReadContext& c) {
   const YamlInput& in = c.in;
@@ -25,9 +50,11 @@ transfer::RtPlantConfig ReadRtPlantConfig(const TransferReadContext& c) {
   } else {
     in.ThrowValue(c.node["plant"], c.kp + ".plant", "ideal, electromechanical or servo_hydraulic");
   }
-  p.delay = in.ReadNumber(c.node, c.kp, "delay", "a pure delay ≥ 0 in s", 0.0);
+  p.delay = BoundedNumber(in, c.node, c.kp, "delay", "a pure delay in s", 0.0, 0.0,
+                          kMaxPlantDelay);
   p.lag = in.ReadNumber(c.node, c.kp, "lag", "the lag's time constant in s", 0.0);
-  p.rate_hz = in.ReadNumber(c.node, c.kp, "rate_hz", "the plant's rate in Hz", 4096.0);
+  p.rate_hz = BoundedNumber(in, c.node, c.kp, "rate_hz", "the plant's integration rate in Hz",
+                            4096.0, kMinPlantRate, kMaxPlantRate);
   p.p0 = in.ReadNumber(c.node, c.kp, "p0", "the zero-force position in m", 0.0);
   const std::string skp = c.kp + ".specimen";
   const YAML::Node s = in.Mapping(c.node, "specimen", skp, true);
@@ -81,7 +108,8 @@ substructures::TransferSpec ReadCompensated(const TransferReadContext& c) {
   } else {
     in.ThrowValue(c.node["method"], c.kp + ".method", "ats or polynomial");
   }
-  k.delay = in.ReadNumber(c.node, c.kp, "delay", "the actuator's delay in s", k.delay);
+  k.delay = BoundedNumber(in, c.node, c.kp, "delay", "the actuator's delay in s", k.delay, 0.0,
+                          kMaxPlantDelay);
   if (c.node["order"]) {
     k.order = static_cast<int>(in.Count(c.node["order"], c.kp + ".order",
                                         "a polynomial order 1..4", 1, 4));
@@ -91,7 +119,8 @@ substructures::TransferSpec ReadCompensated(const TransferReadContext& c) {
                                           "ticks between the polynomial's nodes (0: automatic)",
                                           0, 100000));
   }
-  k.window = in.ReadNumber(c.node, c.kp, "window", "the ATS window in s", k.window);
+  k.window = BoundedNumber(in, c.node, c.kp, "window", "the ATS window in s", k.window, 1e-6,
+                           kMaxCompensatorWindow);
   if (c.node["update_every"]) {
     k.update_every = static_cast<int>(in.Count(c.node["update_every"], c.kp + ".update_every",
                                                "ticks between ATS updates", 1, 1000000));

@@ -8,12 +8,14 @@
 #include <sstream>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/common/input_file.h"
 #include "hybridtest/io/csv.h"
 
 namespace hybridtest::io {
 namespace {
 
 std::string ReadWholeFile(const std::string& path) {
+  RequireRegularFile(path, "", "run journal (the .csv file written by 'hybridtest run')");
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     throw IoError(fmt::format("{}: cannot open the run for reading: {}; check the path (a run "
@@ -69,6 +71,8 @@ void AttachChannelInfo(RunData& run) {
 
 void LoadSidecar(RunData& run) {
   const std::string path = SidecarPath(run.csv_path);
+  if (RegularFileProblem(path) == "no such file") return;  // no sidecar: metadata stays null
+  RequireRegularFile(path, "", "run sidecar (.meta.json)");  // a FIFO would block for ever
   std::ifstream in(path, std::ios::binary);
   if (!in) return;  // no sidecar: metadata stays null
   try {

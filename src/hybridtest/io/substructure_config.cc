@@ -39,6 +39,37 @@ TransferSpec ParseTransfer(const YamlInput& in, const YAML::Node& node, const st
   return ReadTransfer({in, node, kp, options.bench_address, reply_timeout, limits});
 }
 
+// A key that only a physical substructure reads, given on a numerical one, is refused: it
+// would be ignored, and a user who wrote `safety:` believes a limit guards the slot.
+void RefusePhysicalKeys(const YamlInput& in, const YAML::Node& node, const std::string& kp,
+                        std::initializer_list<const char*> keys) {
+  for (const char* key : keys) {
+    if (!node[key]) continue;
+    throw ConfigError(fmt::format(
+        "{}: a numerical substructure has no {}; `{}:` only applies to `type: physical`: remove "
+        "it, or make the slot physical", in.Where(node[key], kp + "." + key),
+        std::string_view(key) == "safety"              ? "safety limits"
+        : std::string_view(key) == "initial_stiffness" ? "measured initial stiffness (its law "
+                                                         "gives the stiffness)"
+        : std::string_view(key) == "transfer"          ? "transfer system"
+                                                       : "actuator setup",
+        key));
+  }
+}
+
+// Whether the transfer section `node` talks to a bench over the network (and so takes the
+// --bench HOST:PORT address): remote, modbus, openfresco, a compensator around one, or a type
+// a program registered (which may read the address; given the benefit of the doubt).
+bool TakesBenchAddress(const YAML::Node& node) {
+  if (!node.IsDefined() || !node.IsMap() || !node["type"] || !node["type"].IsScalar()) {
+    return false;
+  }
+  const std::string type = node["type"].Scalar();
+  if (type == "remote" || type == "modbus" || type == "openfresco") return true;
+  if (type == "compensated") return TakesBenchAddress(node["inner"]);
+  return type != "emulated" && type != "loopback" && type != "rt_plant";
+}
+
 substructures::SetupTransform ParseSetup(const YamlInput& in, const YAML::Node& node,
                                          const std::string& kp) {
   substructures::SetupTransform s;
@@ -143,6 +174,7 @@ substructures::SubstructureSpec ParseBlock(const YamlInput& in, const YAML::Node
   const std::string type = in.String(node["type"], kp + ".type", "numerical or physical");
   const auto m = static_cast<Eigen::Index>(spec.slots.size());
   if (type == "numerical") {
+    RefusePhysicalKeys(in, node, kp, {"transfer", "safety", "initial_stiffness"});
     const YAML::Node law = node["law"];
     const char* expected = "{type: linear, stiffness: [[k11, k12], [k21, k22]]} in N/m, one row "
                            "per slot, or a coupled law ({type: bouc_wen_biaxial, ...}) with an "
@@ -298,6 +330,7 @@ std::vector<substructures::SubstructureSpec> ParseSubstructureSpecs(
       }
       given[slot] = true;
       if (type == "numerical") {
+        RefusePhysicalKeys(in, node, kp, {"transfer", "setup", "safety", "initial_stiffness"});
         result[slot] = node["law"] ? substructures::NumericalSpec(
                                          slot_name, constitutive::ParseRestoringForceLaw(
                                                         node["law"], in.Where(node["law"], kp + ".law")))
@@ -332,6 +365,25 @@ std::vector<substructures::SubstructureSpec> ParseSubstructureSpecs(
   }
   for (std::size_t s = 0; s < slots.size(); ++s) {
     if (!given[s]) result[s] = DefaultNumerical(cfg, static_cast<int>(s));
+  }
+  // --bench HOST:PORT names the server of a networked slot: given for a config that has none,
+  // it would be ignored and the test would run against something else than the user thinks.
+  if (options.bench_address && !options.bench_address->empty() && !options.emulate_bench) {
+    bool taken = false;
+    if (section.IsDefined()) {
+      for (const auto& kv : section) {
+        const YAML::Node node = kv.second;
+        taken = taken || (node.IsMap() && node["type"] && node["type"].IsScalar() &&
+                          node["type"].Scalar() == "physical" && TakesBenchAddress(node["transfer"]));
+      }
+    }
+    if (!taken) {
+      throw ConfigError(fmt::format(
+          "--bench {}: {} has no physical slot with a networked transfer system (remote, "
+          "modbus or openfresco); every physical slot is emulated or there is none: remove "
+          "--bench, or give a slot `transfer: {{type: remote}}`", *options.bench_address,
+          in.path().empty() ? std::string("the run config") : in.path()));
+    }
   }
   if (blocks.empty()) return result;
   // The one-slot substructures in slot order, then the blocks in config order.

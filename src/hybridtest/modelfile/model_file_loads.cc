@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/common/input_file.h"
 #include "hybridtest/modelfile/compiled_scalar.h"
 #include "hybridtest/modelfile/file_context.h"
 
@@ -59,6 +60,7 @@ std::vector<std::vector<double>> ReadCsv(const FileContext& c, const YAML::Node&
   const std::string name = c.in.String(node, kp, "a CSV file next to the model file");
   const std::filesystem::path path =
       std::filesystem::path(c.in.path()).parent_path() / std::filesystem::path(name);
+  RequireRegularFile(path.string(), c.Where(node, kp), "CSV file next to the model file");
   std::ifstream file(path);
   if (!file) {
     throw ConfigError(fmt::format("{} = '{}': cannot read {}; give a CSV file next to the model "

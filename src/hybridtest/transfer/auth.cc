@@ -11,9 +11,13 @@
 #include <fstream>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/common/input_file.h"
 #include "hybridtest/transfer/socket.h"
 
 namespace hybridtest::transfer {
+namespace {
+constexpr std::size_t kMaxTokenFileBytes = 64 * 1024;  // Unit: [bytes]
+}  // namespace
 
 bool TokensEqual(std::string_view a, std::string_view b) noexcept {
   // Every byte of the longer token is visited; the result is accumulated without branches.
@@ -30,14 +34,8 @@ bool TokensEqual(std::string_view a, std::string_view b) noexcept {
 }
 
 std::string ReadTokenFile(const std::string& path, const std::string& where) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw ConfigError(fmt::format("{} = '{}': cannot read the token file; check the path and "
-                                  "its permissions", where, path));
-  }
-  std::string token(kMaxTokenBytes + 2, '\0');
-  in.read(token.data(), static_cast<std::streamsize>(token.size()));
-  token.resize(static_cast<std::size_t>(in.gcount()));
+  // Regular files only (a FIFO would block for ever); a token file is one short line.
+  std::string token = ReadInputFile(path, where, "token file", kMaxTokenFileBytes);
   if (const auto eol = token.find_first_of("\r\n"); eol != std::string::npos) token.resize(eol);
   while (!token.empty() && (token.back() == ' ' || token.back() == '\t')) token.pop_back();
   if (token.size() > kMaxTokenBytes) {

@@ -253,6 +253,9 @@ EmulatedBenchConfig ParseEmulatedBenchConfig(const YAML::Node& bench, std::strin
 
 EmulatedBenchConfig LoadEmulatedBenchConfig(const std::string& path) {
   const YamlInput file = YamlInput::FromFile(path, "a 'bench:' mapping");
+  // A misspelt or misplaced section (`safety:` at the top level instead of under `bench:`)
+  // would be ignored: the keys a bench file may hold are these.
+  file.CheckKeys(file.root(), "", {"bench", "openfresco"});
   if (!file.root()["bench"]) {
     throw ConfigError(fmt::format(
         "{}: expected a top-level 'bench:' mapping (see examples/rotor/bench-ideal.yaml)", path));

@@ -76,7 +76,8 @@ MultiBenchConfig ParseMultiBenchConfig(const YAML::Node& bench, std::string_view
 
 bool IsMultiBenchFile(const std::string& path) {
   try {
-    return IsMultiBench(YAML::LoadFile(path)["bench"]);
+    // Read as every input file is (regular files only, bounded): a FIFO must not block here.
+    return IsMultiBench(YamlInput::FromFile(path, "a 'bench:' mapping").root()["bench"]);
   } catch (const std::exception&) {
     return false;  // the one-actuator loader reports what is wrong with the file
   }
@@ -84,6 +85,7 @@ bool IsMultiBenchFile(const std::string& path) {
 
 MultiBenchConfig LoadMultiBenchConfig(const std::string& path) {
   const YamlInput file = YamlInput::FromFile(path, "a 'bench:' mapping");
+  file.CheckKeys(file.root(), "", {"bench", "openfresco"});  // as a bench of one actuator
   if (!IsMultiBench(file.root()["bench"])) {
     throw ConfigError(fmt::format("{}: expected a top-level 'bench:' mapping with `actuators:`",
                                   path));
