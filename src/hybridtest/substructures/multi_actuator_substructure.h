@@ -44,6 +44,8 @@ class MultiActuatorSubstructure final : public Substructure {
   Exchange last_exchange() const override { return last_[0]; }
   Exchange actuator_exchange(int k) const override { return last_[static_cast<std::size_t>(k)]; }
   long evaluations() const override { return evaluations_; }
+  const transfer::TransferSystem* transfer_system() const override { return transfer_.get(); }
+  transfer::TransferSystem* transfer_system() override { return transfer_.get(); }
   std::string Describe() const override;
   std::optional<double> initial_stiffness() const override;
   std::optional<Eigen::MatrixXd> initial_stiffness_matrix() const override { return k0_; }

@@ -38,6 +38,8 @@ class PhysicalSubstructure final : public Substructure {
   bool is_physical() const override { return true; }
   Exchange last_exchange() const override { return last_; }
   long evaluations() const override { return evaluations_; }
+  const transfer::TransferSystem* transfer_system() const override { return transfer_.get(); }
+  transfer::TransferSystem* transfer_system() override { return transfer_.get(); }
   std::string Describe() const override;
   const transfer::SafetyMonitor& safety() const { return gate_.monitor(); }
   const transfer::TransferSystem& transfer() const { return *transfer_; }

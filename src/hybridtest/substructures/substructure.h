@@ -18,6 +18,8 @@
 #include <span>
 #include <string>
 
+#include "hybridtest/transfer/transfer_system.h"
+
 namespace hybridtest::substructures {
 
 // Where a trial happens, for messages and records.
@@ -62,6 +64,11 @@ class Substructure {
   // (0-based; default: last_exchange()).
   virtual int num_actuators() const { return is_physical() ? 1 : 0; }
   virtual Exchange actuator_exchange(int /*k*/) const { return last_exchange(); }
+  // The transfer system that moves this substructure's num_actuators() actuators (nullptr for a
+  // numerical one): what the runner asks of it through the TransferSystem interface (can it
+  // run paced, its delay, a probe, the commands it received), never its concrete type.
+  virtual const transfer::TransferSystem* transfer_system() const { return nullptr; }
+  virtual transfer::TransferSystem* transfer_system() { return nullptr; }
   // Number of trials sent to a bench so far (physical substructures only).
   virtual long evaluations() const { return 0; }
   virtual std::string Describe() const = 0;
