@@ -74,6 +74,7 @@ class DelayCompensator final : public TransferSystem {
   std::optional<long> commands_received() const override { return inner_->commands_received(); }
   void StartPaced(double tick, const Clock& clock) override;
   bool can_run_paced() const override { return inner_->can_run_paced(); }
+  TransferSystem* served_plant() override { return inner_->served_plant(); }
   std::optional<double> PhaseDelay(double omega, double tick) const override {
     return inner_->PhaseDelay(omega, tick);
   }

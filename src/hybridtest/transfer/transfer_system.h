@@ -141,6 +141,9 @@ class TransferSystem {
   virtual double compensated_delay() const { return 0.0; }
   // A compensator's estimates for the sidecar's real_time.compensation; null without one.
   virtual nlohmann::json CompensationRecord() const { return nullptr; }
+  // The emulated real-time plant a server can serve paced (`hybridtest bench --real-time`):
+  // this transfer system if it is one, the plant behind a compensator; nullptr otherwise.
+  virtual TransferSystem* served_plant() { return nullptr; }
 };
 
 }  // namespace hybridtest::transfer
