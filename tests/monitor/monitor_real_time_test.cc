@@ -23,7 +23,7 @@ class MonitorRealTime : public ::testing::Test {
         << "model: {file: " << kSource << "/examples/real-time/storey.model.yaml}\n"
         << "integrator: {scheme: alpha-os, alpha: -0.05, dt: 0.0009765625}\n"
         << "duration: 3.0\n"
-        << "real_time: {hold_after_misses: 0, lock_memory: false}\n"
+        << "real_time: {hold_after_misses: 0, lock_memory: false, queue: 16384}\n"
         << "substructures:\n  r1:\n    type: physical\n    initial_stiffness: 1.19e6\n"
         << "    transfer: {type: rt_plant, plant: ideal, specimen: {stiffness: 1.19e6}}\n"
         << "    safety: {stroke_min: -0.05, stroke_max: 0.05, max_increment: 0.002, "
