@@ -72,10 +72,10 @@ std::vector<std::string> ProbeProblems(const std::string& bench_problem,
 // must), then every actuator read without moving (ReadAll) and checked like one slot.
 // Returns whether it was probed; adds 1 to failed if a check does not pass.
 bool ProbeActuators(const std::string& name, substructures::Substructure& sub,
-                    transfer::TransferSystem& transfer, long& failed) {
-  fmt::print("{}: {}\n", name, transfer.Describe());
-  const std::optional<transfer::ProbeReading> reading = transfer.Probe();
-  const auto all = transfer.ReadAll();
+                    transfer::TransferSystem& bench, long& failed) {
+  fmt::print("{}: {}\n", name, bench.Describe());
+  const std::optional<transfer::ProbeReading> reading = bench.Probe();
+  const auto all = bench.ReadAll();
   if (!all || static_cast<int>(all->size()) != sub.num_actuators()) {
     if (reading && !reading->problem.empty()) {
       fmt::print("  PROBLEM: {}\n", reading->problem);
@@ -87,7 +87,7 @@ bool ProbeActuators(const std::string& name, substructures::Substructure& sub,
     return false;
   }
   if (reading && !reading->status.empty()) fmt::print("  status   {}\n", reading->status);
-  const transfer::BenchUnits units = transfer.bench_units();
+  const transfer::BenchUnits units = bench.bench_units();
   std::vector<std::string> problems;
   if (reading && !reading->problem.empty()) problems.push_back(reading->problem);
   for (int k = 0; k < sub.num_actuators(); ++k) {
@@ -118,23 +118,23 @@ void RunProbe(const ProbeOptions& options) {
   for (std::size_t s = 0; s < subs.size(); ++s) {
     // The slot map's blocks: one actuator and one slot, or several (every actuator read).
     substructures::Substructure& sub = *subs[s];
-    transfer::TransferSystem* transfer = sub.transfer_system();
-    if (transfer == nullptr) continue;
+    transfer::TransferSystem* bench = sub.transfer_system();
+    if (bench == nullptr) continue;
     ++physical;
     const std::string name = spec.substructures[s].slot;
     if (sub.num_actuators() > 1 || sub.num_slots() > 1) {
-      probed += ProbeActuators(name, sub, *transfer, failed) ? 1 : 0;
+      probed += ProbeActuators(name, sub, *bench, failed) ? 1 : 0;
       continue;
     }
-    fmt::print("{}: {}\n", name, transfer->Describe());
-    const std::optional<transfer::ProbeReading> reading = transfer->Probe();
+    fmt::print("{}: {}\n", name, bench->Describe());
+    const std::optional<transfer::ProbeReading> reading = bench->Probe();
     if (!reading) {
       fmt::print("  not probed: this transfer system cannot read without moving; its checks "
                  "run when the test connects\n");
       continue;
     }
     ++probed;
-    const transfer::BenchUnits units = transfer->bench_units();
+    const transfer::BenchUnits units = bench->bench_units();
     const auto [position, force] = sub.ActuatorSi(0, reading->measurement, units);
     const double p0 = sub.actuator_p0(0).value_or(0.0);
     fmt::print("  position {} {} = {} m (setup.p0 = {} m)\n", reading->measurement.position,

@@ -65,14 +65,14 @@ std::optional<Eigen::MatrixXd> TwinStiffness(const Substructure& s, const std::s
                                 "initial_stiffness; give it as a matrix in N/m", name));
 }
 
-std::optional<TransferSpec> ReseededTransfer(const TransferSpec& transfer, unsigned long seed) {
-  if (!transfer.make) return std::nullopt;
-  const auto built = transfer.make();
+std::optional<TransferSpec> ReseededTransfer(const TransferSpec& spec, unsigned long seed) {
+  if (!spec.make) return std::nullopt;
+  const auto built = spec.make();
   const auto* bench = dynamic_cast<const transfer::EmulatedBench*>(built.get());
   if (bench == nullptr || !(bench->config().noise_std > 0.0)) return std::nullopt;
   transfer::EmulatedBenchConfig config = bench->config();
   config.seed = seed;
-  return TransferSpec{transfer.type, [config] {
+  return TransferSpec{spec.type, [config] {
                         return std::unique_ptr<transfer::TransferSystem>(
                             transfer::MakeEmulatedBench(config));
                       }};

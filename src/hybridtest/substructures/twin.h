@@ -24,7 +24,7 @@ namespace hybridtest::substructures {
 std::shared_ptr<const constitutive::RestoringForceLaw> TwinLaw(const Substructure& s,
                                                                const std::string& slot);
 std::optional<Eigen::MatrixXd> TwinStiffness(const Substructure& s, const std::string& name);
-// nullopt unless `transfer` makes an emulated bench of one actuator with noise.
-std::optional<TransferSpec> ReseededTransfer(const TransferSpec& transfer, unsigned long seed);
+// nullopt unless `spec` makes an emulated bench of one actuator with noise.
+std::optional<TransferSpec> ReseededTransfer(const TransferSpec& spec, unsigned long seed);
 
 }  // namespace hybridtest::substructures
