@@ -134,12 +134,11 @@ void ServeRealTime(const BenchArgs& args, transfer::BenchServerOptions options) 
     throw ConfigError(fmt::format("--real-time {}: no physical slot to serve", args.real_time));
   }
   std::unique_ptr<transfer::TransferSystem> made = slot->physical->transfer.make();
-  transfer::TransferSystem* plant = made.get();
-  if (auto* c = dynamic_cast<transfer::DelayCompensator*>(plant)) plant = &c->inner();
-  if (dynamic_cast<transfer::RtPlant*>(plant) == nullptr) {
+  transfer::TransferSystem* plant = made->served_plant();
+  if (plant == nullptr) {
     throw ConfigError(fmt::format("--real-time {}: slot {} is {}, not an emulated real-time "
                                   "plant (transfer type rt_plant)", args.real_time, slot->slot,
-                                  plant->Describe()));
+                                  made->Describe()));
   }
   options.limits = slot->physical->limits;
   options.start_position = slot->physical->setup.p0;

@@ -23,8 +23,7 @@
 #include "hybridtest/io/config.h"
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/runner/pre_move_checks.h"
-#include "hybridtest/substructures/multi_actuator_substructure.h"
-#include "hybridtest/substructures/physical_substructure.h"
+#include "hybridtest/substructures/substructure.h"
 
 namespace hybridtest::app {
 namespace {
@@ -72,11 +71,11 @@ std::vector<std::string> ProbeProblems(const std::string& bench_problem,
 // A specimen on several actuators: Probe() for the controller's status (it connects if it
 // must), then every actuator read without moving (ReadAll) and checked like one slot.
 // Returns whether it was probed; adds 1 to failed if a check does not pass.
-bool ProbeActuators(const std::string& name, substructures::MultiActuatorSubstructure& sub,
-                    long& failed) {
-  fmt::print("{}: {}\n", name, sub.transfer().Describe());
-  const std::optional<transfer::ProbeReading> reading = sub.transfer().Probe();
-  const auto all = sub.transfer().ReadAll();
+bool ProbeActuators(const std::string& name, substructures::Substructure& sub,
+                    transfer::TransferSystem& bench, long& failed) {
+  fmt::print("{}: {}\n", name, bench.Describe());
+  const std::optional<transfer::ProbeReading> reading = bench.Probe();
+  const auto all = bench.ReadAll();
   if (!all || static_cast<int>(all->size()) != sub.num_actuators()) {
     if (reading && !reading->problem.empty()) {
       fmt::print("  PROBLEM: {}\n", reading->problem);
@@ -88,19 +87,17 @@ bool ProbeActuators(const std::string& name, substructures::MultiActuatorSubstru
     return false;
   }
   if (reading && !reading->status.empty()) fmt::print("  status   {}\n", reading->status);
-  const transfer::BenchUnits units = sub.transfer().bench_units();
+  const transfer::BenchUnits units = bench.bench_units();
   std::vector<std::string> problems;
   if (reading && !reading->problem.empty()) problems.push_back(reading->problem);
   for (int k = 0; k < sub.num_actuators(); ++k) {
-    const auto i = static_cast<Eigen::Index>(k);
     const transfer::Measurement& m = (*all)[static_cast<std::size_t>(k)];
-    const double position = m.position * units.metres_per_length_unit;
-    const double force = m.force * units.newtons_per_force_unit - sub.setup().load_cell_zero()(i);
-    const double p0 = sub.setup().p0()(i);
+    const auto [position, force] = sub.ActuatorSi(k, m, units);
+    const double p0 = sub.actuator_p0(k).value_or(0.0);
     fmt::print("  actuator {}: position {} {} = {} m (setup.p0 = {} m), force {} {} = {} N\n",
                k + 1, m.position, units.length_name, position, p0, m.force, units.force_name,
                force);
-    for (std::string& p : ProbeProblems("", sub.safety().monitor(k).limits(), p0, position,
+    for (std::string& p : ProbeProblems("", *sub.actuator_limits(k), p0, position,
                                         force, fmt::format("actuator {}: ", k + 1))) {
       problems.push_back(std::move(p));
     }
@@ -119,33 +116,34 @@ void RunProbe(const ProbeOptions& options) {
   runner::CheckPhysicalSlotsBeforeMoving(spec, subs);
   long failed = 0, probed = 0, physical = 0;
   for (std::size_t s = 0; s < subs.size(); ++s) {
-    if (auto* multi = dynamic_cast<substructures::MultiActuatorSubstructure*>(subs[s].get())) {
-      ++physical;
-      probed += ProbeActuators(spec.substructures[s].slot, *multi, failed) ? 1 : 0;
-      continue;
-    }
-    auto* slot = dynamic_cast<substructures::PhysicalSubstructure*>(subs[s].get());
-    if (slot == nullptr) continue;
+    // The slot map's blocks: one actuator and one slot, or several (every actuator read).
+    substructures::Substructure& sub = *subs[s];
+    transfer::TransferSystem* bench = sub.transfer_system();
+    if (bench == nullptr) continue;
     ++physical;
     const std::string name = spec.substructures[s].slot;
-    fmt::print("{}: {}\n", name, slot->transfer().Describe());
-    const std::optional<transfer::ProbeReading> reading = slot->transfer().Probe();
+    if (sub.num_actuators() > 1 || sub.num_slots() > 1) {
+      probed += ProbeActuators(name, sub, *bench, failed) ? 1 : 0;
+      continue;
+    }
+    fmt::print("{}: {}\n", name, bench->Describe());
+    const std::optional<transfer::ProbeReading> reading = bench->Probe();
     if (!reading) {
       fmt::print("  not probed: this transfer system cannot read without moving; its checks "
                  "run when the test connects\n");
       continue;
     }
     ++probed;
-    const transfer::BenchUnits units = slot->transfer().bench_units();
-    const double position = slot->setup().PositionMetres(reading->measurement.position, units);
-    const double force = slot->setup().ForceNewtons(reading->measurement.force, units);
+    const transfer::BenchUnits units = bench->bench_units();
+    const auto [position, force] = sub.ActuatorSi(0, reading->measurement, units);
+    const double p0 = sub.actuator_p0(0).value_or(0.0);
     fmt::print("  position {} {} = {} m (setup.p0 = {} m)\n", reading->measurement.position,
-               units.length_name, position, slot->setup().p0);
+               units.length_name, position, p0);
     fmt::print("  force    {} {} = {} N (load-cell zero removed)\n", reading->measurement.force,
                units.force_name, force);
     if (!reading->status.empty()) fmt::print("  status   {}\n", reading->status);
     const std::vector<std::string> problems = ProbeProblems(
-        reading->problem, slot->safety().limits(), slot->setup().p0, position, force, "");
+        reading->problem, *sub.actuator_limits(0), p0, position, force, "");
     for (const std::string& p : problems) fmt::print("  PROBLEM: {}\n", p);
     if (problems.empty()) fmt::print("  ok: at p0, unloaded, inside the limits\n");
     failed += problems.empty() ? 0 : 1;

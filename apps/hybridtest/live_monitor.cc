@@ -55,17 +55,18 @@ LiveMonitor::LiveMonitor(const MonitorCliOptions& options, runner::Session& sess
                                   *options.listen));
   }
   // A real-time run: the server's thread takes no time from the stepping thread
-  // (monitor/background_thread.h), and Stop reaches the paced loop directly.
+  // (monitor/background_thread.h); Hold/Continue/Stop act between steps as on any run.
   const io::RealTimeSpec& rt = session.spec().real_time;
   server.background = rt.enabled;
   server.avoid_cpu = rt.cpu;
-  if (rt.enabled) parts_->control.ActOnPacedRun(session);
   server.log = [](const std::string& line) {
     std::fprintf(stderr, "hybridtest monitor: %s\n", line.c_str());
   };
   parts_->server = std::make_unique<monitor::MonitorServer>(parts_->state, &parts_->control,
                                                              std::move(server));
   session.AddObserver(parts_->observer);
+  session.SetBetweenSteps(
+      [control = &parts_->control](runner::Session& s) { return control->BetweenSteps(s); });
   parts_->server->Start();
   std::fprintf(stderr, "hybridtest: monitor at %s (actions: %s)\n", parts_->server->url().c_str(),
                options.no_token ? "no token needed" : "token required");
@@ -74,13 +75,7 @@ LiveMonitor::LiveMonitor(const MonitorCliOptions& options, runner::Session& sess
 
 LiveMonitor::~LiveMonitor() = default;
 
-runner::StepResult LiveMonitor::Run(runner::Session& session) {
-  runner::StepResult result = session.Initialize();
-  while (result.status == runner::SessionStatus::kWorking) {
-    result = parts_->control.BetweenSteps(session);
-    if (result.status != runner::SessionStatus::kWorking) break;
-    result = session.Step();
-  }
+void LiveMonitor::Linger(const runner::Session& session) {
   // The final state stays on the page for --monitor-linger seconds; Ctrl-C ends it sooner
   // (after a stop, which is a stop request already, a second Ctrl-C ends the process).
   const bool stop_before = session.stop_requested();
@@ -88,7 +83,6 @@ runner::StepResult LiveMonitor::Run(runner::Session& session) {
   while (std::chrono::steady_clock::now() < until && (stop_before || !session.stop_requested())) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
-  return result;
 }
 
 }  // namespace hybridtest::app

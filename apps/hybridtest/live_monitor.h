@@ -24,17 +24,19 @@ void AddMonitorOptions(CLI::App& cmd, MonitorCliOptions& options);
 
 class LiveMonitor {
  public:
-  // Checks the options (ConfigError), binds the server and adds the monitor to `session`
-  // (before Initialize()); prints the page's address on stderr.
+  // Checks the options (ConfigError), binds the server, adds the monitor to `session` and its
+  // operator control as the session's between-steps hook (Session::SetBetweenSteps: Hold,
+  // Continue and Stop act between two steps of the session's one loop, paced or not), before
+  // Initialize(); prints the page's address on stderr.
   LiveMonitor(const MonitorCliOptions& options, runner::Session& session);
   ~LiveMonitor();
   LiveMonitor(const LiveMonitor&) = delete;
   LiveMonitor& operator=(const LiveMonitor&) = delete;
 
-  // Session::Run() with the operator's Hold, Continue and Stop between steps; then serves the
-  // final state for --monitor-linger seconds (Ctrl-C ends it sooner). The process then exits
-  // at once: the server's Stop() closes every viewer's connection, whatever they do.
-  runner::StepResult Run(runner::Session& session);
+  // After the run: serves the final state for --monitor-linger seconds (Ctrl-C ends it
+  // sooner). The process then exits at once: the server's Stop() closes every viewer's
+  // connection, whatever they do.
+  void Linger(const runner::Session& session);
 
  private:
   struct Parts;

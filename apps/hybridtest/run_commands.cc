@@ -125,14 +125,14 @@ void RunAndReport(io::RunSpec spec,
   ProgressObserver progress_observer(session, progress);
   session.AddObserver(progress_observer);
   const StopOnSignal stop_on_signal(session);
-  std::optional<LiveMonitor> live;  // --monitor: one more observer, and Hold/Continue/Stop
+  // --monitor: one more observer, and the operator's Hold/Continue/Stop between two steps.
+  std::optional<LiveMonitor> live;
   if (monitor.enabled()) live.emplace(monitor, session);
-  // A `real_time:` config runs paced on its clock (runner/real_time_run.h); the monitor then
-  // only watches (its Hold/Continue/Stop act between pseudo-dynamic steps).
+  // A `real_time:` config paces the session on its clock (runner/real_time_run.h). One loop
+  // drives every run, paced or not, and the monitor's actions act on each the same way.
   runner::RealTimeRun real_time(session, clock, quiet || session.spec().quiet);
-  const runner::StepResult result = real_time.enabled() ? real_time.Run()
-                                    : live               ? live->Run(session)
-                                                         : session.Run();
+  const runner::StepResult result = real_time.Run();
+  if (live) live->Linger(session);
   if (result.status != runner::SessionStatus::kFinished) {
     // How to go on comes first: every committed step is kept, and resume continues from it.
     if (session.statistics().rows > 0 && session.spec().output.files) {

@@ -27,18 +27,6 @@ ActionReply OperatorControl::Request(OperatorAction action, const std::string& o
   if (status == "finished" || status == "stopped" || stop_asked_) {
     return {409, "the run is not running (" + status + "): nothing to " + ActionName(action)};
   }
-  if (paced_ != nullptr) {
-    if (action != OperatorAction::kStop) {
-      return {409, std::string("a real-time run cannot ") + ActionName(action) +
-                       ": its loop is paced by the clock; Stop (or Ctrl-C) ends it"};
-    }
-    stop_asked_ = true;
-    paced_->RequestStop();
-    state_.AddAction({{"action", ActionName(action)}, {"origin", origin},
-                      {"asked_at", io::UtcNowIso8601()},
-                      {"applied", "after the tick in progress"}});
-    return {200, "stop accepted"};
-  }
   if (action == OperatorAction::kHold && holding_) return {409, "the run holds already"};
   if (action == OperatorAction::kContinue && !holding_) {
     return {409, "the run is not holding: Continue follows a Hold"};

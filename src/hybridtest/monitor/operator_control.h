@@ -49,12 +49,6 @@ class OperatorControl {
 
   bool holding() const;
 
-  // A run whose loop does not call BetweenSteps() (a paced real-time run, runner/paced_loop.h):
-  // Stop is passed at once to `session`.RequestStop() (thread-safe; the loop ends after the
-  // tick in progress, as on Ctrl-C) and listed on the page; Hold and Continue are refused
-  // (409, saying why). Before the server starts.
-  void ActOnPacedRun(runner::Session& session) { paced_ = &session; }
-
  private:
   struct Pending {
     OperatorAction action;
@@ -70,7 +64,6 @@ class OperatorControl {
   std::vector<Pending> queue_;
   bool holding_ = false;       // the stepping thread holds (or will at the next step)
   bool stop_asked_ = false;
-  runner::Session* paced_ = nullptr;
 };
 
 }  // namespace hybridtest::monitor

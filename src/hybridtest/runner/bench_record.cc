@@ -1,8 +1,6 @@
 // See bench_record.h.
 #include "hybridtest/runner/bench_record.h"
 
-#include "hybridtest/substructures/multi_actuator_substructure.h"
-#include "hybridtest/substructures/physical_substructure.h"
 
 namespace hybridtest::runner {
 namespace {
@@ -39,10 +37,8 @@ nlohmann::json BenchRecords(const SubstructureList& subs, const io::RunSpec& spe
     const nlohmann::json slots = s < spec.substructures.size()
                                      ? nlohmann::json(spec.substructures[s].SlotNames())
                                      : nlohmann::json::array();
-    if (const auto* p = dynamic_cast<const substructures::PhysicalSubstructure*>(sub)) {
-      out.push_back(Record(p->transfer(), slots));
-    } else if (const auto* m = dynamic_cast<const substructures::MultiActuatorSubstructure*>(sub)) {
-      out.push_back(Record(m->transfer(), slots));
+    if (const transfer::TransferSystem* t = sub->transfer_system()) {
+      out.push_back(Record(*t, slots));
     }
   }
   return out;

@@ -11,26 +11,14 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/multibody/derivatives.h"
 #include "hybridtest/multibody/kane.h"
+#include "hybridtest/runner/slot_info.h"
 #include "hybridtest/schemes/step_control.h"
-#include "hybridtest/substructures/physical_substructure.h"
-#include "hybridtest/transfer/delay_compensator.h"
-#include "hybridtest/transfer/rt_plant.h"
 
 namespace hybridtest::runner {
 namespace {
 
 using cd = std::complex<double>;
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
-// The rt_plant behind a transfer (through a compensator), and what the compensator removes.
-const transfer::RtPlant* PlantOf(const transfer::TransferSystem& t, double* compensation) {
-  *compensation = 0.0;
-  if (const auto* c = dynamic_cast<const transfer::DelayCompensator*>(&t)) {
-    *compensation = c->estimated_delay();
-    return dynamic_cast<const transfer::RtPlant*>(&c->inner());
-  }
-  return dynamic_cast<const transfer::RtPlant*>(&t);
-}
 
 }  // namespace
 
@@ -40,9 +28,24 @@ std::vector<SlotDelayMargin> CheckDelayStability(const Session& session) {
   const int n = model.num_coordinates();
   const int m = model.num_slots();
   const auto& subs = session.substructures();
-  // Every slot's K0.
-  Eigen::VectorXd k(m);
-  for (int j = 0; j < m; ++j) k(j) = subs[static_cast<std::size_t>(j)]->initial_stiffness().value_or(0.0);
+  const SlotMap& map = session.slot_map();
+  // Every slot's K0 (the slot map: a substructure of several slots gives its K0 matrix; a
+  // slot of unknown K0 counts as 0). K: the coupled K0 (m × m), or none when every block is
+  // one slot (then r_j = k_j d_j).
+  std::vector<std::vector<int>> slot_of;
+  for (const SlotMap::Block& b : map.substructures) slot_of.push_back(b.slots);
+  const schemes::SlotInfo info = SlotInfoOf(subs, slot_of, m);
+  Eigen::VectorXd k = info.k0;
+  for (int j = 0; j < m; ++j) {
+    if (!std::isfinite(k(j))) k(j) = 0.0;
+  }
+  Eigen::MatrixXd K = info.k0_matrix;
+  for (Eigen::Index i = 0; i < K.rows(); ++i) {
+    for (Eigen::Index j = 0; j < K.cols(); ++j) {
+      if (!std::isfinite(K(i, j))) K(i, j) = 0.0;
+    }
+  }
+  const bool coupled = K.size() > 0;
   // The linearisation at x_0: J (r fixed), b = ∂u̇/∂r (affine in r: one difference is exact),
   // D = ∂d/∂q.
   multibody::Data<double> data(model);
@@ -67,23 +70,34 @@ std::vector<SlotDelayMargin> CheckDelayStability(const Session& session) {
   const Eigen::MatrixXd Fq = J.block(n, 0, n, n), Fu = J.block(n, n, n, n);
   const double dt = spec.scheme.dt;
 
+  // The force of slot j as a function of q: r_j = kd_j q (k_j d_j, or K_j· D when coupled).
+  Eigen::MatrixXd KD;
+  if (coupled) KD = K * D;
+
   std::vector<SlotDelayMargin> out;
   for (int s = 0; s < m; ++s) {
-    const auto* p = dynamic_cast<const substructures::PhysicalSubstructure*>(
-        subs[static_cast<std::size_t>(s)].get());
-    if (p == nullptr) continue;
+    const SlotMap::Slot& slot = map.slots[static_cast<std::size_t>(s)];
+    const substructures::Substructure& sub = *subs[static_cast<std::size_t>(slot.substructure)];
+    if (!map.block_of(s).physical) continue;
     SlotDelayMargin margin;
-    margin.slot = model.slots()[static_cast<std::size_t>(s)].info.name;
+    margin.slot = slot.name;
+    margin.substructure = map.block_of(s).name;
     margin.k0 = k(s);
-    // The undelayed slots stiffen the model.
-    Eigen::MatrixXd K = -Fq;
+    // The undelayed slots stiffen the model; slot s's force is the delayed one.
+    Eigen::MatrixXd Kq = -Fq;
     for (int j = 0; j < m; ++j) {
-      if (j != s) K -= b.col(j) * k(j) * D.row(j);
+      if (j == s) continue;
+      if (coupled) {
+        Kq -= b.col(j) * KD.row(j);
+      } else {
+        Kq -= b.col(j) * k(j) * D.row(j);
+      }
     }
     auto kg = [&](double w) {
       Eigen::MatrixXcd P = (-w * w) * Eigen::MatrixXcd::Identity(n, n) -
-                           cd(0.0, w) * Fu.cast<cd>() + K.cast<cd>();
+                           cd(0.0, w) * Fu.cast<cd>() + Kq.cast<cd>();
       const Eigen::VectorXcd y = P.partialPivLu().solve(b.col(s).cast<cd>());
+      if (coupled) return (KD.row(s).cast<cd>() * y)(0);
       return k(s) * (D.row(s).cast<cd>() * y)(0);
     };
     // Scan ω (log-spaced up to the Nyquist frequency of the step) for |k g| = 1.
@@ -111,15 +125,15 @@ std::vector<SlotDelayMargin> CheckDelayStability(const Session& session) {
       w_prev = w;
       e_prev = e;
     }
-    double compensation = 0.0;
-    if (const transfer::RtPlant* plant = PlantOf(p->transfer(), &compensation)) {
+    // The plant's delay, as the substructure's transfer system knows it (every actuator).
+    const transfer::TransferSystem* t = sub.transfer_system();
+    const double wc = std::isfinite(margin.critical_delay) ? kTwoPi * margin.crossing_hz
+                                                            : kTwoPi * 1.0;
+    if (const auto delay = t != nullptr ? t->PhaseDelay(wc, dt) : std::nullopt) {
       margin.known_plant = true;
-      const double wc = std::isfinite(margin.critical_delay) ? kTwoPi * margin.crossing_hz
-                                                              : kTwoPi * 1.0;
-      const double hold = plant->config().kind == transfer::PlantKind::kIdeal ? 0.0 : 0.5 * dt;
-      margin.plant_delay = -std::arg(plant->FrequencyResponse(wc)) / wc + hold;
-      margin.compensation = compensation;
-      margin.remaining_delay = std::max(0.0, margin.plant_delay - compensation);
+      margin.plant_delay = *delay;
+      margin.compensation = t->compensated_delay();
+      margin.remaining_delay = std::max(0.0, margin.plant_delay - margin.compensation);
     }
     out.push_back(margin);
   }
@@ -159,7 +173,7 @@ nlohmann::json ToJson(const std::vector<SlotDelayMargin>& margins) {
   nlohmann::json out = nlohmann::json::array();
   for (const SlotDelayMargin& g : margins) {
     auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
-    out.push_back({{"slot", g.slot}, {"k0", g.k0}, {"critical_delay_s", num(g.critical_delay)},
+    out.push_back({{"slot", g.slot}, {"substructure", g.substructure}, {"k0", g.k0}, {"critical_delay_s", num(g.critical_delay)},
                    {"crossing_hz", g.crossing_hz}, {"plant_delay_s", g.plant_delay},
                    {"compensation_s", g.compensation}, {"remaining_delay_s", g.remaining_delay},
                    {"unstable", g.unstable()}});

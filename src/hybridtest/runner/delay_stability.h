@@ -32,6 +32,7 @@ namespace hybridtest::runner {
 
 struct SlotDelayMargin {
   std::string slot;
+  std::string substructure;        // the substructure serving it (the slot map's name)
   double k0 = 0.0;                 // [N/m]
   double critical_delay = std::numeric_limits<double>::infinity();  // τ_c [s]
   double crossing_hz = 0.0;        // ω_c / 2π [Hz]
@@ -42,8 +43,11 @@ struct SlotDelayMargin {
   bool unstable() const { return remaining_delay > critical_delay; }
 };
 
-// The margins of every physical slot of `session` (built, not initialised). Throws ModelError
-// where the model cannot be linearised.
+// The margins of every physical slot of `session` (built, not initialised), in the model's slot
+// order, found through the session's slot map: a substructure of several slots gives one
+// margin per slot, with its K0 matrix coupling the slots (slot s delayed: r_s = K_s· d(t − τ),
+// the others undelayed) and the largest phase delay of its actuators
+// (TransferSystem::PhaseDelay). Throws ModelError where the model cannot be linearised.
 std::vector<SlotDelayMargin> CheckDelayStability(const Session& session);
 
 // Throws ConfigError (before any command) naming the slot, its critical delay and the plant's

@@ -140,6 +140,12 @@ void LockFreeObserver::OnResume(const ResumeEvent& event) {
   for (SessionObserver* o : inner_) o->OnResume(event);
 }
 
+void LockFreeObserver::OnOperatorAction(const nlohmann::json& action) {
+  Drain();
+  RethrowFailure();
+  for (SessionObserver* o : inner_) o->OnOperatorAction(action);
+}
+
 void LockFreeObserver::AddStatistics(nlohmann::json& statistics) {
   Drain();
   for (SessionObserver* o : inner_) o->AddStatistics(statistics);

@@ -11,7 +11,7 @@
 //     kQueueReserve (paced_loop.h), so that every committed row is kept.
 //   - The consumer thread polls the ring (sleeping `poll` between empty looks) and delivers
 //     every event to every inner observer, in the session's order.
-//   - OnStart, OnResume, AddStatistics and OnStop are delivered on the stepping thread after
+//   - OnStart, OnResume, OnOperatorAction, AddStatistics and OnStop are delivered on the stepping thread after
 //     the ring is drained (the consumer is then idle), so the inner observers see every event
 //     in order; an inner observer's exception is rethrown on the stepping thread at the next
 //     event. BeforeTrial is not forwarded.
@@ -52,6 +52,9 @@ class LockFreeObserver final : public SessionObserver {
   void OnTrial(const TrialEvent& event) override;
   void OnCommit(const CommitEvent& event) override;
   void OnResume(const ResumeEvent& event) override;
+  // Delivered like OnResume: after the ring is drained, on the stepping thread (operator
+  // actions are rare and come between steps).
+  void OnOperatorAction(const nlohmann::json& action) override;
   void AddStatistics(nlohmann::json& statistics) override;
   void OnStop(const StopEvent& event) override;
   bool real_time_safe() const override { return true; }

@@ -6,8 +6,6 @@
 #include <algorithm>
 
 #include "hybridtest/common/error.h"
-#include "hybridtest/substructures/physical_substructure.h"
-#include "hybridtest/transfer/delay_compensator.h"
 
 namespace hybridtest::runner {
 namespace {
@@ -31,6 +29,21 @@ PacedLoop::PacedLoop(Session& session, Clock& clock)
         schemes::SchemeKindName(scheme.config.kind),
         scheme.config.adaptive.enabled ? " with an adaptive step" : ""));
   }
+  // Every actuator runs paced, or nothing moves.
+  const auto& subs = session.substructures();
+  const auto& blocks = session.slot_map().substructures;
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    if (!blocks[b].physical) continue;
+    const transfer::TransferSystem* t = subs[b]->transfer_system();
+    if (t == nullptr || !t->can_run_paced()) {
+      throw ConfigError(fmt::format(
+          "real_time: substructures.{}: {} cannot run in real time (paced: its {} actuator(s) "
+          "would settle every move in lab time); use `transfer: {{type: rt_plant, ...}}` (or a "
+          "compensated one, or a remote `hybridtest bench --real-time` server) or remove the "
+          "`real_time:` block", blocks[b].name, t != nullptr ? t->Describe() : subs[b]->Describe(),
+          blocks[b].num_actuators));
+    }
+  }
   const io::RealTimeSpec& rt = session.spec().real_time;
   miss_tolerance_ = rt.miss_tolerance.value_or(0.25 * tick_);
   hold_after_ = rt.hold_after_misses;
@@ -39,6 +52,7 @@ PacedLoop::PacedLoop(Session& session, Clock& clock)
   compute_.assign(ticks, 0.0);
   criteria_.Reserve(static_cast<long>(ticks), tick_);
   session.AddObserver(*this);
+  session.SetPacer(this);
 }
 
 void PacedLoop::OnTrial(const TrialEvent& event) {
@@ -46,70 +60,77 @@ void PacedLoop::OnTrial(const TrialEvent& event) {
   criteria_.Add(event.exchanges[0].command, event.exchanges[0].position);
 }
 
-StepResult PacedLoop::Run() {
-  StepResult r = session_.Initialize();
-  if (r.status != SessionStatus::kWorking) return r;
-  // Every transfer system runs paced from here; one that cannot refuses before any tick.
-  try {
-    for (const auto& s : session_.substructures()) {
-      if (auto* p = dynamic_cast<substructures::PhysicalSubstructure*>(s.get())) {
-        p->transfer().StartPaced(tick_, clock_);
-      }
-    }
-  } catch (const std::exception& e) {
-    for (const auto& s : session_.substructures()) s->Hold();
-    throw;
+void PacedLoop::Start() {
+  // Every transfer system runs paced from here (the constructor checked each can).
+  auto& subs = session_.substructures();
+  for (std::size_t b = 0; b < subs.size(); ++b) {
+    if (!session_.slot_map().substructures[b].physical) continue;
+    transfer::TransferSystem* t = subs[b]->transfer_system();
+    if (t != nullptr) t->StartPaced(tick_, clock_);
   }
   paced_ = true;
   if (queue_ != nullptr) stats_.queue_min_free = queue_->capacity();
-  const double t0 = clock_.Now();
-  long consecutive = 0;
-  for (long k = 1; r.status == SessionStatus::kWorking; ++k) {
-    const double deadline = t0 + static_cast<double>(k) * tick_;
+  t0_ = clock_.Now();
+  k_ = 0;
+  consecutive_ = 0;
+}
+
+void PacedLoop::BeforeStep(bool after_hold) {
+  ++k_;
+  // After an operator's hold the ticks start again one step from now.
+  if (after_hold) t0_ = clock_.Now() - static_cast<double>(k_ - 1) * tick_;
+  const double deadline = t0_ + static_cast<double>(k_) * tick_;
+  if (clock_.is_virtual()) {
     clock_.WaitUntil(deadline);
-    const double late = clock_.Now() - deadline;
-    // The tick counts before its step: the last step's statistics (AddStatistics, inside the
-    // step that finishes the run) include it.
-    const auto i = static_cast<std::size_t>(stats_.ticks);
-    if (i < late_.size()) late_[i] = late;
-    ++stats_.ticks;
-    if (late > miss_tolerance_) {
-      ++stats_.misses;
-      ++consecutive;
-      stats_.max_consecutive_misses = std::max(stats_.max_consecutive_misses, consecutive);
-    } else {
-      consecutive = 0;
-    }
-    if (queue_ != nullptr) {
-      const std::size_t free = queue_->free_slots();
-      stats_.queue_min_free = std::min(stats_.queue_min_free, free);
-      if (free < kQueueReserve && clock_.is_virtual()) {
-        // Simulated time has no deadline to miss: the loop waits for the files.
-        ++stats_.queue_waits;
-        queue_->WaitForFree(kQueueReserve);
-      } else if (free < kQueueReserve && !stats_.held_on_queue) {
-        stats_.held_on_queue = true;
-        session_.RequestStop(fmt::format(
-            "held: the observers' queue is nearly full ({} of {} events free): the files "
-            "cannot keep up with the real-time loop (raise real_time.queue or write to a "
-            "faster disk)", free, queue_->capacity()));
-      }
-    }
-    const auto start = std::chrono::steady_clock::now();
-    r = session_.Step();
-    const double compute =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (i < compute_.size()) compute_[i] = compute;
-    if (compute > tick_) ++stats_.overruns;
-    if (hold_after_ > 0 && consecutive >= hold_after_ && r.status == SessionStatus::kWorking &&
-        !stats_.held_on_misses) {
-      stats_.held_on_misses = true;
-      session_.RequestStop(fmt::format(
-          "held after {} consecutive missed deadlines (real_time.hold_after_misses; a tick later "
-          "than {} s is a miss)", consecutive, miss_tolerance_));
+  } else {
+    // Sleep short, spin the rest: a sleep wakes up late by the timer slack.
+    if (clock_.Now() < deadline - kSpin) clock_.WaitUntil(deadline - kSpin);
+    while (clock_.Now() < deadline) {
     }
   }
-  return r;
+  const double late = clock_.Now() - deadline;
+  // The tick counts before its step: the last step's statistics (AddStatistics, inside the
+  // step that finishes the run) include it.
+  i_ = static_cast<std::size_t>(stats_.ticks);
+  if (i_ < late_.size()) late_[i_] = late;
+  ++stats_.ticks;
+  if (late > miss_tolerance_) {
+    ++stats_.misses;
+    ++consecutive_;
+    stats_.max_consecutive_misses = std::max(stats_.max_consecutive_misses, consecutive_);
+  } else {
+    consecutive_ = 0;
+  }
+  if (queue_ != nullptr) {
+    const std::size_t free = queue_->free_slots();
+    stats_.queue_min_free = std::min(stats_.queue_min_free, free);
+    if (free < kQueueReserve && clock_.is_virtual()) {
+      // Simulated time has no deadline to miss: the loop waits for the files.
+      ++stats_.queue_waits;
+      queue_->WaitForFree(kQueueReserve);
+    } else if (free < kQueueReserve && !stats_.held_on_queue) {
+      stats_.held_on_queue = true;
+      session_.RequestStop(fmt::format(
+          "held: the observers' queue is nearly full ({} of {} events free): the files "
+          "cannot keep up with the real-time loop (raise real_time.queue or write to a "
+          "faster disk)", free, queue_->capacity()));
+    }
+  }
+  step_start_ = std::chrono::steady_clock::now();
+}
+
+void PacedLoop::AfterStep(const StepResult& r) {
+  const double compute =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - step_start_).count();
+  if (i_ < compute_.size()) compute_[i_] = compute;
+  if (compute > tick_) ++stats_.overruns;
+  if (hold_after_ > 0 && consecutive_ >= hold_after_ && r.status == SessionStatus::kWorking &&
+      !stats_.held_on_misses) {
+    stats_.held_on_misses = true;
+    session_.RequestStop(fmt::format(
+        "held after {} consecutive missed deadlines (real_time.hold_after_misses; a tick later "
+        "than {} s is a miss)", consecutive_, miss_tolerance_));
+  }
 }
 
 void PacedLoop::Summarise() {
@@ -146,14 +167,14 @@ nlohmann::json PacedLoop::ToJson() const {
                        {{"p50", s.compute_p50}, {"p99", s.compute_p99}, {"max", s.compute_max}}}};
   j["setup"] = setup_notes_;
   j["stability"] = stability_;
-  // The compensators' estimates (delay, amplitude) per slot.
+  // The compensators' estimates (delay, amplitude) per substructure.
   nlohmann::json compensators = nlohmann::json::object();
   const auto& subs = session_.substructures();
   for (std::size_t k = 0; k < subs.size(); ++k) {
-    const auto* p = dynamic_cast<const substructures::PhysicalSubstructure*>(subs[k].get());
-    if (p == nullptr) continue;
-    if (const auto* c = dynamic_cast<const transfer::DelayCompensator*>(&p->transfer())) {
-      compensators[session_.spec().substructures[k].slot] = c->ToJson();
+    const transfer::TransferSystem* t = subs[k]->transfer_system();
+    if (t == nullptr) continue;
+    if (nlohmann::json c = t->CompensationRecord(); !c.is_null()) {
+      compensators[session_.slot_map().substructures[k].name] = std::move(c);
     }
   }
   if (!compensators.empty()) j["compensation"] = compensators;

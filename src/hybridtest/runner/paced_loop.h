@@ -1,10 +1,19 @@
 #pragma once
-// PacedLoop: a real-time run (decision 0015). The loop owns the clock, the Session owns the
-// step: after Initialize() (the settled trial at x_0) every physical substructure's transfer
-// system is started paced (TransferSystem::StartPaced), then tick k = 1, 2, … waits for its
-// ABSOLUTE deadline t_0 + k·h (h the scheme's fixed step; never accumulated, so nothing
-// drifts) and calls Session::Step() once: one command per actuator per tick, the measurement of
-// that tick read without settling.
+// PacedLoop: the real-time setting of a Session (decisions 0015, 0016): its StepPacer. The
+// pacer owns the clock, the Session owns the one loop (Session::Run) and the step. The
+// constructor refuses, before anything moves, a scheme that cannot run paced and any physical
+// substructure whose transfer system cannot (TransferSystem::can_run_paced: a lab-time bench);
+// after Initialize() (the settled trial at x_0) every physical substructure's transfer system,
+// whatever its number of actuators, is started paced (TransferSystem::StartPaced, found
+// through the session's slot map), then tick k = 1, 2, … waits for its ABSOLUTE deadline
+// t_0 + k·h (h the scheme's fixed step; never accumulated, so nothing drifts) and the session
+// steps once: one command per actuator per tick, the measurement of that tick read without
+// settling. The wait sleeps until kSpin before the deadline and spins the rest on the wall
+// clock (a sleep wakes late by the timer slack; the spin does not).
+//
+// An operator's hold between two ticks (the live monitor, through Session::SetBetweenSteps)
+// holds every actuator at once; after Continue the ticks start again one step after it (the
+// held time is neither a miss nor made up).
 //
 // Per tick it records, in preallocated storage (the loop allocates nothing):
 //   late     wake-up time − deadline [s] (the jitter; 0 on the virtual clock)
@@ -44,14 +53,23 @@ struct PacedStatistics {
   double compute_p50 = 0.0, compute_p99 = 0.0, compute_max = 0.0;  // [s]
 };
 
-class PacedLoop final : public SessionObserver {
+// Sleep until this long before a deadline on the wall clock, then spin. Unit: [s].
+inline constexpr double kSpin = 200e-6;
+
+class PacedLoop final : public SessionObserver, public StepPacer {
  public:
-  // Adds itself to the session's observers (call before Initialize()); `clock` must outlive
-  // the loop. Throws ConfigError when the session's scheme cannot run paced.
+  // Adds itself to the session's observers and sets itself as its pacer (call before
+  // Initialize()); `clock` must outlive the loop. Throws ConfigError when the session's scheme
+  // or a physical substructure's transfer system cannot run paced (nothing has moved).
   PacedLoop(Session& session, Clock& clock);
 
-  // Initialize() then the paced ticks until the run is no longer working.
-  StepResult Run();
+  // Session::Run(): Initialize() then the paced ticks until the run is no longer working.
+  StepResult Run() { return session_.Run(); }
+
+  // StepPacer.
+  void Start() override;
+  void BeforeStep(bool after_hold) override;
+  void AfterStep(const StepResult& result) override;
 
   const PacedStatistics& statistics() const { return stats_; }
   const TrackingCriteria& criteria() const { return criteria_; }
@@ -79,6 +97,11 @@ class PacedLoop final : public SessionObserver {
   double miss_tolerance_;
   long hold_after_;
   bool paced_ = false;
+  double t0_ = 0.0;       // the deadlines' origin [s] on the clock
+  long k_ = 0;            // the tick
+  long consecutive_ = 0;  // consecutive misses
+  std::size_t i_ = 0;     // the tick's index into late_, compute_
+  std::chrono::steady_clock::time_point step_start_;
   LockFreeObserver* queue_ = nullptr;
   PacedStatistics stats_;
   TrackingCriteria criteria_;

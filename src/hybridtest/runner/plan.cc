@@ -15,13 +15,11 @@
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/runner/run_record.h"
 #include "hybridtest/runner/session.h"
-#include "hybridtest/substructures/multi_actuator_substructure.h"
 #include "hybridtest/substructures/numerical_substructure.h"
-#include "hybridtest/substructures/physical_substructure.h"
 #include "hybridtest/substructures/slot_law.h"
 #include "hybridtest/substructures/substructure_spec.h"
+#include "hybridtest/substructures/twin.h"
 #include "hybridtest/transfer/emulated_bench.h"
-#include "hybridtest/transfer/multi_emulated_bench.h"
 
 namespace hybridtest::runner {
 namespace {
@@ -29,57 +27,6 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr double kReferenceStep = 1e-4;  // [s] RK4
-
-// The emulated specimen's law behind a physical substructure, as a numerical one: the bench's
-// law itself for the identity setup, else that law seen through the setup
-// (substructures/slot_law.h); a linear spring of K0 where the bench is not emulated.
-std::shared_ptr<const constitutive::RestoringForceLaw> TwinLaw(
-    const substructures::Substructure& s, const std::string& slot) {
-  const auto* physical = dynamic_cast<const substructures::PhysicalSubstructure*>(&s);
-  if (physical == nullptr) return nullptr;
-  const auto* bench = dynamic_cast<const transfer::EmulatedBench*>(&physical->transfer());
-  const auto& setup = physical->setup();
-  const bool identity = setup.sign == 1.0 && setup.scale == 1.0 && setup.force_sign == 1.0 &&
-                        setup.force_scale == 1.0 && setup.load_cell_zero == 0.0;
-  if (bench != nullptr && identity && std::abs(setup.p0 - bench->config().p0) < 1e-12) {
-    return bench->config().specimen->Clone();
-  }
-  // Any other setup (a lever, flipped signs, a preload, a load-cell zero) or law: the
-  // emulated specimen's law seen at the slot, through the setup.
-  if (auto law = substructures::EmulatedSlotLaw(s)) return law;
-  const auto k0 = physical->initial_stiffness();
-  if (!k0) {
-    throw ConfigError(fmt::format("plan: slot {} has no emulated specimen law that the reference "
-                                  "can use and no initial_stiffness; give "
-                                  "substructures.{}.initial_stiffness in N/m", slot, slot));
-  }
-  return std::make_unique<constitutive::LinearSpring>(*k0, "plan reference (K0)");
-}
-
-// The numerical twin of a specimen on several actuators of an emulated bench: T0ᵀ K T0, with
-// T0 = J(0) the setup's linearisation (EmulatedBlockTwin, asked first, sees the geometry).
-std::optional<Eigen::MatrixXd> TwinStiffness(const substructures::Substructure& s,
-                                             const std::string& name) {
-  const auto* multi = dynamic_cast<const substructures::MultiActuatorSubstructure*>(&s);
-  if (multi == nullptr) return std::nullopt;
-  const auto* bench = dynamic_cast<const transfer::MultiEmulatedBench*>(&multi->transfer());
-  const auto& setup = multi->setup();
-  if (bench != nullptr) {
-    for (int k = 0; k < setup.num_actuators(); ++k) {
-      if (std::abs(setup.p0()(k) - bench->config().actuators[static_cast<std::size_t>(k)].p0) > 1e-12 ||
-          setup.load_cell_zero()(k) != bench->config().actuators[static_cast<std::size_t>(k)].offset) {
-        throw ConfigError(fmt::format("plan: substructure {}: the setup's p0 and load-cell zero "
-                                      "of actuator {} differ from the bench's; the reference "
-                                      "needs them equal", name, k + 1));
-      }
-    }
-    const Eigen::MatrixXd& t0 = setup.linearisation();
-    return Eigen::MatrixXd(t0.transpose() * bench->config().stiffness * t0);
-  }
-  if (auto k0 = multi->initial_stiffness_matrix()) return k0;
-  throw ConfigError(fmt::format("plan: substructure {} has no emulated specimen and no "
-                                "initial_stiffness; give it as a matrix in N/m", name));
-}
 
 // Direction reversals of a sequence of commands.
 long Reversals(const std::vector<double>& c) {
@@ -343,10 +290,10 @@ std::vector<PlanResult> PlanTest(const io::RunSpec& configured, const PlanOption
       twin.block_law = block->block_law;
       twin.block_transform = block->block_transform;
       twin.block_setup = block->block_setup;
-    } else if (auto k = TwinStiffness(*built, slot)) {
+    } else if (auto k = substructures::TwinStiffness(*built, slot)) {
       twin.stiffness = std::move(*k);
     } else {
-      twin.law = TwinLaw(*built, slot);
+      twin.law = substructures::TwinLaw(*built, slot);
     }
     ref_spec.substructures[s] = std::move(twin);
   }

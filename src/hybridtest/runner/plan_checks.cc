@@ -6,7 +6,7 @@
 
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/runner/plan.h"
-#include "hybridtest/transfer/emulated_bench.h"
+#include "hybridtest/substructures/twin.h"
 
 namespace hybridtest::runner {
 namespace {
@@ -83,27 +83,19 @@ std::vector<PlanWarning> ReferenceLimitWarnings(const io::RunSpec& spec,
 }
 
 std::vector<io::RunSpec> SeededSpecs(const io::RunSpec& spec, const std::vector<unsigned long>& seeds) {
+  // The substructures on a noisy emulated bench (the builders know which).
   std::vector<std::size_t> noisy;
-  std::vector<transfer::EmulatedBenchConfig> benches(spec.substructures.size());
   for (std::size_t s = 0; s < spec.substructures.size(); ++s) {
     const auto& physical = spec.substructures[s].physical;
-    if (!physical || !physical->transfer.make) continue;
-    const auto built = physical->transfer.make();
-    const auto* bench = dynamic_cast<const transfer::EmulatedBench*>(built.get());
-    if (bench == nullptr || !(bench->config().noise_std > 0.0)) continue;
-    benches[s] = bench->config();
-    noisy.push_back(s);
+    if (physical && substructures::ReseededTransfer(physical->transfer, 0)) noisy.push_back(s);
   }
   if (noisy.empty() || seeds.empty()) return {spec};
   std::vector<io::RunSpec> out;
   for (const unsigned long seed : seeds) {
     io::RunSpec seeded = spec;
     for (const std::size_t s : noisy) {
-      transfer::EmulatedBenchConfig bench = benches[s];
-      bench.seed = seed;
-      seeded.substructures[s].physical->transfer.make = [bench] {
-        return std::unique_ptr<transfer::TransferSystem>(transfer::MakeEmulatedBench(bench));
-      };
+      seeded.substructures[s].physical->transfer =
+          *substructures::ReseededTransfer(spec.substructures[s].physical->transfer, seed);
     }
     out.push_back(std::move(seeded));
   }

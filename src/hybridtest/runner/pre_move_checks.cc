@@ -122,13 +122,17 @@ std::string P0SlipHint(double runner, double bench) {
 void CheckPhysicalSlotsBeforeMoving(
     const io::RunSpec& spec, const std::vector<std::unique_ptr<substructures::Substructure>>& subs) {
   for (std::size_t s = 0; s < subs.size() && s < spec.substructures.size(); ++s) {
-    const auto* physical = dynamic_cast<const substructures::PhysicalSubstructure*>(subs[s].get());
-    if (physical == nullptr) continue;
+    // A bench announces one actuator's p0 and limits (the slot map's one-actuator blocks).
+    const substructures::Substructure& sub = *subs[s];
+    const transfer::TransferSystem* t = sub.transfer_system();
+    const auto p0 = sub.actuator_p0(0);
+    const auto actuator_limits = sub.actuator_limits(0);
+    if (t == nullptr || sub.num_actuators() != 1 || !p0 || !actuator_limits) continue;
     const std::string where = "substructures." + spec.substructures[s].slot;
-    const transfer::BenchAnnouncement announced = physical->transfer().Announce();
-    const transfer::SafetyLimits& limits = physical->safety().limits();
+    const transfer::BenchAnnouncement announced = t->Announce();
+    const transfer::SafetyLimits& limits = *actuator_limits;
     if (announced.p0) {
-      const double runner = physical->setup().p0, bench = *announced.p0;
+      const double runner = *p0, bench = *announced.p0;
       const double tolerance = kP0Tolerance * limits.max_increment;
       if (std::abs(runner - bench) > tolerance) {
         throw ConfigError(fmt::format(

@@ -1,8 +1,11 @@
 #pragma once
-// RealTimeRun: what `hybridtest run` does with a `real_time:` config (docs/real-time.md):
-// chooses the clock (`--clock virtual|wall`; wall by default), prepares the process for a
-// wall-clock run (mlockall, SCHED_FIFO priority and CPU affinity as the block asks, each with a
-// clear message where the system does not permit it), and runs the session in a PacedLoop.
+// RealTimeRun: the real-time setting of a `hybridtest run` (docs/real-time.md, decision 0016):
+// chooses the clock (`--clock virtual|wall`; wall by default), checks the delay stability of
+// every slot before anything moves, prepares the process for a wall-clock run (mlockall,
+// SCHED_FIFO priority, CPU affinity and a 1 ns timer slack, each with a clear message where the
+// system does not permit it), and sets a PacedLoop as the session's pacer. Run() is the
+// session's one loop (Session::Run), paced or not: the monitor's Hold/Continue/Stop act through
+// the same path on every run.
 // The stepping thread writes no file: every observer that is not real_time_safe() (the run's
 // files, the progress display, ...) is put behind one LockFreeObserver of `real_time.queue`
 // events, drained on a thread of its own; the loop holds the run before that queue fills.
@@ -38,6 +41,7 @@ class RealTimeRun {
   // for a --clock without a `real_time:` block and for a scheme that cannot run paced.
   RealTimeRun(Session& session, const std::string& clock, bool quiet);
   bool enabled() const { return loop_ != nullptr; }
+  // Session::Run(), paced when enabled().
   StepResult Run();
   const PacedLoop* loop() const { return loop_.get(); }
   // The queue in front of the other observers (null before Run()).

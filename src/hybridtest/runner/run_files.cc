@@ -184,7 +184,7 @@ void RunFiles::OnStop(const StopEvent& event) {
   }
 }
 
-void RunFiles::RecordOperatorAction(const nlohmann::json& action) {
+void RunFiles::OnOperatorAction(const nlohmann::json& action) {
   // Actions come between steps, after row 0 has published the journal.
   if (!journal_ || !journal_->published()) return;
   nlohmann::json actions = journal_->sidecar().value("operator_actions", nlohmann::json::array());

@@ -39,7 +39,7 @@ class RunFiles final : public SessionObserver {
   void OnStop(const StopEvent& event) override;
   // Appends to the sidecar's "operator_actions" (kept across resumes); nothing before row 0
   // has published the journal.
-  void RecordOperatorAction(const nlohmann::json& action);
+  void OnOperatorAction(const nlohmann::json& action) override;
 
  private:
   void SaveState(bool always, long rows_after, std::span<const double> row);

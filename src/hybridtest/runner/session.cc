@@ -84,6 +84,7 @@ Session::Session(io::RunSpec spec, SessionOptions options)
   std::vector<std::string> slot_names;
   for (const auto& s : model().slots()) slot_names.push_back(s.info.name);
   slot_of_ = substructures::SlotIndices(spec_.substructures, slot_names);
+  std::vector<std::string> names;
   std::size_t actuators = 0;
   for (std::size_t s = 0; s < spec_.substructures.size(); ++s) {
     subs_.push_back(spec_.substructures[s].Build());
@@ -93,8 +94,10 @@ Session::Session(io::RunSpec spec, SessionOptions options)
                                     slot_of_[s].size()));
     }
     if (subs_.back()->is_physical()) ++physical_count_;
+    names.push_back(spec_.substructures[s].slot);
     actuators += static_cast<std::size_t>(subs_.back()->num_actuators());
   }
+  slot_map_ = MakeSlotMap(subs_, names, slot_of_, slot_names);
   row_.resize(static_cast<Eigen::Index>(JournalChannels(spec_).size()));
   r0_.resize(model().num_slots());
   exchanges_.resize(actuators);
@@ -290,6 +293,7 @@ StepResult Session::Step() {
 }
 
 void Session::HoldBetweenSteps() noexcept {
+  ++holds_;
   for (auto& s : subs_) s->Hold();
 }
 
@@ -317,12 +321,33 @@ StepResult Session::ContinueAfterHold() {
 }
 
 void Session::RecordOperatorAction(const nlohmann::json& action) {
-  if (files_) files_->RecordOperatorAction(action);
+  for (SessionObserver* o : observers_) o->OnOperatorAction(action);
 }
 
 StepResult Session::Run() {
   StepResult r = initialized_ ? result_ : Initialize();
-  while (r.status == SessionStatus::kWorking) r = Step();
+  if (r.status == SessionStatus::kWorking && pacer_ != nullptr && !paced_) {
+    // Every transfer system runs paced from here; one that cannot refuses before any tick.
+    try {
+      pacer_->Start();
+    } catch (const std::exception&) {
+      for (auto& s : subs_) s->Hold();
+      throw;
+    }
+    paced_ = true;
+  }
+  while (r.status == SessionStatus::kWorking) {
+    bool after_hold = false;
+    if (between_steps_) {
+      const long holds = holds_;
+      r = between_steps_(*this);
+      if (r.status != SessionStatus::kWorking) break;
+      after_hold = holds_ != holds;
+    }
+    if (pacer_ != nullptr) pacer_->BeforeStep(after_hold);
+    r = Step();
+    if (pacer_ != nullptr) pacer_->AfterStep(r);
+  }
   return r;
 }
 

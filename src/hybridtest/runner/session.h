@@ -28,6 +28,7 @@
 #include <chrono>
 #include <optional>
 #include <exception>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -35,6 +36,7 @@
 
 #include "hybridtest/io/run_spec.h"
 #include "hybridtest/runner/run_state.h"
+#include "hybridtest/runner/slot_map.h"
 #include "hybridtest/schemes/hybrid_scheme.h"
 #include "hybridtest/substructures/substructure.h"
 
@@ -121,6 +123,10 @@ class SessionObserver {
   virtual void OnTrial(const TrialEvent& /*event*/) {}
   virtual void OnCommit(const CommitEvent& /*event*/) {}
   virtual void OnResume(const ResumeEvent& /*event*/) {}
+  // An operator's hold, continue or stop (its time and origin), between two steps: a
+  // file-backed run appends it to the sidecar's "operator_actions" (Session::
+  // RecordOperatorAction).
+  virtual void OnOperatorAction(const nlohmann::json& /*action*/) {}
   virtual void OnStop(const StopEvent& /*event*/) {}
   // Before OnStop (every observer first): add this observer's own fields to the statistics
   // the sidecar records (e.g. a paced loop's `real_time`).
@@ -142,6 +148,22 @@ struct SessionOptions {
   // constructor. false skips them: only for a caller that has made them itself, or a study
   // that wants an unstable step to diverge. The command line has no way to skip them.
   bool pre_move_checks = true;
+};
+
+// How the one loop of Session::Run() paces its steps: set by a real-time run (PacedLoop,
+// decision 0016); without one the steps follow each other at once (lab time). Called on the
+// stepping thread.
+class StepPacer {
+ public:
+  virtual ~StepPacer() = default;
+  // After a successful Initialize(), before the first Step(): starts every transfer system
+  // paced. Throws to refuse (the session then holds every actuator and rethrows).
+  virtual void Start() = 0;
+  // Before each Step(): waits for the step's tick. `after_hold`: an operator's hold came
+  // between this step and the last (the next tick is one step after now).
+  virtual void BeforeStep(bool after_hold) = 0;
+  // After each Step().
+  virtual void AfterStep(const StepResult& result) = 0;
 };
 
 class Session {
@@ -169,8 +191,20 @@ class Session {
 
   StepResult Initialize();
   StepResult Step();
-  // Steps until the run is no longer working.
+  // The one loop of every run: Initialize() (unless done), then, while working, the
+  // between-steps hook (the operator's Hold/Continue/Stop), the pacer's wait for the tick (a
+  // real-time run) and Step().
   StepResult Run();
+  // Real time is a setting of the session (decision 0016): `pacer` paces Run()'s steps
+  // (nullptr: none). Not owned; before Run().
+  void SetPacer(StepPacer* pacer) { pacer_ = pacer; }
+  StepPacer* pacer() const { return pacer_; }
+  // Called by Run() on the stepping thread before every step (after Initialize()): may hold
+  // (HoldBetweenSteps, then ContinueAfterHold) or end the run (InterruptBetweenSteps); returns
+  // the session's result. The live monitor's operator control sets it.
+  void SetBetweenSteps(std::function<StepResult(Session&)> hook) { between_steps_ = std::move(hook); }
+  // Holds so far (HoldBetweenSteps), for a pacer to restart its ticks after one.
+  long holds() const { return holds_; }
   // Thread- and async-signal-safe.
   void RequestStop() noexcept { stop_requested_.store(true, std::memory_order_relaxed); }
   // The same from the stepping thread, with the reason the stop reports instead of the
@@ -190,7 +224,8 @@ class Session {
   // Interrupted error.
   StepResult InterruptBetweenSteps();
   // Appends `action` (an operator's hold, continue or stop, with its time and origin) to the
-  // sidecar's "operator_actions" of a file-backed run, at once (on the stepping thread).
+  // sidecar's "operator_actions" of a file-backed run (every observer's OnOperatorAction, on
+  // the stepping thread; behind a real-time run's queue once the queue is drained).
   void RecordOperatorAction(const nlohmann::json& action);
 
   const io::RunSpec& spec() const { return spec_; }
@@ -203,6 +238,8 @@ class Session {
   const std::vector<std::unique_ptr<substructures::Substructure>>& substructures() const {
     return subs_;
   }
+  // Which substructure serves which slot through which actuators (slot_map.h).
+  const SlotMap& slot_map() const { return slot_map_; }
   bool has_physical() const { return physical_count_ > 0; }
   // The state SetState() gave (nullptr for a new run).
   const RunState* resume_state() const { return resume_ ? &*resume_ : nullptr; }
@@ -256,6 +293,11 @@ class Session {
   std::vector<substructures::Exchange> exchanges_;  // per actuator of the physical substructures
   // The model slots each substructure serves (its d and r, in its order), and their buffers.
   std::vector<std::vector<int>> slot_of_;
+  SlotMap slot_map_;
+  StepPacer* pacer_ = nullptr;
+  std::function<StepResult(Session&)> between_steps_;
+  long holds_ = 0;
+  bool paced_ = false;  // the pacer has started
   std::vector<double> d_slots_, r_slots_;
 };
 

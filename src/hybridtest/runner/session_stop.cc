@@ -7,15 +7,19 @@
 #include "hybridtest/runner/bench_record.h"
 #include "hybridtest/runner/session.h"
 #include "hybridtest/runner/stop_request.h"
-#include "hybridtest/substructures/physical_substructure.h"
 #include "hybridtest/transfer/safety.h"
 
 namespace hybridtest::runner {
 namespace {
 
-nlohmann::json StopDetails(const std::exception& e) {
-  nlohmann::json stop = {{"message", e.what()}};
-  if (const auto* safety = dynamic_cast<const transfer::SafetyStop*>(&e)) {
+// What stopped the run, by the kind of `error` (the exception being handled, `e`).
+nlohmann::json StopDetails(const std::exception& e, const std::exception_ptr& error) {
+  nlohmann::json stop = {{"message", e.what()}, {"kind", "error"}};
+  if (!error) return stop;
+  try {
+    std::rethrow_exception(error);
+  } catch (const transfer::SafetyStop& s) {
+    const transfer::SafetyStop* safety = &s;
     stop["kind"] = "safety";
     stop["limit"] = safety->limit();
     stop["value"] = safety->value();
@@ -28,14 +32,24 @@ nlohmann::json StopDetails(const std::exception& e) {
                          {"position", h.position}, {"force", h.force}, {"answered", h.answered}});
     }
     stop["history"] = history;
-  } else if (dynamic_cast<const TransferError*>(&e) != nullptr) {
+  } catch (const TransferError&) {
     stop["kind"] = "transfer";
-  } else if (dynamic_cast<const Interrupted*>(&e) != nullptr) {
+  } catch (const Interrupted&) {
     stop["kind"] = "interrupted";
-  } else {
-    stop["kind"] = "error";
+  } catch (...) {
   }
   return stop;
+}
+
+bool IsInterruption(const std::exception_ptr& error) {
+  if (!error) return false;
+  try {
+    std::rethrow_exception(error);
+  } catch (const Interrupted&) {
+    return true;
+  } catch (...) {
+  }
+  return false;
 }
 
 }  // namespace
@@ -65,7 +79,7 @@ StepResult Session::Finish() {
 StepResult Session::Fail(const std::exception& e) {
   error_ = std::current_exception();
   for (auto& s : subs_) s->Hold();
-  const bool interrupted = dynamic_cast<const Interrupted*>(&e) != nullptr;
+  const bool interrupted = IsInterruption(error_);
   result_ = {interrupted ? SessionStatus::kHeld : SessionStatus::kStopped, e.what()};
   // A state computed but not committed (its own trial failed) is recorded without forces.
   if (scheme_ && scheme_->uncommitted() != nullptr) {
@@ -84,13 +98,14 @@ StepResult Session::Fail(const std::exception& e) {
   StopEvent event{result_.status, e.what(), ToJson(stats_)};
   event.statistics["initial_stiffness"] = stiffness_record_;
   event.statistics["benches"] = BenchRecords(subs_, spec_);
-  event.statistics["stop"] = StopDetails(e);
+  event.statistics["stop"] = StopDetails(e, error_);
   // How many commands each in-process bench had received: a resume tells it, so that a test
   // fault that stopped the run does not fire again.
   nlohmann::json received = nlohmann::json::array();
   for (const auto& s : subs_) {
-    const auto* p = dynamic_cast<const substructures::PhysicalSubstructure*>(s.get());
-    const auto count = p != nullptr ? p->transfer().commands_received() : std::nullopt;
+    const transfer::TransferSystem* t = s->transfer_system();
+    const auto count = t != nullptr && s->num_actuators() == 1 ? t->commands_received()
+                                                                : std::nullopt;
     received.push_back(count ? nlohmann::json(*count) : nlohmann::json(nullptr));
   }
   event.statistics["stop"]["commands_received"] = received;

@@ -89,4 +89,51 @@ MultiActuatorSubstructure::ResumeCheck MultiActuatorSubstructure::ReimposeCommit
   return check;
 }
 
+nlohmann::json MultiActuatorSubstructure::ReimposeForResume(const ResumeRequest& request) {
+  // Every actuator walked back from where it is and re-imposed together; every position and
+  // force checked. One record per actuator, named like its channels.
+  const ResumeCheck check = ReimposeCommitted(request.force_tolerance,
+                                              request.position_tolerance, request.step,
+                                              request.on_move);
+  nlohmann::json out = nlohmann::json::array();
+  for (std::size_t k = 0; k < check.actuators.size(); ++k) {
+    const auto& a = check.actuators[k];
+    nlohmann::json c = {{"slot", fmt::format("{}_a{}", request.name, k + 1)},
+                        {"actuator", k + 1},
+                        {"command_m", a.command},
+                        {"committed_force_N", a.committed_force},
+                        {"ramp_moves", check.ramp_moves},
+                        {"position_m", a.position},
+                        {"force_N", a.force},
+                        {"tolerance_N", a.force_tolerance},
+                        {"committed_position_m", a.committed_position},
+                        {"position_tolerance_m", a.position_tolerance}};
+    c["read_position_m"] = a.read_position ? nlohmann::json(*a.read_position) : nullptr;
+    c["read_force_N"] = a.read_force ? nlohmann::json(*a.read_force) : nullptr;
+    out.push_back(c);
+  }
+  return out;
+}
+
+void MultiActuatorSubstructure::MeasureRequestedStiffness(nlohmann::json& entry) {
+  if (k0_ramp_) {
+    const StiffnessMeasurement m = MeasureInitialStiffness(*k0_ramp_);
+    nlohmann::json samples = nlohmann::json::array();
+    for (const auto& [x, f] : m.samples) {
+      samples.push_back({std::vector<double>(x.data(), x.data() + x.size()),
+                         std::vector<double>(f.data(), f.data() + f.size())});
+    }
+    entry.update({{"k0", MatrixJson(m.k0)}, {"source", "measured"},
+                  {"actuator_stiffness_N_per_m", MatrixJson(m.actuator_k)},
+                  {"amplitude_m", m.amplitude}, {"samples_x_m_f_N", samples}});
+  } else if (const auto k0 = initial_stiffness_matrix()) {
+    entry.update({{"k0", MatrixJson(*k0)}, {"source", "configured"}});
+  } else {
+    entry.update({{"k0", nullptr}, {"source", "unknown"}});
+  }
+  // The setup K0 is seen through: a measured K0 is T0ᵀ K_a T0 with T0 = J(0) [m/m].
+  entry["setup"] = {{"kind", setup_->kind()}, {"description", setup_->Describe()},
+                    {"T0", MatrixJson(setup_->linearisation())}};
+}
+
 }  // namespace hybridtest::substructures

@@ -44,6 +44,17 @@ class MultiActuatorSubstructure final : public Substructure {
   Exchange last_exchange() const override { return last_[0]; }
   Exchange actuator_exchange(int k) const override { return last_[static_cast<std::size_t>(k)]; }
   long evaluations() const override { return evaluations_; }
+  const transfer::TransferSystem* transfer_system() const override { return transfer_.get(); }
+  transfer::TransferSystem* transfer_system() override { return transfer_.get(); }
+  std::optional<double> actuator_p0(int k) const override { return setup_->p0()(k); }
+  std::optional<transfer::SafetyLimits> actuator_limits(int k) const override {
+    return gate_.monitor(k).limits();
+  }
+  SiReading ActuatorSi(int k, const transfer::Measurement& m,
+                       const transfer::BenchUnits& units) const override {
+    return {m.position * units.metres_per_length_unit,
+            m.force * units.newtons_per_force_unit - setup_->load_cell_zero()(k)};
+  }
   std::string Describe() const override;
   std::optional<double> initial_stiffness() const override;
   std::optional<Eigen::MatrixXd> initial_stiffness_matrix() const override { return k0_; }
@@ -53,6 +64,10 @@ class MultiActuatorSubstructure final : public Substructure {
   double max_displacement_increment() const override;
   nlohmann::json SaveState() const override;
   void RestoreState(const nlohmann::json& state) override;
+  // K0 (m × m) measured by the ramp, configured or unknown, and the setup it is seen through.
+  void MeasureRequestedStiffness(nlohmann::json& entry) override;
+  // ReimposeCommitted, one record per actuator ("NAME_aK").
+  nlohmann::json ReimposeForResume(const ResumeRequest& request) override;
 
   const ActuatorSetup& setup() const { return *setup_; }
   // Limits per slot (max_displacement [m], max_force [N]), checked on every trial. Throws

@@ -38,6 +38,16 @@ class PhysicalSubstructure final : public Substructure {
   bool is_physical() const override { return true; }
   Exchange last_exchange() const override { return last_; }
   long evaluations() const override { return evaluations_; }
+  const transfer::TransferSystem* transfer_system() const override { return transfer_.get(); }
+  std::optional<double> actuator_p0(int /*k*/) const override { return setup_.p0; }
+  std::optional<transfer::SafetyLimits> actuator_limits(int /*k*/) const override {
+    return gate_.monitor().limits();
+  }
+  SiReading ActuatorSi(int /*k*/, const transfer::Measurement& m,
+                       const transfer::BenchUnits& units) const override {
+    return {setup_.PositionMetres(m.position, units), setup_.ForceNewtons(m.force, units)};
+  }
+  transfer::TransferSystem* transfer_system() override { return transfer_.get(); }
   std::string Describe() const override;
   const transfer::SafetyMonitor& safety() const { return gate_.monitor(); }
   const transfer::TransferSystem& transfer() const { return *transfer_; }
@@ -74,6 +84,11 @@ class PhysicalSubstructure final : public Substructure {
   // "transfer": the in-process bench's state or null (a remote bench keeps its own)}.
   nlohmann::json SaveState() const override;
   void RestoreState(const nlohmann::json& state) override;
+  // The ramp of RequestStiffnessMeasurement, if asked (MeasureInitialStiffness), else K0 as
+  // configured.
+  void MeasureRequestedStiffness(nlohmann::json& entry) override;
+  // ReimposeCommitted, recorded.
+  nlohmann::json ReimposeForResume(const ResumeRequest& request) override;
 
   // What a resume did on this slot (see ReimposeCommitted).
   struct ResumeCheck {

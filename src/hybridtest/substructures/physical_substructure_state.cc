@@ -102,4 +102,32 @@ PhysicalSubstructure::ResumeCheck PhysicalSubstructure::ReimposeCommitted(
   return check;
 }
 
+nlohmann::json PhysicalSubstructure::ReimposeForResume(const ResumeRequest& request) {
+  if (request.commands_at_stop) NoteCommandsBeforeResume(*request.commands_at_stop);
+  const ResumeCheck check = ReimposeCommitted(request.force_tolerance,
+                                              request.position_tolerance, request.step,
+                                              request.on_move);
+  nlohmann::json c = {{"slot", request.name},     {"command_m", check.command},
+                      {"committed_force_N", check.committed_force},
+                      {"ramp_moves", check.ramp_moves}, {"position_m", check.position},
+                      {"force_N", check.force},         {"tolerance_N", check.tolerance},
+                      {"committed_position_m", check.committed_position},
+                      {"position_tolerance_m", check.position_tolerance}};
+  c["read_position_m"] = check.read_position ? nlohmann::json(*check.read_position) : nullptr;
+  c["read_force_N"] = check.read_force ? nlohmann::json(*check.read_force) : nullptr;
+  return nlohmann::json::array({c});
+}
+
+void PhysicalSubstructure::MeasureRequestedStiffness(nlohmann::json& entry) {
+  if (!k0_ramp_) {
+    Substructure::MeasureRequestedStiffness(entry);
+    return;
+  }
+  const StiffnessMeasurement m = MeasureInitialStiffness(*k0_ramp_);
+  nlohmann::json samples = nlohmann::json::array();
+  for (const auto& [d, r] : m.samples) samples.push_back({d, r});
+  entry.update({{"k0", m.k0}, {"source", "measured"}, {"amplitude_m", m.amplitude},
+                {"samples_d_m_r_N", samples}});
+}
+
 }  // namespace hybridtest::substructures

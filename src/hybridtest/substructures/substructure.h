@@ -13,10 +13,13 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <limits>
 #include <optional>
 #include <span>
 #include <string>
+
+#include "hybridtest/transfer/transfer_system.h"
 
 namespace hybridtest::substructures {
 
@@ -62,6 +65,28 @@ class Substructure {
   // (0-based; default: last_exchange()).
   virtual int num_actuators() const { return is_physical() ? 1 : 0; }
   virtual Exchange actuator_exchange(int /*k*/) const { return last_exchange(); }
+  // The transfer system that moves this substructure's num_actuators() actuators (nullptr for a
+  // numerical one): what the runner asks of it through the TransferSystem interface (can it
+  // run paced, its delay, a probe, the commands it received), never its concrete type.
+  virtual const transfer::TransferSystem* transfer_system() const { return nullptr; }
+  virtual transfer::TransferSystem* transfer_system() { return nullptr; }
+  // The zero-force position p0 of actuator k (0-based) [m] and its safety limits (SI), as the
+  // setup and the safety section give them, for the checks against what a bench announces
+  // before anything moves (runner/pre_move_checks.h); nullopt where not known.
+  virtual std::optional<double> actuator_p0(int /*k*/) const { return std::nullopt; }
+  virtual std::optional<transfer::SafetyLimits> actuator_limits(int /*k*/) const {
+    return std::nullopt;
+  }
+  // A reading of actuator k in the bench's units (transfer_system()->bench_units()) as the
+  // setup sees it: position [m] and force [N] after the load-cell zero (`hybridtest probe`).
+  struct SiReading {
+    double position = 0.0;  // [m]
+    double force = 0.0;     // [N]
+  };
+  virtual SiReading ActuatorSi(int /*k*/, const transfer::Measurement& m,
+                               const transfer::BenchUnits& units) const {
+    return {m.position * units.metres_per_length_unit, m.force * units.newtons_per_force_unit};
+  }
   // Number of trials sent to a bench so far (physical substructures only).
   virtual long evaluations() const { return 0; }
   virtual std::string Describe() const = 0;
@@ -85,6 +110,34 @@ class Substructure {
   // not fit. Default: a stateless substructure ({}).
   virtual nlohmann::json SaveState() const { return nlohmann::json::object(); }
   virtual void RestoreState(const nlohmann::json& /*state*/) {}
+
+  // Before the test (after Activate(), before the first trial): measures K0 by the ramp the
+  // config asks for, if it asks, and fills `entry` (the sidecar's initial_stiffness record of
+  // this substructure: k0 and its source, and what the ramp saw). Default: K0 as known
+  // (initial_stiffness_matrix() for several slots), source "law", or null and "unknown".
+  virtual void MeasureRequestedStiffness(nlohmann::json& entry);
+
+  // Resume (runner/session_resume.cc), after RestoreState on an activated substructure: brings
+  // every actuator back to its last committed command and checks position and force (see
+  // PhysicalSubstructure::ReimposeCommitted and MultiActuatorSubstructure::ReimposeCommitted),
+  // within force_tolerance [N] and position_tolerance [m] (≤ 0: the defaults);
+  // `commands_at_stop`: commands the bench had received when the run stopped, if recorded.
+  // `on_move(reimposition)` after every exchange. Returns one sidecar record per actuator,
+  // named after `name` (empty for a numerical substructure). Throws SafetyStop, TransferError.
+  struct ResumeRequest {
+    std::string name;
+    double force_tolerance = 0.0;     // [N]
+    double position_tolerance = 0.0;  // [m]
+    long step = 0;
+    std::optional<long> commands_at_stop;
+    std::function<void(bool reimposition)> on_move;
+  };
+  virtual nlohmann::json ReimposeForResume(const ResumeRequest& /*request*/) {
+    return nlohmann::json::array();
+  }
 };
+
+// A matrix as rows of numbers, for records.
+nlohmann::json MatrixJson(const Eigen::MatrixXd& m);
 
 }  // namespace hybridtest::substructures

@@ -65,6 +65,7 @@ class BenchClient final : public TransferSystem {
   // the server's plant runs on the server's own clock (`hybridtest bench --real-time CONFIG`).
   // A server that settles every move (an emulated bench) makes every tick late.
   void StartPaced(double /*tick*/, const Clock& /*clock*/) override {}
+  bool can_run_paced() const override { return true; }
   void Hold() noexcept override;
   // HOLD → HOLD_ACK, BYE → BYE, close. A no-op when not connected.
   void Deactivate() override;

@@ -73,6 +73,13 @@ class DelayCompensator final : public TransferSystem {
   BenchAnnouncement Announce() const override { return inner_->Announce(); }
   std::optional<long> commands_received() const override { return inner_->commands_received(); }
   void StartPaced(double tick, const Clock& clock) override;
+  bool can_run_paced() const override { return inner_->can_run_paced(); }
+  TransferSystem* served_plant() override { return inner_->served_plant(); }
+  std::optional<double> PhaseDelay(double omega, double tick) const override {
+    return inner_->PhaseDelay(omega, tick);
+  }
+  double compensated_delay() const override { return estimated_delay(); }
+  nlohmann::json CompensationRecord() const override { return ToJson(); }
 
   // a0, a1 [s], a2 [s²] (ats; polynomial: 1, τ, 0).
   const std::array<double, 3>& coefficients() const { return a_; }

@@ -103,6 +103,11 @@ std::complex<double> RtPlant::FrequencyResponse(double omega) const {
   return delay;
 }
 
+std::optional<double> RtPlant::PhaseDelay(double omega, double tick) const {
+  const double hold = config_.kind == PlantKind::kIdeal ? 0.0 : 0.5 * tick;
+  return -std::arg(FrequencyResponse(omega)) / omega + hold;
+}
+
 void RtPlant::StartPaced(double tick, const Clock& clock) {
   if (!(tick > 0.0)) throw ConfigError(fmt::format("rt_plant: tick = {}: expected > 0 s", tick));
   clock_ = &clock;

@@ -84,6 +84,10 @@ class RtPlant final : public TransferSystem {
   BenchAnnouncement Announce() const override;
   std::optional<long> commands_received() const override { return commands_; }
   void StartPaced(double tick, const Clock& clock) override;
+  bool can_run_paced() const override { return true; }
+  TransferSystem* served_plant() override { return this; }
+  // −arg FrequencyResponse(ω)/ω, plus half a tick of hold for the continuous plants. [s]
+  std::optional<double> PhaseDelay(double omega, double tick) const override;
 
   // Static (settled) displacement from p0 for a command displacement u from p0. Unit: [m].
   double SettledDisplacement(double u) const;

@@ -127,6 +127,23 @@ class TransferSystem {
     throw ConfigError(Describe() + ": this transfer system cannot run in real time (paced); "
                       "use `transfer: {type: rt_plant, ...}` or remove the `real_time:` block");
   }
+  // True if StartPaced works (every actuator then runs on the loop's clock). A real-time run
+  // asks before anything moves and refuses a transfer system that cannot (a lab-time bench).
+  virtual bool can_run_paced() const { return false; }
+  // For the delay check of a real-time run (runner/delay_stability.h): the phase delay of the
+  // command → position response at ω [rad/s] in a paced run with step `tick` [s] (a
+  // continuous plant's zero-order hold included), the largest over the actuators. Unit: [s].
+  // nullopt if this transfer system does not know it (a real bench).
+  virtual std::optional<double> PhaseDelay(double /*omega*/, double /*tick*/) const {
+    return std::nullopt;
+  }
+  // The delay a compensator in front of the actuators removes (its current estimate). [s]
+  virtual double compensated_delay() const { return 0.0; }
+  // A compensator's estimates for the sidecar's real_time.compensation; null without one.
+  virtual nlohmann::json CompensationRecord() const { return nullptr; }
+  // The emulated real-time plant a server can serve paced (`hybridtest bench --real-time`):
+  // this transfer system if it is one, the plant behind a compensator; nullptr otherwise.
+  virtual TransferSystem* served_plant() { return nullptr; }
 };
 
 }  // namespace hybridtest::transfer

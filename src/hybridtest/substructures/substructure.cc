@@ -1,0 +1,28 @@
+// See substructure.h: what every substructure does by default.
+#include "hybridtest/substructures/substructure.h"
+
+namespace hybridtest::substructures {
+
+nlohmann::json MatrixJson(const Eigen::MatrixXd& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    nlohmann::json row = nlohmann::json::array();
+    for (Eigen::Index j = 0; j < m.cols(); ++j) row.push_back(m(i, j));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+void Substructure::MeasureRequestedStiffness(nlohmann::json& entry) {
+  if (num_slots() > 1) {
+    const auto k0 = initial_stiffness_matrix();
+    entry.update({{"k0", k0 ? MatrixJson(*k0) : nlohmann::json(nullptr)},
+                  {"source", k0 ? "law" : "unknown"}});
+  } else if (const auto k0 = initial_stiffness()) {
+    entry.update({{"k0", *k0}, {"source", is_physical() ? "configured" : "law"}});
+  } else {
+    entry.update({{"k0", nullptr}, {"source", "unknown"}});
+  }
+}
+
+}  // namespace hybridtest::substructures
