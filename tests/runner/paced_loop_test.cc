@@ -141,9 +141,9 @@ TEST(PacedLoop, ATransferThatCannotRunPacedIsRefusedNamingIt) {
       "force_hard: 2e6, timeout: 1}\n";
   Session session(Spec(Config(loopback, true)));
   VirtualClock clock;
-  PacedLoop loop(session, clock);
+  // Refused when the loop is set up, before anything moves (decision 0016).
   try {
-    loop.Run();
+    PacedLoop loop(session, clock);
     FAIL() << "expected a ConfigError";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("loopback"), std::string::npos) << e.what();
