@@ -116,13 +116,4 @@ ModbusOptions ParseModbusOptions(const YamlInput& in, const YAML::Node& node,
   return o;
 }
 
-std::unique_ptr<TransferSystem> MakeModbusTransfer(const YamlInput& in, const YAML::Node& node,
-                                                   const std::string& kp,
-                                                   const std::optional<std::string>& bench_address,
-                                                   double default_timeout,
-                                                   const SafetyLimits* limits) {
-  return std::make_unique<ModbusTransfer>(
-      ParseModbusOptions(in, node, kp, bench_address, default_timeout, limits));
-}
-
 }  // namespace hybridtest::transfer::modbus
