@@ -45,7 +45,7 @@ CaseResult CaseResultFromJson(const nlohmann::json& j);
 // record; the checks before motion, runner/pre_move_checks.h, are the Session's own; a plan
 // case makes the stability one).
 struct CaseHooks {
-  std::string command_line;  // how the campaign was started
+  std::string command_line{};  // how the campaign was started
   // Merged into each case's provenance, e.g. {"software": {"mpi": "..."}}.
   nlohmann::json provenance = nlohmann::json::object();
 };

@@ -67,7 +67,7 @@ struct SimulationConfig {
   nlohmann::json test = nlohmann::json::object();
   // The files read so far, in the order read: the config itself (when it was loaded from a
   // file), the model file and its `csv:` tables. CompileRunSpec adds the bench and token files.
-  std::vector<RunInput> files;
+  std::vector<RunInput> files{};
 };
 
 // Loads and validates a config file. Throws ConfigError.

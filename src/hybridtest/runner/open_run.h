@@ -32,7 +32,7 @@ namespace hybridtest::runner {
 
 struct OpenRunOptions {
   bool overwrite = false;     // --overwrite: replace an earlier, completed run's files
-  std::string command_line;   // how the run was started, for the provenance
+  std::string command_line{};  // how the run was started, for the provenance
   // Merged into the provenance (RFC 7386 merge patch), e.g. a campaign's MPI library version
   // under "software".
   nlohmann::json provenance = nlohmann::json::object();
@@ -41,7 +41,7 @@ struct OpenRunOptions {
   // (spec.source.inputs, from its run state), and its provenance is the recorded one.
   bool resume = false;
   // The lock, if the caller holds it already (a resume, which locks before reading the run).
-  std::optional<io::RunLock> lock;
+  std::optional<io::RunLock> lock{};
 };
 
 // What an open run holds until it ends: its lock (none for a run in memory). Released, and
