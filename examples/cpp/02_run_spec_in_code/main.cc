@@ -11,7 +11,9 @@
 #include <string>
 #include <utility>
 
+#include <hybridtest/constitutive/linear_spring.h>
 #include <hybridtest/hybridtest.h>
+#include <hybridtest/integrators/catalogue.h>
 #include <hybridtest/transfer/multi_emulated_bench.h>
 
 namespace hb = hybridtest;
