@@ -4,10 +4,9 @@
 #include <fmt/format.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/digest.h"
@@ -40,11 +39,21 @@ InputText ReadInput(const RunInput& input, const RunSpec& spec) {
       throw IoError(fmt::format("{} ({} file): missing or not a regular file", input.path,
                                 input.role));
     }
-    std::ifstream file(input.path, std::ios::binary);
-    out.text.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
-    if (!file.good() && !file.eof()) {
+    // Read whole with stdio (GCC 12 warns -Wnull-dereference inside istreambuf_iterator).
+    std::FILE* file = std::fopen(input.path.c_str(), "rb");
+    if (file == nullptr) {
       throw IoError(fmt::format("{} ({} file): cannot be read: {}", input.path, input.role,
                                 std::strerror(errno)));
+    }
+    char buffer[1 << 16];
+    for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, file)) > 0;) {
+      out.text.append(buffer, n);
+    }
+    const bool failed = std::ferror(file) != 0;
+    std::fclose(file);
+    if (failed) {
+      throw IoError(fmt::format("{} ({} file): cannot be read to its end", input.path,
+                                input.role));
     }
   }
   out.sha256 = Sha256Hex(out.text);
