@@ -15,7 +15,6 @@
 #include "hybridtest/campaign/campaign_run.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/version.h"
-#include "hybridtest/io/run_inputs.h"
 
 namespace hybridtest::app {
 namespace {
@@ -38,23 +37,13 @@ nlohmann::json Software() {
           {"build_type", kBuildType}, {"mpi", campaign::MpiLibraryVersion()}};
 }
 
-// The provenance of a case's run, as `run` and `simulate` record theirs.
-nlohmann::json CaseProvenance(const io::SimulationConfig& cfg, const std::string& csv) {
-  std::error_code ec;
-  const std::filesystem::path output = std::filesystem::absolute(csv, ec);
-  return {{"software", Software()},
-          {"host", Host()},
-          {"command_line", command_line()},
-          {"working_directory", std::filesystem::current_path(ec).string()},
-          {"output", ec ? csv : output.lexically_normal().string()},
-          {"inputs", io::InputTexts(cfg)}};
-}
-
 void ExecuteCampaign(const CampaignCommandOptions& opt) {
   campaign::CampaignOptions options;
   options.out_dir = opt.out;
   options.workers = opt.workers;
-  options.hooks.provenance = &CaseProvenance;
+  // Each case's provenance is the front door's (runner/open_run.h), with the MPI library.
+  options.hooks.command_line = command_line();
+  options.hooks.provenance = {{"software", Software()}};
   std::error_code ec;
   options.provenance = {{"software", Software()}, {"host", Host()},
                         {"command_line", command_line()},

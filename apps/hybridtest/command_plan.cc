@@ -27,6 +27,7 @@ struct PlanCommandOptions {
   double tolerance = 0.01;
   std::string emulate;
   std::string keep;
+  bool overwrite = false;  // with --keep: replace an earlier plan's files in that folder
   int seeds = 3;
   bool quiet = false;
 };
@@ -124,6 +125,11 @@ void ExecutePlan(const PlanCommandOptions& opt) {
     throw ConfigError(fmt::format("--tolerance {}: expected a positive relative error, e.g. "
                                   "0.01 for 1 %", opt.tolerance));
   }
+  if (opt.overwrite && opt.keep.empty()) {
+    throw ConfigError("--overwrite: replaces the files of an earlier plan in the --keep folder; "
+                      "give --keep DIR, or leave --overwrite out (without --keep, plan writes "
+                      "nothing)");
+  }
   // With --emulate, the configured transfer systems are never read: the bench file stands in.
   io::SubstructureOptions substructure_options;
   if (!opt.emulate.empty()) substructure_options.emulate_bench = opt.emulate;
@@ -132,7 +138,9 @@ void ExecutePlan(const PlanCommandOptions& opt) {
   runner::PlanOptions options;
   options.tolerance = opt.tolerance;
   if (!opt.emulate.empty()) options.emulate_bench = opt.emulate;
-  options.work_dir = opt.keep;
+  options.work_dir = opt.keep;  // each run opened through the front door, as `run`'s
+  options.overwrite = opt.overwrite;
+  options.command_line = command_line();
   options.seeds.clear();
   for (int k = 1; k <= opt.seeds; ++k) options.seeds.push_back(static_cast<unsigned long>(k));
   const std::string header =
@@ -208,6 +216,9 @@ void AddPlanCommand(CLI::App& root) {
   cmd->add_option("--keep", opt->keep,
                   "also write every run's files into this folder (without it, plan writes "
                   "nothing: runs are held in memory)");
+  cmd->add_flag("--overwrite", opt->overwrite,
+               "with --keep: replace the files of an earlier plan in that folder (without it, "
+               "plan refuses to write over them)");
   cmd->add_option("--seeds", opt->seeds,
                   "load-cell noise seeds per candidate where the bench has noise (1..N; each "
                   "row reports the worst; default 3)")

@@ -13,13 +13,9 @@
 
 #include "command.h"
 #include "hybridtest/common/error.h"
-#include "hybridtest/common/version.h"
-#include "hybridtest/io/config.h"
-#include "hybridtest/io/run_inputs.h"
 #include "hybridtest/io/run_lock.h"
-#include "hybridtest/io/run_outputs.h"
-#include "hybridtest/io/output_budget.h"
 #include "hybridtest/io/run_spec_yaml.h"
+#include "hybridtest/runner/open_run.h"
 #include "hybridtest/runner/progress.h"
 #include "hybridtest/runner/real_time_run.h"
 #include "hybridtest/runner/resume_plan.h"
@@ -89,21 +85,6 @@ class ProgressObserver final : public runner::SessionObserver {
   runner::Progress progress_;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
-
-// Where a run's record comes from (io::SourceSpec::provenance).
-nlohmann::json Provenance(const io::SimulationConfig& cfg, const std::string& csv) {
-  char host[256] = {};
-  if (::gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
-  std::error_code ec;
-  const std::filesystem::path output = std::filesystem::absolute(csv, ec);
-  return {{"software", {{"name", "hybridtest"}, {"version", kVersion},
-                        {"git", kGitDescribe}, {"build_type", kBuildType}}},
-          {"host", host},
-          {"command_line", command_line()},
-          {"working_directory", std::filesystem::current_path(ec).string()},
-          {"output", ec ? csv : output.lexically_normal().string()},
-          {"inputs", io::InputTexts(cfg)}};
-}
 
 // The loop and the summary, shared by run, simulate and resume.
 void RunAndReport(io::RunSpec spec,
@@ -176,31 +157,15 @@ void RunAndReport(io::RunSpec spec,
 }  // namespace
 
 void ExecuteRun(const RunCommandOptions& options) {
-  const io::SimulationConfig cfg = io::LoadSimulationConfig(options.config);
-  io::RunSpec spec = io::CompileRunSpec(
-      cfg, {options.bench, options.allow_physical,
-            "`simulate` is numerical only: use `hybridtest run` for a hybrid test", std::nullopt});
+  io::RunSpec spec = io::LoadRunSpec(
+      options.config,
+      {options.bench, options.allow_physical,
+       "`simulate` is numerical only: use `hybridtest run` for a hybrid test", std::nullopt});
   if (!options.out.empty()) spec.output.csv_path = options.out;
   spec.output.command = options.command;
-  const std::string& csv = spec.output.csv_path;
-  // One master per run: the lock is taken before any file of the run is looked at or touched.
-  const auto parent = std::filesystem::path(csv).parent_path();
-  if (!parent.empty()) std::filesystem::create_directories(parent);
-  const io::RunLock lock = io::RunLock::Acquire(csv, options.command);
-  // Pre-run check: the journal and stage record must fit on the disk.
-  const bool physical = std::any_of(spec.substructures.begin(), spec.substructures.end(),
-                                    [](const auto& s) { return s.is_physical(); });
-  io::CheckOutputFits(
-      csv, io::EstimateOutputBytes(
-               runner::MaxJournalRows(spec), static_cast<int>(runner::JournalChannels(spec).size()),
-               spec.scheme.config.kind == schemes::SchemeKind::kRungeKutta
-                   ? spec.scheme.tableau.stages()
-                   : 1,
-               physical ? static_cast<int>(runner::StageChannels(spec).size()) : 0));
-  // Results are never destroyed: an earlier run needs --overwrite, an input is never an output.
-  io::CheckRunOutputs(csv, io::RunInputFiles(cfg), options.overwrite);
-  spec.source.inputs = io::RecordRunInputs(cfg, csv);
-  spec.source.provenance = Provenance(cfg, csv);
+  // The front door: lock, output guards, disk budget, input record, provenance.
+  const runner::OpenedRun opened =
+      runner::OpenRun(spec, {.overwrite = options.overwrite, .command_line = command_line()});
   RunAndReport(std::move(spec), {}, nullptr, options.quiet, options.clock,
                options.monitor);
 }
@@ -211,7 +176,7 @@ void ExecuteResume(const ResumeCommandOptions& options) {
                                   options.csv));
   }
   // One master per run: nothing of the run is read before the lock is held.
-  const io::RunLock lock = io::RunLock::Acquire(options.csv, "resume");
+  io::RunLock lock = io::RunLock::Acquire(options.csv, "resume");
   const runner::ResumeRequest request{options.csv, options.after_safety_stop,
                                       options.force_tolerance, options.position_tolerance};
   const runner::ResumePlan plan = runner::PlanResume(request);
@@ -223,6 +188,10 @@ void ExecuteResume(const ResumeCommandOptions& options) {
                "{}\n", options.csv, plan.step, plan.t, plan.state.rows - 1, plan.previous_status);
     std::fflush(stdout);
   }
+  // The front door, with the lock held since before the run was read: output guards, disk
+  // budget for what is still to come, the files the compile read against the run's record.
+  const runner::OpenedRun opened = runner::OpenRun(
+      setup.spec, {.command_line = command_line(), .resume = true, .lock = std::move(lock)});
   RunAndReport(std::move(setup.spec), std::move(setup.options), &plan.state,
                options.quiet, /*clock=*/"", options.monitor);
 }

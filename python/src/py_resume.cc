@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/runner/open_run.h"
 #include "hybridtest/runner/resume_plan.h"
 #include "hybridtest/runner/run_record.h"
 #include "py_session.h"
@@ -22,7 +23,7 @@ void PySession::StartResume(const SessionArguments& args) {
                                   r.csv));
   }
   // One master per run: nothing of the run is read before the lock is held.
-  lock_.emplace(io::RunLock::Acquire(r.csv, "resume"));
+  io::RunLock lock = io::RunLock::Acquire(r.csv, "resume");
   const runner::ResumeRequest request{r.csv, r.after_safety_stop, r.force_tolerance,
                                       r.position_tolerance};
   const runner::ResumePlan plan = runner::PlanResume(request);
@@ -33,6 +34,10 @@ void PySession::StartResume(const SessionArguments& args) {
         RefuseRealTime(spec, "resume()");
         Substitute(spec, args.transfers, args.laws);
       });
+  // The front door, as `hybridtest resume`'s: output guards, disk budget, the files the
+  // compile read against the run's record.
+  opened_.emplace(runner::OpenRun(setup.spec, {.command_line = "python: hybridtest.resume(...)",
+                                               .resume = true, .lock = std::move(lock)}));
   channels_ = runner::JournalChannels(setup.spec);
   session_ = std::make_unique<runner::Session>(std::move(setup.spec), std::move(setup.options));
   session_->SetState(plan.state);

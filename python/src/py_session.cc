@@ -7,11 +7,9 @@
 #include <filesystem>
 
 #include "hybridtest/common/error.h"
-#include "hybridtest/common/version.h"
 #include "hybridtest/io/config.h"
-#include "hybridtest/io/run_inputs.h"
-#include "hybridtest/io/run_outputs.h"
 #include "hybridtest/io/run_spec_yaml.h"
+#include "hybridtest/runner/open_run.h"
 #include "hybridtest/runner/run_record.h"
 
 namespace hybridtest::python {
@@ -60,18 +58,6 @@ int SlotIndex(const io::RunSpec& spec, const std::string& slot, const char* argu
                                 argument, slot, spec.model.name, names));
 }
 
-nlohmann::json Provenance(const io::SimulationConfig& cfg, const std::string& csv,
-                          const std::string& command) {
-  std::error_code ec;
-  const auto output = std::filesystem::absolute(csv, ec);
-  return {{"software", {{"name", "hybridtest"}, {"version", kVersion},
-                        {"git", kGitDescribe}, {"build_type", kBuildType}}},
-          {"command_line", fmt::format("python: hybridtest.{}(...)", command)},
-          {"working_directory", std::filesystem::current_path(ec).string()},
-          {"output", ec ? csv : output.lexically_normal().string()},
-          {"inputs", io::InputTexts(cfg)}};
-}
-
 }  // namespace
 
 // See py_session.h.
@@ -87,6 +73,17 @@ void Substitute(io::RunSpec& spec, const py::dict& transfers, const py::dict& la
     }
     auto driver = std::make_shared<SharedObject>(py::reinterpret_borrow<py::object>(value));
     PyTransfer check(driver, slot);  // the methods and units, before anything is built
+    // A Python transfer system moves one actuator: a specimen on several is refused here,
+    // before anything is built or activated (never after activate() enabled the bench).
+    if (sub.num_actuators() != check.num_actuators()) {
+      throw ConfigError(fmt::format(
+          "transfers[\"{}\"]: {} moves {} actuator, but substructure {} is set up on {} "
+          "actuators (substructures.{}.setup); a Python transfer system serves a specimen on "
+          "one actuator: give it a one-actuator slot, or run this specimen on a configured "
+          "transfer system (emulated, remote, modbus, openfresco)",
+          slot, check.Describe(), check.num_actuators(), sub.slot, sub.num_actuators(),
+          sub.slot));
+    }
     sub.physical->transfer = {"python", [driver, slot] {
                                 return std::make_unique<PyTransfer>(driver, slot);
                               }};
@@ -196,18 +193,13 @@ PySession::PySession(const SessionArguments& args) {
   Substitute(spec, args.transfers, args.laws);
   spec.output.command = args.command;
   spec.output.files = args.out.has_value();
-  if (args.out) {
-    // The command line's guards: the lock first, then nothing is replaced or read back.
-    const std::string& csv = *args.out;
-    spec.output.csv_path = csv;
-    const auto parent = std::filesystem::path(csv).parent_path();
-    if (!parent.empty()) std::filesystem::create_directories(parent);
-    lock_.emplace(io::RunLock::Acquire(csv, args.command));
-    io::CheckRunOutputs(csv, from_dict ? std::vector<std::string>{} : io::RunInputFiles(cfg),
-                        args.overwrite);
-    if (!from_dict) spec.source.inputs = io::RecordRunInputs(cfg, csv);
-    spec.source.provenance = Provenance(cfg, csv, args.command);
-  }
+  if (args.out) spec.output.csv_path = *args.out;
+  // The front door, as the command line's: lock, output guards, disk budget, input record
+  // (what the compile read: a dict config is no file, its model and bench files are),
+  // provenance. Nothing is built or activated before it.
+  opened_.emplace(runner::OpenRun(
+      spec, {.overwrite = args.overwrite,
+             .command_line = fmt::format("python: hybridtest.{}(...)", args.command)}));
   channels_ = runner::JournalChannels(spec);
   session_ = std::make_unique<runner::Session>(std::move(spec));
   session_->AddObserver(recorder_);
@@ -217,7 +209,7 @@ PySession::~PySession() { Close(); }
 
 void PySession::Close() {
   session_.reset();
-  lock_.reset();
+  opened_.reset();
 }
 
 runner::Session& PySession::session() const {

@@ -16,6 +16,7 @@
 #include "bindings.h"
 #include "hybridtest/io/journal.h"
 #include "hybridtest/io/run_lock.h"
+#include "hybridtest/runner/open_run.h"
 #include "hybridtest/runner/session.h"
 #include "py_objects.h"
 
@@ -99,7 +100,7 @@ class PySession {
  private:
   void StartResume(const SessionArguments& args);  // py_resume.cc
   std::string Advance(bool initialize);
-  std::optional<io::RunLock> lock_;
+  std::optional<runner::OpenedRun> opened_;  // the run's lock, from the front door
   std::unique_ptr<runner::Session> session_;
   Recorder recorder_;
   std::vector<std::unique_ptr<PyObserver>> observers_;

@@ -12,7 +12,8 @@
 //   io/run_spec_yaml.h   LoadRunSpec: a run config (YAML) compiled once into an io::RunSpec
 //   io/run_spec.h        RunSpec: everything a run needs, as plain data
 //   runner/session.h     Session: Initialize(), Step(), observers, GetState()/SetState()
-//   runner/queued_observer.h  QueuedObserver: a slow observer on a thread of its own
+//   runner/open_run.h    OpenRun: the front door of a run that writes files (lock, guards,
+//                        disk budget, input record, provenance)
 //   models/catalogue.h   the built-in models; multibody/kane.h the Kane engine
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/units.h"
@@ -21,5 +22,5 @@
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/models/catalogue.h"
 #include "hybridtest/multibody/kane.h"
-#include "hybridtest/runner/queued_observer.h"
+#include "hybridtest/runner/open_run.h"
 #include "hybridtest/runner/session.h"

@@ -1,7 +1,8 @@
 # The out-of-tree consumer, run by CTest with `cmake -P`: installs the current build into a
-# fresh prefix (a copy, no rebuild), configures and builds examples/cpp/01_step_a_session
-# against it with find_package(hybridtest), then runs it on the rotor's dummy test against the
-# installed CLI (compare_final_state.py).
+# fresh prefix (a copy, no rebuild), configures and builds examples/cpp/01_step_a_session and
+# 02_run_spec_in_code against it with find_package(hybridtest), then runs them against the
+# installed CLI: 01 on the rotor's dummy test (compare_final_state.py), 02 against the
+# two-actuator blade of examples/06 (compare_journals.py).
 # -D inputs: BUILD_DIR, SOURCE_DIR, WORK_DIR, GENERATOR, CXX_COMPILER, CXX_LAUNCHER,
 #            CXX_FLAGS, BUILD_TYPE, PYTHON.
 function(run)
@@ -25,4 +26,14 @@ run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/cpp/01_step_a_session -B ${build}
 run(${CMAKE_COMMAND} --build ${build})
 run(${PYTHON} ${CMAKE_CURRENT_LIST_DIR}/compare_final_state.py ${build}/step_a_session
   ${prefix}/bin/hybridtest ${SOURCE_DIR}/examples/rotor/dummy.yaml ${WORK_DIR}/run)
+message("${run_output}")
+set(build02 ${WORK_DIR}/build02)
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/cpp/02_run_spec_in_code -B ${build02}
+  -G ${GENERATOR} -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_BUILD_TYPE=${BUILD_TYPE}
+  -DCMAKE_CXX_COMPILER=${CXX_COMPILER} -DCMAKE_CXX_COMPILER_LAUNCHER=${CXX_LAUNCHER}
+  "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}")
+run(${CMAKE_COMMAND} --build ${build02})
+run(${PYTHON} ${CMAKE_CURRENT_LIST_DIR}/compare_journals.py ${build02}/run_spec_in_code
+  ${prefix}/bin/hybridtest ${SOURCE_DIR}/examples/06_blade_two_actuators/emulated.yaml
+  ${WORK_DIR}/run02)
 message("${run_output}")

@@ -76,22 +76,6 @@ TEST(RunOutputs, AnInputIsRefusedEvenWithOverwrite) {
   fs::current_path(cwd);
 }
 
-TEST(RunOutputs, InputsAreTheConfigAndItsBenchFiles) {
-  const fs::path dir = TempDir("bench_files");
-  const std::string text = R"(model: {name: rotor, blades: 3}
-integrator: {tableau: heun, dt: 0.001}
-duration: 0.01
-substructures:
-  r1:
-    type: physical
-    transfer: {type: emulated, config: bench.yaml}
-)";
-  const SimulationConfig cfg =
-      ParseSimulationConfig(YamlInput::FromText(text, (dir / "c.yaml").string()));
-  EXPECT_EQ(RunInputFiles(cfg),
-            (std::vector<std::string>{(dir / "c.yaml").string(), (dir / "bench.yaml").string()}));
-}
-
 TEST(RunOutputs, DevicesFifosDirectoriesAndSymlinksAreNeverReplaced) {
   const fs::path dir = TempDir("kinds");
   const std::string message = MessageOf("/dev/null", {}, true);
@@ -109,25 +93,6 @@ TEST(RunOutputs, DevicesFifosDirectoriesAndSymlinksAreNeverReplaced) {
   std::ofstream(dir / "k.state.json") << "{}";
   EXPECT_NE(MessageOf((dir / "k.csv").string(), {}, false).find("k.state.json: exists already"),
             std::string::npos);
-}
-
-TEST(RunOutputs, InputsIncludeTheModelFileAndTokenFiles) {
-  const fs::path dir = TempDir("model_token");
-  const std::string text = R"(model: {name: rotor, blades: 3}
-integrator: {tableau: heun, dt: 0.001}
-duration: 0.01
-substructures:
-  r1:
-    type: physical
-    transfer: {type: remote, address: "127.0.0.1:1", token_file: secret/token.txt}
-    safety: defaults
-)";
-  const SimulationConfig cfg =
-      ParseSimulationConfig(YamlInput::FromText(text, (dir / "c.yaml").string()));
-  const auto inputs = RunInputs(cfg);
-  ASSERT_EQ(inputs.size(), 2u);
-  EXPECT_EQ(inputs[1].role, "token");
-  EXPECT_EQ(inputs[1].path, (dir / "secret/token.txt").string());
 }
 
 TEST(RunOutputs, TheRunsLockFileIsNeverAnInput) {

@@ -12,10 +12,8 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/atomic_file.h"
-#include "hybridtest/io/run_inputs.h"
-#include "hybridtest/io/run_lock.h"
-#include "hybridtest/io/run_outputs.h"
 #include "hybridtest/io/run_spec_yaml.h"
+#include "hybridtest/runner/open_run.h"
 #include "hybridtest/runner/plan.h"
 #include "hybridtest/runner/pre_move_checks.h"
 #include "hybridtest/runner/run_record.h"
@@ -123,10 +121,9 @@ void RunSimulation(const Campaign& campaign, const io::SimulationConfig& cfg,
   spec.output.csv_path = csv;
   spec.output.command = CaseCommandName(campaign.command);
   spec.quiet = true;
-  const io::RunLock lock = io::RunLock::Acquire(csv, spec.output.command);
-  io::CheckRunOutputs(csv, io::RunInputFiles(cfg), false);
-  spec.source.inputs = io::RecordRunInputs(cfg, csv);
-  if (hooks.provenance) spec.source.provenance = hooks.provenance(cfg, csv);
+  // The front door, as `run`'s: lock, output guards, disk budget, input record, provenance.
+  const runner::OpenedRun opened = runner::OpenRun(
+      spec, {.command_line = hooks.command_line, .provenance = hooks.provenance});
   runner::Session session(std::move(spec));
   MetricObserver metrics(campaign.metrics, session.spec());
   session.AddObserver(metrics);

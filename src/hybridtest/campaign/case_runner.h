@@ -40,10 +40,14 @@ struct CaseResult {
 nlohmann::json ToJson(const CaseResult& r);
 CaseResult CaseResultFromJson(const nlohmann::json& j);
 
-// What the command line adds around a case: the sidecar's provenance. (The checks made before
-// a run, runner/pre_move_checks.h, are the Session's own; a plan case makes the stability one.)
+// What the command line adds to each case's provenance (the case opens its run through the
+// front door, runner/open_run.h, as `run` does: lock, output guards, disk budget, input
+// record; the checks before motion, runner/pre_move_checks.h, are the Session's own; a plan
+// case makes the stability one).
 struct CaseHooks {
-  std::function<nlohmann::json(const io::SimulationConfig&, const std::string& csv)> provenance;
+  std::string command_line{};  // how the campaign was started
+  // Merged into each case's provenance, e.g. {"software": {"mpi": "..."}}.
+  nlohmann::json provenance = nlohmann::json::object();
 };
 
 std::string CaseDir(const std::string& out_dir, const Campaign& campaign, int index);

@@ -18,7 +18,7 @@ bool StableAt(const Eigen::VectorXd& beta, std::complex<double> lambda, double h
 }  // namespace
 
 Eigen::VectorXd StabilityPolynomial(const ButcherTableau& tableau) {
-  const int s = tableau.stages();
+  const int s = std::max(0, tableau.stages());  // ≥ 0: beta is never empty
   Eigen::VectorXd beta(s + 1);
   beta(0) = 1.0;
   Eigen::VectorXd power = Eigen::VectorXd::Ones(s);  // a^{k−1} 𝟙

@@ -34,7 +34,8 @@ YAML::Node ApplyOverrides(const YamlInput& in, const YAML::Node& node,
 }
 
 // `model: {file: PATH, parameters: {...}}`: a model file, PATH relative to the run config.
-models::BuiltModel ParseModelFileSection(const YamlInput& in, const YAML::Node& node) {
+models::BuiltModel ParseModelFileSection(const YamlInput& in, const YAML::Node& node,
+                                         std::vector<RunInput>* files) {
   in.CheckKeys(node, "model", {"file", "parameters"});
   const std::string file = in.String(node["file"], "model.file", "the path of a model file");
   std::filesystem::path path(file);
@@ -46,17 +47,25 @@ models::BuiltModel ParseModelFileSection(const YamlInput& in, const YAML::Node& 
                                   "the run config", in.Where(node["file"], "model.file"), file,
                                   path.string()));
   }
-  const modelfile::ModelFile model_file = modelfile::LoadModelFile(path.lexically_normal().string());
+  const std::string model_path = path.lexically_normal().string();
+  const modelfile::ModelFile model_file = modelfile::LoadModelFile(model_path);
   models::ParameterSet parameters = model_file.parameters;
   ApplyOverrides(in, node, parameters);
-  return modelfile::BuildModelFile(model_file, parameters);
+  std::vector<std::string> tables;
+  models::BuiltModel built = modelfile::BuildModelFile(model_file, parameters, &tables);
+  if (files != nullptr) {
+    files->push_back({"model", model_path});
+    for (std::string& table : tables) files->push_back({"table", std::move(table)});
+  }
+  return built;
 }
 }  // namespace
 
-models::BuiltModel ParseModel(const YamlInput& in, const YAML::Node& node, int* blades_out) {
+models::BuiltModel ParseModel(const YamlInput& in, const YAML::Node& node, int* blades_out,
+                              std::vector<RunInput>* files) {
   if (node["file"]) {
     if (blades_out != nullptr) *blades_out = 0;
-    return ParseModelFileSection(in, node);
+    return ParseModelFileSection(in, node, files);
   }
   in.CheckKeys(node, "model", {"name", "file", "blades", "parameters"});
   const std::string name =
@@ -246,7 +255,9 @@ SimulationConfig ParseSimulationConfig(const YamlInput& in) {
   in.CheckKeys(root, "", {"model", "initial_state", "integrator", "duration", "output",
                           "substructures", "progress", "resume", "test", "real_time"});
   int blades = 0;
-  models::BuiltModel model = ParseModel(in, in.Mapping(root, "model", "model", true), &blades);
+  std::vector<RunInput> files;
+  models::BuiltModel model =
+      ParseModel(in, in.Mapping(root, "model", "model", true), &blades, &files);
   SimulationConfig cfg{.input = in, .model = std::move(model), .blades = blades, .x0 = {},
                        .tableau = {}, .scheme = {}, .dt = 0.0, .duration = 0.0, .steps = 0, .output_csv = {},
                        .quiet = false, .resume_force_tolerance = std::nullopt,
@@ -347,12 +358,15 @@ SimulationConfig ParseSimulationConfig(const YamlInput& in) {
   }
   const YAML::Node test = in.Mapping(root, "test", "test", false);
   if (test.IsDefined()) cfg.test = TestRecord(in, test, "test");
+  cfg.files = std::move(files);
   return cfg;
 }
 
 SimulationConfig LoadSimulationConfig(const std::string& path) {
-  return ParseSimulationConfig(
-      YamlInput::FromFile(path, "keys such as model:, integrator:, duration:"));
+  SimulationConfig cfg =
+      ParseSimulationConfig(YamlInput::FromFile(path, "keys such as model:, integrator:, duration:"));
+  cfg.files.insert(cfg.files.begin(), RunInput{"config", path});
+  return cfg;
 }
 
 }  // namespace hybridtest::io

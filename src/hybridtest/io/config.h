@@ -31,9 +31,11 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "hybridtest/integrators/butcher_tableau.h"
 #include "hybridtest/common/yaml_input.h"
+#include "hybridtest/io/run_input.h"
 #include "hybridtest/models/catalogue.h"
 #include "hybridtest/schemes/scheme_config.h"
 
@@ -63,15 +65,21 @@ struct SimulationConfig {
   std::optional<double> resume_position_tolerance;
   // test: the operator's record of the test (specimen, operator, notes, any keys), as written.
   nlohmann::json test = nlohmann::json::object();
+  // The files read so far, in the order read: the config itself (when it was loaded from a
+  // file), the model file and its `csv:` tables. CompileRunSpec adds the bench and token files.
+  std::vector<RunInput> files{};
 };
 
 // Loads and validates a config file. Throws ConfigError.
 SimulationConfig LoadSimulationConfig(const std::string& path);
-// Same from text (tests).
+// Same from text (tests, a Python dict, the copy a resumed run's sidecar keeps): `files` then
+// does not name the config (no file was read for it).
 SimulationConfig ParseSimulationConfig(const YamlInput& input);
 
-// The model described by a `model:` section: a built-in name or a model file.
-models::BuiltModel ParseModel(const YamlInput& input, const YAML::Node& model_node, int* blades);
+// The model described by a `model:` section: a built-in name or a model file. If `files` is
+// given, the model file and every `csv:` table it reads are appended to it.
+models::BuiltModel ParseModel(const YamlInput& input, const YAML::Node& model_node, int* blades,
+                              std::vector<RunInput>* files = nullptr);
 
 // The scheme named by `integrator.scheme` and its parameters (not the tableau and dt).
 schemes::SchemeConfig ParseScheme(const YamlInput& input, const YAML::Node& integrator_node);

@@ -155,7 +155,7 @@ substructures::TransferSpec ReadCompensated(const TransferReadContext& c) {
   }
   const std::string ikp = c.kp + ".inner";
   TransferReadContext inner_context{in, c.node["inner"], ikp, c.bench_address, c.reply_timeout,
-                                    c.limits};
+                                    c.limits, c.files_read};
   substructures::TransferSpec inner = ReadTransfer(inner_context);
   auto make = inner.make;
   return {"compensated", [make, k] {

@@ -3,13 +3,13 @@
 
 #include <fmt/format.h>
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/digest.h"
-#include "hybridtest/io/run_outputs.h"
 
 namespace hybridtest::io {
 namespace {
@@ -27,35 +27,64 @@ std::string RelativeToRun(const std::string& path, const std::string& csv_path) 
   return relative.empty() ? absolute.string() : relative.string();
 }
 
-std::string DigestOf(const RunInput& input, const SimulationConfig& cfg) {
-  if (input.role == "token") return "";
-  if (input.role == "config") return Sha256Hex(cfg.input.text());
-  return Sha256OfFile(input.path);
+// The content of one input file: the config's is the text the spec was compiled from.
+InputText ReadInput(const RunInput& input, const RunSpec& spec) {
+  InputText out{input, "", ""};
+  if (input.role == "token") return out;  // a secret: never read, hashed or copied here
+  if (input.role == "config") {
+    out.text = spec.source.config_text;
+  } else {
+    std::error_code ec;
+    if (!fs::is_regular_file(input.path, ec)) {
+      throw IoError(fmt::format("{} ({} file): missing or not a regular file", input.path,
+                                input.role));
+    }
+    // Read whole with stdio (GCC 12 warns -Wnull-dereference inside istreambuf_iterator).
+    std::FILE* file = std::fopen(input.path.c_str(), "rb");
+    if (file == nullptr) {
+      throw IoError(fmt::format("{} ({} file): cannot be read: {}", input.path, input.role,
+                                std::strerror(errno)));
+    }
+    char buffer[1 << 16];
+    for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, file)) > 0;) {
+      out.text.append(buffer, n);
+    }
+    const bool failed = std::ferror(file) != 0;
+    std::fclose(file);
+    if (failed) {
+      throw IoError(fmt::format("{} ({} file): cannot be read to its end", input.path,
+                                input.role));
+    }
+  }
+  out.sha256 = Sha256Hex(out.text);
+  return out;
 }
 
 }  // namespace
 
-nlohmann::json RecordRunInputs(const SimulationConfig& cfg, const std::string& csv_path) {
+std::vector<InputText> ReadInputTexts(const RunSpec& spec) {
+  std::vector<InputText> out;
+  for (const RunInput& input : spec.source.files) out.push_back(ReadInput(input, spec));
+  return out;
+}
+
+nlohmann::json RecordRunInputs(const std::vector<InputText>& inputs, const std::string& csv_path) {
   nlohmann::json record = nlohmann::json::array();
-  for (const RunInput& input : RunInputs(cfg)) {
-    nlohmann::json entry = {{"role", input.role}, {"path", RelativeToRun(input.path, csv_path)}};
-    if (input.role != "token") entry["sha256"] = DigestOf(input, cfg);
+  for (const InputText& input : inputs) {
+    nlohmann::json entry = {{"role", input.file.role},
+                            {"path", RelativeToRun(input.file.path, csv_path)}};
+    if (input.file.role != "token") entry["sha256"] = input.sha256;
     record.push_back(entry);
   }
   return record;
 }
 
-nlohmann::json InputTexts(const SimulationConfig& cfg) {
+nlohmann::json InputTexts(const std::vector<InputText>& inputs) {
   nlohmann::json out = nlohmann::json::array();
-  for (const RunInput& input : RunInputs(cfg)) {
-    if (input.role == "token") continue;  // a secret: never copied
-    std::string text = cfg.input.text();
-    if (input.role != "config") {
-      std::ifstream file(input.path, std::ios::binary);
-      text.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
-    }
-    out.push_back({{"role", input.role}, {"path", input.path}, {"sha256", Sha256Hex(text)},
-                   {"text", text}});
+  for (const InputText& input : inputs) {
+    if (input.file.role == "token") continue;  // a secret: never copied
+    out.push_back({{"role", input.file.role}, {"path", input.file.path},
+                   {"sha256", input.sha256}, {"text", input.text}});
   }
   return out;
 }
@@ -71,13 +100,17 @@ std::string RecordedConfigPath(const nlohmann::json& inputs, const std::string& 
                                 "cannot be resumed", csv_path));
 }
 
-void CheckRunInputs(const nlohmann::json& recorded, const SimulationConfig& cfg,
+void CheckRunInputs(const nlohmann::json& recorded, const RunSpec& spec,
                     const std::string& csv_path) {
-  const std::vector<RunInput> now = RunInputs(cfg);
+  const std::vector<RunInput>& now = spec.source.files;
   std::vector<std::string> problems;
   if (!recorded.is_array() || recorded.size() != now.size()) {
-    problems.push_back(fmt::format("the run read {} files, its config now names {}",
-                                   recorded.is_array() ? recorded.size() : 0, now.size()));
+    std::string names;
+    for (const RunInput& input : now) {
+      names += fmt::format("{}{} ({})", names.empty() ? "" : ", ", input.path, input.role);
+    }
+    problems.push_back(fmt::format("the run read {} files, its config now reads {}: {}",
+                                   recorded.is_array() ? recorded.size() : 0, now.size(), names));
   } else {
     for (std::size_t i = 0; i < now.size(); ++i) {
       const auto& entry = recorded[i];
@@ -90,7 +123,7 @@ void CheckRunInputs(const nlohmann::json& recorded, const SimulationConfig& cfg,
       if (role == "token") continue;
       std::string digest;
       try {
-        digest = DigestOf(now[i], cfg);
+        digest = ReadInput(now[i], spec).sha256;
       } catch (const Error& e) {
         problems.push_back(fmt::format("{} ({} file): missing or unreadable: {}", now[i].path,
                                        role, e.what()));

@@ -24,37 +24,9 @@ std::vector<std::string> RunOutputFiles(const std::string& csv_path) {
   return {csv_path, SidecarPath(csv_path), stages, SidecarPath(stages)};
 }
 
-std::vector<RunInput> RunInputs(const SimulationConfig& cfg) {
-  const fs::path dir = fs::path(cfg.input.path()).parent_path();
-  auto resolve = [&](const YAML::Node& node) {
-    fs::path file = node.as<std::string>();
-    if (file.is_relative()) file = dir / file;
-    return file.string();
-  };
-  auto is_string = [](const YAML::Node& node) { return node && node.IsScalar(); };
-  std::vector<RunInput> inputs{{"config", cfg.input.path()}};
-  const YAML::Node model = cfg.input.root()["model"];
-  if (model && model.IsMap() && is_string(model["file"])) {
-    inputs.push_back({"model", resolve(model["file"])});
-  }
-  const YAML::Node subs = cfg.input.root()["substructures"];
-  if (!subs || !subs.IsMap()) return inputs;
-  // The same rule as MakeSubstructures: a bench or token file is relative to the config.
-  for (const auto& slot : subs) {
-    if (!slot.second.IsMap()) continue;
-    const YAML::Node transfer = slot.second["transfer"];
-    if (!transfer || !transfer.IsMap()) continue;
-    if (is_string(transfer["config"])) inputs.push_back({"bench", resolve(transfer["config"])});
-    if (is_string(transfer["token_file"])) {
-      inputs.push_back({"token", resolve(transfer["token_file"])});
-    }
-  }
-  return inputs;
-}
-
-std::vector<std::string> RunInputFiles(const SimulationConfig& cfg) {
+std::vector<std::string> RunInputFiles(const std::vector<RunInput>& files) {
   std::vector<std::string> paths;
-  for (const RunInput& input : RunInputs(cfg)) paths.push_back(input.path);
+  for (const RunInput& input : files) paths.push_back(input.path);
   return paths;
 }
 

@@ -5,11 +5,12 @@
 // A run writes up to four files: the journal <run>.csv, its sidecar <run>.meta.json, and for
 // a hybrid test the stage record <run>.stages.csv with <run>.stages.meta.json. None of them may
 // already exist unless the operator passes --overwrite; and none may be a file the run reads
-// (its config, the bench files the config names), even with --overwrite.
+// (its config, model file and tables, bench and token files: RunSpec::source.files), even
+// with --overwrite.
 #include <string>
 #include <vector>
 
-#include "hybridtest/io/config.h"
+#include "hybridtest/io/run_input.h"
 
 namespace hybridtest::io {
 
@@ -19,19 +20,8 @@ std::string RunStatePath(const std::string& csv_path);
 // The files a run to csv_path may write, journal first.
 std::vector<std::string> RunOutputFiles(const std::string& csv_path);
 
-// One file a run reads. `role`: "config", "model" (`model: {file: ...}`), "bench" (a
-// `transfer.config` bench file) or "token" (a `token_file`: a secret, never hashed).
-struct RunInput {
-  std::string role;
-  std::string path;  // as the config resolves it (relative to the config's directory)
-};
-
-// The files a run of `cfg` reads, the config first; paths relative to the config's directory
-// resolve from there. Keys that are absent or not strings are skipped (the config's own
-// validation reports them).
-std::vector<RunInput> RunInputs(const SimulationConfig& cfg);
-// Their paths only.
-std::vector<std::string> RunInputFiles(const SimulationConfig& cfg);
+// The paths of `files` (RunSpec::source.files: what the compile read), for CheckRunOutputs.
+std::vector<std::string> RunInputFiles(const std::vector<RunInput>& files);
 
 // True if a and b name the same file: the same path once made absolute and normalized (./,
 // .., symlinks of existing parts), or the same inode.

@@ -3,12 +3,37 @@
 
 #include <fmt/core.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/run_spec_yaml.h"
 
 namespace hybridtest::io {
+
+long StepCount(double duration, double dt, bool whole) {
+  if (!(dt > 0.0) || !(duration > 0.0)) {
+    throw ConfigError(fmt::format("run spec: dt = {} s, duration = {} s: expected a positive "
+                                  "step and duration", dt, duration));
+  }
+  const double ratio = duration / dt;
+  if (!(ratio <= static_cast<double>(kMaxSteps))) {
+    throw ConfigError(fmt::format("run spec: duration {} s with dt = {} s gives {:.3g} steps; at "
+                                  "most {} are allowed: shorten the duration or enlarge dt",
+                                  duration, dt, ratio, kMaxSteps));
+  }
+  const double steps = std::round(ratio);
+  if (steps < 1.0) {
+    throw ConfigError(fmt::format("run spec: duration {} s is shorter than one step of dt = {} s",
+                                  duration, dt));
+  }
+  if (whole && std::abs(steps * dt - duration) > 1e-9 * duration) {
+    throw ConfigError(fmt::format("run spec: duration {} s is not a whole number of steps of dt "
+                                  "= {} s; choose a duration that is a multiple of dt",
+                                  duration, dt));
+  }
+  return static_cast<long>(steps);
+}
 
 void ValidateRunSpec(const RunSpec& spec) {
   const multibody::Model& model = spec.model.model;
@@ -43,6 +68,18 @@ void ValidateRunSpec(const RunSpec& spec) {
                                   "positive step and duration and at least one step",
                                   spec.scheme.dt, spec.scheme.duration, spec.scheme.steps));
   }
+  // A fixed-step run takes exactly `steps` steps: they must span the duration, or the run
+  // would end early (or late) without a word.
+  const long steps = StepCount(spec.scheme.duration, spec.scheme.dt,
+                               !spec.scheme.config.adaptive.enabled);
+  if (spec.scheme.steps != steps) {
+    throw ConfigError(fmt::format(
+        "run spec: scheme.steps = {}, but duration {} s / dt {} s = {} steps; the run would end "
+        "at t = {} s instead of {} s: set scheme.steps = {} (io::StepCount(duration, dt)), or "
+        "change dt or the duration",
+        spec.scheme.steps, spec.scheme.duration, spec.scheme.dt, steps,
+        static_cast<double>(spec.scheme.steps) * spec.scheme.dt, spec.scheme.duration, steps));
+  }
   if (spec.output.files && spec.output.csv_path.empty()) {
     throw ConfigError("run spec: output.files is set but output.csv_path is empty: give the "
                       "journal's path, or set output.files = false for a run in memory");
@@ -51,7 +88,12 @@ void ValidateRunSpec(const RunSpec& spec) {
 
 RunSpec CompileRunSpec(const SimulationConfig& cfg, const SubstructureOptions& options) {
   RunSpec spec(cfg.model);
-  spec.substructures = ParseSubstructureSpecs(cfg, options);
+  // The files read: the config and the model's (read when cfg was loaded), then what the
+  // substructures' readers open.
+  spec.source.files = cfg.files;
+  SubstructureOptions reading = options;
+  reading.files_read = &spec.source.files;
+  spec.substructures = ParseSubstructureSpecs(cfg, reading);
   spec.x0 = cfg.x0;
   spec.scheme = {cfg.scheme, cfg.tableau, cfg.dt, cfg.duration, cfg.steps};
   spec.scheme.dt_where = cfg.input.Where(cfg.input.root()["integrator"]["dt"], "integrator.dt");

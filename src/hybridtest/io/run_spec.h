@@ -19,6 +19,7 @@
 
 #include "hybridtest/integrators/butcher_tableau.h"
 #include "hybridtest/io/real_time_spec.h"
+#include "hybridtest/io/run_input.h"
 #include "hybridtest/models/catalogue.h"
 #include "hybridtest/schemes/scheme_config.h"
 #include "hybridtest/substructures/substructure_spec.h"
@@ -30,7 +31,9 @@ struct SchemeSpec {
   integrators::ButcherTableau tableau;  // runge-kutta only
   double dt = 0.0;                      // step (the first step of an adaptive scheme) [s]
   double duration = 0.0;                // simulated time [s]
-  long steps = 0;                       // round(duration / dt)
+  // round(duration / dt), io::StepCount: a fixed-step run takes exactly this many steps, so
+  // ValidateRunSpec refuses any other value (a spec filled in code would end early or late).
+  long steps = 0;
   // Where dt was given, for messages ("file:line: integrator.dt" from a config file).
   std::string dt_where = "integrator.dt";
 };
@@ -57,14 +60,20 @@ struct SourceSpec {
   std::string config_text;   // its verbatim text
   std::string name;          // the config's stem: default output results/<name>.csv
   int blades = 0;            // rotor only
-  // The files the run reads, [{role, path (relative to the journal's folder), sha256}]
-  // (io/run_inputs.h): recorded in the sidecar and every run state; resume checks them.
+  // Every file the compile read, in the order read, as the readers report it: the config
+  // (when it came from a file), the model file and its `csv:` tables, bench and token files.
+  // A program that fills a spec in code names here the files it read, if any. The front door
+  // (runner/open_run.h) guards the outputs against these and records them.
+  std::vector<RunInput> files;
+  // The record of those files, [{role, path (relative to the journal's folder), sha256}]
+  // (io/run_inputs.h), made by the front door: kept in the sidecar and every run state;
+  // resume checks them.
   nlohmann::json inputs = nlohmann::json::array();
   // The operator's `test:` block (specimen, operator, notes, any keys), as written.
   nlohmann::json test = nlohmann::json::object();
   // Where the record comes from: software (version, git, build type), host, command line,
-  // the resolved output path, every input file verbatim with its sha256. Filled by the
-  // command line; the sidecar keeps it as it is.
+  // the resolved output path, every input file but a token verbatim with its sha256. Filled
+  // by the front door (runner/open_run.h); the sidecar keeps it as it is.
   nlohmann::json provenance = nlohmann::json::object();
 };
 
@@ -82,9 +91,16 @@ struct RunSpec {
   bool quiet = false;  // progress: {quiet: true}
 };
 
+// The number of steps of size dt [s] in duration [s]: round(duration / dt). Throws
+// ConfigError for a non-positive dt or duration, fewer than one or more than kMaxSteps steps,
+// or (when `whole`, the case of a fixed step) a duration that is not a whole number of steps
+// (within 1e-9 of the duration).
+long StepCount(double duration, double dt, bool whole = true);
+
 // Throws ConfigError if the spec cannot make a run: sizes (x0 against the model, one
-// substructure per slot, in slot order), a non-positive step or duration, files without a
-// journal path.
+// substructure per slot, in slot order), a non-positive step or duration, scheme.steps other
+// than StepCount(duration, dt) (a fixed-step duration must be a whole number of steps), files
+// without a journal path.
 void ValidateRunSpec(const RunSpec& spec);
 
 }  // namespace hybridtest::io

@@ -32,11 +32,17 @@ TransferSpec ParseTransfer(const YamlInput& in, const YAML::Node& node, const st
                            const SubstructureOptions& options, double reply_timeout,
                            const transfer::SafetyLimits* limits) {
   if (options.emulate_bench) {  // `plan --emulate`: no real bench, whatever the config names
-    return {"emulated", [bench = transfer::LoadEmulatedBenchConfig(*options.emulate_bench)] {
-              return transfer::MakeEmulatedBench(bench);
-            }};
+    TransferSpec emulated{"emulated", [bench = transfer::LoadEmulatedBenchConfig(
+                                           *options.emulate_bench)] {
+                            return transfer::MakeEmulatedBench(bench);
+                          }};
+    if (options.files_read != nullptr) {
+      options.files_read->push_back({"bench", *options.emulate_bench});
+    }
+    return emulated;
   }
-  return ReadTransfer({in, node, kp, options.bench_address, reply_timeout, limits});
+  return ReadTransfer(
+      {in, node, kp, options.bench_address, reply_timeout, limits, options.files_read});
 }
 
 // A key that only a physical substructure reads, given on a numerical one, is refused: it

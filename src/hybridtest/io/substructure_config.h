@@ -49,6 +49,9 @@ struct SubstructureOptions {
   // If set: every physical slot's transfer system is the in-process emulated bench of this
   // bench config file instead of the configured one (`hybridtest plan --emulate`).
   std::optional<std::string> emulate_bench;
+  // If set, every file the section reads (bench files, token files) is appended here, in the
+  // order read (CompileRunSpec keeps them in RunSpec::source.files).
+  std::vector<RunInput>* files_read = nullptr;
 };
 
 // One spec per slot of cfg.model, in slot order: the section read and checked once (bench

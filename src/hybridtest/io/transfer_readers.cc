@@ -46,6 +46,7 @@ TransferSpec ReadEmulated(const TransferReadContext& c) {
     } else {
       bench = transfer::LoadEmulatedBenchConfig(path);
     }
+    c.NoteRead("bench", path);
   } else if (c.node["bench"] && transfer::IsMultiBench(c.node["bench"])) {
     multi = transfer::ParseMultiBenchConfig(c.node["bench"],
                                             c.in.Where(c.node["bench"], c.kp + ".bench"));
@@ -104,9 +105,10 @@ TransferSpec ReadRemote(const TransferReadContext& c) {
         kp + ".token"), transfer::kTokenEnvironmentVariable));
   }
   if (node["token_file"]) {
-    client.token = transfer::ReadTokenFile(
-        ConfigRelative(c, node["token_file"], "token_file", "the path of a file with the token"),
-        in.Where(node["token_file"], kp + ".token_file"));
+    const std::string path =
+        ConfigRelative(c, node["token_file"], "token_file", "the path of a file with the token");
+    client.token = transfer::ReadTokenFile(path, in.Where(node["token_file"], kp + ".token_file"));
+    c.NoteRead("token", path);
   } else {
     client.token = transfer::TokenFromEnvironment();
   }
@@ -129,6 +131,7 @@ TransferSpec ReadModbus(const TransferReadContext& c) {
 TransferSpec ReadOpenFresco(const TransferReadContext& c) {
   auto client = transfer::openfresco::ParseClientOptions(c.in, c.node, c.kp, c.bench_address,
                                                          c.reply_timeout);
+  if (!client.token_file.empty()) c.NoteRead("token", client.token_file);
   return {"openfresco",
           [client] { return std::make_unique<transfer::openfresco::Client>(client); }};
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "hybridtest/common/yaml_input.h"
+#include "hybridtest/io/run_input.h"
 #include "hybridtest/substructures/substructure_spec.h"
 #include "hybridtest/transfer/safety.h"
 
@@ -23,6 +24,12 @@ struct TransferReadContext {
   std::optional<std::string> bench_address;  // --bench HOST:PORT, if given
   double reply_timeout = 5.0;                // the slot's safety.timeout [s]
   const transfer::SafetyLimits* limits = nullptr;  // the slot's own limits, if it gave them
+  // A reader that opens a file (a bench file, a token file) appends it here, so that the run's
+  // record and its output guards name every file the run read (null: nobody asks).
+  std::vector<RunInput>* files_read = nullptr;
+  void NoteRead(std::string role, std::string path) const {
+    if (files_read != nullptr) files_read->push_back({std::move(role), std::move(path)});
+  }
 };
 
 using TransferReader = std::function<substructures::TransferSpec(const TransferReadContext&)>;

@@ -32,7 +32,7 @@ std::string DimName(const Dim& d) {
     std::string& out = p > 0 ? num : den;
     out += (out.empty() ? "" : "·") + std::string(kBase[k]) + power(std::abs(p));
   }
-  if (num.empty()) num = "1";
+  if (num.empty()) num.push_back('1');  // (not `= "1"`: GCC 12 warns -Wrestrict there)
   return den.empty() ? num : num + "/" + den;
 }
 

@@ -36,6 +36,8 @@ struct FileContext {
   mutable std::string first_general;
   // The frames and points as read, for velocity() in loads (kinematics_mirror.h).
   std::shared_ptr<Mirror> mirror = std::make_shared<Mirror>();
+  // If set, every `csv:` table read is appended here (its path), for the run's record.
+  std::vector<std::string>* tables_read = nullptr;
 
   // "file:line: key_path".
   std::string Where(const YAML::Node& node, const std::string& key_path) const {

@@ -122,7 +122,8 @@ ModelFile LoadModelFile(const std::string& path) {
       path, "keys such as name:, parameters:, coordinates:, frames:, points:, particles:"));
 }
 
-models::BuiltModel BuildModelFile(const ModelFile& file, const models::ParameterSet& parameters) {
+models::BuiltModel BuildModelFile(const ModelFile& file, const models::ParameterSet& parameters,
+                                  std::vector<std::string>* tables_read) {
   const YamlInput& in = file.input;
   const YAML::Node& root = in.root();
   std::vector<multibody::QuantityInfo> coordinates = ReadQuantities(in, root, "coordinates");
@@ -138,6 +139,7 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
                                   coordinates.size()));
   }
   internal::FileContext c{in, {}, {}, {}, nullptr, static_cast<int>(coordinates.size()), {}, {}};
+  c.tables_read = tables_read;
   for (const YAML::Node& s : internal::ListItems(in, root["slots"], "slots")) {
     if (s.IsMap() && s["name"] && s["name"].IsScalar()) c.slot_names.push_back(s["name"].Scalar());
   }

@@ -24,6 +24,7 @@
 // the resolved parameters. Every error is a ConfigError naming file:line, the key path, the
 // offending token and the fix.
 #include <string>
+#include <vector>
 
 #include "hybridtest/common/yaml_input.h"
 #include "hybridtest/models/catalogue.h"
@@ -41,7 +42,10 @@ struct ModelFile {
 ModelFile LoadModelFile(const std::string& path);
 ModelFile ParseModelFile(YamlInput input);
 
-// Builds the model with `parameters` (the file's, possibly overridden). Throws ConfigError.
-models::BuiltModel BuildModelFile(const ModelFile& file, const models::ParameterSet& parameters);
+// Builds the model with `parameters` (the file's, possibly overridden). If `tables_read` is
+// given, the path of every `csv:` table the build reads is appended to it (a run records
+// every file it read). Throws ConfigError.
+models::BuiltModel BuildModelFile(const ModelFile& file, const models::ParameterSet& parameters,
+                                  std::vector<std::string>* tables_read = nullptr);
 
 }  // namespace hybridtest::modelfile

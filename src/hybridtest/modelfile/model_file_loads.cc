@@ -66,6 +66,7 @@ std::vector<std::vector<double>> ReadCsv(const FileContext& c, const YAML::Node&
     throw ConfigError(fmt::format("{} = '{}': cannot read {}; give a CSV file next to the model "
                                   "file", c.Where(node, kp), name, path.string()));
   }
+  if (c.tables_read != nullptr) c.tables_read->push_back(path.lexically_normal().string());
   std::vector<std::vector<double>> rows;
   std::string line;
   std::size_t bytes = 0;

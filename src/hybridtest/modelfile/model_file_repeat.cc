@@ -78,7 +78,9 @@ std::vector<YAML::Node> ListItems(const YamlInput& in, const YAML::Node& node,
     if (!items.IsDefined() || !items.IsSequence()) {
       in.ThrowValue(item["items"], kp + ".items", "the list of elements to repeat");
     }
-    for (const auto& v : repeat.begin()->second) {
+    // The values, held here: a range over a member of the temporary iterator would dangle.
+    const YAML::Node values = repeat.begin()->second;
+    for (const auto& v : values) {
       if (!v.IsScalar()) in.ThrowValue(v, kp + ".repeat." + var, "a list of values (numbers or names)");
       // A fresh copy of the items per value, parsed again from the file's text so that every
       // copy keeps the file's line numbers (YAML::Clone loses them).

@@ -40,8 +40,12 @@ void ExportCsvWithUnits(const io::RunData& run, const std::string& path, const P
   std::vector<double> factor;
   for (int c = 0; c < run.num_channels(); ++c) {
     const std::string recorded = run.Unit(run.channels[static_cast<std::size_t>(c)].name);
-    names += (c ? "," : "") + Field(run.channels[static_cast<std::size_t>(c)].name);
-    unit_row += (c ? "," : "") + Field(units.Label(recorded));
+    if (c > 0) {  // (not `(c ? "," : "") + ...`: GCC 12 warns -Wrestrict there)
+      names.push_back(',');
+      unit_row.push_back(',');
+    }
+    names += Field(run.channels[static_cast<std::size_t>(c)].name);
+    unit_row += Field(units.Label(recorded));
     factor.push_back(units.Factor(recorded));
   }
   std::string text = names + "\n" + unit_row + "\n";

@@ -166,14 +166,14 @@ RthsCriteria ComputeRthsCriteria(const io::RunData& run, const io::RunData& refe
     c.J[5] = PeakError(dm, y1);
   }
   // J6–J9: floors 2 and 3, the run's response against the reference's.
-  for (std::size_t f = 1; f < 3; ++f) {
-    if (c.floor[f].empty()) continue;
-    const Eigen::VectorXd yall = run.Get(c.floor[f]);
+  for (std::size_t k = 1; k < 3; ++k) {
+    if (c.floor[k].empty()) continue;
+    const Eigen::VectorXd yall = run.Get(c.floor[k]);
     std::vector<double> y;
     for (Eigen::Index i : rows) y.push_back(yall[i]);
-    const std::vector<double> yref = Resample(tb, reference.Get(c.floor[f]), tt);
-    c.J[5 + f] = NormalisedRmsError(y, yref);  // J6, J7
-    c.J[7 + f] = PeakError(y, yref);           // J8, J9
+    const std::vector<double> yref = Resample(tb, reference.Get(c.floor[k]), tt);
+    c.J[5 + k] = NormalisedRmsError(y, yref);  // J6, J7
+    c.J[7 + k] = PeakError(y, yref);           // J8, J9
   }
   return c;
 }

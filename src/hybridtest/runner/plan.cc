@@ -13,6 +13,7 @@
 #include "hybridtest/integrators/catalogue.h"
 #include "hybridtest/io/substructure_config.h"
 #include "hybridtest/multibody/kane.h"
+#include "hybridtest/runner/open_run.h"
 #include "hybridtest/runner/run_record.h"
 #include "hybridtest/runner/session.h"
 #include "hybridtest/substructures/numerical_substructure.h"
@@ -86,14 +87,17 @@ io::RunSpec WithScheme(const io::RunSpec& spec, const PlanCandidate& c) {
   return out;
 }
 
-// Runs `spec` in memory (or into work_dir/<name>.csv when a work folder is given); returns
-// the session's result and fills the recorder. Throws the run's error.
-RunStatistics RunInMemory(io::RunSpec spec, const std::string& work_dir, const std::string& name,
+// Runs `spec` in memory (or into work_dir/<name>.csv, through the front door, when a work
+// folder is given); returns the session's result and fills the recorder. Throws the run's error.
+RunStatistics RunInMemory(io::RunSpec spec, const PlanOptions& options, const std::string& name,
                           PlanRecorder& recorder, io::RunData* data) {
+  const std::string& work_dir = options.work_dir;
   spec.output.files = !work_dir.empty();
   spec.output.command = "plan";
   if (spec.output.files) spec.output.csv_path = (fs::path(work_dir) / (name + ".csv")).string();
   spec.quiet = true;
+  const OpenedRun opened =
+      OpenRun(spec, {.overwrite = options.overwrite, .command_line = options.command_line});
   Session session(std::move(spec));
   session.AddObserver(recorder);
   const StepResult r = session.Run();
@@ -105,7 +109,7 @@ RunStatistics RunInMemory(io::RunSpec spec, const std::string& work_dir, const s
 // A candidate run once per seed; the worst of them.
 void RunCandidate(const std::vector<io::RunSpec>& seeded, const PlanCandidate& candidate,
                   const multibody::Model& model, const io::RunData& reference,
-                  int first_physical, const std::string& work_dir, const std::string& name,
+                  int first_physical, const PlanOptions& options, const std::string& name,
                   PlanResult& res) {
   res.ok = true;
   for (std::size_t k = 0; k < seeded.size(); ++k) {
@@ -125,7 +129,7 @@ void RunCandidate(const std::vector<io::RunSpec>& seeded, const PlanCandidate& c
       PlanRecorder recorder(0);  // the first physical slot's exchange
       io::RunData run;
       const RunStatistics stats =
-          RunInMemory(std::move(run_spec), work_dir, run_name, recorder, &run);
+          RunInMemory(std::move(run_spec), options, run_name, recorder, &run);
       res.evaluations = std::max(res.evaluations, stats.physical_evaluations);
       res.lab_time = std::max(res.lab_time, stats.lab_time);
       res.wall_time += stats.wall_time;
@@ -300,7 +304,7 @@ std::vector<PlanResult> PlanTest(const io::RunSpec& configured, const PlanOption
   io::RunData reference;
   {
     PlanRecorder recorder(-1);
-    RunInMemory(ref_spec, options.work_dir, "reference", recorder, &reference);
+    RunInMemory(ref_spec, options, "reference", recorder, &reference);
   }
   double p2p = 0.0;
   RelativeError(model, reference, reference, first_physical, &p2p);
@@ -313,7 +317,7 @@ std::vector<PlanResult> PlanTest(const io::RunSpec& configured, const PlanOption
   for (std::size_t i = 0; i < candidates.size(); ++i) {
     PlanResult res;
     res.candidate = candidates[i];
-    RunCandidate(seeded, candidates[i], model, reference, first_physical, options.work_dir,
+    RunCandidate(seeded, candidates[i], model, reference, first_physical, options,
                  fmt::format("candidate-{}", i), res);
     if (options.on_result) options.on_result(i, candidates.size(), res);
     results.push_back(std::move(res));

@@ -75,6 +75,11 @@ struct PlanOptions {
   std::optional<std::string> emulate_bench;  // stand-in bench for non-emulated physical slots
   std::string work_dir;                      // also write every run's files here (empty:
                                              // nothing is written; runs are held in memory)
+  // work_dir: each run is opened through the front door (runner/open_run.h), as `run` opens
+  // one: an earlier plan's files there are replaced only with overwrite; command_line goes
+  // into each run's provenance.
+  bool overwrite = false;
+  std::string command_line;
   std::vector<unsigned long> seeds = {1, 2, 3};  // load-cell noise seeds per candidate
   // Called once after the reference with the limits it exceeds (possibly none).
   std::function<void(const std::vector<PlanWarning>&)> on_warnings;

@@ -138,12 +138,13 @@ ResumePlan PlanResumeChecked(const ResumeRequest& options) {
     throw ConfigError(fmt::format("{}: made by `hybridtest {}`; only run and simulate can be "
                                   "resumed", options.csv, command));
   }
-  // The run's own files, found from the run's directory (never the current one) and checked
-  // against the digests recorded when it started.
+  // The run's own files, found from the run's directory (never the current one); the front
+  // door (open_run.h) checks what the compile read against the digests recorded when it
+  // started. The config is the sidecar's copy, read as the run's config.
   const std::string config_path = io::RecordedConfigPath(state.inputs, options.csv);
   io::SimulationConfig cfg = io::ParseSimulationConfig(YamlInput::FromText(
       sidecar.value("config", ""), config_path, "keys such as model:, integrator:, duration:"));
-  io::CheckRunInputs(state.inputs, cfg, options.csv);
+  cfg.files.insert(cfg.files.begin(), io::RunInput{"config", config_path});
   ResumePlan plan{.cfg = std::move(cfg), .command = command, .state = std::move(state),
                   .step = 0, .t = 0.0, .previous_status = status, .record = {},
                   .commands_received_at_stop = {}, .notes = {}};

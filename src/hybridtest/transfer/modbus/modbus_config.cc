@@ -85,7 +85,7 @@ ModbusOptions ParseModbusOptions(const YamlInput& in, const YAML::Node& node,
         o.map.units.length_name);
     // A list: one limit per actuator of the map.
     const std::size_t n = std::max<std::size_t>(1, o.maps.size());
-    std::vector<double> limits;
+    std::vector<double> errors;  // [map length unit]
     if (f.IsSequence()) {
       if (f.size() != n) {
         throw ConfigError(fmt::format("{}: {} values for the map's {} actuator{}: give one "
@@ -93,12 +93,12 @@ ModbusOptions ParseModbusOptions(const YamlInput& in, const YAML::Node& node,
                                       in.Where(f, fkp), f.size(), n, n == 1 ? "" : "s"));
       }
       for (std::size_t k = 0; k < n; ++k) {
-        limits.push_back(in.PositiveNumber(f[k], fmt::format("{}[{}]", fkp, k), what));
+        errors.push_back(in.PositiveNumber(f[k], fmt::format("{}[{}]", fkp, k), what));
       }
     } else {
-      limits.push_back(in.PositiveNumber(f, fkp, what));
+      errors.push_back(in.PositiveNumber(f, fkp, what));
     }
-    for (double limit : limits) {
+    for (double limit : errors) {
       if (limit * metres > l.stroke_max - l.stroke_min) {
         throw ConfigError(fmt::format(
             "{}: {} {} is longer than the whole stroke ({} m to {} m), so it "
@@ -108,21 +108,12 @@ ModbusOptions ParseModbusOptions(const YamlInput& in, const YAML::Node& node,
             o.map.units.length_name));
       }
     }
-    o.following_error = limits[0];
-    if (f.IsSequence() && n > 1) o.following_errors = limits;
+    o.following_error = errors[0];
+    if (f.IsSequence() && n > 1) o.following_errors = errors;
   } else {
     o.following_error = l.max_increment / metres;
   }
   return o;
-}
-
-std::unique_ptr<TransferSystem> MakeModbusTransfer(const YamlInput& in, const YAML::Node& node,
-                                                   const std::string& kp,
-                                                   const std::optional<std::string>& bench_address,
-                                                   double default_timeout,
-                                                   const SafetyLimits* limits) {
-  return std::make_unique<ModbusTransfer>(
-      ParseModbusOptions(in, node, kp, bench_address, default_timeout, limits));
 }
 
 }  // namespace hybridtest::transfer::modbus

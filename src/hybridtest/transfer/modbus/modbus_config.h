@@ -45,11 +45,4 @@ ModbusOptions ParseModbusOptions(const YamlInput& in, const YAML::Node& node,
                                  const std::optional<std::string>& bench_address,
                                  double default_timeout, const SafetyLimits* limits = nullptr);
 
-// The transfer system for the section (not connected).
-std::unique_ptr<TransferSystem> MakeModbusTransfer(const YamlInput& in, const YAML::Node& node,
-                                                   const std::string& kp,
-                                                   const std::optional<std::string>& bench_address,
-                                                   double default_timeout,
-                                                   const SafetyLimits* limits = nullptr);
-
 }  // namespace hybridtest::transfer::modbus

@@ -42,6 +42,7 @@ struct ClientOptions {
   BenchUnits units{1e-3, 1.0, "mm", "N"};  // units of the numbers on the wire
   double connect_timeout = 5.0;  // longest wait for the TCP connection. Unit: [s].
   double reply_timeout = 5.0;    // longest wait for any one reply. Unit: [s].
+  std::string token_file;        // the file `token` was read from ("": none); a run records it
 };
 
 class Client final : public TransferSystem {

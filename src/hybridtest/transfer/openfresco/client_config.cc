@@ -119,6 +119,7 @@ ClientOptions ParseClientOptions(const YamlInput& in, const YAML::Node& node,
         in.String(node["token_file"], kp + ".token_file", "the path of a file with the token");
     if (file.is_relative()) file = std::filesystem::path(in.path()).parent_path() / file;
     client.token = ReadTokenFile(file.string(), in.Where(node["token_file"], kp + ".token_file"));
+    client.token_file = file.string();
   } else {
     client.token = TokenFromEnvironment();
   }
