@@ -67,18 +67,29 @@ std::optional<double> ReadLength(const py::object& driver, const char* name,
   return value;
 }
 
-const std::string* g_callback = nullptr;                       // GIL held
+const InCallback* g_callback = nullptr;                        // GIL held
 std::optional<py::error_already_set>* g_kept = nullptr;        // GIL held; never freed
 
 }  // namespace
 
-const std::string* CurrentCallback() { return g_callback; }
+const InCallback* CurrentCallback() { return g_callback; }
 
-InCallback::InCallback(std::string what) : what_(std::move(what)), previous_(g_callback) {
-  g_callback = &what_;
+InCallback::InCallback(const char* method, const std::string& slot, const std::string& unit,
+                       std::optional<double> command)
+    : method_(method), slot_(slot), unit_(unit), command_(command), previous_(g_callback) {
+  g_callback = this;
 }
 
 InCallback::~InCallback() { g_callback = previous_; }
+
+std::string InCallback::Call() const {
+  return command_ ? fmt::format("{}({} {})", method_, *command_, unit_)
+                  : fmt::format("{}()", method_);
+}
+
+std::string InCallback::Describe() const {
+  return fmt::format("the bench driver's {} of slot {}", Call(), slot_);
+}
 
 void KeepForCaller(py::error_already_set error) {
   if (g_kept == nullptr) g_kept = new std::optional<py::error_already_set>();
@@ -148,13 +159,26 @@ PyTransfer::PyTransfer(SharedPy driver, std::string slot, transfer::SafetyLimits
   reply.following_error = following.value_or(transfer::DefaultFollowingError(
       settle, transfer::InBenchUnit(limits.max_increment, metres)));
   settled_ = transfer::SettledReadingCheck({reply});
+  // How a failed check names this driver (built once: Execute stays cheap).
+  reply_source_.unit = units_.length_name;
+  reply_source_.metres_per_unit = metres;
+  reply_source_.answered = [this](std::size_t) {
+    return fmt::format("The Python transfer system of slot {} answered execute({} {})", slot_,
+                       command_now_, units_.length_name);
+  };
+  reply_source_.detail = [this](std::size_t) {
+    return fmt::format(" (force {} {})", force_now_, units_.force_name);
+  };
+  reply_source_.after = "the run holds (hold() is called)";
+  reply_source_.following_key = "the driver's attribute following_error";
+  reply_source_.settle_key = "the driver's attribute settle_tolerance";
   description_ = fmt::format("Python transfer system {} ({}, {})", TypeName(d),
                              units_.length_name, units_.force_name);
 }
 
 void PyTransfer::Call(const char* method, const std::string& what) {
   py::gil_scoped_acquire gil;
-  InCallback inside(fmt::format("the bench driver's {} of slot {}", what, slot_));
+  InCallback inside(method, slot_, units_.length_name);
   try {
     driver_->get().attr(method)();
   } catch (py::error_already_set& e) {
@@ -188,8 +212,7 @@ transfer::Measurement PyTransfer::Execute(double command) {
   transfer::Measurement m;
   std::string problem;
   bool lab_time_given = false;
-  const std::string call = fmt::format("execute({} {})", command, units_.length_name);
-  InCallback inside(fmt::format("the bench driver's {} of slot {}", call, slot_));
+  InCallback inside("execute", slot_, units_.length_name, command);
   const auto started = std::chrono::steady_clock::now();
   try {
     const py::object reply = driver_->get().attr("execute")(command);
@@ -217,7 +240,7 @@ transfer::Measurement PyTransfer::Execute(double command) {
       KeepForCaller(std::move(e));
       throw runner::Interrupted(fmt::format(
           "{} inside the Python transfer system's {} of slot {}: the bench holds; every "
-          "committed step is kept", type, call, slot_));
+          "committed step is kept", type, inside.Call(), slot_));
     }
     problem = "raised " + DescribePythonError(e);
   } catch (const py::cast_error& e) {
@@ -227,7 +250,8 @@ transfer::Measurement PyTransfer::Execute(double command) {
   const double took =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   if (!problem.empty()) {
-    throw TransferError(fmt::format("the Python transfer system's {} {}", call, problem));
+    throw TransferError(fmt::format("the Python transfer system's {} {}", inside.Call(),
+                                    problem));
   }
   // A reply that came after the slot's timeout is not trusted: the bench was not in control
   // of the time (a call that never returns is stopped with Ctrl-C).
@@ -236,7 +260,7 @@ transfer::Measurement PyTransfer::Execute(double command) {
         "the Python transfer system's {} took {:.3f} s, longer than the slot's safety.timeout "
         "{} s (substructures.{}.safety.timeout): its reply is not used and the run holds. Find "
         "out why the bench answers that slowly; if a move really takes that long, raise the "
-        "timeout", call, took, timeout_, slot_));
+        "timeout", inside.Call(), took, timeout_, slot_));
   }
   if (!std::isfinite(m.position) || !std::isfinite(m.force) || !std::isfinite(m.lab_time)) {
     throw TransferError(fmt::format("the Python transfer system's execute({} {}) returned a "
@@ -244,19 +268,9 @@ transfer::Measurement PyTransfer::Execute(double command) {
                                     units_.length_name, m.position, m.force));
   }
   // The same check as a Modbus controller's ack: where it was sent, and not a stale reply.
-  transfer::SettledReadingCheck::Source source;
-  source.unit = units_.length_name;
-  source.metres_per_unit = units_.metres_per_length_unit;
-  source.answered = [&](std::size_t) {
-    return fmt::format("The Python transfer system of slot {} answered {}", slot_, call);
-  };
-  source.detail = [&](std::size_t) {
-    return fmt::format(" (force {} {})", m.force, units_.force_name);
-  };
-  source.after = "the run holds (hold() is called)";
-  source.following_key = "the driver's attribute following_error";
-  source.settle_key = "the driver's attribute settle_tolerance";
-  settled_.Check({&command, 1}, {&m.position, 1}, source);
+  command_now_ = command;
+  force_now_ = m.force;
+  settled_.Check({&command, 1}, {&m.position, 1}, reply_source_);
   if (!lab_time_given) {
     m.lab_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - activated_)
                      .count();
@@ -267,7 +281,7 @@ transfer::Measurement PyTransfer::Execute(double command) {
 void PyTransfer::Hold() noexcept {
   try {
     py::gil_scoped_acquire gil;
-    InCallback inside(fmt::format("the bench driver's hold() of slot {}", slot_));
+    InCallback inside("hold", slot_, units_.length_name);
     try {
       driver_->get().attr("hold")();
     } catch (py::error_already_set& e) {

@@ -49,21 +49,27 @@ namespace hybridtest::python {
 
 namespace py = pybind11;
 
-// Re-entry: the Python callback the run is inside now (GIL held), e.g. "the bench driver's
-// execute(0.0213 m) of slot r1"; nullptr outside any. PySession refuses a call that changes
-// the run (step, run, close, ...) from inside one.
-const std::string* CurrentCallback();
+// Re-entry: the bench driver's call the run is inside now (GIL held); CurrentCallback() is
+// nullptr outside any. PySession refuses a call that changes the run (step, run, close, ...)
+// from inside one, naming it. Cheap: nothing is formatted unless asked.
 class InCallback {  // sets CurrentCallback() for its scope (GIL held)
  public:
-  explicit InCallback(std::string what);
+  InCallback(const char* method, const std::string& slot, const std::string& unit,
+             std::optional<double> command = std::nullopt);
   ~InCallback();
   InCallback(const InCallback&) = delete;
   InCallback& operator=(const InCallback&) = delete;
+  std::string Call() const;      // "execute(0.0213 m)", "hold()"
+  std::string Describe() const;  // "the bench driver's execute(0.0213 m) of slot r1"
 
  private:
-  std::string what_;
-  const std::string* previous_;
+  const char* method_;
+  const std::string& slot_;
+  const std::string& unit_;
+  std::optional<double> command_;
+  const InCallback* previous_;
 };
+const InCallback* CurrentCallback();
 
 // A Python exception raised inside a callback that must reach the Python caller as itself,
 // not as a TransferError around it (KeyboardInterrupt, SystemExit, a refused re-entry): kept
@@ -93,6 +99,8 @@ class PyTransfer final : public transfer::TransferSystem {
   // following error. Throws ConfigError for units it does not know, a missing method or a bad
   // attribute.
   PyTransfer(SharedPy driver, std::string slot, transfer::SafetyLimits limits = {});
+  PyTransfer(const PyTransfer&) = delete;  // reply_source_ refers to this object
+  PyTransfer& operator=(const PyTransfer&) = delete;
   void Activate() override;
   using transfer::TransferSystem::Execute;
   transfer::Measurement Execute(double command) override;
@@ -111,6 +119,9 @@ class PyTransfer final : public transfer::TransferSystem {
   std::optional<double> p0_;  // the driver's `p0` [m]
   double timeout_;            // the slot's safety.timeout [s]
   transfer::SettledReadingCheck settled_;  // following error and stale reply (bench units)
+  transfer::SettledReadingCheck::Source reply_source_;  // how its messages name this driver
+  double command_now_ = 0.0;  // the command being checked (bench units)
+  double force_now_ = 0.0;    // its reply's force (bench units)
   std::chrono::steady_clock::time_point activated_;
 };
 

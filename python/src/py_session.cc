@@ -230,13 +230,13 @@ void PySession::Close() {
 // C++ step is on the stack below it): refused, and the run stops after the step in progress.
 void PySession::RefuseReentry(const char* call) {
   if (!advancing_) return;
-  const std::string* inside = CurrentCallback();
+  const InCallback* inside = CurrentCallback();
   reentry_ = fmt::format(
       "Session.{} called from inside {}: a run's own callbacks may not step, run or close it "
       "(the step in progress would be re-entered: a duplicate row, or a run freed under its "
       "own feet). The run stops, the bench holds and every committed row is kept; to stop a "
       "run from a bench driver or an observer, raise an exception or call request_stop()",
-      call, inside != nullptr ? *inside
+      call, inside != nullptr ? inside->Describe()
                               : std::string("one of the run's own Python callbacks (a bench "
                                             "driver, a law or an observer)"));
   session_->RequestStop();  // should the callback swallow the error
