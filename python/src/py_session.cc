@@ -238,7 +238,8 @@ void PySession::RefuseReentry(const char* call) {
       "run from a bench driver or an observer, raise an exception or call request_stop()",
       call, inside != nullptr ? inside->Describe()
                               : std::string("one of the run's own Python callbacks (a bench "
-                                            "driver, a law or an observer)"));
+                                            "driver, a law or an observer), or from another "
+                                            "thread while the run steps"));
   session_->RequestStop();  // should the callback swallow the error
   throw Error(*reentry_);
 }
