@@ -8,6 +8,7 @@
 #include "bindings.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/units.h"
+#include "hybridtest/runner/stop_request.h"
 
 namespace hybridtest::python {
 namespace {
@@ -47,7 +48,60 @@ transfer::BenchUnits ReadUnits(const py::object& driver, const std::string& wher
   return units;
 }
 
+// The driver's attribute `name`, a positive length in its unit, or nullopt without one.
+std::optional<double> ReadLength(const py::object& driver, const char* name,
+                                 const std::string& where, const std::string& unit,
+                                 const char* meaning) {
+  if (!py::hasattr(driver, name)) return std::nullopt;
+  const py::object given = driver.attr(name);
+  double value = std::nan("");
+  try {
+    value = given.cast<double>();
+  } catch (const py::cast_error&) {
+  }
+  if (!(value > 0.0) || !std::isfinite(value)) {
+    throw ConfigError(fmt::format("{}: {} = {}: expected a positive number, {} in {} (the "
+                                  "driver's length unit)", where, name,
+                                  std::string(py::repr(given)), meaning, unit));
+  }
+  return value;
+}
+
+const InCallback* g_callback = nullptr;                        // GIL held
+std::optional<py::error_already_set>* g_kept = nullptr;        // GIL held; never freed
+
 }  // namespace
+
+const InCallback* CurrentCallback() { return g_callback; }
+
+InCallback::InCallback(const char* method, const std::string& slot, const std::string& unit,
+                       std::optional<double> command)
+    : method_(method), slot_(slot), unit_(unit), command_(command), previous_(g_callback) {
+  g_callback = this;
+}
+
+InCallback::~InCallback() { g_callback = previous_; }
+
+std::string InCallback::Call() const {
+  return command_ ? fmt::format("{}({} {})", method_, *command_, unit_)
+                  : fmt::format("{}()", method_);
+}
+
+std::string InCallback::Describe() const {
+  return fmt::format("the bench driver's {} of slot {}", Call(), slot_);
+}
+
+void KeepForCaller(py::error_already_set error) {
+  if (g_kept == nullptr) g_kept = new std::optional<py::error_already_set>();
+  if (!g_kept->has_value()) g_kept->emplace(std::move(error));
+}
+
+std::optional<py::error_already_set> TakeKeptForCaller() {
+  if (g_kept == nullptr || !g_kept->has_value()) return std::nullopt;
+  std::optional<py::error_already_set> out = std::move(*g_kept);
+  g_kept->reset();
+  return out;
+}
 
 SharedObject::SharedObject(py::object object) : object_(std::move(object)) {}
 
@@ -56,8 +110,8 @@ SharedObject::~SharedObject() {
   object_ = py::object();
 }
 
-PyTransfer::PyTransfer(SharedPy driver, std::string slot)
-    : driver_(std::move(driver)), slot_(std::move(slot)) {
+PyTransfer::PyTransfer(SharedPy driver, std::string slot, transfer::SafetyLimits limits)
+    : driver_(std::move(driver)), slot_(std::move(slot)), timeout_(limits.timeout) {
   py::gil_scoped_acquire gil;
   const py::object& d = driver_->get();
   const std::string where = fmt::format("transfers[\"{}\"] ({})", slot_, TypeName(d));
@@ -84,15 +138,57 @@ PyTransfer::PyTransfer(SharedPy driver, std::string slot)
     }
     p0_ = p0 * units_.metres_per_length_unit;
   }
+  // The settled-reply check, in the driver's length unit.
+  const double metres = units_.metres_per_length_unit;
+  const double settle = ReadLength(d, "settle_tolerance", where, units_.length_name,
+                                   "the bench's settling (in-position) window")
+                            .value_or(transfer::InBenchUnit(transfer::kDefaultSettleTolerance,
+                                                            metres));
+  const std::optional<double> following =
+      ReadLength(d, "following_error", where, units_.length_name,
+                 "the largest |command − position| of a settled reply");
+  if (following && *following * metres > limits.stroke_max - limits.stroke_min) {
+    throw ConfigError(fmt::format("{}: following_error = {} {} is longer than the whole stroke "
+                                  "({} m to {} m), so it could never stop anything: give it in "
+                                  "{} (the driver's length unit)", where, *following,
+                                  units_.length_name, limits.stroke_min, limits.stroke_max,
+                                  units_.length_name));
+  }
+  transfer::SettledReadingCheck::Limits reply;
+  reply.settle_tolerance = settle;
+  reply.following_error = following.value_or(transfer::DefaultFollowingError(
+      settle, transfer::InBenchUnit(limits.max_increment, metres)));
+  settled_ = transfer::SettledReadingCheck({reply});
+  // How a failed check names this driver (built once: Execute stays cheap).
+  reply_source_.unit = units_.length_name;
+  reply_source_.metres_per_unit = metres;
+  reply_source_.answered = [this](std::size_t) {
+    return fmt::format("The Python transfer system of slot {} answered execute({} {})", slot_,
+                       command_now_, units_.length_name);
+  };
+  reply_source_.detail = [this](std::size_t) {
+    return fmt::format(" (force {} {})", force_now_, units_.force_name);
+  };
+  reply_source_.after = "the run holds (hold() is called)";
+  reply_source_.following_key = "the driver's attribute following_error";
+  reply_source_.settle_key = "the driver's attribute settle_tolerance";
   description_ = fmt::format("Python transfer system {} ({}, {})", TypeName(d),
                              units_.length_name, units_.force_name);
 }
 
 void PyTransfer::Call(const char* method, const std::string& what) {
   py::gil_scoped_acquire gil;
+  InCallback inside(method, slot_, units_.length_name);
   try {
     driver_->get().attr(method)();
   } catch (py::error_already_set& e) {
+    if (!e.matches(PyExc_Exception)) {
+      // KeyboardInterrupt, SystemExit: the caller gets it as itself; the run holds.
+      const std::string type = DescribePythonError(e);
+      KeepForCaller(std::move(e));
+      throw runner::Interrupted(fmt::format("{} inside the Python transfer system's {} of slot {}",
+                                            type, what, slot_));
+    }
     throw TransferError(fmt::format("the Python transfer system's {} raised {}", what,
                                     DescribePythonError(e)));
   }
@@ -107,6 +203,7 @@ transfer::BenchAnnouncement PyTransfer::Announce() const {
 
 void PyTransfer::Activate() {
   Call("activate", "activate()");
+  settled_.Reset();  // the actuator may have been moved while it was not ours
   activated_ = std::chrono::steady_clock::now();
 }
 
@@ -115,6 +212,8 @@ transfer::Measurement PyTransfer::Execute(double command) {
   transfer::Measurement m;
   std::string problem;
   bool lab_time_given = false;
+  InCallback inside("execute", slot_, units_.length_name, command);
+  const auto started = std::chrono::steady_clock::now();
   try {
     const py::object reply = driver_->get().attr("execute")(command);
     if (!py::isinstance<py::sequence>(reply) || py::isinstance<py::str>(reply)) {
@@ -133,20 +232,45 @@ transfer::Measurement PyTransfer::Execute(double command) {
       }
     }
   } catch (py::error_already_set& e) {
+    if (!e.matches(PyExc_Exception)) {
+      // KeyboardInterrupt (Ctrl-C while the driver runs), SystemExit: not a transfer failure.
+      // The run holds after this step (runner::Interrupted: every committed row is kept) and
+      // PySession raises the exception itself to the caller.
+      const std::string type = DescribePythonError(e);
+      KeepForCaller(std::move(e));
+      throw runner::Interrupted(fmt::format(
+          "{} inside the Python transfer system's {} of slot {}: the bench holds; every "
+          "committed step is kept", type, inside.Call(), slot_));
+    }
     problem = "raised " + DescribePythonError(e);
   } catch (const py::cast_error& e) {
     problem = fmt::format("returned something that is not (position, force[, lab_time]) "
                           "numbers ({})", e.what());
   }
+  const double took =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   if (!problem.empty()) {
-    throw TransferError(fmt::format("the Python transfer system's execute({} {}) {}", command,
-                                    units_.length_name, problem));
+    throw TransferError(fmt::format("the Python transfer system's {} {}", inside.Call(),
+                                    problem));
+  }
+  // A reply that came after the slot's timeout is not trusted: the bench was not in control
+  // of the time (a call that never returns is stopped with Ctrl-C).
+  if (took > timeout_) {
+    throw TransferError(fmt::format(
+        "the Python transfer system's {} took {:.3f} s, longer than the slot's safety.timeout "
+        "{} s (substructures.{}.safety.timeout): its reply is not used and the run holds. Find "
+        "out why the bench answers that slowly; if a move really takes that long, raise the "
+        "timeout", inside.Call(), took, timeout_, slot_));
   }
   if (!std::isfinite(m.position) || !std::isfinite(m.force) || !std::isfinite(m.lab_time)) {
     throw TransferError(fmt::format("the Python transfer system's execute({} {}) returned a "
                                     "value that is not finite (position {}, force {})", command,
                                     units_.length_name, m.position, m.force));
   }
+  // The same check as a Modbus controller's ack: where it was sent, and not a stale reply.
+  command_now_ = command;
+  force_now_ = m.force;
+  settled_.Check({&command, 1}, {&m.position, 1}, reply_source_);
   if (!lab_time_given) {
     m.lab_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - activated_)
                      .count();
@@ -157,6 +281,7 @@ transfer::Measurement PyTransfer::Execute(double command) {
 void PyTransfer::Hold() noexcept {
   try {
     py::gil_scoped_acquire gil;
+    InCallback inside("hold", slot_, units_.length_name);
     try {
       driver_->get().attr("hold")();
     } catch (py::error_already_set& e) {

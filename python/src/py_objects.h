@@ -10,6 +10,19 @@
 //               for a C++ transfer system. An exception raised by the Python code (or a reply
 //               that is not two or three numbers) becomes a TransferError naming the slot and
 //               the command: the run holds.
+//               Like a Modbus controller, a driver reports a settled move: every reply goes
+//               through the same SettledReadingCheck (transfer/safety_settled_reading.h):
+//               |command − position| ≤ following_error, and no stale reply (the previous
+//               position, bit for bit, after a command that moved by more than two settling
+//               windows). The driver may give `settle_tolerance` and `following_error` (its
+//               length unit); defaults 0.05 mm and four settling windows, at most the slot's
+//               safety.max_increment. A violation is a SafetyStop: the run holds.
+//               An execute() that returns after more than the slot's safety.timeout [s] is a
+//               TransferError naming the call and both times (a call that never returns is
+//               stopped with Ctrl-C). KeyboardInterrupt (or another BaseException that is not
+//               an Exception, e.g. SystemExit) raised inside execute() stops the run as a
+//               hold (runner::Interrupted) and reaches the Python caller as itself, untouched
+//               (KeepForCaller below).
 //               A driver that knows its actuator's zero-force position has `p0` (its length
 //               unit): the run then refuses a setup.p0 that disagrees, before anything moves
 //               (runner/pre_move_checks.h).
@@ -28,11 +41,42 @@
 #include <string>
 
 #include "hybridtest/constitutive/restoring_force_law.h"
+#include "hybridtest/transfer/safety.h"
+#include "hybridtest/transfer/safety_settled_reading.h"
 #include "hybridtest/transfer/transfer_system.h"
 
 namespace hybridtest::python {
 
 namespace py = pybind11;
+
+// Re-entry: the bench driver's call the run is inside now (GIL held); CurrentCallback() is
+// nullptr outside any. PySession refuses a call that changes the run (step, run, close, ...)
+// from inside one, naming it. Cheap: nothing is formatted unless asked.
+class InCallback {  // sets CurrentCallback() for its scope (GIL held)
+ public:
+  InCallback(const char* method, const std::string& slot, const std::string& unit,
+             std::optional<double> command = std::nullopt);
+  ~InCallback();
+  InCallback(const InCallback&) = delete;
+  InCallback& operator=(const InCallback&) = delete;
+  std::string Call() const;      // "execute(0.0213 m)", "hold()"
+  std::string Describe() const;  // "the bench driver's execute(0.0213 m) of slot r1"
+
+ private:
+  const char* method_;
+  const std::string& slot_;
+  const std::string& unit_;
+  std::optional<double> command_;
+  const InCallback* previous_;
+};
+const InCallback* CurrentCallback();
+
+// A Python exception raised inside a callback that must reach the Python caller as itself,
+// not as a TransferError around it (KeyboardInterrupt, SystemExit, a refused re-entry): kept
+// here (GIL held) while the C++ run stops, then raised by PySession once the step returns.
+// The first one kept wins.
+void KeepForCaller(py::error_already_set error);
+std::optional<py::error_already_set> TakeKeptForCaller();
 
 // A Python object that may be copied and dropped without the GIL (the last owner takes it).
 class SharedObject {
@@ -50,8 +94,13 @@ using SharedPy = std::shared_ptr<SharedObject>;
 
 class PyTransfer final : public transfer::TransferSystem {
  public:
-  // Reads `units` (GIL held). Throws ConfigError for units it does not know or a missing method.
-  PyTransfer(SharedPy driver, std::string slot);
+  // Reads `units`, `p0`, `settle_tolerance` and `following_error` (GIL held). `limits` are the
+  // slot's (SI): safety.timeout bounds every execute(), max_increment caps the default
+  // following error. Throws ConfigError for units it does not know, a missing method or a bad
+  // attribute.
+  PyTransfer(SharedPy driver, std::string slot, transfer::SafetyLimits limits = {});
+  PyTransfer(const PyTransfer&) = delete;  // reply_source_ refers to this object
+  PyTransfer& operator=(const PyTransfer&) = delete;
   void Activate() override;
   using transfer::TransferSystem::Execute;
   transfer::Measurement Execute(double command) override;
@@ -68,6 +117,11 @@ class PyTransfer final : public transfer::TransferSystem {
   std::string description_;
   transfer::BenchUnits units_;
   std::optional<double> p0_;  // the driver's `p0` [m]
+  double timeout_;            // the slot's safety.timeout [s]
+  transfer::SettledReadingCheck settled_;  // following error and stale reply (bench units)
+  transfer::SettledReadingCheck::Source reply_source_;  // how its messages name this driver
+  double command_now_ = 0.0;  // the command being checked (bench units)
+  double force_now_ = 0.0;    // its reply's force (bench units)
   std::chrono::steady_clock::time_point activated_;
 };
 

@@ -5,6 +5,7 @@
 #include <pybind11/numpy.h>
 
 #include <filesystem>
+#include <utility>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/config.h"
@@ -72,7 +73,8 @@ void Substitute(io::RunSpec& spec, const py::dict& transfers, const py::dict& la
           "safety)", slot, slot, slot));
     }
     auto driver = std::make_shared<SharedObject>(py::reinterpret_borrow<py::object>(value));
-    PyTransfer check(driver, slot);  // the methods and units, before anything is built
+    const transfer::SafetyLimits limits = sub.physical->limits;
+    PyTransfer check(driver, slot, limits);  // the methods and units, before anything is built
     // A Python transfer system moves one actuator: a specimen on several is refused here,
     // before anything is built or activated (never after activate() enabled the bench).
     if (sub.num_actuators() != check.num_actuators()) {
@@ -84,8 +86,8 @@ void Substitute(io::RunSpec& spec, const py::dict& transfers, const py::dict& la
           slot, check.Describe(), check.num_actuators(), sub.slot, sub.num_actuators(),
           sub.slot));
     }
-    sub.physical->transfer = {"python", [driver, slot] {
-                                return std::make_unique<PyTransfer>(driver, slot);
+    sub.physical->transfer = {"python", [driver, slot, limits] {
+                                return std::make_unique<PyTransfer>(driver, slot, limits);
                               }};
   }
   for (const auto& [key, value] : laws) {
@@ -205,11 +207,33 @@ PySession::PySession(const SessionArguments& args) {
   session_->AddObserver(recorder_);
 }
 
-PySession::~PySession() { Close(); }
-
-void PySession::Close() {
+PySession::~PySession() {
   session_.reset();
   opened_.reset();
+}
+
+void PySession::Close() {
+  RefuseReentry("close()");
+  session_.reset();
+  opened_.reset();
+}
+
+// A call that changes the run, made from inside one of the run's own Python callbacks (the
+// C++ step is on the stack below it): refused, and the run stops after the step in progress.
+void PySession::RefuseReentry(const char* call) {
+  if (!advancing_) return;
+  const InCallback* inside = CurrentCallback();
+  reentry_ = fmt::format(
+      "Session.{} called from inside {}: a run's own callbacks may not step, run or close it "
+      "(the step in progress would be re-entered: a duplicate row, or a run freed under its "
+      "own feet). The run stops, the bench holds and every committed row is kept; to stop a "
+      "run from a bench driver or an observer, raise an exception or call request_stop()",
+      call, inside != nullptr ? inside->Describe()
+                              : std::string("one of the run's own Python callbacks (a bench "
+                                            "driver, a law or an observer), or from another "
+                                            "thread while the run steps"));
+  session_->RequestStop();  // should the callback swallow the error
+  throw Error(*reentry_);
 }
 
 runner::Session& PySession::session() const {
@@ -218,6 +242,7 @@ runner::Session& PySession::session() const {
 }
 
 void PySession::AddObserver(py::object observer) {
+  RefuseReentry("add_observer()");
   if (initialized_) {
     throw ConfigError("add_observer(): add observers before initialize(), step() or run()");
   }
@@ -234,18 +259,34 @@ std::string PySession::Advance(bool initialize) {
   runner::Session& s = session();
   runner::StepResult result;
   {
+    advancing_ = true;
+    struct Advancing {  // false again however the step ends
+      bool& flag;
+      ~Advancing() { flag = false; }
+    } advancing{advancing_};
     py::gil_scoped_release release;
     result = initialize ? s.Initialize() : s.Step();
   }
   initialized_ = true;
+  // What a callback raised for the caller (KeyboardInterrupt), or a refused re-entry: raised
+  // as itself, the run already held and stopped.
+  if (std::optional<py::error_already_set> kept = TakeKeptForCaller()) throw std::move(*kept);
+  if (reentry_) throw Error(*std::exchange(reentry_, std::nullopt));
   return runner::StatusName(result.status);
 }
 
-std::string PySession::Initialize() { return Advance(true); }
+std::string PySession::Initialize() {
+  RefuseReentry("initialize()");
+  return Advance(true);
+}
 
-std::string PySession::Step() { return Advance(!initialized_); }
+std::string PySession::Step() {
+  RefuseReentry("step()");
+  return Advance(!initialized_);
+}
 
 std::string PySession::Run() {
+  RefuseReentry("run()");
   runner::Session& s = session();
   if (!initialized_) Advance(true);
   std::optional<py::error_already_set> interrupt;

@@ -7,7 +7,9 @@
 // The C++ loop runs without the GIL (initialize, step, run); Python code (transfer systems,
 // laws, observers) takes it when called. run() checks for Ctrl-C after every step: the run
 // holds after the step in progress, every committed step is kept, and KeyboardInterrupt is
-// raised.
+// raised (also when it arrives inside a bench driver's call: py_objects.h). step(), run(),
+// initialize() and close() called from inside the run's own callbacks are refused
+// (hybridtest.Error): the run stops after the step in progress, every committed row kept.
 #include <memory>
 #include <optional>
 #include <string>
@@ -100,6 +102,10 @@ class PySession {
  private:
   void StartResume(const SessionArguments& args);  // py_resume.cc
   std::string Advance(bool initialize);
+  // Throws hybridtest::Error (and stops the run) if called from inside the run's own step.
+  void RefuseReentry(const char* call);
+  bool advancing_ = false;              // the C++ step is on the stack (GIL released)
+  std::optional<std::string> reentry_;  // a refused re-entry, raised when the step returns
   std::optional<runner::OpenedRun> opened_;  // the run's lock, from the front door
   std::unique_ptr<runner::Session> session_;
   Recorder recorder_;

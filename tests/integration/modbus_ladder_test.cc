@@ -135,9 +135,9 @@ TEST(ModbusLadder, MeasuredPosition50MmOffTheCommandIsAFollowingErrorSafetyStop)
       "following_error",
       fmt::format("run {}/tests/data/faults-modbus.yaml --bench {}", kSource, server.address()));
   EXPECT_EQ(run.status, 3) << run.output;  // a safety stop
-  // The default limit is the slot's max_increment, 5 mm; the message names both positions.
+  // The default limit is four settling windows, 0.2 mm; the message names both positions.
   EXPECT_NE(run.output.find("following_error violated"), std::string::npos) << run.output;
-  EXPECT_NE(run.output.find("> following_error 5 mm"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("> following_error 0.2 mm"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("measured position 7"), std::string::npos) << run.output;  // ~70 mm
   const io::RunData data = io::LoadRun(run.csv);
   EXPECT_EQ(data.num_rows(), 51);

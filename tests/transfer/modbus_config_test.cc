@@ -55,20 +55,25 @@ TEST(ModbusConfig, ErrorsNameTheKeyAndTheFix) {
             std::string::npos);
 }
 
-TEST(ModbusConfig, FollowingErrorDefaultsToTheSlotsMaxIncrementInTheMapsUnits) {
+TEST(ModbusConfig, FollowingErrorDefaultsToFourSettlingWindowsAtMostTheSlotsMaxIncrement) {
   const std::string text = "transfer: {type: modbus, host: h}";
   const YamlInput in = YamlInput::FromText(text, "run.yaml");
   SafetyLimits limits;
   limits.max_increment = 0.002;  // [m]
   EXPECT_DOUBLE_EQ(*ParseModbusOptions(in, in.root()["transfer"], "transfer", {}, 3.0, &limits)
-                        .following_error, 2.0);  // [mm], the default profile's unit
-  // Without the slot's limits: SafetyLimits' default max_increment (5 mm).
-  EXPECT_DOUBLE_EQ(*Parse(text).following_error, 5.0);
+                        .following_error, 0.2);  // [mm]: 4 × 0.05 mm, the default profile's unit
+  // Capped by the slot's max_increment.
+  limits.max_increment = 0.0001;  // [m]
+  EXPECT_DOUBLE_EQ(*ParseModbusOptions(in, in.root()["transfer"], "transfer", {}, 3.0, &limits)
+                        .following_error, 0.1);
+  limits.max_increment = 0.002;
+  // Without the slot's limits: the same 0.2 mm.
+  EXPECT_DOUBLE_EQ(*Parse(text).following_error, 0.2);
   // A map in metres gets it in metres.
   const YamlInput m = YamlInput::FromText(
       "transfer: {type: modbus, host: h, map: {units: {length: m}}}", "run.yaml");
   EXPECT_DOUBLE_EQ(*ParseModbusOptions(m, m.root()["transfer"], "transfer", {}, 3.0, &limits)
-                        .following_error, 0.002);
+                        .following_error, 0.0002);
   // Given: taken as it is, in the map's unit.
   EXPECT_EQ(*Parse("transfer: {type: modbus, host: h, following_error: 0.5}").following_error, 0.5);
 }

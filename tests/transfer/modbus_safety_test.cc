@@ -139,17 +139,17 @@ TEST(ModbusFollowingError, AMeasuredPosition50MmOffTheCommandIsASafetyStop) {
   REQUIRE_PYMODBUS();
   auto server = ModbusServerProcess::Pymodbus({"--fault", "offset@2", "--offset-mm", "50"});
   ModbusTransfer transfer(Options(server));
-  EXPECT_EQ(*transfer.options().following_error, 5.0);  // default: 5 mm, the map's unit
+  EXPECT_EQ(*transfer.options().following_error, 0.2);  // default: 4 × 0.05 mm, the map's unit
   transfer.Activate();
   transfer.Execute(1.0);
   const SafetyStop stop = ExpectSafetyStop([&] { transfer.Execute(1.5); });
   EXPECT_EQ(stop.limit(), "following_error");
   EXPECT_NEAR(stop.value(), 0.050, 1e-12);       // [m]
-  EXPECT_NEAR(stop.limit_value(), 0.005, 1e-12);  // [m]
+  EXPECT_NEAR(stop.limit_value(), 0.0002, 1e-12);  // [m]
   const std::string what = stop.what();
   EXPECT_NE(what.find("command 1.5 mm"), std::string::npos) << what;
   EXPECT_NE(what.find("measured position 51.5 mm"), std::string::npos) << what;
-  EXPECT_NE(what.find("> following_error 5 mm"), std::string::npos) << what;
+  EXPECT_NE(what.find("> following_error 0.2 mm"), std::string::npos) << what;
   EXPECT_NE(what.find("the hold coil was set"), std::string::npos) << what;
   // Held: nothing more moves until the next Activate.
   EXPECT_NE(TransferFailure([&] { transfer.Execute(1.5); }).find("not active"), std::string::npos);
@@ -157,10 +157,12 @@ TEST(ModbusFollowingError, AMeasuredPosition50MmOffTheCommandIsASafetyStop) {
 
 TEST(ModbusFollowingError, TheLimitIsConfigurable) {
   REQUIRE_PYMODBUS();
-  // 4 mm off: within the default 5 mm ...
+  // 4 mm off: within a configured 5 mm ...
   {
     auto server = ModbusServerProcess::Pymodbus({"--fault", "offset@2", "--offset-mm", "4"});
-    ModbusTransfer transfer(Options(server));
+    ModbusOptions o = Options(server);
+    o.following_error = 5.0;
+    ModbusTransfer transfer(o);
     transfer.Activate();
     transfer.Execute(1.0);
     EXPECT_EQ(transfer.Execute(1.5).position, 5.5);

@@ -35,7 +35,9 @@ fault@N (sets the fault bit instead of acking N), exception@N (answers the write
 Modbus exception 4), mute@N (stops answering anything from command N on), holding@N (acks N
 but reports holding from then on, as a controller that holds on its own), disabled@N (acks N
 but clears the enabled bit), offset@N (from N on, the measured position is --offset-mm off the
-position the actuator reached: a following error or a position sensor fault).
+position the actuator reached: a following error or a position sensor fault), stale@N (from N
+on, the controller acknowledges each command before it updates its data: the ack comes with the
+position and force of the previous command).
 
 --log-commands FILE appends one line "SEQUENCE COMMAND_MM" (with " ACTUATOR" when there are
 several) for every command received (before it is checked), so a test can assert the largest step between consecutive commands. A
@@ -81,7 +83,7 @@ except ImportError as error:  # pragma: no cover
     sys.exit(3)
 
 ENABLED, FAULT, HOLDING = 1, 2, 4  # status bits
-KINDS = ("silent", "fault", "exception", "mute", "holding", "disabled", "offset")
+KINDS = ("silent", "fault", "exception", "mute", "holding", "disabled", "offset", "stale")
 
 
 def numbers(text, n, what):
@@ -233,6 +235,10 @@ class Controller(ModbusSlaveContext):
         if faults.get("fault", 0) == n:
             self.status[k] |= FAULT
             self.set_input(self.at.status(k), [self.status[k]])
+            return
+        if faults.get("stale", 0) and n >= faults["stale"]:
+            self.publish(k, sequence)                 # the ack, with the previous data ...
+            self.position[k] = self.move(k, target)   # ... updated after it: read with the next
             return
         self.position[k] = self.move(k, target)
         self.forced_holding[k] |= faults.get("holding", 0) == n

@@ -18,7 +18,7 @@ ModbusOptions ParseModbusOptions(const YamlInput& in, const YAML::Node& node,
                                  double default_timeout, const SafetyLimits* limits) {
   in.CheckKeys(node, kp, {"type", "host", "port", "unit_id", "timeout", "response_timeout",
                           "connect_timeout", "hold_timeout", "poll_interval", "plausibility",
-                          "following_error", "map"});
+                          "settle_tolerance", "following_error", "map"});
   ModbusOptions o;
   if (bench_address && !bench_address->empty()) {
     const HostPort hp = ParseHostPort(*bench_address, "--bench");
@@ -75,9 +75,25 @@ ModbusOptions ParseModbusOptions(const YamlInput& in, const YAML::Node& node,
   std::vector<RegisterMap> maps = ParseActuatorMaps(in, node["map"], kp + ".map");
   o.map = maps.front();
   if (maps.size() > 1) o.maps = std::move(maps);
-  // The following error, in the map's length unit; by default the slot's max_increment.
+  // The controller's settling window and the following error, in the map's length unit; the
+  // following error by default four settling windows, at most the slot's max_increment.
   const SafetyLimits l = limits != nullptr ? *limits : SafetyLimits{};
   const double metres = o.map.units.metres_per_length_unit;
+  o.settle_tolerance = InBenchUnit(kDefaultSettleTolerance, metres);
+  if (const YAML::Node t = node["settle_tolerance"]; t.IsDefined()) {
+    const std::string tkp = kp + ".settle_tolerance";
+    o.settle_tolerance = in.PositiveNumber(
+        t, tkp, fmt::format("the controller's settling (in-position) window, in the map's "
+                            "length unit ({})", o.map.units.length_name));
+    if (*o.settle_tolerance * metres > l.max_increment) {
+      throw ConfigError(fmt::format(
+          "{}: {} {} is wider than the slot's safety.max_increment ({} {}): a controller that "
+          "calls a move settled that far from its target has not settled; give the window in {} "
+          "(the map's length unit), typically 0.01 to 0.1 mm", in.Where(t, tkp),
+          *o.settle_tolerance, o.map.units.length_name, l.max_increment / metres,
+          o.map.units.length_name, o.map.units.length_name));
+    }
+  }
   if (const YAML::Node f = node["following_error"]; f.IsDefined()) {
     const std::string fkp = kp + ".following_error";
     const std::string what = fmt::format(
@@ -111,7 +127,8 @@ ModbusOptions ParseModbusOptions(const YamlInput& in, const YAML::Node& node,
     o.following_error = errors[0];
     if (f.IsSequence() && n > 1) o.following_errors = errors;
   } else {
-    o.following_error = l.max_increment / metres;
+    o.following_error =
+        DefaultFollowingError(*o.settle_tolerance, InBenchUnit(l.max_increment, metres));
   }
   return o;
 }

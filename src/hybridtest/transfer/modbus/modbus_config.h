@@ -14,13 +14,18 @@
 //     poll_interval: 0          # [s] pause between two reads while waiting for the ack
 //     plausibility: {position_tolerance: 1, force: 1e6}   # first exchange, bench units
 //                               #   (default: 1 mm and 1 MN in the map's units)
-//     following_error: 2        # every exchange: largest |command − measured position| once
-//                               #   the ack is in, in the map's length unit (default: the
-//                               #   slot's safety.max_increment; refused if longer than the
-//                               #   stroke). Beyond it: SafetyStop "following_error".
-//                               #   Several actuators: one value for all, or a list of one
-//                               #   per actuator (default 5 mm: a substructure of several
-//                               #   actuators passes no slot limits)
+//     settle_tolerance: 0.05    # the controller's settling (in-position) window, in the
+//                               #   map's length unit (default 0.05 mm; at most the slot's
+//                               #   max_increment). A command that moved by more than two
+//                               #   windows acked with the previous position, bit for bit:
+//                               #   SafetyStop "stale_acknowledgement".
+//     following_error: 0.2      # every exchange: largest |command − measured position| once
+//                               #   the ack is in, in the map's length unit (default: four
+//                               #   settle_tolerance, at most the slot's safety.max_increment;
+//                               #   refused if longer than the stroke). Beyond it: SafetyStop
+//                               #   "following_error". Several actuators: one value for all,
+//                               #   or a list of one per actuator
+//                               #   (transfer/safety_settled_reading.h)
 //     map: {...}                # register map (register_map.h); default profile if absent;
 //                               #   `actuators: n` with `stride:` or `per_actuator:` for a
 //                               #   controller of several actuators (register_map_multi.h)
@@ -38,8 +43,8 @@ namespace hybridtest::transfer::modbus {
 
 // Reads the section at key path `kp`. `bench_address` (--bench HOST:PORT) overrides host and
 // port; `default_timeout` [s] is the ack timeout unless `timeout` is given. `limits` are the
-// slot's safety limits (SI; null: SafetyLimits' defaults): following_error defaults to their
-// max_increment and may not exceed their stroke. Throws ConfigError.
+// slot's safety limits (SI; null: SafetyLimits' defaults): following_error defaults to four
+// settle_tolerance, at most their max_increment, and may not exceed their stroke. Throws ConfigError.
 ModbusOptions ParseModbusOptions(const YamlInput& in, const YAML::Node& node,
                                  const std::string& kp,
                                  const std::optional<std::string>& bench_address,

@@ -169,24 +169,27 @@ void ModbusTransfer::Execute(std::span<const double> commands, std::span<Measure
                          force_unit), false);
       }
     }
-    // 4. Every exchange: the settled actuator must be where it was sent.
-    const double following = std::abs(commands[k] - r[k].position);
-    const double limit =
-        options_.following_errors.empty() ? *options_.following_error : options_.following_errors[k];
-    if (!(following <= limit)) {
-      Hold();
-      const double metres = options_.map.units.metres_per_length_unit;
-      throw SafetyStop(
-          "following_error", following * metres, limit * metres, -1, -1, {},
-          fmt::format("T{} acknowledged command {} {} (sequence {}) but measured position {} {}: "
-                      "|command − position| = {} {} > following_error {} {} ({}). The actuator "
-                      "is not where it was sent (blocked or slipping, a drive that ignores "
-                      "commands, a position sensor fault); {}. To proceed: find the cause at the "
-                      "controller; the limit is transfer.following_error (the map's length unit; "
-                      "default the slot's safety.max_increment)",
-                      Subject(k).substr(1), commands[k], unit, sequence[k], r[k].position, unit,
-                      following, unit, limit, unit, Describe(r[k], k), held));
-    }
+  }
+  // 4. Every exchange: the settled actuator must be where it was sent, and the reading must be
+  // the answer to this command, not the previous one (safety_settled_reading.h).
+  std::vector<double> positions(n);
+  for (std::size_t k = 0; k < n; ++k) positions[k] = r[k].position;
+  SettledReadingCheck::Source source;
+  source.unit = unit;
+  source.metres_per_unit = options_.map.units.metres_per_length_unit;
+  source.answered = [&](std::size_t k) {
+    return fmt::format("T{} acknowledged command {} {} (sequence {})", Subject(k).substr(1),
+                       commands[k], unit, sequence[k]);
+  };
+  source.detail = [&](std::size_t k) { return " (" + Describe(r[k], k) + ")"; };
+  source.after = held;
+  source.following_key = "transfer.following_error";
+  source.settle_key = "transfer.settle_tolerance";
+  try {
+    settled_.Check(commands, positions, source);
+  } catch (const SafetyStop&) {
+    Hold();
+    throw;
   }
   first_exchange_ = false;
   const double lab_time =

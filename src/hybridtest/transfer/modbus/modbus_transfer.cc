@@ -56,8 +56,19 @@ ModbusTransfer::ModbusTransfer(ModbusOptions options)
   if (!options_.force_plausible) {
     options_.force_plausible = 1e6 / o.map.units.newtons_per_force_unit;  // 1 MN
   }
+  const double metres = o.map.units.metres_per_length_unit;
+  if (!options_.settle_tolerance) {
+    options_.settle_tolerance = InBenchUnit(kDefaultSettleTolerance, metres);
+  }
+  if (!(*o.settle_tolerance > 0.0) || !std::isfinite(*o.settle_tolerance)) {
+    throw ConfigError(fmt::format("modbus transfer: settle_tolerance = {} {}: expected a positive "
+                                  "distance in the map's length unit (the controller's "
+                                  "in-position window)", *o.settle_tolerance,
+                                  o.map.units.length_name));
+  }
   if (!options_.following_error) {
-    options_.following_error = SafetyLimits{}.max_increment / o.map.units.metres_per_length_unit;
+    options_.following_error = DefaultFollowingError(
+        *o.settle_tolerance, InBenchUnit(SafetyLimits{}.max_increment, metres));
   }
   if (!(o.poll_interval >= 0.0) || !(*o.position_tolerance > 0.0) || !(*o.force_plausible > 0.0)) {
     throw ConfigError(fmt::format(
@@ -94,6 +105,12 @@ ModbusTransfer::ModbusTransfer(ModbusOptions options)
     }
   }
   ValidateActuatorMaps(o.maps, "modbus transfer: map");
+  std::vector<SettledReadingCheck::Limits> settled;
+  for (std::size_t k = 0; k < o.maps.size(); ++k) {
+    settled.push_back({o.following_errors.empty() ? *o.following_error : o.following_errors[k],
+                       *o.settle_tolerance});
+  }
+  settled_ = SettledReadingCheck(std::move(settled));
   maps_ = o.maps;
   writes_ = CommandWrites(maps_);
   reads_ = ReadoutBlocks(maps_);
@@ -244,6 +261,7 @@ void ModbusTransfer::Activate() {
     lab_time_origin_ = r[0].lab_time;
   }
   first_exchange_ = true;
+  settled_.Reset();  // the actuator may have been moved while it was not ours
   read_failure_.clear();
   active_ = true;
 }

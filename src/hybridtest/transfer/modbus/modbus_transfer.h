@@ -18,12 +18,16 @@
 // one included: a controller that faults, drops the enable or holds on its own mid-run stops
 // the run even if it still acknowledges.
 //
-// Following error: once the ack is in, |command − measured position| must not exceed
-// `following_error` (bench length unit; default: the slot's safety.max_increment, see
-// modbus_config.h). Beyond it Execute() sets the hold coil and throws SafetyStop (limit
-// "following_error", value and limit in [m]) naming the command and the measured position:
-// an actuator that is not where it was sent means the specimen's force belongs to another
-// displacement, and every later increment check starts from a wrong place. When the link itself still works (ack
+// Following error and stale acknowledgement (transfer/safety_settled_reading.h, the check a
+// Python bench driver gets too): once the ack is in, |command − measured position| must not
+// exceed `following_error` (bench length unit; default four settling windows, 4 ×
+// `settle_tolerance`, at most the slot's safety.max_increment, see modbus_config.h), and a
+// command that moved by more than two settling windows must not be acknowledged with the
+// previous exchange's position, bit for bit (a controller that acks before it updates its
+// data). Beyond either Execute() sets the hold coil and throws SafetyStop (limit
+// "following_error" or "stale_acknowledgement", value and limit in [m]) naming the command and
+// the measured position: an actuator that is not where it was sent means the specimen's force
+// belongs to another displacement, and every later increment check starts from a wrong place. When the link itself still works (ack
 // timeout, unexpected ack) it sets the hold coil first. After a communication failure
 // (response timeout, lost connection, garbled answer) the connection is closed: its state is
 // unknown, and the controller must hold when its client goes away. After a Modbus exception,
@@ -71,6 +75,7 @@
 #include "hybridtest/transfer/modbus/register_map.h"
 #include "hybridtest/transfer/modbus/register_map_multi.h"
 #include "hybridtest/transfer/transfer_system.h"
+#include "hybridtest/transfer/safety_settled_reading.h"
 
 struct _modbus;  // libmodbus's context (modbus_t), kept out of this header
 
@@ -93,9 +98,13 @@ struct ModbusOptions {
   // force units. Unset: 1 mm and 1 MN, converted to the map's units.
   std::optional<double> position_tolerance;
   std::optional<double> force_plausible;
+  // The controller's settling (in-position) window: |command − position| below which it
+  // reports a move settled. Unit: bench length unit. Unset: kDefaultSettleTolerance (0.05 mm)
+  // in the map's units.
+  std::optional<double> settle_tolerance;
   // Every exchange: the largest |command − measured position| once the ack is in. Unit: bench
-  // length unit. Unset: 5 mm (SafetyLimits' default max_increment) in the map's units;
-  // ParseModbusOptions sets it from the slot's safety.max_increment.
+  // length unit. Unset: DefaultFollowingError(settle_tolerance, SafetyLimits' max_increment)
+  // (0.2 mm); ParseModbusOptions caps it at the slot's safety.max_increment instead.
   std::optional<double> following_error;
   // Several actuators: one following error each (bench length unit); empty: following_error
   // for every actuator.
@@ -182,6 +191,7 @@ class ModbusTransfer final : public TransferSystem {
   _modbus* ctx_ = nullptr;
   bool active_ = false;              // Activate() done and no Hold() since
   bool first_exchange_ = true;       // the next Execute() is checked for plausibility
+  SettledReadingCheck settled_;      // following error and stale ack, per actuator
   std::vector<std::uint64_t> last_ack_;  // per actuator: the ack before the next command
   double lab_time_origin_ = 0.0;     // bench clock at Activate [s]
   std::chrono::steady_clock::time_point activated_at_{};
