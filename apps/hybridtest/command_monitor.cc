@@ -15,6 +15,7 @@
 #include "command.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/monitor/monitor_server.h"
+#include "hybridtest/transfer/auth.h"
 #include "hybridtest/monitor/run_follower.h"
 #include "hybridtest/transfer/socket.h"
 
