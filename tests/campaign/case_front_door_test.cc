@@ -29,7 +29,7 @@ TEST(CaseFrontDoor, ACaseRecordsEveryFileItReadAndTheCommandLinesProvenance) {
   const fs::path dir = FreshTempDir("case_front_door_record");
   fs::copy(kSource + "/examples/05_turbine_lab", dir / "lab");
   WriteText(dir / "c.yaml", "base: lab/simulation.yaml\ngrid: {duration: [0.02]}\n"
-                            "metrics: [final(q1)]\nfigures: false\n");
+                            "metrics: [final(psi)]\nfigures: false\n");
   const Campaign c = LoadCampaign((dir / "c.yaml").string());
   const std::string out = (dir / "out").string();
   const CaseHooks hooks{.command_line = "hybridtest campaign c.yaml",

@@ -22,17 +22,28 @@ double MonotonicClock::Now() const {
 }
 
 void MonotonicClock::WaitUntil(double t) {
-  // The absolute deadline on CLOCK_MONOTONIC: origin + t.
-  const double whole = std::floor(t);
+  // Sleep to kSpinBeforeDeadline before t, then spin the rest: a sleep wakes up late by the
+  // thread's timer slack (50 µs by default), a spin does not.
+  const double wake = t - kSpinBeforeDeadline;
+  // The absolute wake-up on CLOCK_MONOTONIC: origin + wake.
+  const double whole = std::floor(wake);
   long sec = origin_s_ + static_cast<long>(whole);
-  long nsec = origin_ns_ + static_cast<long>(std::llround((t - whole) * 1e9));
+  long nsec = origin_ns_ + static_cast<long>(std::llround((wake - whole) * 1e9));
   while (nsec >= 1000000000L) {
     nsec -= 1000000000L;
     ++sec;
   }
+  while (nsec < 0) {
+    nsec += 1000000000L;
+    --sec;
+  }
   const timespec deadline{sec, nsec};
   // Restarted after a signal: the deadline is absolute, so nothing drifts.
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &deadline, nullptr) == EINTR) {
+  if (Now() < wake) {
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &deadline, nullptr) == EINTR) {
+    }
+  }
+  while (Now() < t) {
   }
 }
 

@@ -3,7 +3,9 @@
 //
 //   MonotonicClock  the wall clock: CLOCK_MONOTONIC, seconds since the clock was made;
 //                   WaitUntil sleeps to an ABSOLUTE deadline (clock_nanosleep, TIMER_ABSTIME),
-//                   so a late tick never shifts the later ones (no drift).
+//                   so a late tick never shifts the later ones (no drift); it wakes up
+//                   kSpinBeforeDeadline early and spins the rest (a sleep is late by the
+//                   thread's timer slack, a spin is not).
 //   VirtualClock    simulated time: WaitUntil jumps to the deadline at once, no sleeping;
 //                   every run is bit-reproducible (tests, plan, a dry run the day before).
 //
@@ -24,6 +26,9 @@ class Clock {
   virtual bool is_virtual() const = 0;
   virtual std::string name() const = 0;
 };
+
+// How long before a deadline MonotonicClock::WaitUntil stops sleeping and spins. Unit: [s].
+inline constexpr double kSpinBeforeDeadline = 200e-6;
 
 class MonotonicClock final : public Clock {
  public:

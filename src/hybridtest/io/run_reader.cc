@@ -14,8 +14,17 @@
 namespace hybridtest::io {
 namespace {
 
+// LoadRun's errors are IoErrors (the CLI turns them into exit 2 where a user named the file).
+void RequireRunFile(const std::string& path, std::string_view expected) {
+  try {
+    RequireRegularFile(path, "", expected);
+  } catch (const ConfigError& e) {
+    throw IoError(e.what());
+  }
+}
+
 std::string ReadWholeFile(const std::string& path) {
-  RequireRegularFile(path, "", "run journal (the .csv file written by 'hybridtest run')");
+  RequireRunFile(path, "run journal (the .csv file written by 'hybridtest run')");
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     throw IoError(fmt::format("{}: cannot open the run for reading: {}; check the path (a run "
@@ -72,7 +81,7 @@ void AttachChannelInfo(RunData& run) {
 void LoadSidecar(RunData& run) {
   const std::string path = SidecarPath(run.csv_path);
   if (RegularFileProblem(path) == "no such file") return;  // no sidecar: metadata stays null
-  RequireRegularFile(path, "", "run sidecar (.meta.json)");  // a FIFO would block for ever
+  RequireRunFile(path, "run sidecar (.meta.json)");  // a FIFO would block for ever
   std::ifstream in(path, std::ios::binary);
   if (!in) return;  // no sidecar: metadata stays null
   try {

@@ -80,14 +80,8 @@ void PacedLoop::BeforeStep(bool after_hold) {
   // After an operator's hold the ticks start again one step from now.
   if (after_hold) t0_ = clock_.Now() - static_cast<double>(k_ - 1) * tick_;
   const double deadline = t0_ + static_cast<double>(k_) * tick_;
-  if (clock_.is_virtual()) {
-    clock_.WaitUntil(deadline);
-  } else {
-    // Sleep short, spin the rest: a sleep wakes up late by the timer slack.
-    if (clock_.Now() < deadline - kSpin) clock_.WaitUntil(deadline - kSpin);
-    while (clock_.Now() < deadline) {
-    }
-  }
+  // The wall clock sleeps short and spins the rest (common/clock.h).
+  clock_.WaitUntil(deadline);
   const double late = clock_.Now() - deadline;
   // The tick counts before its step: the last step's statistics (AddStatistics, inside the
   // step that finishes the run) include it.

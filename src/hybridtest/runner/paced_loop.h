@@ -8,8 +8,8 @@
 // through the session's slot map), then tick k = 1, 2, … waits for its ABSOLUTE deadline
 // t_0 + k·h (h the scheme's fixed step; never accumulated, so nothing drifts) and the session
 // steps once: one command per actuator per tick, the measurement of that tick read without
-// settling. The wait sleeps until kSpin before the deadline and spins the rest on the wall
-// clock (a sleep wakes late by the timer slack; the spin does not).
+// settling. The wall clock's wait sleeps until shortly before the deadline and spins the
+// rest (MonotonicClock::WaitUntil: a sleep wakes late by the timer slack; the spin does not).
 //
 // An operator's hold between two ticks (the live monitor, through Session::SetBetweenSteps)
 // holds every actuator at once; after Continue the ticks start again one step after it (the
@@ -52,9 +52,6 @@ struct PacedStatistics {
   double late_p50 = 0.0, late_p99 = 0.0, late_max = 0.0;           // [s]
   double compute_p50 = 0.0, compute_p99 = 0.0, compute_max = 0.0;  // [s]
 };
-
-// Sleep until this long before a deadline on the wall clock, then spin. Unit: [s].
-inline constexpr double kSpin = 200e-6;
 
 class PacedLoop final : public SessionObserver, public StepPacer {
  public:
