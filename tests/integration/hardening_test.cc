@@ -116,13 +116,14 @@ TEST(Hardening, CommandLineErrorsExitTwo) {
 // Numeric options refuse NaN, infinities, signs out of range and trailing text (they used to
 // fall back to a default, or `inf` disabled a check), naming the option and the value.
 TEST(Hardening, NumericOptionsAreValidatedNotReplaced) {
+  // An existing regular file as the run: the option, not the path, is what is wrong.
   const std::string config = kSource + "/examples/rotor/numerical.yaml";
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"resume x.csv --force-tolerance nan", "--force-tolerance"},
-      {"resume x.csv --force-tolerance -5", "--force-tolerance"},
-      {"resume x.csv --force-tolerance 0", "--force-tolerance"},
-      {"resume x.csv --force-tolerance inf", "--force-tolerance"},
-      {"resume x.csv --position-tolerance 1mm", "--position-tolerance"},
+      {"resume " + config + " --force-tolerance nan", "--force-tolerance"},
+      {"resume " + config + " --force-tolerance -5", "--force-tolerance"},
+      {"resume " + config + " --force-tolerance 0", "--force-tolerance"},
+      {"resume " + config + " --force-tolerance inf", "--force-tolerance"},
+      {"resume " + config + " --position-tolerance 1mm", "--position-tolerance"},
       {"eom " + config + " --time nan --state 0,0,0,0,0,0,0,0", "--time"},
       {"plan " + config + " --tolerance -0.01", "--tolerance"},
       {"compare " + config + " " + config + " --transient inf", "--transient"},

@@ -121,7 +121,8 @@ TEST(AStateThatCannotLie, EditedStatesAreRefusedAndTheJournalIsUnchanged) {
          s["rows"] = 2;
          s["journal"]["rows"] = 1;
        },
-       true, "does not belong to this journal"},
+       // Refused by the state's own consistency (rows = step + 1) before the journal is read.
+       true, "damaged run state"},
       {"last command + 19 mm",
        [](nlohmann::json& s) {
          auto& last = s["substructures"][0]["state"]["last"];
