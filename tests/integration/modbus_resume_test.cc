@@ -69,7 +69,9 @@ TEST(ModbusResume, ControllerRestartedElsewhereIsRampedBackWithinMaxIncrement) {
   // The resume read where the actuator was and ramped from there.
   const auto check = Sidecar(csv)["resumes"][0]["checks"][0];
   EXPECT_FALSE(check["read_position_m"].is_null()) << "the position was not read: " << check.dump();
-  if (!check["read_position_m"].is_null()) EXPECT_EQ(check["read_position_m"].get<double>(), 0.0);
+  if (!check["read_position_m"].is_null()) {
+    EXPECT_EQ(check["read_position_m"].get<double>(), 0.0);
+  }
   const double committed_mm = check["command_m"].get<double>() * 1e3;
   ASSERT_GT(committed_mm, 10.0 * kMaxIncrementMm) << "the restart should be far from the commit";
   const long ramp_moves = check["ramp_moves"].get<long>();
