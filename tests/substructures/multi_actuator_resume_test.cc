@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "hybridtest/substructures/physical_substructure.h"
-#include "hybridtest/transfer/multi_emulated_bench.h"
+#include "hybridtest/transfer/emulated_bench.h"
 
 namespace hybridtest::substructures {
 namespace {
@@ -20,7 +20,7 @@ const std::string kExample =
 constexpr double kMaxIncrement = 0.005;  // [m], as the example bench's own limit
 
 struct Rig {
-  transfer::MultiEmulatedBench* bench = nullptr;  // owned by specimen
+  transfer::EmulatedBench* bench = nullptr;  // owned by specimen
   std::unique_ptr<PhysicalSubstructure> specimen;
 };
 
@@ -32,8 +32,8 @@ Rig MakeRig(const std::string& bench_file) {
   setup.load_cell_zero = Eigen::Vector2d::Zero();
   transfer::SafetyLimits limits;
   limits.max_increment = kMaxIncrement;
-  auto bench = std::make_unique<transfer::MultiEmulatedBench>(
-      transfer::LoadMultiBenchConfig(kExample + bench_file));
+  auto bench = std::make_unique<transfer::EmulatedBench>(
+      transfer::LoadEmulatedBenchSpec(kExample + bench_file));
   Rig rig;
   rig.bench = bench.get();
   rig.specimen = std::make_unique<PhysicalSubstructure>(

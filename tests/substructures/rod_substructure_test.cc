@@ -12,7 +12,7 @@
 #include "hybridtest/substructures/physical_substructure.h"
 #include "hybridtest/substructures/rod_setup.h"
 #include "hybridtest/substructures/substructure_spec.h"
-#include "hybridtest/transfer/multi_emulated_bench.h"
+#include "hybridtest/transfer/emulated_bench.h"
 
 namespace hybridtest::substructures {
 namespace {
@@ -67,8 +67,8 @@ std::unique_ptr<PhysicalSubstructure> MakeSpecimen(double max_increment = 0.005)
   limits.max_increment = max_increment;
   return std::make_unique<PhysicalSubstructure>(
       "blade1",
-      std::make_unique<transfer::MultiEmulatedBench>(
-          transfer::LoadMultiBenchConfig(kExample + "bench-2act.yaml")),
+      std::make_unique<transfer::EmulatedBench>(
+          transfer::LoadEmulatedBenchSpec(kExample + "bench-2act.yaml")),
       std::make_unique<RodSetup>(ExampleRods()), std::vector{limits, limits});
 }
 

@@ -2,7 +2,7 @@
 // PhysicalSubstructure: a specimen moved by n actuators that serves m slots of the model (one
 // slot on one actuator, a blade tip in flap and edge on two, ...), reached through one
 // TransferSystem of n actuators, seen through a setup (actuator_setup.h) and guarded by one
-// safety gate over the n actuators (transfer/safety_gate_group.h). Every trial:
+// safety gate over the n actuators (transfer/safety_gate.h). Every trial:
 //   1. the slot displacements d (m) [m] are checked against the slot limits, if any
 //      (slot_limits.h), and become actuator commands a = setup(d) (n) [m]:
 //        linear              a = p0 + T d            (one actuator: p0 + sign · scale · d)
@@ -25,7 +25,7 @@
 #include "hybridtest/substructures/setup_transform.h"
 #include "hybridtest/substructures/slot_limits.h"
 #include "hybridtest/substructures/substructure.h"
-#include "hybridtest/transfer/safety_gate_group.h"
+#include "hybridtest/transfer/safety_gate.h"
 
 namespace hybridtest::substructures {
 
@@ -97,7 +97,7 @@ class PhysicalSubstructure final : public Substructure {
   // ConfigError unless each list has one positive value per slot (+inf: none).
   void SetSlotLimits(SlotLimits limits);
   const std::optional<SlotLimits>& slot_limits() const { return slot_limits_; }
-  const transfer::SafetyGateGroup& safety() const { return gate_; }
+  const transfer::SafetyGate& safety() const { return gate_; }
   transfer::TransferSystem& transfer() { return *transfer_; }
   const transfer::TransferSystem& transfer() const { return *transfer_; }
 
@@ -187,7 +187,7 @@ class PhysicalSubstructure final : public Substructure {
   std::string name_;
   std::unique_ptr<transfer::TransferSystem> transfer_;
   std::unique_ptr<ActuatorSetup> setup_;
-  transfer::SafetyGateGroup gate_;
+  transfer::SafetyGate gate_;
   std::optional<SlotLimits> slot_limits_;
   std::vector<Exchange> last_;               // (n)
   std::vector<transfer::GatedMove> moves_;   // (n), reused: no allocation per trial

@@ -43,14 +43,30 @@ std::string SlotLaw::Describe() const {
   return fmt::format("{} through the {}", specimen_->Describe(), setup_->Describe());
 }
 
+const transfer::EmulatedBenchConfig* OneActuatorBench(const transfer::TransferSystem* transfer) {
+  // The builders' one look at a concrete transfer type: plan's twin needs the emulated
+  // specimen's own law, which no TransferSystem exposes.
+  const auto* bench = dynamic_cast<const transfer::EmulatedBench*>(transfer);
+  if (bench == nullptr || bench->spec().coupled_safety || bench->num_actuators() != 1) {
+    return nullptr;
+  }
+  const transfer::EmulatedBenchConfig& config = bench->spec().actuators[0];
+  return config.specimen ? &config : nullptr;
+}
+
+const transfer::EmulatedBenchSpec* CoupledBench(const transfer::TransferSystem* transfer) {
+  const auto* bench = dynamic_cast<const transfer::EmulatedBench*>(transfer);
+  return bench != nullptr && bench->spec().coupled_safety ? &bench->spec() : nullptr;
+}
+
 std::unique_ptr<constitutive::RestoringForceLaw> EmulatedSlotLaw(const Substructure& substructure) {
   const ActuatorSetup* setup = substructure.actuator_setup();
   if (setup == nullptr || setup->num_actuators() != 1 || setup->num_slots() != 1) return nullptr;
-  const auto* bench = dynamic_cast<const transfer::EmulatedBench*>(substructure.transfer_system());
+  const transfer::EmulatedBenchConfig* bench = OneActuatorBench(substructure.transfer_system());
   if (bench == nullptr) return nullptr;
-  return std::make_unique<SlotLaw>(bench->config().specimen->Clone(),
+  return std::make_unique<SlotLaw>(bench->specimen->Clone(),
                                    std::shared_ptr<const ActuatorSetup>(setup->Clone()),
-                                   bench->config().p0, bench->config().offset);
+                                   bench->p0, bench->offset);
 }
 
 }  // namespace hybridtest::substructures

@@ -21,6 +21,7 @@
 #include "hybridtest/substructures/actuator_setup.h"
 #include "hybridtest/substructures/setup_transform.h"
 #include "hybridtest/substructures/substructure.h"
+#include "hybridtest/transfer/bench_spec.h"
 
 namespace hybridtest::substructures {
 
@@ -48,6 +49,13 @@ class SlotLaw final : public constitutive::RestoringForceLaw {
   double bench_p0_, bench_offset_;
   Eigen::VectorXd d_, a_, f_, r_;  // (1) each
 };
+
+// The configuration of an in-process emulated bench of one actuator in its one-actuator form
+// (its scalar specimen law), or nullptr for any other transfer system.
+const transfer::EmulatedBenchConfig* OneActuatorBench(const transfer::TransferSystem* transfer);
+// The spec of an in-process emulated bench in its coupled `actuators:` form (n ≥ 1 actuators,
+// one specimen law in actuator coordinates), or nullptr for any other transfer system.
+const transfer::EmulatedBenchSpec* CoupledBench(const transfer::TransferSystem* transfer);
 
 // The law at the slot of a physical substructure of one actuator and one slot on an in-process
 // emulated bench (a copy of the configured specimen, virgin: the state a run starts from);

@@ -1,6 +1,8 @@
 // See substructure_spec.h.
 #include "hybridtest/substructures/substructure_spec.h"
 
+#include "hybridtest/substructures/slot_law.h"
+
 #include <fmt/core.h>
 
 #include <algorithm>
@@ -9,7 +11,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/substructures/law_block.h"
 #include "hybridtest/substructures/linear_block.h"
-#include "hybridtest/transfer/multi_emulated_bench.h"
+#include "hybridtest/transfer/emulated_bench.h"
 #include "hybridtest/substructures/numerical_substructure.h"
 #include "hybridtest/substructures/physical_substructure.h"
 
@@ -108,11 +110,15 @@ std::vector<std::vector<int>> SlotIndices(const std::vector<SubstructureSpec>& s
 std::optional<SubstructureSpec> EmulatedBlockTwin(const Substructure& s) {
   const ActuatorSetup* setup_of = s.actuator_setup();
   if (setup_of == nullptr) return std::nullopt;
-  const auto* bench = dynamic_cast<const transfer::MultiEmulatedBench*>(s.transfer_system());
-  if (bench == nullptr) return std::nullopt;
+  // A coupled bench (its `actuators:` form) of as many actuators as the setup.
+  const transfer::EmulatedBenchSpec* coupled = CoupledBench(s.transfer_system());
+  if (coupled == nullptr || coupled->num_actuators() != setup_of->num_actuators()) {
+    return std::nullopt;
+  }
+  const auto* bench = static_cast<const transfer::EmulatedBench*>(s.transfer_system());
   const ActuatorSetup& setup = *setup_of;
   for (int k = 0; k < setup.num_actuators(); ++k) {
-    const auto& a = bench->config().actuators[static_cast<std::size_t>(k)];
+    const auto& a = coupled->actuators[static_cast<std::size_t>(k)];
     if (std::abs(setup.p0()(k) - a.p0) > 1e-12 || setup.load_cell_zero()(k) != a.offset) {
       return std::nullopt;
     }

@@ -106,7 +106,7 @@ std::vector<std::vector<int>> SlotIndices(const std::vector<SubstructureSpec>& s
                                           const std::vector<std::string>& model_slots);
 
 // The numerical twin of a substructure on an emulated bench of several actuators whose
-// specimen law and setup it can see (a PhysicalSubstructure on a MultiEmulatedBench, the
+// specimen law and setup it can see (a PhysicalSubstructure on a coupled EmulatedBench, the
 // setup's p0 equal to the bench's, no load-cell zero): a spec with block_law and
 // block_transform = the setup's T (linear) or block_setup = the setup (any other geometry).
 // nullopt for anything else.

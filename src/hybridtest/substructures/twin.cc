@@ -10,7 +10,6 @@
 #include "hybridtest/substructures/actuator_setup.h"
 #include "hybridtest/substructures/slot_law.h"
 #include "hybridtest/transfer/emulated_bench.h"
-#include "hybridtest/transfer/multi_emulated_bench.h"
 
 namespace hybridtest::substructures {
 
@@ -21,10 +20,9 @@ std::shared_ptr<const constitutive::RestoringForceLaw> TwinLaw(const Substructur
                                                                const std::string& slot) {
   const ActuatorSetup* setup = s.actuator_setup();
   if (setup == nullptr) return nullptr;
-  const auto* bench = dynamic_cast<const transfer::EmulatedBench*>(s.transfer_system());
-  if (bench != nullptr && setup->is_identity() &&
-      std::abs(setup->p0()(0) - bench->config().p0) < 1e-12) {
-    return bench->config().specimen->Clone();
+  const transfer::EmulatedBenchConfig* one = OneActuatorBench(s.transfer_system());
+  if (one != nullptr && setup->is_identity() && std::abs(setup->p0()(0) - one->p0) < 1e-12) {
+    return one->specimen->Clone();
   }
   // Any other setup (a lever, flipped signs, a preload, a load-cell zero) or law: the
   // emulated specimen's law seen at the slot, through the setup.
@@ -44,17 +42,19 @@ std::optional<Eigen::MatrixXd> TwinStiffness(const Substructure& s, const std::s
   const ActuatorSetup* setup_of = s.actuator_setup();
   if (setup_of == nullptr) return std::nullopt;
   const ActuatorSetup& setup = *setup_of;
-  const auto* bench = dynamic_cast<const transfer::MultiEmulatedBench*>(s.transfer_system());
-  if (bench != nullptr) {
+  const transfer::EmulatedBenchSpec* coupled = CoupledBench(s.transfer_system());
+  if (coupled != nullptr && coupled->num_actuators() == setup.num_actuators()) {
     for (int k = 0; k < setup.num_actuators(); ++k) {
-      if (std::abs(setup.p0()(k) - bench->config().actuators[static_cast<std::size_t>(k)].p0) > 1e-12 ||
-          setup.load_cell_zero()(k) != bench->config().actuators[static_cast<std::size_t>(k)].offset) {
+      const transfer::EmulatedBenchConfig& actuator =
+          coupled->actuators[static_cast<std::size_t>(k)];
+      if (std::abs(setup.p0()(k) - actuator.p0) > 1e-12 ||
+          setup.load_cell_zero()(k) != actuator.offset) {
         throw ConfigError(fmt::format("plan: substructure {}: the setup's p0 and load-cell zero "
                                       "of actuator {} differ from the bench's; the reference "
                                       "needs them equal", name, k + 1));
       }
     }
-    return setup.SlotStiffness(bench->config().stiffness);
+    return setup.SlotStiffness(coupled->stiffness);
   }
   // One actuator and one slot: TwinLaw's law.
   if (setup.num_actuators() == 1 && setup.num_slots() == 1) return std::nullopt;
@@ -66,9 +66,11 @@ std::optional<Eigen::MatrixXd> TwinStiffness(const Substructure& s, const std::s
 std::optional<TransferSpec> ReseededTransfer(const TransferSpec& spec, unsigned long seed) {
   if (!spec.make) return std::nullopt;
   const auto built = spec.make();
-  const auto* bench = dynamic_cast<const transfer::EmulatedBench*>(built.get());
-  if (bench == nullptr || !(bench->config().noise_std > 0.0)) return std::nullopt;
-  transfer::EmulatedBenchConfig config = bench->config();
+  // A bench of one actuator with a noisy load cell: the same bench with another seed. (A
+  // coupled bench of several actuators keeps its seeds: plan's reference runs it as given.)
+  const transfer::EmulatedBenchConfig* one = OneActuatorBench(built.get());
+  if (one == nullptr || !(one->noise_std > 0.0)) return std::nullopt;
+  transfer::EmulatedBenchConfig config = *one;
   config.seed = seed;
   return TransferSpec{spec.type, [config] {
                         return std::unique_ptr<transfer::TransferSystem>(

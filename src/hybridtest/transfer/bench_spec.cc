@@ -122,14 +122,4 @@ EmulatedBenchSpec LoadEmulatedBenchSpec(const std::string& path) {
   return ParseEmulatedBenchSpec(file.root()["bench"], fmt::format("{}: bench", path));
 }
 
-// transitional: removed after the merge of s7-sub.
-EmulatedBenchSpec LoadMultiBenchConfig(const std::string& path) {
-  EmulatedBenchSpec spec = LoadEmulatedBenchSpec(path);
-  if (!spec.coupled_safety) {
-    throw ConfigError(fmt::format("{}: expected a top-level 'bench:' mapping with `actuators:`",
-                                  path));
-  }
-  return spec;
-}
-
 }  // namespace hybridtest::transfer

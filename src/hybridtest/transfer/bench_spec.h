@@ -67,9 +67,4 @@ EmulatedBenchSpec ParseEmulatedBenchSpec(const YAML::Node& bench, std::string_vi
 // Throws ConfigError (also for an unreadable file or a YAML syntax error, with the line).
 EmulatedBenchSpec LoadEmulatedBenchSpec(const std::string& path);
 
-// transitional: removed after the merge of s7-sub. The spec of n actuators had its own name;
-// LoadMultiBenchConfig loads a file of the `actuators:` form only (ConfigError otherwise).
-using MultiBenchConfig = EmulatedBenchSpec;
-EmulatedBenchSpec LoadMultiBenchConfig(const std::string& path);
-
 }  // namespace hybridtest::transfer

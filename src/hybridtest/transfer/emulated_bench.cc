@@ -80,10 +80,6 @@ EmulatedBench::EmulatedBench(const EmulatedBenchSpec& spec) : spec_(Checked(spec
   deformation_.resize(n);
   target_.resize(n);
   force_.resize(static_cast<Eigen::Index>(n));
-  // transitional: removed after the merge of s7-sub.
-  static_cast<EmulatedBenchConfig&>(transitional_config_) = spec_.actuators[0];
-  transitional_config_.actuators = spec_.actuators;
-  transitional_config_.stiffness = spec_.stiffness;
   // The specimen starts deformed if an actuator does not start at its p0.
   Deform();
 }

@@ -49,14 +49,6 @@ class Actuator;
 class LoadCell;
 class LabClock;
 
-// transitional: removed after the merge of s7-sub. What config() returned for a bench of one
-// actuator (actuator 1's config, its scalar specimen law) and for one of several (`actuators`,
-// `stiffness`), in one struct.
-struct TransitionalBenchConfig : EmulatedBenchConfig {
-  std::vector<EmulatedBenchConfig> actuators;
-  Eigen::MatrixXd stiffness;
-};
-
 class EmulatedBench final : public TransferSystem {
  public:
   // The smallest force retreat counted as a reversal, per unit of actuator capacity (1 mN for
@@ -116,9 +108,6 @@ class EmulatedBench final : public TransferSystem {
   // always answers); nullopt for several.
   std::optional<ProbeReading> Probe() override;
 
-  // transitional: removed after the merge of s7-sub (use spec()).
-  const TransitionalBenchConfig& config() const { return transitional_config_; }
-
  private:
   enum class State { kConfigured, kActive, kHolding, kDeactivated };
   // Deforms the specimen to the actuators' positions now (committed) and returns the true
@@ -126,7 +115,6 @@ class EmulatedBench final : public TransferSystem {
   const Eigen::VectorXd& Deform();
 
   EmulatedBenchSpec spec_;
-  TransitionalBenchConfig transitional_config_;
   std::vector<SafetyMonitor> safety_;
   std::vector<std::unique_ptr<Actuator>> actuators_;
   std::vector<std::unique_ptr<LoadCell>> load_cells_;
@@ -143,8 +131,5 @@ class EmulatedBench final : public TransferSystem {
 // The factories the bench server and the readers call. Throw ConfigError.
 std::unique_ptr<EmulatedBench> MakeEmulatedBench(const EmulatedBenchSpec& spec);
 std::unique_ptr<EmulatedBench> MakeEmulatedBench(const EmulatedBenchConfig& config);
-
-// transitional: removed after the merge of s7-sub (one bench for n actuators).
-using MultiEmulatedBench = EmulatedBench;
 
 }  // namespace hybridtest::transfer

@@ -142,40 +142,4 @@ void SafetyGate::Execute(TransferSystem& transfer, std::span<const double> comma
   }
 }
 
-void SafetyGate::RequireOne(const char* what) const {
-  if (size() != 1) {
-    throw Error(fmt::format("SafetyGate::{}: one command for a gate of {} actuators; give one "
-                            "command per actuator", what, size()));
-  }
-}
-
-// transitional: removed after the merge of s7-sub.
-void SafetyGate::Move(TransferSystem& transfer, double command_m, MoveLabel label,
-                      double load_cell_zero, GatedMove& out,
-                      const std::function<void()>& before_execute) {
-  RequireOne("Move");
-  const BenchUnits units = transfer.bench_units();
-  bench_commands_.assign(1, command_m / units.metres_per_length_unit);
-  try {
-    Execute(transfer, {&command_m, 1}, label, {&load_cell_zero, 1}, one_, before_execute);
-  } catch (...) {
-    if (!one_.empty()) out = one_[0];
-    throw;
-  }
-  out = one_[0];
-}
-
-// transitional: removed after the merge of s7-sub.
-void SafetyGate::MoveBench(TransferSystem& transfer, double command_bench, MoveLabel label,
-                           GatedMove& out, const std::function<void()>& before_execute) {
-  RequireOne("MoveBench");
-  try {
-    MoveBench(transfer, std::span<const double>(&command_bench, 1), label, one_, before_execute);
-  } catch (...) {
-    if (!one_.empty()) out = one_[0];
-    throw;
-  }
-  out = one_[0];
-}
-
 }  // namespace hybridtest::transfer

@@ -98,20 +98,10 @@ class SafetyGate {
   SafetyMonitor& monitor(int k) { return monitors_[static_cast<std::size_t>(k)]; }
   const SafetyMonitor& monitor(int k) const { return monitors_[static_cast<std::size_t>(k)]; }
 
-  // transitional: removed after the merge of s7-sub. The one-actuator forms of Move, MoveBench
-  // and monitor() that PhysicalSubstructure calls today; n must be 1 (Error otherwise).
-  void Move(TransferSystem& transfer, double command_m, MoveLabel label, double load_cell_zero,
-            GatedMove& out, const std::function<void()>& before_execute = {});
-  void MoveBench(TransferSystem& transfer, double command_bench, MoveLabel label,
-                 GatedMove& out, const std::function<void()>& before_execute = {});
-  SafetyMonitor& monitor() { return monitors_[0]; }
-  const SafetyMonitor& monitor() const { return monitors_[0]; }
-
  private:
   void Execute(TransferSystem& transfer, std::span<const double> commands_m, MoveLabel label,
                std::span<const double> load_cell_zero, std::vector<GatedMove>& out,
                const std::function<void()>& before_execute);
-  void RequireOne(const char* what) const;
 
   std::vector<SafetyMonitor> monitors_;
   std::optional<Eigen::MatrixXd> stiffness_;
@@ -119,7 +109,6 @@ class SafetyGate {
   std::vector<double> bench_commands_;  // (n) [bench length unit]
   std::vector<double> zeros_;           // (n) [N]
   std::vector<Measurement> measured_;   // (n)
-  std::vector<GatedMove> one_;          // the transitional one-actuator forms' moves
 };
 
 // Gives `gate` the specimen's stiffness in actuator coordinates (n × n) [N/m]: the coupled
@@ -127,8 +116,5 @@ class SafetyGate {
 // own prediction until every actuator has a measurement. Throws ConfigError unless it is a
 // finite n × n matrix. Used by the servers (bench_server.h, openfresco/server.h).
 void UseCoupledStiffness(SafetyGate& gate, const Eigen::MatrixXd& actuator_stiffness);
-
-// transitional: removed after the merge of s7-sub (the gate of n actuators has one name).
-using SafetyGateGroup = SafetyGate;
 
 }  // namespace hybridtest::transfer
