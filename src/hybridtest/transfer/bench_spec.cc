@@ -106,7 +106,11 @@ EmulatedBenchSpec OneActuatorSpec(const EmulatedBenchConfig& config) {
 }
 
 EmulatedBenchSpec ParseEmulatedBenchSpec(const YAML::Node& bench, std::string_view where) {
-  if (bench.IsMap() && bench["actuators"]) return ParseSeveral(bench, std::string(where));
+  // IsDefined first: a missing `bench:` is an invalid node, on which IsMap() throws (the
+  // one-actuator parser then names the missing mapping).
+  if (bench.IsDefined() && bench.IsMap() && bench["actuators"]) {
+    return ParseSeveral(bench, std::string(where));
+  }
   return OneActuatorSpec(ParseEmulatedBenchConfig(bench, where));
 }
 
