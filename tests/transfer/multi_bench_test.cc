@@ -222,5 +222,18 @@ TEST(EmulatedBenchOfSeveral, OwnSafetyPredictsWithTheCoupledStiffness) {
   EXPECT_NEAR(Move(apart, 25.0, -25.0)[0].force, 12.5, 1e-9);
 }
 
+TEST(EmulatedBenchSpec, AMissingBenchMappingIsAConfigErrorThatNamesIt) {
+  // A file without `bench:` (its top level as the loader reads it): an invalid node, on which
+  // yaml-cpp's IsMap() would throw its own InvalidNode.
+  const YAML::Node root = YAML::Load("benc: {actuators: 2}\n");
+  const YAML::Node& top = root;
+  try {
+    (void)ParseEmulatedBenchSpec(static_cast<const YAML::Node&>(top)["bench"], "b.yaml: bench");
+    ADD_FAILURE() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("b.yaml: bench"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace hybridtest::transfer
