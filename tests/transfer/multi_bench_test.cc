@@ -235,5 +235,19 @@ TEST(EmulatedBenchSpec, AMissingBenchMappingIsAConfigErrorThatNamesIt) {
   }
 }
 
+TEST(EmulatedBenchSpec, ASeedThatIsNotAnIntegerIsAConfigErrorThatNamesIt) {
+  for (const char* seed : {":1", "-1", "1.5", "[1, x]"}) {
+    const YAML::Node bench = YAML::Load(std::string("actuators: 2\nseed: ") + seed +
+                                        "\nspecimen: {type: linear, stiffness: [[5000, 0], [0, "
+                                        "3000]]}\np0_mm: [20, 30]\n");
+    try {
+      (void)ParseEmulatedBenchSpec(bench, "b.yaml: bench");
+      ADD_FAILURE() << seed;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("b.yaml: bench"), std::string::npos) << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace hybridtest::transfer

@@ -83,7 +83,16 @@ EmulatedBenchSpec ParseSeveral(const YAML::Node& bench, const std::string& where
     const auto i = static_cast<Eigen::Index>(k);
     one["specimen"]["type"] = "linear";
     one["specimen"]["stiffness"] = spec.stiffness(i, i);
-    const unsigned long seed = bench["seed"] ? one["seed"].as<unsigned long>() : 1UL;
+    unsigned long seed = 1UL;
+    if (bench["seed"]) {
+      const double given = in.Number(one["seed"], where + ".seed",
+                                     "the load cells' random seed (an integer ≥ 0)");
+      if (!(given >= 0.0) || given != std::floor(given) || given > 4294967295.0) {
+        throw ConfigError(fmt::format("{}.seed = {}: expected an integer from 0 to 4294967295 "
+                                      "(actuator k's load cell uses seed + k − 1)", where, given));
+      }
+      seed = static_cast<unsigned long>(given);
+    }
     one["seed"] = seed + k;
     spec.actuators.push_back(
         ParseEmulatedBenchConfig(one, fmt::format("{} (actuator {})", where, k + 1)));
@@ -109,7 +118,14 @@ EmulatedBenchSpec ParseEmulatedBenchSpec(const YAML::Node& bench, std::string_vi
   // IsDefined first: a missing `bench:` is an invalid node, on which IsMap() throws (the
   // one-actuator parser then names the missing mapping).
   if (bench.IsDefined() && bench.IsMap() && bench["actuators"]) {
-    return ParseSeveral(bench, std::string(where));
+    try {
+      return ParseSeveral(bench, std::string(where));
+    } catch (const YAML::Exception& e) {
+      // A value of a shape no check above expected (a key that is not a name, ...).
+      throw ConfigError(fmt::format(
+          "{}: {}: give that value as a bench file of several actuators takes it (see "
+          "examples/06_blade_two_actuators/bench-2act.yaml)", where, e.what()));
+    }
   }
   return OneActuatorSpec(ParseEmulatedBenchConfig(bench, where));
 }
