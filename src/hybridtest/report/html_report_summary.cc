@@ -97,9 +97,7 @@ std::string LimitsUsed(const io::RunData& run, const RunLayout& layout, const Pl
     }
     for (const LimitUse& use : CalcLimitUse(run, p)) {
       const bool force = use.limit.rfind("force", 0) == 0;
-      const auto limits = p.actuator >= 0
-                              ? FindActuatorLimits(run, p.substructure, p.actuator)
-                              : FindSlotLimits(run, p.slot);
+      const auto limits = FindLimitsOf(run, p);
       const std::string value =
           use.limit == "stroke" && limits
               ? WithUnit(limits->stroke_min, "m", units) + " … " +

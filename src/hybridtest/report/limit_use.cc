@@ -123,11 +123,16 @@ std::optional<transfer::SafetyLimits> FindActuatorLimits(const io::RunData& run,
   return limits;
 }
 
+std::optional<transfer::SafetyLimits> FindLimitsOf(const io::RunData& run,
+                                                   const PhysicalChannels& channels) {
+  return channels.actuator >= 0
+             ? FindActuatorLimits(run, channels.substructure, channels.actuator)
+             : FindSlotLimits(run, channels.slot);
+}
+
 std::vector<LimitUse> CalcLimitUse(const io::RunData& run, const PhysicalChannels& slot) {
   std::vector<LimitUse> uses;
-  const auto limits = slot.actuator >= 0
-                          ? FindActuatorLimits(run, slot.substructure, slot.actuator)
-                          : FindSlotLimits(run, slot.slot);
+  const auto limits = FindLimitsOf(run, slot);
   if (!limits) return uses;
   const Eigen::VectorXd t = ChannelValues(run, "t");
   if (!slot.command.empty()) {

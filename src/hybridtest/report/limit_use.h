@@ -45,6 +45,11 @@ struct LimitUse {
   double peak_t = 0;        // when. Unit: [s]
 };
 
+// The limits of one actuator's channels: FindActuatorLimits for an actuator of several,
+// FindSlotLimits for a substructure of one actuator.
+std::optional<transfer::SafetyLimits> FindLimitsOf(const io::RunData& run,
+                                                   const PhysicalChannels& channels);
+
 // The four uses above for one actuator (PhysicalChannels: one actuator's channels, of a
 // substructure of one actuator or one of several); empty when its limits are unknown or it has
 // no recorded command or force.
