@@ -29,7 +29,7 @@ void RoundTrips(benchmark::State& state, const ModbusServerProcess& server) {
   transfer.Activate();
   const std::size_t evaluations = bench_support::TimeRoundTrips(state, [&](long i) {
     const double command = 0.5 * static_cast<double>(i % 8);  // [mm]
-    benchmark::DoNotOptimize(transfer.Execute(command));
+    benchmark::DoNotOptimize(ExecuteOne(transfer, command));
   });
   transfer.Deactivate();
   if (evaluations == 0) return;

@@ -20,10 +20,10 @@ namespace {
 class TrivialBench final : public TransferSystem {
  public:
   void Activate() override {}
-  using TransferSystem::Execute;
-  Measurement Execute(double command) override {
+  int num_actuators() const override { return 1; }
+  void Execute(std::span<const double> commands, std::span<Measurement> out) override {
     lab_time_ += 1e-3;
-    return Measurement{command, 5.0 * command, lab_time_};
+    out[0] = Measurement{commands[0], 5.0 * commands[0], lab_time_};
   }
   void Hold() noexcept override {}
   void Deactivate() override {}
@@ -50,7 +50,7 @@ void BM_LoopbackRoundTrip(benchmark::State& state) {
     BenchClient client(client_options);
     client.Activate();
     bench_support::TimeRoundTrips(
-        state, [&](long i) { benchmark::DoNotOptimize(client.Execute(CommandAt(i))); });
+        state, [&](long i) { benchmark::DoNotOptimize(ExecuteOne(client, CommandAt(i))); });
     client.Deactivate();
   }
   server.Stop();
@@ -61,7 +61,7 @@ BENCHMARK(BM_LoopbackRoundTrip)->Unit(benchmark::kMicrosecond);
 void BM_InProcessExecute(benchmark::State& state) {
   TrivialBench bench;
   long i = 0;
-  for (auto _ : state) benchmark::DoNotOptimize(bench.Execute(CommandAt(i++)));
+  for (auto _ : state) benchmark::DoNotOptimize(ExecuteOne(bench, CommandAt(i++)));
 }
 BENCHMARK(BM_InProcessExecute)->Unit(benchmark::kMicrosecond);
 

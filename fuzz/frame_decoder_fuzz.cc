@@ -33,8 +33,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     switch (frame.type) {
       case MessageType::kHello: (void)DecodeHello(frame); break;
       case MessageType::kWelcome: (void)DecodeWelcome(frame); break;
-      case MessageType::kCommand: (void)DecodeCommand(frame); break;
-      case MessageType::kMeasurement: (void)DecodeMeasurement(frame); break;
+      case MessageType::kCommand: (void)DecodeCommands(frame); break;
+      case MessageType::kMeasurement: (void)DecodeMeasurements(frame, 1); break;
       case MessageType::kError: (void)DecodeError(frame); break;
       default: DecodeEmpty(frame, frame.type); break;
     }

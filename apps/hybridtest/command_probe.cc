@@ -9,7 +9,7 @@
 //   - |position − setup.p0| ≤ safety.max_increment: the first command starts from p0, so an
 //     actuator elsewhere would jump (a hint names a factor of 1000 as a unit slip);
 //   - |force| ≤ safety.force_soft: the specimen must be unloaded at rest.
-// A specimen on several actuators: every actuator read (ReadAll) and checked the same way.
+// A specimen on several actuators: every actuator read and checked the same way.
 // Prints one block per slot and exits 0 when every check passes, 2 (ConfigError) otherwise.
 // Nothing is written to the bench: no command, no coil, no drive enabled.
 #include <fmt/core.h>
@@ -68,42 +68,54 @@ std::vector<std::string> ProbeProblems(const std::string& bench_problem,
   return problems;
 }
 
-// A specimen on several actuators: Probe() for the controller's status (it connects if it
-// must), then every actuator read without moving (ReadAll) and checked like one slot.
+// One block of the slot map (a substructure of one or several actuators): Probe() reads every
+// actuator with the controller's status, without moving; each actuator is checked in SI.
 // Returns whether it was probed; adds 1 to failed if a check does not pass.
 bool ProbeActuators(const std::string& name, substructures::Substructure& sub,
                     transfer::TransferSystem& bench, long& failed) {
   fmt::print("{}: {}\n", name, bench.Describe());
   const std::optional<transfer::ProbeReading> reading = bench.Probe();
-  const auto all = bench.ReadAll();
-  if (!all || static_cast<int>(all->size()) != sub.num_actuators()) {
+  const int n = sub.num_actuators();
+  if (!reading || static_cast<int>(reading->measurements.size()) != n) {
     if (reading && !reading->problem.empty()) {
       fmt::print("  PROBLEM: {}\n", reading->problem);
       ++failed;
       return true;
     }
-    fmt::print("  not probed: this transfer system cannot read its actuators without moving; "
-               "their checks run when the test connects\n");
+    fmt::print("  not probed: this transfer system cannot read {} without moving; {} checks "
+               "run when the test connects\n", n == 1 ? "its actuator" : "its actuators",
+               n == 1 ? "its" : "their");
     return false;
   }
-  if (reading && !reading->status.empty()) fmt::print("  status   {}\n", reading->status);
   const transfer::BenchUnits units = bench.bench_units();
   std::vector<std::string> problems;
-  if (reading && !reading->problem.empty()) problems.push_back(reading->problem);
-  for (int k = 0; k < sub.num_actuators(); ++k) {
-    const transfer::Measurement& m = (*all)[static_cast<std::size_t>(k)];
+  for (int k = 0; k < n; ++k) {
+    const transfer::Measurement& m = reading->measurements[static_cast<std::size_t>(k)];
     const auto [position, force] = sub.ActuatorSi(k, m, units);
     const double p0 = sub.actuator_p0(k).value_or(0.0);
-    fmt::print("  actuator {}: position {} {} = {} m (setup.p0 = {} m), force {} {} = {} N\n",
-               k + 1, m.position, units.length_name, position, p0, m.force, units.force_name,
-               force);
-    for (std::string& p : ProbeProblems("", *sub.actuator_limits(k), p0, position,
-                                        force, fmt::format("actuator {}: ", k + 1))) {
+    if (n == 1) {
+      fmt::print("  position {} {} = {} m (setup.p0 = {} m)\n", m.position, units.length_name,
+                 position, p0);
+      fmt::print("  force    {} {} = {} N (load-cell zero removed)\n", m.force,
+                 units.force_name, force);
+    } else {
+      fmt::print("  actuator {}: position {} {} = {} m (setup.p0 = {} m), force {} {} = {} N\n",
+                 k + 1, m.position, units.length_name, position, p0, m.force, units.force_name,
+                 force);
+    }
+    // The bench's own problem with the first actuator (it names the actuator it concerns).
+    for (std::string& p : ProbeProblems(k == 0 ? reading->problem : "", *sub.actuator_limits(k),
+                                        p0, position, force,
+                                        n == 1 ? "" : fmt::format("actuator {}: ", k + 1))) {
       problems.push_back(std::move(p));
     }
   }
+  if (!reading->status.empty()) fmt::print("  status   {}\n", reading->status);
   for (const std::string& p : problems) fmt::print("  PROBLEM: {}\n", p);
-  if (problems.empty()) fmt::print("  ok: every actuator at p0, unloaded, inside its limits\n");
+  if (problems.empty()) {
+    fmt::print("  ok: {}\n", n == 1 ? "at p0, unloaded, inside the limits"
+                                     : "every actuator at p0, unloaded, inside its limits");
+  }
   failed += problems.empty() ? 0 : 1;
   return true;
 }
@@ -122,31 +134,7 @@ void RunProbe(const ProbeOptions& options) {
     if (bench == nullptr) continue;
     ++physical;
     const std::string name = spec.substructures[s].slot;
-    if (sub.num_actuators() > 1 || sub.num_slots() > 1) {
-      probed += ProbeActuators(name, sub, *bench, failed) ? 1 : 0;
-      continue;
-    }
-    fmt::print("{}: {}\n", name, bench->Describe());
-    const std::optional<transfer::ProbeReading> reading = bench->Probe();
-    if (!reading) {
-      fmt::print("  not probed: this transfer system cannot read without moving; its checks "
-                 "run when the test connects\n");
-      continue;
-    }
-    ++probed;
-    const transfer::BenchUnits units = bench->bench_units();
-    const auto [position, force] = sub.ActuatorSi(0, reading->measurement, units);
-    const double p0 = sub.actuator_p0(0).value_or(0.0);
-    fmt::print("  position {} {} = {} m (setup.p0 = {} m)\n", reading->measurement.position,
-               units.length_name, position, p0);
-    fmt::print("  force    {} {} = {} N (load-cell zero removed)\n", reading->measurement.force,
-               units.force_name, force);
-    if (!reading->status.empty()) fmt::print("  status   {}\n", reading->status);
-    const std::vector<std::string> problems = ProbeProblems(
-        reading->problem, *sub.actuator_limits(0), p0, position, force, "");
-    for (const std::string& p : problems) fmt::print("  PROBLEM: {}\n", p);
-    if (problems.empty()) fmt::print("  ok: at p0, unloaded, inside the limits\n");
-    failed += problems.empty() ? 0 : 1;
+    probed += ProbeActuators(spec.substructures[s].slot, sub, *bench, failed) ? 1 : 0;
   }
   if (physical == 0) {
     fmt::print("{}: no physical slot; nothing to probe\n", options.config);

@@ -210,7 +210,13 @@ void PyTransfer::Activate() {
   activated_ = std::chrono::steady_clock::now();
 }
 
-transfer::Measurement PyTransfer::Execute(double command) {
+void PyTransfer::Execute(std::span<const double> commands,
+                         std::span<transfer::Measurement> out) {
+  transfer::RequireOneActuator(commands, out, description_);
+  out[0] = Move(commands[0]);
+}
+
+transfer::Measurement PyTransfer::Move(double command) {
   py::gil_scoped_acquire gil;
   transfer::Measurement m;
   std::string problem;

@@ -111,8 +111,9 @@ class PyTransfer final : public transfer::TransferSystem {
   PyTransfer(const PyTransfer&) = delete;  // reply_source_ refers to this object
   PyTransfer& operator=(const PyTransfer&) = delete;
   void Activate() override;
-  using transfer::TransferSystem::Execute;
-  transfer::Measurement Execute(double command) override;
+  // One actuator: the driver's execute(command) with the command in its length unit.
+  int num_actuators() const override { return 1; }
+  void Execute(std::span<const double> commands, std::span<transfer::Measurement> out) override;
   void Hold() noexcept override;
   void Deactivate() override;
   transfer::BenchUnits bench_units() const override { return units_; }
@@ -121,6 +122,7 @@ class PyTransfer final : public transfer::TransferSystem {
 
  private:
   void Call(const char* method, const std::string& what);
+  transfer::Measurement Move(double command);
   SharedPy driver_;
   std::string slot_;
   std::string description_;

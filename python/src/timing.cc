@@ -20,7 +20,7 @@ double TimeExecute(transfer::TransferSystem& ts, long n, double p0) {
   double sink = 0.0;
   const auto start = std::chrono::steady_clock::now();
   for (long i = 0; i < n; ++i) {
-    sink += ts.Execute(p0 + 1e-3 * static_cast<double>(i % 200 - 100) / 100.0).force;
+    sink += ExecuteOne(ts, p0 + 1e-3 * static_cast<double>(i % 200 - 100) / 100.0).force;
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

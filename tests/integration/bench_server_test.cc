@@ -31,9 +31,9 @@ BenchClientOptions ClientFor(const BenchProcess& bench, double reply_timeout = 1
 
 // Commands 1..n-1 of a 1 mm ramp must succeed; returns the TransferError of command n.
 std::string FailureAtCommand(BenchClient& client, int n) {
-  for (int i = 1; i < n; ++i) client.Execute(1.0 * i);
+  for (int i = 1; i < n; ++i) ExecuteOne(client, 1.0 * i);
   try {
-    client.Execute(1.0 * n);
+    ExecuteOne(client, 1.0 * n);
   } catch (const TransferError& e) {
     return e.what();
   }
@@ -50,7 +50,7 @@ TEST(BenchProcessTest, ExchangesWithTheEmulatedCantilever) {
   double last_lab_time = 0.0;
   for (int i = 1; i <= 8; ++i) {
     const double command = 0.5 * i;  // mm
-    const transfer::Measurement m = client.Execute(command);
+    const transfer::Measurement m = ExecuteOne(client, command);
     EXPECT_NEAR(m.position, command, 0.01);                          // settled within 10 µm
     EXPECT_NEAR(m.force, kCantileverStiffness * m.position, 0.1);  // 3EI/L³, averaged noise
     EXPECT_GT(m.lab_time, last_lab_time);
@@ -65,11 +65,11 @@ TEST(BenchProcessTest, ServerKilledMidSessionIsALostConnection) {
   BenchProcess bench({});
   BenchClient client(ClientFor(bench, 5.0));
   client.Activate();
-  client.Execute(1.0);
+  ExecuteOne(client, 1.0);
   bench.Signal(SIGKILL);
   ASSERT_EQ(bench.WaitExit(10.0), 128 + SIGKILL);
   try {
-    client.Execute(2.0);
+    ExecuteOne(client, 2.0);
     FAIL() << "expected TransferError";
   } catch (const TransferError& e) {
     const std::string msg = e.what();
@@ -86,9 +86,9 @@ TEST(BenchProcessTest, NanForceIsCaughtByTheCallersMonitor) {
   BenchClient client(ClientFor(bench));
   client.Activate();
   transfer::SafetyMonitor monitor(transfer::SafetyLimits{});
-  const transfer::Measurement ok = client.Execute(1.0);
+  const transfer::Measurement ok = ExecuteOne(client, 1.0);
   monitor.CheckMeasurement(1e-3, ok.position * 1e-3, ok.force, 0, 0);
-  const transfer::Measurement bad = client.Execute(2.0);
+  const transfer::Measurement bad = ExecuteOne(client, 2.0);
   EXPECT_TRUE(std::isnan(bad.force));
   try {
     monitor.CheckMeasurement(2e-3, bad.position * 1e-3, bad.force, 1, 0);
@@ -104,10 +104,10 @@ TEST(BenchProcessTest, ForceSpikeAddsTheSpikeForceAndTripsTheHardLimit) {
   client.Activate();
   transfer::SafetyMonitor monitor(transfer::SafetyLimits{});
   for (int i = 1; i <= 4; ++i) {
-    const transfer::Measurement m = client.Execute(4.0 * i);
+    const transfer::Measurement m = ExecuteOne(client, 4.0 * i);
     monitor.CheckMeasurement(4e-3 * i, m.position * 1e-3, m.force, i, 0);
   }
-  const transfer::Measurement spike = client.Execute(20.0);
+  const transfer::Measurement spike = ExecuteOne(client, 20.0);
   // One spike semantics (bench_faults.h): + 1e5 N, in the bench's force unit (N here).
   EXPECT_NEAR(spike.force - kDefaultSpikeForce, kCantileverStiffness * spike.position, 0.1);
   EXPECT_THROW(monitor.CheckMeasurement(20e-3, spike.position * 1e-3, spike.force, 5, 0),
@@ -156,16 +156,16 @@ TEST(BenchProcessTest, WrongTokenIsRefusedAndTheEnvironmentTokenWorks) {
   o.token = "s3cret";
   BenchClient right(o);
   right.Activate();
-  EXPECT_NEAR(right.Execute(1.0).position, 1.0, 0.01);
+  EXPECT_NEAR(ExecuteOne(right, 1.0).position, 1.0, 0.01);
 }
 
 TEST(BenchProcessTest, CommandBeyondStrokeIsRefusedAndTheBenchHolds) {
   BenchProcess bench({});
   BenchClient client(ClientFor(bench));
   client.Activate();
-  const transfer::Measurement before = client.Execute(3.0);
+  const transfer::Measurement before = ExecuteOne(client, 3.0);
   try {
-    client.Execute(151.0);  // mm; the stroke ends at 150 mm
+    ExecuteOne(client, 151.0);  // mm; the stroke ends at 150 mm
     FAIL() << "expected SafetyStop";
   } catch (const SafetyStop& e) {
     EXPECT_EQ(e.limit(), "stroke_max");
@@ -173,13 +173,13 @@ TEST(BenchProcessTest, CommandBeyondStrokeIsRefusedAndTheBenchHolds) {
     EXPECT_NEAR(e.limit_value(), 0.150, 1e-12);
   }
   // Held: the session refuses every further command, even a harmless one.
-  EXPECT_THROW(client.Execute(3.0), SafetyStop);
+  EXPECT_THROW(ExecuteOne(client, 3.0), SafetyStop);
   client.Hold();
   client.Deactivate();
   // A new session finds the actuator where it was held (it never moved toward 151 mm).
   BenchClient next(ClientFor(bench));
   next.Activate();
-  const transfer::Measurement after = next.Execute(3.0);
+  const transfer::Measurement after = ExecuteOne(next, 3.0);
   EXPECT_NEAR(after.position, before.position, 0.01);
   EXPECT_NEAR(after.force, before.force, 0.1);
 }

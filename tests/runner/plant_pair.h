@@ -27,10 +27,9 @@ class PlantPair final : public transfer::TransferSystem {
   void Activate() override {
     for (auto& p : plants_) p->Activate();
   }
-  transfer::Measurement Execute(double command) override { return plants_[0]->Execute(command); }
   int num_actuators() const override { return static_cast<int>(plants_.size()); }
   void Execute(std::span<const double> commands, std::span<transfer::Measurement> out) override {
-    for (std::size_t k = 0; k < plants_.size(); ++k) out[k] = plants_[k]->Execute(commands[k]);
+    for (std::size_t k = 0; k < plants_.size(); ++k) out[k] = ExecuteOne(*plants_[k], commands[k]);
   }
   void Hold() noexcept override {
     for (auto& p : plants_) p->Hold();

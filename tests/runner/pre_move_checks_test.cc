@@ -30,9 +30,11 @@ class CountingSpring final : public transfer::TransferSystem {
  public:
   CountingSpring(std::shared_ptr<Calls> calls, double p0) : calls_(std::move(calls)), p0_(p0) {}
   void Activate() override { ++calls_->activate; }
-  transfer::Measurement Execute(double command) override {
+  int num_actuators() const override { return 1; }
+  void Execute(std::span<const double> commands, std::span<transfer::Measurement> out) override {
+    transfer::RequireOneActuator(commands, out, "counting spring");
     ++calls_->execute;
-    return {command, 7200.0 * (command - p0_)};
+    out[0] = {commands[0], 7200.0 * (commands[0] - p0_)};
   }
   void Hold() noexcept override {}
   void Deactivate() override {}

@@ -32,14 +32,16 @@ class RecordingTransfer final : public transfer::TransferSystem {
       : log_(std::move(log)), units_(std::move(units)), stiffness_(stiffness), p0_(p0) {}
 
   void Activate() override { ++log_->activations; }
-  using transfer::TransferSystem::Execute;
-  transfer::Measurement Execute(double command) override {
+  int num_actuators() const override { return 1; }
+  void Execute(std::span<const double> commands, std::span<transfer::Measurement> out) override {
+    transfer::RequireOneActuator(commands, out, "recording transfer");
+    const double command = commands[0];
     const long index = static_cast<long>(log_->executed.size());
     log_->executed.push_back(command);
     if (log_->throw_transfer_error_at == index) throw TransferError("recording transfer: lost");
     double force = stiffness_ * (command - p0_);
     if (log_->nan_force_at == index) force = std::numeric_limits<double>::quiet_NaN();
-    return {command, force, 1.5 * static_cast<double>(index + 1)};
+    out[0] = {command, force, 1.5 * static_cast<double>(index + 1)};
   }
   void Hold() noexcept override { ++log_->holds; }
   void Deactivate() override { ++log_->deactivations; }

@@ -80,7 +80,7 @@ TEST(EmulatedBench, CountsTheForceReversalsOfEveryMove) {
     EmulatedBench bench(config);
     bench.Activate();
     long reversals = 0;
-    for (double command_mm : {1.0, 1.5, 0.5, -0.3, 0.2}) reversals += bench.Execute(command_mm).force_reversals;
+    for (double command_mm : {1.0, 1.5, 0.5, -0.3, 0.2}) reversals += ExecuteOne(bench, command_mm).force_reversals;
     if (approach == Approach::kDirect) {
       EXPECT_GE(reversals, 5) << "an underdamped servo overshoots every move";
     } else {

@@ -25,9 +25,9 @@ BenchServerOptions WithFault(FaultKind kind, long at) {
 // Runs commands 1..n-1 (positions 0.5 mm apart) that must succeed, then returns the error
 // message of command n, which must throw TransferError.
 std::string FailureAtCommand(BenchClient& client, int n) {
-  for (int i = 1; i < n; ++i) client.Execute(0.5 * i);
+  for (int i = 1; i < n; ++i) ExecuteOne(client, 0.5 * i);
   try {
-    client.Execute(0.5 * n);
+    ExecuteOne(client, 0.5 * n);
   } catch (const TransferError& e) {
     return e.what();
   }
@@ -48,7 +48,7 @@ TEST(BenchClient, ExchangesCommandsAndMeasurements) {
   for (int i = 0; i < 20; ++i) {
     const double command = 4.0 * std::sin(0.3 * i);
     sent.push_back(command);
-    const Measurement m = client.Execute(command);
+    const Measurement m = ExecuteOne(client, command);
     EXPECT_EQ(m.position, command);  // bit-exact through the wire
     EXPECT_EQ(m.force, FakeBench::kStiffness * command);
     EXPECT_EQ(m.lab_time, i + 1.0);
@@ -62,7 +62,7 @@ TEST(BenchClient, ExchangesCommandsAndMeasurements) {
 
 TEST(BenchClient, ExecuteBeforeActivateIsATransferError) {
   BenchClient client(BenchClientOptions{});
-  EXPECT_THROW(client.Execute(0.0), TransferError);
+  EXPECT_THROW(ExecuteOne(client, 0.0), TransferError);
   EXPECT_NO_THROW(client.Hold());
 }
 
@@ -92,10 +92,10 @@ TEST(BenchClient, NanAndSpikeArePassedThroughForTheCallersMonitor) {
   ServerThread server(bench, o);
   BenchClient client(ClientFor(server));
   client.Activate();
-  EXPECT_EQ(client.Execute(1.0).force, 5.0);
-  EXPECT_TRUE(std::isnan(client.Execute(2.0).force));
-  EXPECT_EQ(client.Execute(3.0).force, 15.0 + kDefaultSpikeForce);  // N: + 1e5 N
-  EXPECT_EQ(client.Execute(4.0).force, 20.0);
+  EXPECT_EQ(ExecuteOne(client, 1.0).force, 5.0);
+  EXPECT_TRUE(std::isnan(ExecuteOne(client, 2.0).force));
+  EXPECT_EQ(ExecuteOne(client, 3.0).force, 15.0 + kDefaultSpikeForce);  // N: + 1e5 N
+  EXPECT_EQ(ExecuteOne(client, 4.0).force, 20.0);
 }
 
 TEST(BenchClient, CorruptedFrameIsATransferErrorNamingTheCrc) {
@@ -152,7 +152,7 @@ TEST(BenchClient, ClosedConnectionSaysItWasLost) {
   // The server survives and serves the next client.
   BenchClient again(ClientFor(server));
   again.Activate();
-  EXPECT_EQ(again.Execute(1.5).force, 7.5);
+  EXPECT_EQ(ExecuteOne(again, 1.5).force, 7.5);
 }
 
 TEST(BenchClient, WrongTokenIsRefused) {
@@ -172,7 +172,7 @@ TEST(BenchClient, WrongTokenIsRefused) {
   co.token = "right";
   BenchClient good(co);
   good.Activate();
-  EXPECT_EQ(good.Execute(1.0).force, 5.0);
+  EXPECT_EQ(ExecuteOne(good, 1.0).force, 5.0);
 }
 
 }  // namespace

@@ -18,12 +18,14 @@ class FakeBench final : public TransferSystem {
  public:
   static constexpr double kStiffness = 5.0;  // Unit: [N/mm].
   void Activate() override { ++activations; }
-  using TransferSystem::Execute;
-  Measurement Execute(double command) override {
+  int num_actuators() const override { return 1; }
+  void Execute(std::span<const double> commands, std::span<Measurement> out) override {
+    RequireOneActuator(commands, out, Describe());
+    const double command = commands[0];
     std::lock_guard lock(mutex_);
     commands_.push_back(command);
     lab_time_ += 1.0;
-    return Measurement{command, kStiffness * command + extra_force.load(), lab_time_};
+    out[0] = Measurement{command, kStiffness * command + extra_force.load(), lab_time_};
   }
   void Hold() noexcept override { ++holds; }
   void Deactivate() override { ++deactivations; }

@@ -24,7 +24,6 @@ inline Eigen::Matrix2d CoupledStiffness() {
 class CoupledFakeBench final : public TransferSystem {
  public:
   void Activate() override {}
-  Measurement Execute(double) override { throw TransferError("two actuators: one command"); }
   int num_actuators() const override { return 2; }
   void Execute(std::span<const double> commands, std::span<Measurement> out) override {
     std::lock_guard lock(mutex_);

@@ -1,6 +1,7 @@
 // BenchServer against hostile or careless peers (issue 10): idle and slow connections never
 // delay a real client, a session is never taken over, duplicate or stale COMMANDs are refused
 // and never executed, wrong tokens lock an address out, and log lines cannot be forged.
+#include <array>
 #include <fmt/core.h>
 #include <gtest/gtest.h>
 
@@ -66,7 +67,7 @@ TEST(BenchServerHardening, IdleConnectionsDoNotDelayARealClient) {
   for (int i = 0; i < 3; ++i) idle.push_back(ConnectTcp("127.0.0.1", server.port(), 2.0));
   BenchClient client(ClientFor(server, kReplyTimeout));
   client.Activate();
-  EXPECT_EQ(client.Execute(1.0).force, 5.0);
+  EXPECT_EQ(ExecuteOne(client, 1.0).force, 5.0);
 }
 
 TEST(BenchServerHardening, PartialHelloDoesNotBlockOthers) {
@@ -80,7 +81,7 @@ TEST(BenchServerHardening, PartialHelloDoesNotBlockOthers) {
   ASSERT_TRUE(SendAll(slow.fd(), bytes, 2.0));
   BenchClient client(ClientFor(server, kReplyTimeout));
   client.Activate();
-  EXPECT_EQ(client.Execute(2.0).force, 10.0);
+  EXPECT_EQ(ExecuteOne(client, 2.0).force, 10.0);
 }
 
 TEST(BenchServerHardening, AFloodOfConnectionsEvictsTheOldestAndTheClientGetsThrough) {
@@ -95,7 +96,7 @@ TEST(BenchServerHardening, AFloodOfConnectionsEvictsTheOldestAndTheClientGetsThr
   for (int i = 0; i < 12; ++i) idle.push_back(ConnectTcp("127.0.0.1", server.port(), 2.0));
   BenchClient client(ClientFor(server, kReplyTimeout));
   client.Activate();
-  EXPECT_EQ(client.Execute(1.0).force, 5.0);
+  EXPECT_EQ(ExecuteOne(client, 1.0).force, 5.0);
   bool evicted = false;
   for (const auto& line : log.Get()) evicted |= line.find("dropped the oldest") != std::string::npos;
   EXPECT_TRUE(evicted);
@@ -128,7 +129,7 @@ TEST(BenchServerHardening, APendingHelloCannotTakeOverASession) {
   Frame reply;
   ASSERT_EQ(ReadFrame(early.fd(), 5.0, reply), ReadStatus::kFrame);
   EXPECT_EQ(DecodeError(reply).code, ErrorCode::kBusy);
-  EXPECT_EQ(client.Execute(1.0).force, 5.0);
+  EXPECT_EQ(ExecuteOne(client, 1.0).force, 5.0);
 }
 
 // A second COMMAND with sequence `replayed` after COMMAND 2 is refused and never executed.
@@ -139,13 +140,13 @@ TEST_P(ReplayTest, DuplicateOrStaleCommandIsRefusedAndNeverExecuted) {
   ServerThread server(bench, {});
   Socket raw = ConnectTcp("127.0.0.1", server.port(), 2.0);
   ASSERT_EQ(RawHello(raw).type, MessageType::kWelcome);
-  const auto command = EncodeFrame(EncodeCommand(2, CommandMessage{1.0}));
+  const auto command = EncodeFrame(EncodeCommands(2, std::array<double, 1>{1.0}));
   ASSERT_TRUE(SendAll(raw.fd(), command, 2.0));
   Frame reply;
   ASSERT_EQ(ReadFrame(raw.fd(), 5.0, reply), ReadStatus::kFrame);
   ASSERT_EQ(reply.type, MessageType::kMeasurement);
   const std::uint32_t replayed = GetParam();
-  ASSERT_TRUE(SendAll(raw.fd(), EncodeFrame(EncodeCommand(replayed, CommandMessage{4.0})), 2.0));
+  ASSERT_TRUE(SendAll(raw.fd(), EncodeFrame(EncodeCommands(replayed, std::array<double, 1>{4.0})), 2.0));
   ASSERT_EQ(ReadFrame(raw.fd(), 5.0, reply), ReadStatus::kFrame);
   ASSERT_EQ(reply.type, MessageType::kError);
   const ErrorMessage error = DecodeError(reply);

@@ -2,6 +2,7 @@
 // holds on timeouts / protocol errors / disconnects, busy clients, stop.
 #include "hybridtest/transfer/bench_server.h"
 
+#include <array>
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -50,10 +51,10 @@ TEST(BenchServer, CommandBeyondStrokeIsRefusedAsSafetyStopAndLatches) {
   ServerThread server(bench, o);
   BenchClient client(ClientFor(server));
   client.Activate();
-  client.Execute(3.0);
+  ExecuteOne(client, 3.0);
   const int holds_before = bench.holds.load();
   try {
-    client.Execute(3.0 + 6.0);  // 6 mm jump > max_increment 5 mm
+    ExecuteOne(client, 3.0 + 6.0);  // 6 mm jump > max_increment 5 mm
     FAIL() << "expected SafetyStop";
   } catch (const SafetyStop& e) {
     EXPECT_EQ(e.limit(), "max_increment");
@@ -63,7 +64,7 @@ TEST(BenchServer, CommandBeyondStrokeIsRefusedAsSafetyStopAndLatches) {
   EXPECT_GT(bench.holds.load(), holds_before);
   EXPECT_EQ(bench.commands(), std::vector<double>{3.0});  // the refused command never moved it
   // Latched: even a harmless command is refused now; HOLD still works.
-  EXPECT_THROW(client.Execute(3.0), SafetyStop);
+  EXPECT_THROW(ExecuteOne(client, 3.0), SafetyStop);
   EXPECT_TRUE(client.is_connected());
   client.Hold();
   EXPECT_TRUE(client.is_connected());
@@ -71,7 +72,7 @@ TEST(BenchServer, CommandBeyondStrokeIsRefusedAsSafetyStopAndLatches) {
   // A new session may move again, from the last safe command.
   BenchClient next(ClientFor(server));
   next.Activate();
-  EXPECT_EQ(next.Execute(4.0).position, 4.0);
+  EXPECT_EQ(ExecuteOne(next, 4.0).position, 4.0);
   EXPECT_EQ(bench.commands(), (std::vector<double>{3.0, 4.0}));
 }
 
@@ -83,7 +84,7 @@ TEST(BenchServer, StrokeLimitNamesTheLimit) {
   BenchClient client(ClientFor(server));
   client.Activate();
   try {
-    client.Execute(151.0);  // mm; stroke_max = 150 mm
+    ExecuteOne(client, 151.0);  // mm; stroke_max = 150 mm
     FAIL() << "expected SafetyStop";
   } catch (const SafetyStop& e) {
     EXPECT_EQ(e.limit(), "stroke_max");
@@ -99,7 +100,7 @@ TEST(BenchServer, MeasuredForceBeyondHardLimitStopsAndHolds) {
   BenchClient client(ClientFor(server));
   client.Activate();
   try {
-    client.Execute(1.0);
+    ExecuteOne(client, 1.0);
     FAIL() << "expected SafetyStop";
   } catch (const SafetyStop& e) {
     EXPECT_EQ(e.limit(), "force_hard");
@@ -114,10 +115,10 @@ TEST(BenchServer, SilentClientIsDroppedAndTheBenchHolds) {
   ServerThread server(bench, o);
   BenchClient client(ClientFor(server));
   client.Activate();
-  client.Execute(1.0);
+  ExecuteOne(client, 1.0);
   const int holds = bench.holds.load();
   ASSERT_TRUE(Eventually([&] { return bench.holds.load() > holds; }));
-  EXPECT_THROW(client.Execute(1.5), TransferError);
+  EXPECT_THROW(ExecuteOne(client, 1.5), TransferError);
   EXPECT_EQ(bench.commands(), std::vector<double>{1.0});  // held, never moved again
 }
 
@@ -132,7 +133,7 @@ TEST(BenchServer, HeartbeatsKeepTheSessionAlive) {
     client.Heartbeat();
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
   }
-  EXPECT_EQ(client.Execute(2.0).force, 10.0);
+  EXPECT_EQ(ExecuteOne(client, 2.0).force, 10.0);
 }
 
 TEST(BenchServer, GarbageBeforeHelloIsRefusedWithoutTouchingTheBenchAndServesTheNext) {
@@ -151,7 +152,7 @@ TEST(BenchServer, GarbageBeforeHelloIsRefusedWithoutTouchingTheBenchAndServesThe
   EXPECT_EQ(bench.holds.load(), 0);  // an unauthenticated peer never reaches the bench
   BenchClient client(ClientFor(server));
   client.Activate();
-  EXPECT_EQ(client.Execute(1.0).force, 5.0);
+  EXPECT_EQ(ExecuteOne(client, 1.0).force, 5.0);
 }
 
 TEST(BenchServer, OversizeLengthIsRejectedBeforeThePayloadIsRead) {
@@ -173,7 +174,7 @@ TEST(BenchServer, CommandBeforeHelloIsAProtocolError) {
   FakeBench bench;
   ServerThread server(bench, {});
   Socket raw = ConnectTcp("127.0.0.1", server.port(), 2.0);
-  ASSERT_TRUE(SendAll(raw.fd(), EncodeFrame(EncodeCommand(1, CommandMessage{1.0})), 2.0));
+  ASSERT_TRUE(SendAll(raw.fd(), EncodeFrame(EncodeCommands(1, std::array<double, 1>{1.0})), 2.0));
   Frame reply;
   ASSERT_EQ(ReadFrame(raw.fd(), 5.0, reply), ReadStatus::kFrame);
   EXPECT_EQ(DecodeError(reply).code, ErrorCode::kProtocol);
@@ -192,7 +193,7 @@ TEST(BenchServer, SecondClientIsToldTheBenchIsBusy) {
   } catch (const TransferError& e) {
     EXPECT_NE(std::string(e.what()).find("BUSY"), std::string::npos) << e.what();
   }
-  EXPECT_EQ(first.Execute(1.0).force, 5.0);
+  EXPECT_EQ(ExecuteOne(first, 1.0).force, 5.0);
 }
 
 TEST(BenchServer, ClientDisconnectHoldsTheBench) {
@@ -201,7 +202,7 @@ TEST(BenchServer, ClientDisconnectHoldsTheBench) {
   {
     BenchClient client(ClientFor(server));
     client.Activate();
-    client.Execute(2.0);
+    ExecuteOne(client, 2.0);
   }  // destroyed without Deactivate: the socket just closes
   ASSERT_TRUE(Eventually([&] { return bench.holds.load() >= 1; }));
   EXPECT_EQ(bench.commands(), std::vector<double>{2.0});
@@ -213,7 +214,7 @@ TEST(BenchServer, StopEndsServeAndDeactivatesTheBench) {
     ServerThread server(bench, {});
     BenchClient client(ClientFor(server));
     client.Activate();
-    client.Execute(1.0);
+    ExecuteOne(client, 1.0);
   }
   EXPECT_EQ(bench.activations.load(), 1);
   EXPECT_EQ(bench.deactivations.load(), 1);

@@ -30,13 +30,13 @@ TEST(DelayCompensator, PolynomialIsExactForAQuadraticTarget) {
   DelayCompensator comp(DelayedPlant(0.010), k);
   VirtualClock clock;
   comp.Activate();
-  comp.Execute(0.0);
+  ExecuteOne(comp, 0.0);
   comp.StartPaced(0.001, clock);
   double worst = 0.0;
   for (int i = 1; i <= 200; ++i) {
     clock.WaitUntil(0.001 * i);
     const double t = clock.Now();
-    const Measurement m = comp.Execute(3.0 * t * t - t);
+    const Measurement m = ExecuteOne(comp, 3.0 * t * t - t);
     if (i > 40) worst = std::max(worst, std::abs(m.position - (3.0 * t * t - t)));
   }
   EXPECT_LT(worst, 1e-12);
@@ -47,13 +47,13 @@ TEST(DelayCompensator, WithoutCompensationTheDelayedPlantLags) {
   auto plant = DelayedPlant(0.010);
   VirtualClock clock;
   plant->Activate();
-  plant->Execute(0.0);
+  ExecuteOne(*plant, 0.0);
   plant->StartPaced(0.001, clock);
   double worst = 0.0;
   for (int i = 1; i <= 200; ++i) {
     clock.WaitUntil(0.001 * i);
     const double t = clock.Now();
-    worst = std::max(worst, std::abs(plant->Execute(3.0 * t * t - t).position - (3.0 * t * t - t)));
+    worst = std::max(worst, std::abs(ExecuteOne(*plant, 3.0 * t * t - t).position - (3.0 * t * t - t)));
   }
   EXPECT_GT(worst, 1e-3);
 }
@@ -65,7 +65,7 @@ TEST(DelayCompensator, AtsIdentifiesTheDelayOfALaggingPlant) {
   DelayCompensator comp(DelayedPlant(0.012, PlantKind::kElectromechanical), k);
   VirtualClock clock;
   comp.Activate();
-  comp.Execute(0.0);
+  ExecuteOne(comp, 0.0);
   const double h = 1.0 / 1024.0;
   comp.StartPaced(h, clock);
   double sq = 0.0, ref = 0.0;
@@ -73,7 +73,7 @@ TEST(DelayCompensator, AtsIdentifiesTheDelayOfALaggingPlant) {
     clock.WaitUntil(h * i);
     const double t = clock.Now();
     const double x = 0.005 * std::sin(2.0 * std::numbers::pi * 1.5 * t);
-    const Measurement m = comp.Execute(x);
+    const Measurement m = ExecuteOne(comp, x);
     if (i > 15 * 1024) {
       sq += (m.position - x) * (m.position - x);
       ref += x * x;

@@ -17,7 +17,7 @@ TEST(EmulatedBenchState, RestoredBenchContinuesBitIdentically) {
   const EmulatedBenchConfig config = LoadEmulatedBenchConfig(kExamples + "bench-cantilever.yaml");
   EmulatedBench original(config);
   original.Activate();
-  for (int k = 1; k <= 5; ++k) original.Execute(0.5 * k);  // [mm]
+  for (int k = 1; k <= 5; ++k) ExecuteOne(original, 0.5 * k);  // [mm]
   // Through text, as in the run state file.
   const auto saved = nlohmann::json::parse(original.SaveState().dump());
   EmulatedBench restored(config);
@@ -25,8 +25,8 @@ TEST(EmulatedBenchState, RestoredBenchContinuesBitIdentically) {
   restored.RestoreState(saved);
   EXPECT_EQ(restored.command_count(), original.command_count());
   for (int k = 1; k <= 5; ++k) {
-    const Measurement a = original.Execute(2.5 - 0.3 * k);
-    const Measurement b = restored.Execute(2.5 - 0.3 * k);
+    const Measurement a = ExecuteOne(original, 2.5 - 0.3 * k);
+    const Measurement b = ExecuteOne(restored, 2.5 - 0.3 * k);
     EXPECT_EQ(b.position, a.position) << k;
     EXPECT_EQ(b.force, a.force) << k;  // the noise generator continues where it was
     EXPECT_EQ(b.lab_time, a.lab_time) << k;
@@ -34,14 +34,14 @@ TEST(EmulatedBenchState, RestoredBenchContinuesBitIdentically) {
   // A fresh bench without the state would not: the noise differs.
   EmulatedBench fresh(config);
   fresh.Activate();
-  EXPECT_NE(fresh.Execute(1.5).force, original.Execute(1.5).force);
+  EXPECT_NE(ExecuteOne(fresh, 1.5).force, ExecuteOne(original, 1.5).force);
 }
 
 TEST(EmulatedBenchState, ReadDoesNotMove) {
   EmulatedBench bench(LoadEmulatedBenchConfig(kExamples + "bench-ideal.yaml"));
   bench.Activate();
-  const Measurement m = bench.Execute(23.0);  // [mm]; p0 = 20 mm, k = 7200 N/m
-  const auto read = bench.Read();
+  const Measurement m = ExecuteOne(bench, 23.0);  // [mm]; p0 = 20 mm, k = 7200 N/m
+  const auto read = ReadOne(bench);
   ASSERT_TRUE(read.has_value());
   EXPECT_DOUBLE_EQ(read->position, 23.0);
   EXPECT_NEAR(read->force, 7200.0 * 0.003, 1e-9);

@@ -28,7 +28,7 @@ TEST(EmulatedBench, IdealBenchMeasuresSpringForceExactly) {
   double command = p0_mm;
   for (int i = 0; i < 200; ++i) {
     command = p0_mm + 12.0 * std::sin(0.05 * i) + 0.3 * std::cos(0.7 * i);
-    const Measurement m = bench.Execute(command);
+    const Measurement m = ExecuteOne(bench, command);
     EXPECT_EQ(m.position, command) << i;
     const double expected = 7200.0 * (command - p0_mm) * 1e-3;  // [N]
     EXPECT_NEAR(m.force, expected, 1e-9 * std::max(1.0, std::abs(expected))) << i;
@@ -40,7 +40,7 @@ TEST(EmulatedBench, UnitsOnTheWireFollowTheConfig) {
   config.units = BenchUnits{1.0, 1e3, "m", "kN"};
   EmulatedBench bench(config);
   bench.Activate();
-  const Measurement m = bench.Execute(0.021);  // [m]
+  const Measurement m = ExecuteOne(bench, 0.021);  // [m]
   EXPECT_NEAR(m.position, 0.021, 1e-15);
   EXPECT_NEAR(m.force, 7.2e-3, 1e-15);  // 7200 N/m * 1 mm = 7.2 N = 7.2e-3 kN
 }
@@ -54,7 +54,7 @@ TEST(EmulatedBench, DefaultsReproduceThePapersLabTime) {
   Measurement m;
   for (int i = 0; i < 20000; ++i) {
     const double t = 0.5e-3 * i;
-    m = bench.Execute(10.0 * std::sin(2.0 * std::numbers::pi * 0.5 * t));  // [mm]
+    m = ExecuteOne(bench, 10.0 * std::sin(2.0 * std::numbers::pi * 0.5 * t));  // [mm]
   }
   EXPECT_NEAR(bench.lab_time(), 22560.0, 0.05 * 22560.0);
   EXPECT_DOUBLE_EQ(m.lab_time, bench.lab_time());
@@ -68,7 +68,7 @@ TEST(EmulatedBench, RealisticBenchMeasuresTheCantileverWithinNoise) {
   double worst = 0.0;
   for (int i = 1; i <= 50; ++i) {
     const double command = 0.2 * i;  // [mm]
-    const Measurement m = bench.Execute(command);
+    const Measurement m = ExecuteOne(bench, command);
     // Settled within tolerance; force = k x within noise, quantisation and residual lag.
     EXPECT_NEAR(m.position, command, 0.005);
     worst = std::max(worst, std::abs(m.force - 5250.0 * m.position * 1e-3));
@@ -83,7 +83,7 @@ TEST(EmulatedBench, SameSeedSameMeasurementsDifferentSeedDifferent) {
     config.seed = seed;
     EmulatedBench bench(config);
     bench.Activate();
-    return bench.Execute(1.0).force;
+    return ExecuteOne(bench, 1.0).force;
   };
   EXPECT_EQ(run(7), run(7));
   EXPECT_NE(run(7), run(8));
@@ -92,10 +92,10 @@ TEST(EmulatedBench, SameSeedSameMeasurementsDifferentSeedDifferent) {
 TEST(EmulatedBench, CommandBeyondALimitNeverMovesTheActuator) {
   EmulatedBench bench(DefaultEmulatedBenchConfig());
   bench.Activate();
-  bench.Execute(2.0);
+  ExecuteOne(bench, 2.0);
   const double before = bench.actuator_position();
   try {
-    bench.Execute(9.0);  // 7 mm jump > max_increment 5 mm
+    ExecuteOne(bench, 9.0);  // 7 mm jump > max_increment 5 mm
     FAIL() << "expected SafetyStop";
   } catch (const SafetyStop& stop) {
     EXPECT_EQ(stop.limit(), "max_increment");
@@ -104,10 +104,10 @@ TEST(EmulatedBench, CommandBeyondALimitNeverMovesTheActuator) {
   EXPECT_EQ(bench.actuator_position(), before);
   EXPECT_TRUE(bench.holding());
   // While holding, nothing moves; Activate() resumes from where it holds.
-  EXPECT_THROW(bench.Execute(2.5), TransferError);
+  EXPECT_THROW(ExecuteOne(bench, 2.5), TransferError);
   EXPECT_EQ(bench.actuator_position(), before);
   bench.Activate();
-  EXPECT_NEAR(bench.Execute(2.5).position, 2.5, 0.005);
+  EXPECT_NEAR(ExecuteOne(bench, 2.5).position, 2.5, 0.005);
 }
 
 TEST(EmulatedBench, StrokeAndForceLimitsFromConfig) {
@@ -115,7 +115,7 @@ TEST(EmulatedBench, StrokeAndForceLimitsFromConfig) {
   config.safety.stroke_max = 0.003;
   EmulatedBench bench(config);
   bench.Activate();
-  EXPECT_THROW(bench.Execute(3.5), SafetyStop);
+  EXPECT_THROW(ExecuteOne(bench, 3.5), SafetyStop);
   EXPECT_EQ(bench.actuator_position(), 0.0);
 
   config = DefaultEmulatedBenchConfig();
@@ -123,9 +123,9 @@ TEST(EmulatedBench, StrokeAndForceLimitsFromConfig) {
   config.safety.force_hard = 30.0;
   EmulatedBench soft(config);
   soft.Activate();
-  soft.Execute(3.0);
+  ExecuteOne(soft, 3.0);
   try {
-    soft.Execute(4.0);
+    ExecuteOne(soft, 4.0);
     FAIL() << "expected SafetyStop";
   } catch (const SafetyStop& stop) {
     EXPECT_EQ(stop.limit(), "force_soft");
@@ -143,9 +143,9 @@ TEST(EmulatedBench, BoucWenSpecimenIsDeformedAlongThePath) {
       constitutive::BoucWen::FromYieldDisplacement(5000.0, 0.1, 0.002));
   EmulatedBench bench(config);
   bench.Activate();
-  for (double x = 0.5; x <= 10.0; x += 0.5) bench.Execute(x);
+  for (double x = 0.5; x <= 10.0; x += 0.5) ExecuteOne(bench, x);
   double force = 0.0;
-  for (double x = 9.5; x >= -0.01; x -= 0.5) force = bench.Execute(x).force;
+  for (double x = 9.5; x >= -0.01; x -= 0.5) force = ExecuteOne(bench, x).force;
   EXPECT_LT(force, -0.5 * 0.9 * 5000.0 * 0.002);  // negative force at x = 0 after unloading
 }
 
@@ -155,11 +155,11 @@ TEST(EmulatedBench, InjectedFaultsCorruptTheReportedMeasurement) {
   config.faults = {{FaultKind::kNan, 2}, {FaultKind::kSpike, 3, 2e4}, {FaultKind::kSilence, 4}};
   EmulatedBench bench(config);
   bench.Activate();
-  EXPECT_TRUE(std::isfinite(bench.Execute(21.0).force));
-  EXPECT_TRUE(std::isnan(bench.Execute(21.0).force));
-  EXPECT_NEAR(bench.Execute(21.0).force, 7.2 + 2e4, 1e-9);
+  EXPECT_TRUE(std::isfinite(ExecuteOne(bench, 21.0).force));
+  EXPECT_TRUE(std::isnan(ExecuteOne(bench, 21.0).force));
+  EXPECT_NEAR(ExecuteOne(bench, 21.0).force, 7.2 + 2e4, 1e-9);
   const double before = bench.lab_time();
-  EXPECT_THROW(bench.Execute(21.0), TransferError);
+  EXPECT_THROW(ExecuteOne(bench, 21.0), TransferError);
   EXPECT_NEAR(bench.lab_time() - before, config.safety.timeout, 1e-12);
   EXPECT_TRUE(bench.holding());
 }
@@ -178,7 +178,7 @@ TEST(EmulatedBench, DriveTripsBeyondCapacity) {
   EmulatedBench bench(config);
   bench.Activate();
   try {
-    bench.Execute(10.0);
+    ExecuteOne(bench, 10.0);
     FAIL() << "expected SafetyStop";
   } catch (const SafetyStop& stop) {
     EXPECT_EQ(stop.limit(), "actuator_capacity");
@@ -194,7 +194,7 @@ TEST(EmulatedBench, RealtimePacingTakesAtLeastTheLabTime) {
   EmulatedBench bench(config);
   const auto start = std::chrono::steady_clock::now();
   bench.Activate();
-  for (int i = 0; i < 3; ++i) bench.Execute(20.0 + i);
+  for (int i = 0; i < 3; ++i) ExecuteOne(bench, 20.0 + i);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_GE(bench.lab_time(), 0.12);
   EXPECT_GE(wall, bench.lab_time());  // a lower bound only
@@ -203,12 +203,12 @@ TEST(EmulatedBench, RealtimePacingTakesAtLeastTheLabTime) {
 TEST(EmulatedBench, HoldNeverThrowsAndExecuteNeedsActivate) {
   EmulatedBench bench(DefaultEmulatedBenchConfig());
   bench.Hold();
-  EXPECT_THROW(bench.Execute(0.0), TransferError);
+  EXPECT_THROW(ExecuteOne(bench, 0.0), TransferError);
   bench.Activate();
-  bench.Execute(0.1);
+  ExecuteOne(bench, 0.1);
   bench.Deactivate();
   bench.Hold();
-  EXPECT_THROW(bench.Execute(0.1), TransferError);
+  EXPECT_THROW(ExecuteOne(bench, 0.1), TransferError);
   EXPECT_THAT(bench.Describe(), HasSubstr("cantilever 500x100x5 mm"));
 }
 

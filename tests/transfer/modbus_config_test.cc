@@ -29,7 +29,7 @@ TEST(ModbusConfig, DefaultsAndOverrides) {
   EXPECT_EQ(o.port, 1502);
   EXPECT_EQ(o.unit_id, 1);
   EXPECT_EQ(o.ack_timeout, 3.0);  // the safety section's timeout
-  EXPECT_EQ(o.map.command.address, 0);
+  EXPECT_EQ(o.maps[0].command.address, 0);
   const ModbusOptions p = Parse(
       "transfer: {type: modbus, host: plc.lab, unit_id: 3, timeout: 9, poll_interval: 0.01,\n"
       "           plausibility: {position_tolerance: 0.5}, map: {word_order: low_first}}",
@@ -40,7 +40,7 @@ TEST(ModbusConfig, DefaultsAndOverrides) {
   EXPECT_EQ(p.ack_timeout, 9.0);
   EXPECT_EQ(p.poll_interval, 0.01);
   EXPECT_EQ(p.position_tolerance, 0.5);
-  EXPECT_EQ(p.map.word_order, WordOrder::kLowFirst);
+  EXPECT_EQ(p.maps[0].word_order, WordOrder::kLowFirst);
 }
 
 TEST(ModbusConfig, ErrorsNameTheKeyAndTheFix) {

@@ -67,9 +67,13 @@ TEST(ModbusTwoActuators, OneWriteAndOneReadCarryBothActuatorsThroughTheCoupledSp
   const auto all = transfer.ReadAll();
   ASSERT_TRUE(all.has_value());
   EXPECT_EQ((*all)[1].position, Float32(29.9));
-  // The one-actuator forms refuse: one position means nothing here.
-  EXPECT_FALSE(transfer.Read().has_value());
-  EXPECT_NE(TransferFailure([&] { transfer.Execute(20.0); }).find("moves 2 actuators"),
+  // One command, or one reading, means nothing here: refused, nothing sent.
+  EXPECT_FALSE(ReadOne(transfer).has_value());
+  EXPECT_NE(TransferFailure([&] { ExecuteOne(transfer, 20.0); }).find("one command for 2 actuators"),
+            std::string::npos);
+  std::vector<Measurement> one(1);
+  EXPECT_NE(TransferFailure([&] { transfer.Execute(std::vector<double>{20.0}, one); })
+                .find("1 commands for 2 actuators: nothing was sent"),
             std::string::npos);
   transfer.Deactivate();
 }

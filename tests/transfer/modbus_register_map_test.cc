@@ -20,7 +20,9 @@ std::vector<std::uint16_t> Encode(const RegisterMap& map, const RegisterField& f
 
 RegisterMap Parse(const std::string& text) {
   const YamlInput in = YamlInput::FromText(text, "map.yaml");
-  return ParseRegisterMap(in, in.root()["map"], "map");
+  const std::vector<RegisterMap> maps = ParseRegisterMaps(in, in.root()["map"], "map");
+  EXPECT_EQ(maps.size(), 1u) << "a map without `actuators:` is one actuator's";
+  return maps.at(0);
 }
 
 TEST(ModbusRegisterMap, DefaultProfileIsFloat32BigEndianHighWordFirst) {
@@ -35,7 +37,7 @@ TEST(ModbusRegisterMap, DefaultProfileIsFloat32BigEndianHighWordFirst) {
   const RegisterBlock write = CommandBlock(map);
   EXPECT_EQ(write.start, 0);
   EXPECT_EQ(write.count, 3);
-  const auto reads = ReadoutBlocks(map);
+  const auto reads = ReadoutBlocks({map});
   ASSERT_EQ(reads.size(), 1u);
   EXPECT_EQ(reads[0].table, Table::kInput);
   EXPECT_EQ(reads[0].start, 0);
@@ -114,7 +116,7 @@ map:
   EXPECT_EQ(map.lab_time->table, Table::kInput);
   EXPECT_EQ(map.enable_coil, 5);
   EXPECT_FALSE(map.hold_coil.has_value());
-  const auto reads = ReadoutBlocks(map);
+  const auto reads = ReadoutBlocks({map});
   ASSERT_EQ(reads.size(), 2u);  // one read per table
   EXPECT_EQ(reads[1].start, 200);
   EXPECT_EQ(reads[1].count, 6);

@@ -40,19 +40,19 @@ TEST(ModbusRead, ReportsWhereTheActuatorIsWithoutSendingACommand) {
   auto server = ModbusServerProcess::Pymodbus({"--start-mm", "7", "--p0-mm", "5", "--stiffness",
                                                "2", "--log-commands", log.string()});
   ModbusTransfer transfer(Options(server));
-  EXPECT_FALSE(transfer.Read().has_value()) << "not connected before Activate";
+  EXPECT_FALSE(ReadOne(transfer).has_value()) << "not connected before Activate";
   transfer.Activate();
   const long before = transfer.requests();
-  const auto read = transfer.Read();
+  const auto read = ReadOne(transfer);
   ASSERT_TRUE(read.has_value());
   EXPECT_EQ(read->position, 7.0);  // [mm], bench units
   EXPECT_EQ(read->force, 4.0);     // [N] = 2 N/mm × (7 − 5) mm
   EXPECT_EQ(transfer.requests() - before, 1) << "one read, no write";
   EXPECT_EQ(CommandsReceived(log), 0) << "Read() must not command anything";
   // Reading twice changes nothing; a move then shows in the next read.
-  EXPECT_EQ(transfer.Read()->position, 7.0);
-  transfer.Execute(7.5);
-  EXPECT_EQ(transfer.Read()->position, 7.5);
+  EXPECT_EQ(ReadOne(transfer)->position, 7.0);
+  ExecuteOne(transfer, 7.5);
+  EXPECT_EQ(ReadOne(transfer)->position, 7.5);
   EXPECT_EQ(CommandsReceived(log), 1);
 }
 
@@ -61,13 +61,13 @@ TEST(ModbusRead, AFailedReadRefusesTheNextMoveUntilActivated) {
   auto server = ModbusServerProcess::Pymodbus({});
   ModbusTransfer transfer(Options(server));
   transfer.Activate();
-  transfer.Execute(1.0);
+  ExecuteOne(transfer, 1.0);
   server.Kill();
   std::optional<Measurement> read;
-  EXPECT_NO_THROW(read = transfer.Read());
+  EXPECT_NO_THROW(read = ReadOne(transfer));
   EXPECT_FALSE(read.has_value());
   // Resume must not re-impose a command blind: the next move is refused, naming why.
-  const std::string error = TransferFailure([&] { transfer.Execute(1.5); });
+  const std::string error = TransferFailure([&] { ExecuteOne(transfer, 1.5); });
   EXPECT_NE(error.find("command 1.5 mm not sent: the actuator's position could not be read"),
             std::string::npos) << error;
   EXPECT_NE(error.find("failed to read input registers 0–5"), std::string::npos) << error;
@@ -78,12 +78,12 @@ TEST(ModbusRead, GivesNothingWhileTheControllerHolds) {
   auto server = ModbusServerProcess::Pymodbus({});
   ModbusTransfer transfer(Options(server));
   transfer.Activate();
-  transfer.Execute(1.0);
+  ExecuteOne(transfer, 1.0);
   transfer.Hold();  // the hold coil: the controller reports holding (status bit 2)
-  EXPECT_FALSE(transfer.Read().has_value());
+  EXPECT_FALSE(ReadOne(transfer).has_value());
   transfer.Activate();  // clears the hold coil and the refusal
-  ASSERT_TRUE(transfer.Read().has_value());
-  EXPECT_EQ(transfer.Execute(1.1).position, static_cast<float>(1.1));
+  ASSERT_TRUE(ReadOne(transfer).has_value());
+  EXPECT_EQ(ExecuteOne(transfer, 1.1).position, static_cast<float>(1.1));
 }
 
 TEST(ModbusStatus, HoldingBitMidRunStopsTheRunEvenIfTheCommandIsAcknowledged) {
@@ -91,8 +91,8 @@ TEST(ModbusStatus, HoldingBitMidRunStopsTheRunEvenIfTheCommandIsAcknowledged) {
   auto server = ModbusServerProcess::Pymodbus({"--fault", "holding@2"});
   ModbusTransfer transfer(Options(server));
   transfer.Activate();
-  transfer.Execute(1.0);
-  const std::string error = TransferFailure([&] { transfer.Execute(1.5); });
+  ExecuteOne(transfer, 1.0);
+  const std::string error = TransferFailure([&] { ExecuteOne(transfer, 1.5); });
   EXPECT_NE(error.find("reports holding (status bit 2)"), std::string::npos) << error;
   EXPECT_NE(error.find("ack 2 (input register 4)"), std::string::npos) << "acked, still refused: "
                                                                        << error;
@@ -105,8 +105,8 @@ TEST(ModbusStatus, DroppedEnableMidRunStopsTheRun) {
   auto server = ModbusServerProcess::Pymodbus({"--fault", "disabled@2"});
   ModbusTransfer transfer(Options(server));
   transfer.Activate();
-  transfer.Execute(1.0);
-  const std::string error = TransferFailure([&] { transfer.Execute(1.5); });
+  ExecuteOne(transfer, 1.0);
+  const std::string error = TransferFailure([&] { ExecuteOne(transfer, 1.5); });
   EXPECT_NE(error.find("dropped the enable (status bit 0)"), std::string::npos) << error;
   EXPECT_NE(error.find("status 0x0000"), std::string::npos) << error;
 }
@@ -116,11 +116,11 @@ TEST(ModbusStatus, UncheckedBitsAreIgnored) {
   // A map that leaves the holding bit unchecked (-1) accepts the same controller.
   auto server = ModbusServerProcess::Pymodbus({"--fault", "holding@2"});
   ModbusOptions o = Options(server);
-  o.map.status_bits.holding = -1;
+  o.maps[0].status_bits.holding = -1;
   ModbusTransfer transfer(o);
   transfer.Activate();
-  transfer.Execute(1.0);
-  EXPECT_EQ(transfer.Execute(1.5).position, 1.5);
+  ExecuteOne(transfer, 1.0);
+  EXPECT_EQ(ExecuteOne(transfer, 1.5).position, 1.5);
 }
 
 // The SafetyStop that `f` throws; fails the test if there is none.
@@ -141,8 +141,8 @@ TEST(ModbusFollowingError, AMeasuredPosition50MmOffTheCommandIsASafetyStop) {
   ModbusTransfer transfer(Options(server));
   EXPECT_EQ(*transfer.options().following_error, 0.2);  // default: 4 × 0.05 mm, the map's unit
   transfer.Activate();
-  transfer.Execute(1.0);
-  const SafetyStop stop = ExpectSafetyStop([&] { transfer.Execute(1.5); });
+  ExecuteOne(transfer, 1.0);
+  const SafetyStop stop = ExpectSafetyStop([&] { ExecuteOne(transfer, 1.5); });
   EXPECT_EQ(stop.limit(), "following_error");
   EXPECT_NEAR(stop.value(), 0.050, 1e-12);       // [m]
   EXPECT_NEAR(stop.limit_value(), 0.0002, 1e-12);  // [m]
@@ -152,7 +152,7 @@ TEST(ModbusFollowingError, AMeasuredPosition50MmOffTheCommandIsASafetyStop) {
   EXPECT_NE(what.find("> following_error 0.2 mm"), std::string::npos) << what;
   EXPECT_NE(what.find("the hold coil was set"), std::string::npos) << what;
   // Held: nothing more moves until the next Activate.
-  EXPECT_NE(TransferFailure([&] { transfer.Execute(1.5); }).find("not active"), std::string::npos);
+  EXPECT_NE(TransferFailure([&] { ExecuteOne(transfer, 1.5); }).find("not active"), std::string::npos);
 }
 
 TEST(ModbusFollowingError, TheLimitIsConfigurable) {
@@ -164,8 +164,8 @@ TEST(ModbusFollowingError, TheLimitIsConfigurable) {
     o.following_error = 5.0;
     ModbusTransfer transfer(o);
     transfer.Activate();
-    transfer.Execute(1.0);
-    EXPECT_EQ(transfer.Execute(1.5).position, 5.5);
+    ExecuteOne(transfer, 1.0);
+    EXPECT_EQ(ExecuteOne(transfer, 1.5).position, 5.5);
   }
   // ... beyond a configured 3 mm.
   auto server = ModbusServerProcess::Pymodbus({"--fault", "offset@2", "--offset-mm", "4"});
@@ -173,8 +173,8 @@ TEST(ModbusFollowingError, TheLimitIsConfigurable) {
   o.following_error = 3.0;
   ModbusTransfer transfer(o);
   transfer.Activate();
-  transfer.Execute(1.0);
-  const SafetyStop stop = ExpectSafetyStop([&] { transfer.Execute(1.5); });
+  ExecuteOne(transfer, 1.0);
+  const SafetyStop stop = ExpectSafetyStop([&] { ExecuteOne(transfer, 1.5); });
   EXPECT_NEAR(stop.value(), 0.004, 1e-12);
   EXPECT_NEAR(stop.limit_value(), 0.003, 1e-12);
 }

@@ -27,7 +27,7 @@ TEST(ModbusTransfer, IdealControllerReproducesTheSpecimenLaw) {
   transfer.Activate();
   double last_lab_time = -1.0;
   for (double command : {20.0, 21.5, 19.25, 20.123456789}) {
-    const Measurement m = transfer.Execute(command);
+    const Measurement m = ExecuteOne(transfer, command);
     EXPECT_EQ(m.position, Float32(command));  // the command went through float32 once
     EXPECT_EQ(m.force, Float32(5.25 * (Float32(command) - 20.0)));
     EXPECT_GT(m.lab_time, last_lab_time);  // wall time since Activate
@@ -35,7 +35,7 @@ TEST(ModbusTransfer, IdealControllerReproducesTheSpecimenLaw) {
   }
   // One write and one read per command when the ack is immediate.
   const long before = transfer.requests();
-  transfer.Execute(20.5);
+  ExecuteOne(transfer, 20.5);
   EXPECT_EQ(transfer.requests() - before, 2);
   EXPECT_EQ(transfer.bench_units().length_name, "mm");
   transfer.Deactivate();
@@ -51,7 +51,7 @@ TEST(ModbusTransfer, PollsUntilALaggedControllerAcknowledges) {
   ModbusTransfer transfer(o);
   transfer.Activate();
   const long before = transfer.requests();
-  const Measurement m = transfer.Execute(2.0);
+  const Measurement m = ExecuteOne(transfer, 2.0);
   EXPECT_GT(transfer.requests() - before, 3) << "the ack was not awaited";
   EXPECT_NEAR(m.position, 2.0, 0.001);     // settled within the controller's tolerance
   EXPECT_NE(m.position, Float32(2.0));     // ... but not at the command: a real lag
@@ -62,11 +62,11 @@ TEST(ModbusTransfer, LabTimeComesFromTheBenchClockRegisterWhenMapped) {
   REQUIRE_PYMODBUS();
   auto server = ModbusServerProcess::Pymodbus({"--lab-time", "--overhead-ms", "1130"});
   ModbusOptions o = Options(server);
-  o.map.lab_time = RegisterField{Table::kInput, 6, ValueType::kUint32, 0.001};
+  o.maps[0].lab_time = RegisterField{Table::kInput, 6, ValueType::kUint32, 0.001};
   ModbusTransfer transfer(o);
   transfer.Activate();
-  EXPECT_DOUBLE_EQ(transfer.Execute(0.1).lab_time, 1.13);
-  EXPECT_DOUBLE_EQ(transfer.Execute(0.2).lab_time, 2.26);
+  EXPECT_DOUBLE_EQ(ExecuteOne(transfer, 0.1).lab_time, 1.13);
+  EXPECT_DOUBLE_EQ(ExecuteOne(transfer, 0.2).lab_time, 2.26);
 }
 
 TEST(ModbusTransfer, SilentControllerTimesOutNamingTheAckRegister) {
@@ -74,9 +74,9 @@ TEST(ModbusTransfer, SilentControllerTimesOutNamingTheAckRegister) {
   auto server = ModbusServerProcess::Pymodbus({"--fault", "silent@2"});
   ModbusTransfer transfer(Options(server));
   transfer.Activate();
-  transfer.Execute(1.0);
+  ExecuteOne(transfer, 1.0);
   const auto start = std::chrono::steady_clock::now();
-  const std::string error = TransferFailure([&] { transfer.Execute(1.5); });
+  const std::string error = TransferFailure([&] { ExecuteOne(transfer, 1.5); });
   const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_NE(error.find("did not acknowledge within 0.5 s"), std::string::npos) << error;
   EXPECT_NE(error.find("127.0.0.1:" + std::to_string(server.port())), std::string::npos) << error;
@@ -86,7 +86,7 @@ TEST(ModbusTransfer, SilentControllerTimesOutNamingTheAckRegister) {
   EXPECT_NE(error.find("the hold coil was set"), std::string::npos) << error;
   EXPECT_TRUE(transfer.is_connected()) << "the link works: it stays open for the hold";
   EXPECT_NO_THROW(transfer.Hold());
-  EXPECT_NE(TransferFailure([&] { transfer.Execute(1.5); }).find("not active"), std::string::npos);
+  EXPECT_NE(TransferFailure([&] { ExecuteOne(transfer, 1.5); }).find("not active"), std::string::npos);
 }
 
 TEST(ModbusTransfer, FaultBitStopsTheTestAndHoldStillReachesTheController) {
@@ -94,9 +94,9 @@ TEST(ModbusTransfer, FaultBitStopsTheTestAndHoldStillReachesTheController) {
   auto server = ModbusServerProcess::Pymodbus({"--fault", "fault@3"});
   ModbusTransfer transfer(Options(server));
   transfer.Activate();
-  transfer.Execute(1.0);
-  transfer.Execute(1.1);
-  const std::string error = TransferFailure([&] { transfer.Execute(1.2); });
+  ExecuteOne(transfer, 1.0);
+  ExecuteOne(transfer, 1.1);
+  const std::string error = TransferFailure([&] { ExecuteOne(transfer, 1.2); });
   EXPECT_NE(error.find("reports a fault (status bit 1)"), std::string::npos) << error;
   EXPECT_NE(error.find("status 0x0003"), std::string::npos) << error;  // enabled | fault
   EXPECT_TRUE(transfer.is_connected());
@@ -111,8 +111,8 @@ TEST(ModbusTransfer, ModbusExceptionIsATransferError) {
   auto server = ModbusServerProcess::Pymodbus({"--fault", "exception@2"});
   ModbusTransfer transfer(Options(server));
   transfer.Activate();
-  transfer.Execute(1.0);
-  const std::string error = TransferFailure([&] { transfer.Execute(1.5); });
+  ExecuteOne(transfer, 1.0);
+  const std::string error = TransferFailure([&] { ExecuteOne(transfer, 1.5); });
   EXPECT_NE(error.find("Modbus exception 4"), std::string::npos) << error;
   EXPECT_NE(error.find("holding registers 0–2"), std::string::npos) << error;
   EXPECT_NO_THROW(transfer.Hold());
@@ -123,9 +123,9 @@ TEST(ModbusTransfer, KilledControllerIsATransferErrorAndHoldDoesNotThrow) {
   auto server = ModbusServerProcess::Pymodbus({});
   ModbusTransfer transfer(Options(server));
   transfer.Activate();
-  transfer.Execute(1.0);
+  ExecuteOne(transfer, 1.0);
   server.Kill();
-  const std::string error = TransferFailure([&] { transfer.Execute(1.5); });
+  const std::string error = TransferFailure([&] { ExecuteOne(transfer, 1.5); });
   EXPECT_NE(error.find("connection was closed"), std::string::npos) << error;
   EXPECT_FALSE(transfer.is_connected());
   EXPECT_NO_THROW(transfer.Hold());
@@ -138,8 +138,8 @@ TEST(ModbusTransfer, MuteControllerHitsTheResponseTimeout) {
   auto server = ModbusServerProcess::Pymodbus({"--fault", "mute@2"});
   ModbusTransfer transfer(Options(server));
   transfer.Activate();
-  transfer.Execute(1.0);
-  const std::string error = TransferFailure([&] { transfer.Execute(1.5); });
+  ExecuteOne(transfer, 1.0);
+  const std::string error = TransferFailure([&] { ExecuteOne(transfer, 1.5); });
   EXPECT_NE(error.find("timed out"), std::string::npos) << error;
   EXPECT_NO_THROW(transfer.Hold());
 }
@@ -151,10 +151,10 @@ TEST(ModbusTransfer, WrongWordOrderFailsTheFirstExchangesPlausibilityCheck) {
   auto server = ModbusServerProcess::Pymodbus(
       {"--start-mm", "20", "--p0-mm", "20", "--actuator", "lag", "--stiffness", "7.2"});
   ModbusOptions o = Options(server);
-  o.map.word_order = WordOrder::kLowFirst;
+  o.maps[0].word_order = WordOrder::kLowFirst;
   ModbusTransfer transfer(o);
   transfer.Activate();
-  const std::string error = TransferFailure([&] { transfer.Execute(20.0); });
+  const std::string error = TransferFailure([&] { ExecuteOne(transfer, 20.0); });
   EXPECT_NE(error.find("implausible first measurement"), std::string::npos) << error;
   EXPECT_NE(error.find("word_order"), std::string::npos) << error;
 }
@@ -177,13 +177,13 @@ TEST(ModbusTransfer, ExecuteRefusesUntilActivatedAndResumesAfterHold) {
   auto server = ModbusServerProcess::Pymodbus({});
   ModbusTransfer transfer(Options(server));
   EXPECT_NO_THROW(transfer.Hold());  // any state
-  EXPECT_NE(TransferFailure([&] { transfer.Execute(1.0); }).find("not active"), std::string::npos);
+  EXPECT_NE(TransferFailure([&] { ExecuteOne(transfer, 1.0); }).find("not active"), std::string::npos);
   transfer.Activate();
-  transfer.Execute(1.0);
+  ExecuteOne(transfer, 1.0);
   transfer.Hold();  // the controller now refuses commands until the hold coil is cleared
-  EXPECT_NE(TransferFailure([&] { transfer.Execute(1.1); }).find("not active"), std::string::npos);
+  EXPECT_NE(TransferFailure([&] { ExecuteOne(transfer, 1.1); }).find("not active"), std::string::npos);
   transfer.Activate();  // clears the hold coil
-  EXPECT_EQ(transfer.Execute(1.1).position, Float32(1.1));
+  EXPECT_EQ(ExecuteOne(transfer, 1.1).position, Float32(1.1));
 }
 
 TEST(ModbusTransfer, ConstructorRejectsBadOptions) {
@@ -194,7 +194,7 @@ TEST(ModbusTransfer, ConstructorRejectsBadOptions) {
   o.unit_id = 300;
   EXPECT_THROW(ModbusTransfer{o}, ConfigError);
   o = ModbusOptions{};
-  o.map.sequence.address = 7;  // not next to the command
+  o.maps[0].sequence.address = 7;  // not next to the command
   EXPECT_THROW(ModbusTransfer{o}, ConfigError);
 }
 

@@ -14,7 +14,7 @@ TEST(NumericalLoopback, ReturnsTheLawExactlyInSI) {
   EXPECT_EQ(loopback.bench_units().length_name, "m");
   EXPECT_EQ(loopback.bench_units().force_name, "N");
   loopback.Activate();
-  const Measurement m = loopback.Execute(0.0234);
+  const Measurement m = ExecuteOne(loopback, 0.0234);
   EXPECT_EQ(m.position, 0.0234);
   EXPECT_EQ(m.force, 7200.0 * (0.0234 - 0.02));
   EXPECT_EQ(m.lab_time, 0.0);
@@ -28,16 +28,16 @@ TEST(NumericalLoopback, CommitsEveryCommandLikeAPhysicalSpecimen) {
   for (double x : {0.001, 0.004, 0.002, -0.001}) {
     const double expected = reference.Trial(x);
     reference.Commit();
-    EXPECT_EQ(loopback.Execute(x).force, expected);
+    EXPECT_EQ(ExecuteOne(loopback, x).force, expected);
   }
 }
 
 TEST(NumericalLoopback, LifecycleAndNullLaw) {
   NumericalLoopback loopback(std::make_unique<constitutive::LinearSpring>(1.0), 0.0);
-  EXPECT_THROW(loopback.Execute(0.0), TransferError);
+  EXPECT_THROW(ExecuteOne(loopback, 0.0), TransferError);
   loopback.Activate();
   loopback.Hold();
-  EXPECT_THROW(loopback.Execute(0.0), TransferError);
+  EXPECT_THROW(ExecuteOne(loopback, 0.0), TransferError);
   EXPECT_THROW(NumericalLoopback(nullptr, 0.0), ConfigError);
 }
 

@@ -2,6 +2,7 @@
 // reject payloads of the wrong type or length.
 #include "hybridtest/transfer/protocol.h"
 
+#include <array>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -51,28 +52,29 @@ TEST(Protocol, WelcomeRoundTrip) {
 
 TEST(Protocol, CommandRoundTripIsBitExact) {
   for (double position : {0.0, -12.345678901234567, 1e-17, 149.99999999999997}) {
-    const Frame f = ThroughWire(EncodeCommand(42, CommandMessage{position}));
+    const Frame f = ThroughWire(EncodeCommands(42, std::array<double, 1>{position}));
     EXPECT_EQ(f.sequence, 42u);
-    EXPECT_EQ(DecodeCommand(f).position, position);
+    EXPECT_EQ(f.payload.size(), 8u);
+    EXPECT_EQ(DecodeCommands(f), std::vector<double>{position});
   }
 }
 
 TEST(Protocol, MeasurementRoundTripKeepsNaN) {
-  MeasurementMessage m;
-  m.measurement = Measurement{12.5, -3.25e3, 1.13};
-  const MeasurementMessage back = DecodeMeasurement(ThroughWire(EncodeMeasurement(7, m)));
-  EXPECT_EQ(back.measurement.position, 12.5);
-  EXPECT_EQ(back.measurement.force, -3.25e3);
-  EXPECT_EQ(back.measurement.lab_time, 1.13);
-  EXPECT_EQ(back.status, MeasurementStatus::kOk);
-  m.measurement.force = std::nan("");
-  EXPECT_TRUE(std::isnan(DecodeMeasurement(ThroughWire(EncodeMeasurement(8, m))).measurement.force));
+  std::array<Measurement, 1> m{Measurement{12.5, -3.25e3, 1.13}};
+  const Frame f = ThroughWire(EncodeMeasurements(7, m));
+  EXPECT_EQ(f.payload.size(), 28u);  // the one-actuator frame: 3 f64 and the u32 status
+  const Measurement back = DecodeMeasurements(f, 1).at(0);
+  EXPECT_EQ(back.position, 12.5);
+  EXPECT_EQ(back.force, -3.25e3);
+  EXPECT_EQ(back.lab_time, 1.13);
+  m[0].force = std::nan("");
+  EXPECT_TRUE(std::isnan(DecodeMeasurements(ThroughWire(EncodeMeasurements(8, m)), 1)[0].force));
 }
 
 TEST(Protocol, MeasurementWithUnknownStatusIsRejected) {
-  Frame f = EncodeMeasurement(3, MeasurementMessage{});
+  Frame f = EncodeMeasurements(3, std::array<Measurement, 1>{});
   f.payload[24] = 9;  // status field
-  EXPECT_THROW(DecodeMeasurement(ThroughWire(f)), TransferError);
+  EXPECT_THROW(DecodeMeasurements(ThroughWire(f), 1), TransferError);
 }
 
 TEST(Protocol, ErrorRoundTrip) {
@@ -98,19 +100,20 @@ TEST(Protocol, EmptyMessagesRoundTrip) {
 }
 
 TEST(Protocol, DecodersCheckTypeAndLength) {
-  const Frame command = EncodeCommand(1, CommandMessage{1.0});
-  EXPECT_THROW(DecodeMeasurement(command), TransferError);
+  const Frame command = EncodeCommands(1, std::array<double, 1>{1.0});
+  EXPECT_THROW(DecodeMeasurements(command, 1), TransferError);
   EXPECT_THROW(DecodeEmpty(command, MessageType::kHeartbeat), TransferError);
   Frame longer = command;
   longer.payload.push_back(0);
-  EXPECT_THROW(DecodeCommand(longer), TransferError);
+  EXPECT_THROW(DecodeCommands(longer), TransferError);
   Frame shorter = command;
   shorter.payload.pop_back();
   try {
-    DecodeCommand(shorter);
+    DecodeCommands(shorter);
     FAIL() << "expected a TransferError";
   } catch (const TransferError& e) {
-    EXPECT_NE(std::string(e.what()).find("COMMAND payload too short"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("a payload of 7 bytes; expected n ≥ 1 positions of 8 "
+                                         "bytes"), std::string::npos);
   }
   Frame hb = EncodeEmpty(MessageType::kHeartbeat, 1);
   hb.payload.push_back(1);

@@ -38,13 +38,13 @@ TEST(RtPlantServed, ThePlantRunsOnTheServersClockBetweenCommands) {
   client.StartPaced(0.001, client_clock);  // the client's clock paces nothing remote
 
   // t = 0: the command is sent; the delayed plant has not moved.
-  Measurement m = client.Execute(0.01);
+  Measurement m = ExecuteOne(client, 0.01);
   EXPECT_EQ(m.position, 0.0);
   // Asked again at the same server time: still not moved (commands do not advance it).
-  for (int i = 0; i < 5; ++i) EXPECT_EQ(client.Execute(0.01).position, 0.0);
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(ExecuteOne(client, 0.01).position, 0.0);
   // The server's clock passes the delay: the position and force follow.
   server_clock.WaitUntil(0.0061);
-  m = client.Execute(0.01);
+  m = ExecuteOne(client, 0.01);
   EXPECT_DOUBLE_EQ(m.position, 0.01);
   EXPECT_NEAR(m.force, 1000.0 * 0.01, 1e-9);
   EXPECT_FALSE(server.failed());

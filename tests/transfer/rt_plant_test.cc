@@ -41,7 +41,7 @@ cd Oracle(const RtPlantConfig& c, double f) {
 cd Measured(RtPlant& plant, double f, double rate, double amplitude = 1e-3) {
   VirtualClock clock;
   plant.Activate();
-  plant.Execute(0.0);
+  ExecuteOne(plant, 0.0);
   plant.StartPaced(1.0 / rate, clock);
   const long settle = static_cast<long>(3.0 * rate), window = static_cast<long>(std::round(4.0 * rate / f));
   cd acc(0.0, 0.0), ref(0.0, 0.0);
@@ -49,7 +49,7 @@ cd Measured(RtPlant& plant, double f, double rate, double amplitude = 1e-3) {
     clock.WaitUntil(static_cast<double>(i) / rate);
     const double t = clock.Now();
     const double c = amplitude * std::sin(2.0 * kPi * f * t);
-    const Measurement m = plant.Execute(c);
+    const Measurement m = ExecuteOne(plant, c);
     if (i > settle) {
       const cd e = std::exp(cd(0.0, -2.0 * kPi * f * t));
       acc += m.position * e;
@@ -76,7 +76,7 @@ TEST(RtPlant, ServoHydraulicFrequencyResponseMatchesItsTransferFunction) {
 TEST(RtPlant, SettledResponseIsTheStaticLoop) {
   RtPlant plant(Benchmark());
   plant.Activate();
-  const Measurement m = plant.Execute(1e-3);
+  const Measurement m = ExecuteOne(plant, 1e-3);
   EXPECT_NEAR(m.position / 1e-3, std::abs(Oracle(Benchmark(), 1e-9)), 1e-9);
   EXPECT_NEAR(m.force, 1.19e6 * m.position, 1e-6);
 }
@@ -88,11 +88,11 @@ TEST(RtPlant, PureDelayReturnsTheCommandOfTauAgo) {
   RtPlant plant(c);
   VirtualClock clock;
   plant.Activate();
-  plant.Execute(0.0);
+  ExecuteOne(plant, 0.0);
   plant.StartPaced(0.001, clock);
   for (int i = 1; i <= 10; ++i) {
     clock.WaitUntil(0.001 * i);
-    const Measurement m = plant.Execute(static_cast<double>(i));
+    const Measurement m = ExecuteOne(plant, static_cast<double>(i));
     EXPECT_DOUBLE_EQ(m.position, i > 3 ? static_cast<double>(i - 3) : 0.0) << i;
     EXPECT_DOUBLE_EQ(m.force, 1000.0 * m.position);
   }

@@ -13,7 +13,6 @@
 #include "hybridtest/common/yaml_input.h"
 #include "hybridtest/transfer/modbus/modbus_config.h"
 #include "hybridtest/transfer/modbus/modbus_transfer.h"
-#include "hybridtest/transfer/modbus/register_map_multi.h"
 #include "hybridtest/transfer/safety.h"
 #include "hybridtest/transfer/safety_settled_reading.h"
 #include "transfer/modbus_server_process.h"
@@ -126,18 +125,18 @@ TEST(SettledReading, AModbusControllerThatAcksBeforeItUpdatesItsDataIsStopped) {
   auto server = ModbusServerProcess::Pymodbus({"--fault", "stale@3"});
   ModbusTransfer transfer(modbus::Options(server));
   transfer.Activate();
-  EXPECT_EQ(transfer.Execute(1.0).position, 1.0);
-  EXPECT_EQ(transfer.Execute(1.5).position, 1.5);
+  EXPECT_EQ(ExecuteOne(transfer, 1.0).position, 1.0);
+  EXPECT_EQ(ExecuteOne(transfer, 1.5).position, 1.5);
   // Command 3 is acknowledged with command 2's position: 0.5 mm off, beyond the following
   // error too, but the stale rule names the cause.
-  const SafetyStop stop = StopOf([&] { transfer.Execute(2.0); });
+  const SafetyStop stop = StopOf([&] { ExecuteOne(transfer, 2.0); });
   EXPECT_EQ(stop.limit(), "stale_acknowledgement");
   const std::string what = stop.what();
   EXPECT_NE(what.find("acknowledged command 2 mm (sequence"), std::string::npos) << what;
   EXPECT_NE(what.find("measured position 1.5 mm is the one of the previous command 1.5 mm"),
             std::string::npos) << what;
   EXPECT_NE(what.find("the hold coil was set"), std::string::npos) << what;
-  EXPECT_NE(modbus::TransferFailure([&] { transfer.Execute(2.0); }).find("not active"),
+  EXPECT_NE(modbus::TransferFailure([&] { ExecuteOne(transfer, 2.0); }).find("not active"),
             std::string::npos);
 }
 
@@ -148,8 +147,8 @@ TEST(SettledReading, AStaleAckWithinTheFollowingErrorIsStoppedToo) {
   o.following_error = 2.0;  // [mm]: the old default; the stale rule does not depend on it
   ModbusTransfer transfer(o);
   transfer.Activate();
-  transfer.Execute(1.0);
-  EXPECT_EQ(StopOf([&] { transfer.Execute(1.3); }).limit(), "stale_acknowledgement");
+  ExecuteOne(transfer, 1.0);
+  EXPECT_EQ(StopOf([&] { ExecuteOne(transfer, 1.3); }).limit(), "stale_acknowledgement");
 }
 
 TEST(SettledReading, A1point5MmOffsetOnActuator2OfTwoStopsNamingIt) {

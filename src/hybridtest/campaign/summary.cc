@@ -22,12 +22,13 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::string Field(const std::string& text) {
   if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
-  std::string out = "\"";
+  std::string out(1, '"');
   for (char c : text) {
     if (c == '"') out += '"';
     out += c;
   }
-  return out + "\"";
+  out.push_back('"');
+  return out;
 }
 
 std::string Number(double v) {
@@ -86,15 +87,20 @@ std::string SummaryCsv(const Campaign& campaign,
                        const std::vector<std::optional<CaseResult>>& results) {
   const bool plan = campaign.command == CaseCommand::kPlan;
   std::string out = "case";
-  for (const auto& key : campaign.varied) out += "," + Field(key);
+  // A comma, then the field (not `"," + field`: GCC 12 warns -Wrestrict there).
+  const auto add = [&out](const std::string& field) {
+    out.push_back(',');
+    out += field;
+  };
+  for (const auto& key : campaign.varied) add(Field(key));
   out += ",status,duration_s,worker";
-  for (const auto& m : campaign.metrics) out += "," + Field(m.name);
+  for (const auto& m : campaign.metrics) add(Field(m.name));
   if (plan) out += ",recommendation,evaluations,plan_error,lab_time_s";
   out += ",error\n";
   for (std::size_t i = 0; i < campaign.cases.size(); ++i) {
     const CaseSpec& c = campaign.cases[i];
     out += Field(c.id);
-    for (const auto& [key, value] : c.params) out += "," + Field(value);
+    for (const auto& [key, value] : c.params) add(Field(value));
     const std::optional<CaseResult>& r = results.at(i);
     if (!r) {
       out += ",pending,,";
@@ -105,13 +111,15 @@ std::string SummaryCsv(const Campaign& campaign,
     }
     out += fmt::format(",{},{},{}", r->status, Number(r->duration), Field(r->worker));
     for (std::size_t m = 0; m < campaign.metrics.size(); ++m) {
-      out += "," + Number(m < r->metrics.size() ? r->metrics[m] : kNaN);
+      add(Number(m < r->metrics.size() ? r->metrics[m] : kNaN));
     }
     if (plan) {
-      out += "," + PlanField(*r, "recommendation") + "," + PlanField(*r, "evaluations") + "," +
-             PlanField(*r, "error") + "," + PlanField(*r, "lab_time");
+      for (const char* key : {"recommendation", "evaluations", "error", "lab_time"}) {
+        add(PlanField(*r, key));
+      }
     }
-    out += "," + Field(r->error) + "\n";
+    add(Field(r->error));
+    out.push_back('\n');
   }
   return out;
 }

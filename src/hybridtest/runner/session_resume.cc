@@ -11,7 +11,14 @@ namespace hybridtest::runner {
 void Session::RestoreFromState() {
   const RunState& state = *resume_;
   for (std::size_t s = 0; s < subs_.size(); ++s) {
-    subs_[s]->RestoreState(state.substructures[s].at("state"));
+    nlohmann::json saved = state.substructures[s].at("state");
+    // The commands its bench had received when the run stopped (the interrupted step's too):
+    // part of what the substructure restores (substructure.h).
+    if (s < options_.commands_received_at_stop.size() &&
+        options_.commands_received_at_stop[s] && saved.is_object()) {
+      saved["commands_received_at_stop"] = *options_.commands_received_at_stop[s];
+    }
+    subs_[s]->RestoreState(saved);
   }
   BuildScheme();  // after the substructures are restored: K0 may have been measured
   scheme_->RestoreState(state.scheme);
@@ -47,9 +54,6 @@ void Session::ReimposeCommitted() {
       request.force_tolerance = spec_.resume.force_tolerance.value_or(0.0);
       request.position_tolerance = spec_.resume.position_tolerance.value_or(0.0);
       request.step = p.step;
-      if (s < options_.commands_received_at_stop.size()) {
-        request.commands_at_stop = options_.commands_received_at_stop[s];
-      }
       request.on_move = [&](bool reimposition) {
         PublishTrial({p.step, reimposition ? -1 : -2, p.t}, none, none);
       };

@@ -104,8 +104,7 @@ StepResult Session::Fail(const std::exception& e) {
   nlohmann::json received = nlohmann::json::array();
   for (const auto& s : subs_) {
     const transfer::TransferSystem* t = s->transfer_system();
-    const auto count = t != nullptr && s->num_actuators() == 1 ? t->commands_received()
-                                                                : std::nullopt;
+    const auto count = t != nullptr ? t->commands_received() : std::nullopt;
     received.push_back(count ? nlohmann::json(*count) : nlohmann::json(nullptr));
   }
   event.statistics["stop"]["commands_received"] = received;

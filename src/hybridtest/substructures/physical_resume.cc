@@ -101,7 +101,6 @@ PhysicalSubstructure::ResumeCheck PhysicalSubstructure::ReimposeCommitted(
 nlohmann::json PhysicalSubstructure::ReimposeForResume(const ResumeRequest& request) {
   // Every actuator walked back from where it is and re-imposed together; every position and
   // force checked. One record per actuator, named like its channels.
-  if (request.commands_at_stop) transfer_->NoteCommandsBeforeResume(*request.commands_at_stop);
   const ResumeCheck check = ReimposeCommitted(request.force_tolerance,
                                               request.position_tolerance, request.step,
                                               request.on_move);

@@ -86,7 +86,13 @@ void PhysicalSubstructure::RestoreState(const nlohmann::json& state) {
         gate_.monitor(static_cast<int>(k)).RestoreState(safety.at(k));
       }
     }
-    if (!state.at("transfer").is_null()) transfer_->RestoreState(state.at("transfer"));
+    if (!state.at("transfer").is_null()) {
+      nlohmann::json transfer = state.at("transfer");
+      if (state.contains("commands_received_at_stop") && transfer.is_object()) {
+        transfer["commands_received_at_stop"] = state.at("commands_received_at_stop");
+      }
+      transfer_->RestoreState(transfer);
+    }
   } catch (const nlohmann::json::exception& e) {
     throw Error(fmt::format("{}: cannot restore the saved state: {}", name_, e.what()));
   }

@@ -100,7 +100,9 @@ class Substructure {
   // The committed state, for a run's checkpoint (runner/run_state.h): taken right after
   // Commit(), restored on a freshly built and activated substructure of the same config so
   // that the run continues as if it had not stopped. Throws hybridtest::Error if a state does
-  // not fit. Default: a stateless substructure ({}).
+  // not fit. Default: a stateless substructure ({}). On a resume the runner adds
+  // "commands_received_at_stop" (the count its transfer system's commands_received() gave when
+  // the run stopped, if recorded) to the saved state it restores.
   virtual nlohmann::json SaveState() const { return nlohmann::json::object(); }
   virtual void RestoreState(const nlohmann::json& /*state*/) {}
 
@@ -115,7 +117,6 @@ class Substructure {
   // every actuator back to its last committed command and checks position and force (see
   // PhysicalSubstructure::ReimposeCommitted),
   // within force_tolerance [N] and position_tolerance [m] (≤ 0: the defaults);
-  // `commands_at_stop`: commands the bench had received when the run stopped, if recorded.
   // `on_move(reimposition)` after every exchange. Returns one sidecar record per actuator,
   // named after `name` (empty for a numerical substructure). Throws SafetyStop, TransferError.
   struct ResumeRequest {
@@ -123,7 +124,6 @@ class Substructure {
     double force_tolerance = 0.0;     // [N]
     double position_tolerance = 0.0;  // [m]
     long step = 0;
-    std::optional<long> commands_at_stop;
     std::function<void(bool reimposition)> on_move;
   };
   virtual nlohmann::json ReimposeForResume(const ResumeRequest& /*request*/) {

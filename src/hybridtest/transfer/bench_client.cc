@@ -140,32 +140,18 @@ BenchAnnouncement BenchClient::Announce() const {
   return {std::nullopt, welcome_->limits, "the bench at " + Endpoint()};
 }
 
-Measurement BenchClient::Execute(double command) {
-  const std::uint32_t sequence = next_sequence_++;
-  const std::string what = fmt::format("the measurement of COMMAND sequence {} (position {} {})",
-                                       sequence, command, bench_units().length_name);
-  const Frame reply = Exchange(EncodeCommand(sequence, CommandMessage{command}),
-                               MessageType::kMeasurement, what, options_.reply_timeout);
-  try {
-    return DecodeMeasurement(reply).measurement;
-  } catch (const TransferError& e) {
-    Fail(fmt::format("bad MEASUREMENT from the bench at {} for command {}: {}", Endpoint(),
-                     sequence, e.what()));
-  }
-}
-
 void BenchClient::Execute(std::span<const double> commands, std::span<Measurement> out) {
-  if (commands.size() == 1 && num_actuators() == 1) {
-    out[0] = Execute(commands[0]);
-    return;
-  }
   if (static_cast<int>(commands.size()) != num_actuators() || out.size() != commands.size()) {
     Fail(fmt::format("{} commands for the {} actuators of the bench at {}", commands.size(),
                      num_actuators(), Endpoint()));
   }
   const std::uint32_t sequence = next_sequence_++;
-  const std::string what = fmt::format("the measurement of COMMAND sequence {} ({} actuators)",
-                                       sequence, commands.size());
+  const std::string what =
+      commands.size() == 1
+          ? fmt::format("the measurement of COMMAND sequence {} (position {} {})", sequence,
+                        commands[0], bench_units().length_name)
+          : fmt::format("the measurement of COMMAND sequence {} ({} actuators)", sequence,
+                        commands.size());
   const Frame reply = Exchange(EncodeCommands(sequence, commands), MessageType::kMeasurement, what,
                                options_.reply_timeout);
   std::vector<Measurement> measured;

@@ -55,8 +55,6 @@ class BenchClient final : public TransferSystem {
   // Again after Hold() with the session still open: a HEARTBEAT only (reconnects if the
   // server dropped the session meanwhile).
   void Activate() override;
-  using TransferSystem::Execute;
-  Measurement Execute(double command) override;
   // A bench of several actuators (its WELCOME says how many; 1 before Activate()): one COMMAND
   // with every position, one MEASUREMENT with every actuator's sample.
   int num_actuators() const override { return welcome_ ? welcome_->actuators : 1; }

@@ -43,6 +43,17 @@ struct BenchServer::Session {
   std::string refused_text;
 };
 
+void SetStartPositions(SafetyGate& gate, const BenchServerOptions& options) {
+  for (int k = 0; k < gate.size(); ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    if (i < options.start_positions.size()) {
+      gate.monitor(k).SetStartPosition(options.start_positions[i]);
+    } else if (options.start_position) {
+      gate.monitor(k).SetStartPosition(*options.start_position);
+    }
+  }
+}
+
 BenchServer::BenchServer(TransferSystem& bench, BenchServerOptions options)
     : bench_(bench),
       options_(std::move(options)),
@@ -51,13 +62,8 @@ BenchServer::BenchServer(TransferSystem& bench, BenchServerOptions options)
                                       options_.limits)),
       listener_(CheckOptions(options_), options_.port),
       handshakes_(options_.max_pending, options_.handshake_timeout) {
+  SetStartPositions(gate_, options_);
   for (int k = 0; k < gate_.size(); ++k) {
-    const auto i = static_cast<std::size_t>(k);
-    if (i < options_.start_positions.size()) {
-      gate_.monitor(k).SetStartPosition(options_.start_positions[i]);
-    } else if (options_.start_position) {
-      gate_.monitor(k).SetStartPosition(*options_.start_position);
-    }
     if (options_.initial_stiffness) gate_.monitor(k).SetInitialStiffness(*options_.initial_stiffness);
   }
   if (options_.actuator_stiffness) UseCoupledStiffness(gate_, *options_.actuator_stiffness);
@@ -311,19 +317,17 @@ bool BenchServer::AnswerFailedMove(Session& session, const Frame& frame, long n)
 }
 
 bool BenchServer::HandleCommand(Session& session, const Frame& frame) {
-  // One position per actuator (a bench of one actuator reads the one-position frame, with its
-  // own messages for a malformed payload).
-  const std::vector<double> commands =
-      gate_.size() == 1 ? std::vector<double>{DecodeCommand(frame).position} : DecodeCommands(frame);
-  const long n = ++commands_received_;
-  const auto fault = [&](FaultKind kind) { return HasFault(options_.faults, kind, n); };
-  const auto safety = static_cast<int>(ErrorCode::kSafety);
+  // One position per actuator; a COMMAND of another count is not received (nothing moves).
+  const std::vector<double> commands = DecodeCommands(frame);
   if (static_cast<int>(commands.size()) != gate_.size()) {
     SendError(session, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
               fmt::format("COMMAND with {} positions for a bench of {} actuators; send one per "
                           "actuator", commands.size(), gate_.size()));
     return false;
   }
+  const long n = ++commands_received_;
+  const auto fault = [&](FaultKind kind) { return HasFault(options_.faults, kind, n); };
+  const auto safety = static_cast<int>(ErrorCode::kSafety);
 
   // Latched refusal: nothing moves until the client reconnects.
   if (session.refused) {

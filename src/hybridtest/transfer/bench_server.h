@@ -79,6 +79,10 @@ struct BenchServerOptions {
   std::function<void(const std::string&)> log;  // one line per event; may be empty
 };
 
+// Each actuator's monitor in `gate` starts from its entry of options.start_positions, else
+// from options.start_position if given (the servers' gates: bench and OpenFresco).
+void SetStartPositions(SafetyGate& gate, const BenchServerOptions& options);
+
 class BenchServer {
  public:
   // Binds and listens. Throws ConfigError for a non-loopback host without a token or

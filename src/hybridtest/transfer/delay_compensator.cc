@@ -130,13 +130,18 @@ void DelayCompensator::Identify() {
   ++updates_;
 }
 
-Measurement DelayCompensator::Execute(double command) {
+void DelayCompensator::Execute(std::span<const double> commands, std::span<Measurement> out) {
+  RequireOneActuator(commands, out, Describe());
+  const double command = commands[0];
   if (!paced_) {
     origin_ = command;
-    return inner_->Execute(command);
+    inner_->Execute(commands, out);
+    return;
   }
   const double sent = Compensate(command - origin_);
-  const Measurement m = inner_->Execute(origin_ + sent);
+  const double absolute = origin_ + sent;
+  inner_->Execute(std::span<const double>(&absolute, 1), out);
+  const Measurement& m = out[0];
   ++ticks_;
   if (config_.method == CompensationMethod::kAts) {
     sent_[head_] = sent;
@@ -145,7 +150,6 @@ Measurement DelayCompensator::Execute(double command) {
     if (size_ < sent_.size()) ++size_;
     if (ticks_ % config_.update_every == 0) Identify();
   }
-  return m;
 }
 
 nlohmann::json DelayCompensator::ToJson() const {

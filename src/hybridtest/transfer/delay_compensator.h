@@ -63,13 +63,13 @@ class DelayCompensator final : public TransferSystem {
   DelayCompensator(std::unique_ptr<TransferSystem> inner, CompensatorConfig config);
 
   void Activate() override { inner_->Activate(); }
-  using TransferSystem::Execute;
-  Measurement Execute(double command) override;
+  int num_actuators() const override { return 1; }
+  void Execute(std::span<const double> commands, std::span<Measurement> out) override;
   void Hold() noexcept override { inner_->Hold(); }
   void Deactivate() override { inner_->Deactivate(); }
   BenchUnits bench_units() const override { return inner_->bench_units(); }
   std::string Describe() const override;
-  std::optional<Measurement> Read() const override { return inner_->Read(); }
+  std::optional<std::vector<Measurement>> ReadAll() const override { return inner_->ReadAll(); }
   BenchAnnouncement Announce() const override { return inner_->Announce(); }
   std::optional<long> commands_received() const override { return inner_->commands_received(); }
   void StartPaced(double tick, const Clock& clock) override;

@@ -113,17 +113,6 @@ const Eigen::VectorXd& EmulatedBench::Deform() {
   return force_;
 }
 
-Measurement EmulatedBench::Execute(double command) {
-  if (num_actuators() != 1) {
-    throw TransferError(fmt::format("emulated bench: one command for {} actuators; a "
-                                    "substructure with `setup: transform` sends one per actuator",
-                                    num_actuators()));
-  }
-  Measurement m;
-  Execute(std::span<const double>(&command, 1), std::span<Measurement>(&m, 1));
-  return m;
-}
-
 void EmulatedBench::Execute(std::span<const double> commands, std::span<Measurement> out) {
   const auto n = static_cast<std::size_t>(num_actuators());
   const EmulatedBenchConfig& first = spec_.actuators[0];
@@ -147,7 +136,8 @@ void EmulatedBench::Execute(std::span<const double> commands, std::span<Measurem
 
   // 0. The bench's own safety check of every command: a refused command moves no actuator.
   try {
-    CheckCommands(safety_, spec_.coupled_safety ? &spec_.stiffness : nullptr, target_, index, 0);
+    CheckCommands(safety_, spec_.coupled_safety ? &spec_.stiffness : nullptr, target_, index, 0,
+                  scratch_);
   } catch (...) {
     Hold();
     throw;

@@ -41,6 +41,7 @@
 #include "hybridtest/transfer/bench_config.h"
 #include "hybridtest/transfer/bench_spec.h"
 #include "hybridtest/transfer/safety.h"
+#include "hybridtest/transfer/safety_gate.h"
 #include "hybridtest/transfer/transfer_system.h"
 
 namespace hybridtest::transfer {
@@ -63,8 +64,6 @@ class EmulatedBench final : public TransferSystem {
   ~EmulatedBench() override;
 
   void Activate() override;
-  // One command for a bench of one actuator (TransferError otherwise).
-  Measurement Execute(double command) override;
   void Execute(std::span<const double> commands, std::span<Measurement> out) override;
   int num_actuators() const override { return spec_.num_actuators(); }
   void Hold() noexcept override;
@@ -79,9 +78,6 @@ class EmulatedBench final : public TransferSystem {
   // Number of Execute calls so far (including refused ones).
   long command_count() const { return command_count_; }
   std::optional<long> commands_received() const override { return command_count_; }
-  void NoteCommandsBeforeResume(long count) override {
-    faults_fired_through_ = std::max(faults_fired_through_, count);
-  }
   bool holding() const { return state_ == State::kHolding; }
   const EmulatedBenchSpec& spec() const { return spec_; }
   // The bench's own monitor of actuator k.
@@ -100,12 +96,9 @@ class EmulatedBench final : public TransferSystem {
   // load-cell offset [bench force unit], read without moving, without noise and without lab
   // time (the specimen's committed state is untouched). Never throws.
   std::optional<std::vector<Measurement>> ReadAll() const override;
-  // ReadAll() of a bench of one actuator; nullopt for several.
-  std::optional<Measurement> Read() const override;
   // A bench of one actuator: its configured p0 and its own safety limits; {} for several.
   BenchAnnouncement Announce() const override;
-  // A bench of one actuator: Read() with the bench's state in words (the in-process bench
-  // always answers); nullopt for several.
+  // ReadAll() with the bench's state in words (the in-process bench always answers).
   std::optional<ProbeReading> Probe() override;
 
  private:
@@ -126,6 +119,7 @@ class EmulatedBench final : public TransferSystem {
   // Workspaces (n).
   std::vector<double> deformation_, target_;
   Eigen::VectorXd force_;
+  CommandScratch scratch_;
 };
 
 // The factories the bench server and the readers call. Throw ConfigError.

@@ -2,6 +2,7 @@
 // load_cell.h, lab_clock.h).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <sstream>
 
 #include "hybridtest/common/error.h"
@@ -94,11 +95,16 @@ nlohmann::json EmulatedBench::SaveState() const {
 void EmulatedBench::RestoreState(const nlohmann::json& state) {
   try {
     const std::size_t n = actuators_.size();
-    if (n == 1 && state.value("kind", "") == "emulated") {  // the form of one actuator
+    // (The kind read by hand: GCC 12 warns -Wnull-dereference inside json::value(key, "").)
+    std::string kind;
+    if (const auto it = state.find("kind"); it != state.end() && it->is_string()) {
+      kind = it->get_ref<const std::string&>();
+    }
+    if (n == 1 && kind == "emulated") {  // the form of one actuator
       actuators_[0]->RestoreState(state.at("actuator"));
       load_cells_[0]->RestoreState(state.at("load_cell").get<std::string>());
       safety_[0].RestoreState(state.at("safety"));
-    } else if (state.value("kind", "") == "multi_emulated" && state.at("actuators").size() == n &&
+    } else if (kind == "multi_emulated" && state.at("actuators").size() == n &&
                state.at("load_cells").size() == n && state.at("safety").size() == n) {
       for (std::size_t k = 0; k < n; ++k) {
         actuators_[k]->RestoreState(state.at("actuators")[k]);
@@ -112,7 +118,10 @@ void EmulatedBench::RestoreState(const nlohmann::json& state) {
     specimen_->RestoreState(state.at("specimen"));
     clock_->Restore(state.at("lab_time_s").get<double>());
     command_count_ = state.at("command_count").get<long>();
-    faults_fired_through_ = state.value("faults_fired_through", 0L);
+    // A test fault (bench_faults.h) at a command received before the run stopped has fired
+    // and does not fire again after the resume.
+    faults_fired_through_ = std::max(state.value("faults_fired_through", 0L),
+                                     state.value("commands_received_at_stop", 0L));
   } catch (const nlohmann::json::exception& e) {
     throw Error(fmt::format("emulated bench: cannot restore its state: {}", e.what()));
   }
@@ -139,24 +148,17 @@ std::optional<std::vector<Measurement>> EmulatedBench::ReadAll() const {
   return out;
 }
 
-std::optional<Measurement> EmulatedBench::Read() const {
-  if (num_actuators() != 1) return std::nullopt;
-  return (*ReadAll())[0];
-}
-
 BenchAnnouncement EmulatedBench::Announce() const {
   if (num_actuators() != 1) return {};
   return {spec_.actuators[0].p0, spec_.actuators[0].safety, "the emulated bench"};
 }
 
 std::optional<ProbeReading> EmulatedBench::Probe() {
-  const std::optional<Measurement> read = Read();
-  if (!read) return std::nullopt;
   const char* state = state_ == State::kHolding       ? "holding"
                       : state_ == State::kActive      ? "active"
                       : state_ == State::kDeactivated ? "deactivated"
                                                       : "configured, not yet activated";
-  return ProbeReading{*read, std::string("emulated bench ") + state, ""};
+  return ProbeReading{*ReadAll(), std::string("emulated bench ") + state, ""};
 }
 
 }  // namespace hybridtest::transfer

@@ -12,7 +12,9 @@ NumericalLoopback::NumericalLoopback(std::unique_ptr<constitutive::RestoringForc
   if (!law_) throw ConfigError("numerical loopback: no restoring-force law given");
 }
 
-Measurement NumericalLoopback::Execute(double command) {
+void NumericalLoopback::Execute(std::span<const double> commands, std::span<Measurement> out) {
+  RequireOneActuator(commands, out, "numerical loopback");
+  const double command = commands[0];
   if (!active_) {
     throw TransferError(fmt::format("numerical loopback: Execute({} m) while not active; call "
                                     "Activate() first (also to resume after a hold)",
@@ -20,7 +22,7 @@ Measurement NumericalLoopback::Execute(double command) {
   }
   const double force = law_->Trial(command - p0_);
   law_->Commit();
-  return Measurement{command, force, 0.0};
+  out[0] = Measurement{command, force, 0.0};
 }
 
 std::string NumericalLoopback::Describe() const {

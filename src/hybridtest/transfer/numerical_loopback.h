@@ -19,8 +19,8 @@ class NumericalLoopback final : public TransferSystem {
   NumericalLoopback(std::unique_ptr<constitutive::RestoringForceLaw> law, double p0);
 
   void Activate() override { active_ = true; }
-  using TransferSystem::Execute;
-  Measurement Execute(double command) override;
+  int num_actuators() const override { return 1; }
+  void Execute(std::span<const double> commands, std::span<Measurement> out) override;
   void Hold() noexcept override { active_ = false; }
   void Deactivate() override { active_ = false; }
   BenchUnits bench_units() const override { return BenchUnits{}; }

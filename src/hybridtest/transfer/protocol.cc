@@ -101,45 +101,6 @@ WelcomeMessage DecodeWelcome(const Frame& frame) {
   return m;
 }
 
-Frame EncodeCommand(std::uint32_t sequence, const CommandMessage& message) {
-  ByteWriter w;
-  w.F64(message.position);
-  return MakeFrame(MessageType::kCommand, sequence, w);
-}
-
-CommandMessage DecodeCommand(const Frame& frame) {
-  ByteReader r = ReaderFor(frame, MessageType::kCommand);
-  CommandMessage m;
-  m.position = r.F64("position");
-  r.Finish();
-  return m;
-}
-
-Frame EncodeMeasurement(std::uint32_t sequence, const MeasurementMessage& message) {
-  ByteWriter w;
-  w.F64(message.measurement.position);
-  w.F64(message.measurement.force);
-  w.F64(message.measurement.lab_time);
-  w.U32(static_cast<std::uint32_t>(message.status));
-  return MakeFrame(MessageType::kMeasurement, sequence, w);
-}
-
-MeasurementMessage DecodeMeasurement(const Frame& frame) {
-  ByteReader r = ReaderFor(frame, MessageType::kMeasurement);
-  MeasurementMessage m;
-  m.measurement.position = r.F64("position");
-  m.measurement.force = r.F64("force");
-  m.measurement.lab_time = r.F64("lab_time");
-  const std::uint32_t status = r.U32("status");
-  r.Finish();
-  if (status != static_cast<std::uint32_t>(MeasurementStatus::kOk)) {
-    throw TransferError(fmt::format(
-        "MEASUREMENT (sequence {}): unknown status {}, expected 0 (OK)", frame.sequence, status));
-  }
-  m.status = static_cast<MeasurementStatus>(status);
-  return m;
-}
-
 Frame EncodeCommands(std::uint32_t sequence, std::span<const double> positions) {
   ByteWriter w;
   for (const double p : positions) w.F64(p);

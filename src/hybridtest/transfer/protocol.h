@@ -44,17 +44,8 @@ struct WelcomeMessage {
   int actuators = 1;
 };
 
-struct CommandMessage {
-  double position = 0.0;  // absolute actuator position. Unit: bench length unit.
-};
-
 enum class MeasurementStatus : std::uint32_t {
   kOk = 0,  // the bench reached the command and sampled
-};
-
-struct MeasurementMessage {
-  Measurement measurement;
-  MeasurementStatus status = MeasurementStatus::kOk;
 };
 
 enum class ErrorCode : std::uint16_t {
@@ -78,11 +69,9 @@ struct ErrorMessage {
 
 Frame EncodeHello(std::uint32_t sequence, const HelloMessage& message);
 Frame EncodeWelcome(std::uint32_t sequence, const WelcomeMessage& message);
-Frame EncodeCommand(std::uint32_t sequence, const CommandMessage& message);
-Frame EncodeMeasurement(std::uint32_t sequence, const MeasurementMessage& message);
 Frame EncodeError(std::uint32_t sequence, const ErrorMessage& message);
 // A bench of n actuators: COMMAND carries n f64 positions and MEASUREMENT n × (position,
-// force, lab_time) then the u32 status; for n = 1 the bytes are those of the one-value forms.
+// force, lab_time) then the u32 status (always MeasurementStatus::kOk).
 Frame EncodeCommands(std::uint32_t sequence, std::span<const double> positions);
 // Throws TransferError unless the payload holds n ≥ 1 values.
 std::vector<double> DecodeCommands(const Frame& frame);
@@ -95,8 +84,6 @@ Frame EncodeEmpty(MessageType type, std::uint32_t sequence);
 // Decoders check the frame type and the exact payload length; they throw TransferError.
 HelloMessage DecodeHello(const Frame& frame);
 WelcomeMessage DecodeWelcome(const Frame& frame);
-CommandMessage DecodeCommand(const Frame& frame);
-MeasurementMessage DecodeMeasurement(const Frame& frame);
 ErrorMessage DecodeError(const Frame& frame);
 void DecodeEmpty(const Frame& frame, MessageType expected);
 

@@ -204,7 +204,12 @@ Measurement RtPlant::Measure(double t) const {
   return m;
 }
 
-Measurement RtPlant::Execute(double command) {
+void RtPlant::Execute(std::span<const double> commands, std::span<Measurement> out) {
+  RequireOneActuator(commands, out, "rt_plant");
+  out[0] = Step(commands[0]);
+}
+
+Measurement RtPlant::Step(double command) {
   if (!active_) {
     throw TransferError(fmt::format("rt_plant: Execute({} m) while not active (after Hold() "
                                     "or before Activate())", command));

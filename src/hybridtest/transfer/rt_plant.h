@@ -74,13 +74,15 @@ class RtPlant final : public TransferSystem {
   explicit RtPlant(RtPlantConfig config);
 
   void Activate() override { active_ = true; }
-  using TransferSystem::Execute;
-  Measurement Execute(double command) override;
+  int num_actuators() const override { return 1; }
+  void Execute(std::span<const double> commands, std::span<Measurement> out) override;
   void Hold() noexcept override { active_ = false; }
   void Deactivate() override { active_ = false; }
   BenchUnits bench_units() const override { return BenchUnits{}; }
   std::string Describe() const override;
-  std::optional<Measurement> Read() const override { return last_; }
+  std::optional<std::vector<Measurement>> ReadAll() const override {
+    return std::vector<Measurement>{last_};
+  }
   BenchAnnouncement Announce() const override;
   std::optional<long> commands_received() const override { return commands_; }
   void StartPaced(double tick, const Clock& clock) override;
@@ -98,6 +100,8 @@ class RtPlant final : public TransferSystem {
 
  private:
   using State = std::array<double, 5>;  // servo: w, ẇ, F, x, v; lag: -, -, -, x, v
+  // One command [m]: the settled response, or on a paced run the plant advanced to now.
+  Measurement Step(double command);
   void Advance(double t);
   double DelayedCommand(double s) const;
   void Rates(const State& y, double u, State& dy) const;

@@ -110,6 +110,12 @@ void SafetyMonitor::CheckCommand(double command, long step, int stage) {
 
 void SafetyMonitor::CheckCommand(double command, long step, int stage, double predicted,
                                  std::string_view basis_text) {
+  VetCommand(command, step, stage, predicted, basis_text);
+  AcceptCommand(command, step, stage);
+}
+
+void SafetyMonitor::VetCommand(double command, long step, int stage, double predicted,
+                               std::string_view basis_text) const {
   // 1. Finite.
   if (!std::isfinite(command)) {
     Stop("command_finite", command, 0.0, step, stage,
@@ -166,6 +172,9 @@ void SafetyMonitor::CheckCommand(double command, long step, int stage, double pr
                      "force_hard) only if the specimen is rated for it.",
                      command, predicted, basis));
   }
+}
+
+void SafetyMonitor::AcceptCommand(double command, long step, int stage) {
   last_safe_command_ = command;
   has_safe_command_ = true;
   from_start_ = false;

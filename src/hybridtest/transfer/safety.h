@@ -75,6 +75,12 @@ class SafetyMonitor {
   // was predicted, for the stop message ("": the monitor's own last force and stiffness).
   void CheckCommand(double command, long step, int stage, double predicted_force,
                     std::string_view basis);
+  // CheckCommand in two halves, for a move of several actuators that the monitors learn only
+  // if every command passes: VetCommand throws like CheckCommand and changes nothing;
+  // AcceptCommand records a command that VetCommand passed.
+  void VetCommand(double command, long step, int stage, double predicted_force,
+                  std::string_view basis) const;
+  void AcceptCommand(double command, long step, int stage);
 
   // Throws SafetyStop unless the measurement is finite and |force| ≤ force_hard.
   void CheckMeasurement(double command, double position, double force, long step, int stage);

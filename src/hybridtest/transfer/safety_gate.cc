@@ -27,57 +27,63 @@ void UseCoupledStiffness(SafetyGate& gate, const Eigen::MatrixXd& k) {
   for (int a = 0; a < gate.size(); ++a) gate.monitor(a).SetInitialStiffness(k(a, a));
 }
 
-Eigen::VectorXd PredictCoupledForces(const std::vector<SafetyMonitor>& monitors,
-                                     const Eigen::MatrixXd& stiffness,
-                                     std::span<const double> commands_m) {
+void PredictCoupledForces(const std::vector<SafetyMonitor>& monitors,
+                          const Eigen::MatrixXd& stiffness, std::span<const double> commands_m,
+                          CommandScratch& scratch) {
   const auto n = static_cast<Eigen::Index>(monitors.size());
-  Eigen::VectorXd f = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::quiet_NaN());
-  if (commands_m.size() != monitors.size() || stiffness.rows() != n || stiffness.cols() != n) {
-    return f;
+  Eigen::VectorXd& f = scratch.predicted;
+  f.setConstant(n, std::numeric_limits<double>::quiet_NaN());
+  if (static_cast<Eigen::Index>(commands_m.size()) != n || stiffness.rows() != n ||
+      stiffness.cols() != n) {
+    return;
   }
-  Eigen::VectorXd move(n), last(n);
+  scratch.move.resize(n);
   for (Eigen::Index k = 0; k < n; ++k) {
     const auto& m = monitors[static_cast<std::size_t>(k)];
-    if (!m.has_measurement()) return f;
-    move(k) = commands_m[static_cast<std::size_t>(k)] - m.last_position();
-    last(k) = m.last_force();
+    if (!m.has_measurement()) return;
+    scratch.move(k) = commands_m[static_cast<std::size_t>(k)] - m.last_position();
   }
-  return last + stiffness * move;
+  f.noalias() = stiffness * scratch.move;
+  for (Eigen::Index k = 0; k < n; ++k) f(k) += monitors[static_cast<std::size_t>(k)].last_force();
 }
 
 void CheckCommands(std::vector<SafetyMonitor>& monitors, const Eigen::MatrixXd* stiffness,
-                   std::span<const double> commands_m, long step, int stage) {
+                   std::span<const double> commands_m, long step, int stage,
+                   CommandScratch& scratch) {
   const std::size_t n = monitors.size();
-  // One actuator, each monitor on its own: a refused command leaves its monitor untouched, so
-  // no copy is needed.
+  // One actuator, each monitor on its own: a refused command leaves its monitor untouched.
   if (n == 1 && stiffness == nullptr) {
     monitors[0].CheckCommand(commands_m[0], step, stage);
     return;
   }
-  // Every command on a copy of its monitor: the monitors only learn the vector if all pass.
-  std::vector<SafetyMonitor> checked = monitors;
-  const Eigen::VectorXd predicted =
-      stiffness != nullptr ? PredictCoupledForces(monitors, *stiffness, commands_m)
-                           : Eigen::VectorXd::Constant(static_cast<Eigen::Index>(n),
-                                                       std::numeric_limits<double>::quiet_NaN());
+  if (stiffness != nullptr) {
+    PredictCoupledForces(monitors, *stiffness, commands_m, scratch);
+  } else {
+    scratch.predicted.setConstant(static_cast<Eigen::Index>(n),
+                                  std::numeric_limits<double>::quiet_NaN());
+  }
+  // Every command vetted before any monitor learns one: a refused vector changes none.
   for (std::size_t k = 0; k < n; ++k) {
-    const double f = predicted(static_cast<Eigen::Index>(k));
+    const double f = scratch.predicted(static_cast<Eigen::Index>(k));
     if (std::isfinite(f)) {
-      checked[k].CheckCommand(commands_m[k], step, stage, f,
-                              "predicted with the coupled stiffness in actuator coordinates: "
-                              "f_last + K_a (a − x_last), every actuator's move counted");
+      monitors[k].VetCommand(commands_m[k], step, stage, f,
+                             "predicted with the coupled stiffness in actuator coordinates: "
+                             "f_last + K_a (a − x_last), every actuator's move counted");
     } else {
-      checked[k].CheckCommand(commands_m[k], step, stage);
+      monitors[k].VetCommand(commands_m[k], step, stage, monitors[k].PredictForce(commands_m[k]),
+                             {});
     }
   }
-  monitors = std::move(checked);
+  for (std::size_t k = 0; k < n; ++k) monitors[k].AcceptCommand(commands_m[k], step, stage);
 }
 
 Eigen::VectorXd SafetyGate::PredictForces(const std::vector<double>& commands_m) const {
   if (!stiffness_) {
     return Eigen::VectorXd::Constant(size(), std::numeric_limits<double>::quiet_NaN());
   }
-  return PredictCoupledForces(monitors_, *stiffness_, commands_m);
+  CommandScratch scratch;
+  PredictCoupledForces(monitors_, *stiffness_, commands_m, scratch);
+  return scratch.predicted;
 }
 
 void SafetyGate::Move(TransferSystem& transfer, const std::vector<double>& commands_m,
@@ -121,7 +127,7 @@ void SafetyGate::Execute(TransferSystem& transfer, std::span<const double> comma
   // 1. Every command before any actuator moves.
   for (std::size_t k = 0; k < n; ++k) out[k].command = commands_m[k];
   CheckCommands(monitors_, stiffness_ ? &*stiffness_ : nullptr, commands_m, label.step,
-                label.stage);
+                label.stage, scratch_);
   if (before_execute) before_execute();
   // 2. All commands at once.
   const BenchUnits units = transfer.bench_units();

@@ -54,14 +54,19 @@ struct GatedMove {
 // Checks every command (n) [m] of one move with its actuator's monitor, the forces predicted
 // coupled when `stiffness` (n × n) [N/m] is given (see above); the monitors learn the commands
 // only if all pass. Throws SafetyStop for the first refused command. Used by the gate and by
-// the emulated bench's own controller (EmulatedBench).
+// the emulated bench's own controller (EmulatedBench). `scratch` holds the predictions: sized
+// once, nothing allocates per move.
+struct CommandScratch {
+  Eigen::VectorXd predicted, move;  // (n) [N], (n) [m]
+};
 void CheckCommands(std::vector<SafetyMonitor>& monitors, const Eigen::MatrixXd* stiffness,
-                   std::span<const double> commands_m, long step, int stage);
-// The coupled prediction f_last + K (a − x_last) (n) [N]; NaN for every actuator while one
-// has no measurement yet.
-Eigen::VectorXd PredictCoupledForces(const std::vector<SafetyMonitor>& monitors,
-                                     const Eigen::MatrixXd& stiffness,
-                                     std::span<const double> commands_m);
+                   std::span<const double> commands_m, long step, int stage,
+                   CommandScratch& scratch);
+// The coupled prediction f_last + K (a − x_last) (n) [N] into `scratch.predicted`; NaN for
+// every actuator while one has no measurement yet.
+void PredictCoupledForces(const std::vector<SafetyMonitor>& monitors,
+                          const Eigen::MatrixXd& stiffness, std::span<const double> commands_m,
+                          CommandScratch& scratch);
 
 class SafetyGate {
  public:
@@ -109,6 +114,7 @@ class SafetyGate {
   std::vector<double> bench_commands_;  // (n) [bench length unit]
   std::vector<double> zeros_;           // (n) [N]
   std::vector<Measurement> measured_;   // (n)
+  CommandScratch scratch_;
 };
 
 // Gives `gate` the specimen's stiffness in actuator coordinates (n × n) [N/m]: the coupled

@@ -48,7 +48,7 @@ struct BenchAnnouncement {
 
 // One look at the bench without moving it (no command written, no drive enabled).
 struct ProbeReading {
-  Measurement measurement;  // position and force, bench units; lab_time 0
+  std::vector<Measurement> measurements;  // every actuator's, bench units; lab_time 0
   std::string status;       // the controller's status in words, e.g. "enabled, no fault"
   std::string problem;      // "" if the bench is fit to start; else what is wrong
 };
@@ -60,20 +60,16 @@ class TransferSystem {
   // Makes the bench ready to move (connect, handshake, enable). Throws TransferError.
   virtual void Activate() = 0;
 
-  // Moves the actuator to `command` (absolute actuator position, bench length unit), waits
-  // until it has settled, samples, and returns the measurement. Blocking, but never without a
-  // bound: a bench that does not answer in time raises TransferError. Throws SafetyStop when
-  // the bench itself refuses the command for safety reasons.
-  virtual Measurement Execute(double command) = 0;
-
-  // Actuators this transfer system moves at once (n ≥ 1).
-  virtual int num_actuators() const { return 1; }
-  // Moves every actuator: commands (n, bench length unit, actuator order) all go out before
-  // any measurement is awaited; out (n) receives one measurement per actuator. Default: the
-  // scalar Execute of a one-actuator system. Throws like Execute; a refused command moves none.
-  virtual void Execute(std::span<const double> commands, std::span<Measurement> out) {
-    out[0] = Execute(commands[0]);
-  }
+  // Actuators this transfer system moves at once (n ≥ 1). Before Activate() a remote bench
+  // may not know yet (its WELCOME tells): it answers what its configuration expects.
+  virtual int num_actuators() const = 0;
+  // Moves every actuator: commands (n, absolute actuator positions in the bench length unit,
+  // actuator order) all go out before any measurement is awaited; waits until the bench has
+  // settled, samples, and writes one measurement per actuator into out (n). Blocking, but never
+  // without a bound: a bench that does not answer in time raises TransferError; sizes other
+  // than n raise TransferError. Throws SafetyStop when the bench itself refuses a command for
+  // safety reasons; a refused command moves no actuator.
+  virtual void Execute(std::span<const double> commands, std::span<Measurement> out) = 0;
 
   // Puts the bench in its safe state: hold at the last safe command. Never moves to a new
   // position, never returns to zero by itself, never throws.
@@ -82,24 +78,15 @@ class TransferSystem {
   // Ends the session cleanly (holds first). Throws TransferError on a communication failure.
   virtual void Deactivate() = 0;
 
-  // Units of Execute()'s argument and of the Measurement.
+  // Units of Execute()'s commands and of the Measurements.
   virtual BenchUnits bench_units() const = 0;
 
   // One line for logs and reports, e.g. "emulated bench (cantilever 500x100x5 mm, E=210 GPa)".
   virtual std::string Describe() const = 0;
-  // The current position and force, read WITHOUT moving (bench units); nullopt if this
-  // transfer system cannot be queried without a command (resume then re-imposes the last
-  // committed command at once). Never throws.
-  virtual std::optional<Measurement> Read() const { return std::nullopt; }
-  // Read() for every actuator: n measurements (bench units, actuator order), read WITHOUT
-  // moving; nullopt if this transfer system cannot read every actuator so (resume then
-  // re-imposes the last committed commands at once). Default: Read() of a one-actuator
-  // system. Never throws.
-  virtual std::optional<std::vector<Measurement>> ReadAll() const {
-    if (num_actuators() != 1) return std::nullopt;
-    if (auto one = Read()) return std::vector<Measurement>{*one};
-    return std::nullopt;
-  }
+  // Every actuator's position and force (n measurements, bench units, actuator order), read
+  // WITHOUT moving; nullopt if this transfer system cannot read every actuator so (resume then
+  // re-imposes the last committed commands at once). Never throws.
+  virtual std::optional<std::vector<Measurement>> ReadAll() const { return std::nullopt; }
   // What the bench announces about itself (see BenchAnnouncement); may be empty. For a remote
   // bench, known only after Activate() (its WELCOME). Never throws.
   virtual BenchAnnouncement Announce() const { return {}; }
@@ -114,10 +101,9 @@ class TransferSystem {
   // Commands received over the bench's (restored) lifetime, if this transfer system counts
   // them (an in-process bench); the runner records it when a run stops.
   virtual std::optional<long> commands_received() const { return std::nullopt; }
-  // Resume: `count` commands had been received when the run stopped (more than the restored
-  // state knows: the commands of the interrupted step). A test fault (bench_faults.h) at one
-  // of them has fired already and does not fire again.
-  virtual void NoteCommandsBeforeResume(long /*count*/) {}
+  // Restores what SaveState() gave. On a resume the state may also carry
+  // "commands_received_at_stop": what commands_received() gave when the run stopped (more than
+  // the saved state knows: the commands of the interrupted step).
   virtual void RestoreState(const nlohmann::json& /*state*/) {}
   // Real time (decision 0015): from now on Execute() sends the command of the current tick
   // and returns the measurement of that tick at once, without settling; an emulated plant
@@ -145,5 +131,17 @@ class TransferSystem {
   // this transfer system if it is one, the plant behind a compensator; nullptr otherwise.
   virtual TransferSystem* served_plant() { return nullptr; }
 };
+
+// One actuator's move on the one interface: Execute of a one-element command vector (bench
+// length unit) and its one measurement. Throws TransferError if `transfer` moves more than one
+// actuator, and whatever Execute throws.
+Measurement ExecuteOne(TransferSystem& transfer, double command);
+// ReadAll() of a one-actuator transfer system: its one measurement; nullopt if it cannot read
+// without moving or moves more than one actuator. Never throws.
+std::optional<Measurement> ReadOne(const TransferSystem& transfer);
+// For a transfer system of exactly one actuator: throws TransferError naming `who` unless
+// `commands` and `out` each hold one value.
+void RequireOneActuator(std::span<const double> commands, std::span<const Measurement> out,
+                        const std::string& who);
 
 }  // namespace hybridtest::transfer

@@ -179,7 +179,7 @@ TEST(OpenFrescoClient, ScalarCommandAndBadDofsAreRefused) {
   ClientOptions o;
   o.dofs = 2;
   Client client(o);
-  EXPECT_THROW(client.Execute(0.1), TransferError);
+  EXPECT_THROW(ExecuteOne(client, 0.1), TransferError);
   std::vector<Measurement> out(3);
   EXPECT_THROW(client.Execute(std::vector<double>{0.1, 0.2, 0.3}, out), TransferError);
   o.dofs = 0;

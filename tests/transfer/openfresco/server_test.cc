@@ -167,7 +167,7 @@ TEST(OpenFrescoServer, ClientRoundTrip) {
   Client client(co);
   client.Activate();
   for (const double x : {1.5, 3.0, -1.0}) {  // element displacement [mm]
-    const Measurement m = client.Execute(x);
+    const Measurement m = ExecuteOne(client, x);
     EXPECT_NEAR(m.position, x, 1e-9);
     EXPECT_NEAR(m.force, 7.2 * x, 1e-6);
   }
@@ -176,7 +176,7 @@ TEST(OpenFrescoServer, ClientRoundTrip) {
   EXPECT_TRUE(server.Logged("client ended the session (99)"));
   // A second session on the same server works (one at a time, sequentially).
   client.Activate();
-  EXPECT_NEAR(client.Execute(0.5).force, 3.6, 1e-6);
+  EXPECT_NEAR(ExecuteOne(client, 0.5).force, 3.6, 1e-6);
   client.Deactivate();
   EXPECT_EQ(server.server().trials_executed(), 4);
 }
@@ -197,7 +197,7 @@ TEST(OpenFrescoServer, PeerVanishingHoldsAndTheNextClientIsServed) {
   co.port = server.port();
   Client client(co);
   client.Activate();
-  EXPECT_EQ(client.Execute(1.5).force, 7.5);
+  EXPECT_EQ(ExecuteOne(client, 1.5).force, 7.5);
   EXPECT_GE(bench.activations.load(), 2);  // resumed after the hold
   EXPECT_EQ(bench.commands(), (std::vector<double>{1.0, 1.5}));
 }
@@ -287,8 +287,8 @@ TEST(OpenFrescoServer, SafetyRefusalEndsTheSessionWithoutMoving) {
   co.port = server.port();
   Client client(co);
   client.Activate();
-  client.Execute(3.0);
-  EXPECT_THROW(client.Execute(9.0), TransferError);  // 6 mm > max_increment 5 mm
+  ExecuteOne(client, 3.0);
+  EXPECT_THROW(ExecuteOne(client, 9.0), TransferError);  // 6 mm > max_increment 5 mm
   EXPECT_FALSE(client.is_connected());
   EXPECT_TRUE(server.Logged("safety refusal at trial 2 (max_increment)"));
   EXPECT_EQ(bench.commands(), std::vector<double>{3.0});
@@ -336,13 +336,13 @@ TEST(OpenFrescoServer, TokenRules) {
   {
     Client client(co);
     client.Activate();
-    EXPECT_THROW(client.Execute(1.0), TransferError);
+    EXPECT_THROW(ExecuteOne(client, 1.0), TransferError);
     EXPECT_TRUE(server.Logged("wrong token"));
   }
   co.token = "s3cret";
   Client client(co);
   client.Activate();
-  EXPECT_EQ(client.Execute(1.0).force, 5.0);
+  EXPECT_EQ(ExecuteOne(client, 1.0).force, 5.0);
   EXPECT_EQ(bench.commands(), std::vector<double>{1.0});
 }
 
@@ -357,13 +357,13 @@ TEST(OpenFrescoServer, FiveWrongTokensLockTheAddressOut) {
   for (int i = 0; i < AuthThrottle::kMaxFailures; ++i) {
     Client client(co);
     client.Activate();
-    EXPECT_THROW(client.Execute(1.0), TransferError);
+    EXPECT_THROW(ExecuteOne(client, 1.0), TransferError);
   }
   EXPECT_TRUE(server.Logged("auth lockout"));
   co.token = "s3cret";  // the right token, from the locked address: refused unread
   Client client(co);
   client.Activate();
-  EXPECT_THROW(client.Execute(1.0), TransferError);
+  EXPECT_THROW(ExecuteOne(client, 1.0), TransferError);
   EXPECT_TRUE(server.Logged("too many wrong tokens from 127.0.0.1"));
   EXPECT_TRUE(bench.commands().empty());
 }
@@ -413,8 +413,8 @@ TEST(OpenFrescoServer, IdleConnectionDoesNotDelayARealClient) {
   co.reply_timeout = 5.0;
   Client client(co);
   client.Activate();
-  EXPECT_EQ(client.Execute(1.0).force, 5.0);
-  EXPECT_EQ(client.Execute(2.0).force, 10.0);
+  EXPECT_EQ(ExecuteOne(client, 1.0).force, 5.0);
+  EXPECT_EQ(ExecuteOne(client, 2.0).force, 10.0);
   client.Deactivate();
   EXPECT_TRUE(server.Logged("client ended the session (99)"));
   EXPECT_EQ(bench.commands(), (std::vector<double>{1.0, 2.0}));
@@ -451,7 +451,7 @@ TEST(OpenFrescoServer, PendingConnectionsAreBounded) {
   co.port = server.port();
   Client client(co);
   client.Activate();
-  EXPECT_EQ(client.Execute(1.0).force, 5.0);
+  EXPECT_EQ(ExecuteOne(client, 1.0).force, 5.0);
 }
 
 // A bench whose first Execute() waits until released: the server is busy moving while the
@@ -459,15 +459,15 @@ TEST(OpenFrescoServer, PendingConnectionsAreBounded) {
 class GatedBench final : public TransferSystem {
  public:
   void Activate() override {}
-  using TransferSystem::Execute;
-  Measurement Execute(double command) override {
+  int num_actuators() const override { return 1; }
+  void Execute(std::span<const double> commands, std::span<Measurement> out) override {
     {
       std::unique_lock lock(mutex_);
       ++entered_;
       entered_cv_.notify_all();
       released_cv_.wait(lock, [&] { return released_ || entered_ > 1; });
     }
-    return inner_.Execute(command);
+    inner_.Execute(commands, out);
   }
   void Hold() noexcept override { inner_.Hold(); }
   void Deactivate() override {}

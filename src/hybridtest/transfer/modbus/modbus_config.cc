@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "hybridtest/common/error.h"
-#include "hybridtest/transfer/modbus/register_map_multi.h"
 #include "hybridtest/transfer/socket.h"
 
 namespace hybridtest::transfer::modbus {
@@ -72,35 +71,33 @@ ModbusOptions ParseModbusOptions(const YamlInput& in, const YAML::Node& node,
           p["force"], pkp + ".force", "the largest |force| of the first exchange, in bench force units");
     }
   }
-  std::vector<RegisterMap> maps = ParseActuatorMaps(in, node["map"], kp + ".map");
-  o.map = maps.front();
-  if (maps.size() > 1) o.maps = std::move(maps);
+  o.maps = ParseRegisterMaps(in, node["map"], kp + ".map");
   // The controller's settling window and the following error, in the map's length unit; the
   // following error by default four settling windows, at most the slot's max_increment.
   const SafetyLimits l = limits != nullptr ? *limits : SafetyLimits{};
-  const double metres = o.map.units.metres_per_length_unit;
+  const double metres = o.maps[0].units.metres_per_length_unit;
   o.settle_tolerance = InBenchUnit(kDefaultSettleTolerance, metres);
   if (const YAML::Node t = node["settle_tolerance"]; t.IsDefined()) {
     const std::string tkp = kp + ".settle_tolerance";
     o.settle_tolerance = in.PositiveNumber(
         t, tkp, fmt::format("the controller's settling (in-position) window, in the map's "
-                            "length unit ({})", o.map.units.length_name));
+                            "length unit ({})", o.maps[0].units.length_name));
     if (*o.settle_tolerance * metres > l.max_increment) {
       throw ConfigError(fmt::format(
           "{}: {} {} is wider than the slot's safety.max_increment ({} {}): a controller that "
           "calls a move settled that far from its target has not settled; give the window in {} "
           "(the map's length unit), typically 0.01 to 0.1 mm", in.Where(t, tkp),
-          *o.settle_tolerance, o.map.units.length_name, l.max_increment / metres,
-          o.map.units.length_name, o.map.units.length_name));
+          *o.settle_tolerance, o.maps[0].units.length_name, l.max_increment / metres,
+          o.maps[0].units.length_name, o.maps[0].units.length_name));
     }
   }
   if (const YAML::Node f = node["following_error"]; f.IsDefined()) {
     const std::string fkp = kp + ".following_error";
     const std::string what = fmt::format(
         "the largest |command − measured position| after a move, in the map's length unit ({})",
-        o.map.units.length_name);
+        o.maps[0].units.length_name);
     // A list: one limit per actuator of the map.
-    const std::size_t n = std::max<std::size_t>(1, o.maps.size());
+    const std::size_t n = o.maps.size();
     std::vector<double> errors;  // [map length unit]
     if (f.IsSequence()) {
       if (f.size() != n) {
@@ -119,9 +116,9 @@ ModbusOptions ParseModbusOptions(const YamlInput& in, const YAML::Node& node,
         throw ConfigError(fmt::format(
             "{}: {} {} is longer than the whole stroke ({} m to {} m), so it "
             "could never stop anything: give it in {} (the map's length unit), e.g. the slot's "
-            "max_increment {} {}", in.Where(f, fkp), limit, o.map.units.length_name,
-            l.stroke_min, l.stroke_max, o.map.units.length_name, l.max_increment / metres,
-            o.map.units.length_name));
+            "max_increment {} {}", in.Where(f, fkp), limit, o.maps[0].units.length_name,
+            l.stroke_min, l.stroke_max, o.maps[0].units.length_name, l.max_increment / metres,
+            o.maps[0].units.length_name));
       }
     }
     o.following_error = errors[0];

@@ -28,7 +28,7 @@
 //                               #   (transfer/safety_settled_reading.h)
 //     map: {...}                # register map (register_map.h); default profile if absent;
 //                               #   `actuators: n` with `stride:` or `per_actuator:` for a
-//                               #   controller of several actuators (register_map_multi.h)
+//                               #   controller of several actuators (register_map.h)
 #include <memory>
 #include <optional>
 #include <string>

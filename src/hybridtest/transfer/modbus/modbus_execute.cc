@@ -29,21 +29,9 @@ std::string List(std::span<const T> values) {
 
 }  // namespace
 
-Measurement ModbusTransfer::Execute(double command) {
-  if (maps_.size() != 1) {
-    throw TransferError(fmt::format("{} moves {} actuators: a single command {} {} was not sent "
-                                    "(the run gives one command per actuator)",
-                                    Describe(), maps_.size(), command,
-                                    options_.map.units.length_name));
-  }
-  Measurement out;
-  Execute({&command, 1}, {&out, 1});
-  return out;
-}
-
 void ModbusTransfer::Execute(std::span<const double> commands, std::span<Measurement> out) {
   const std::size_t n = maps_.size();
-  const std::string& unit = options_.map.units.length_name;
+  const std::string& unit = maps_[0].units.length_name;
   if (commands.size() != n || out.size() != n) {
     throw TransferError(fmt::format("{}: {} commands for {} actuators: nothing was sent",
                                     Describe(), commands.size(), n));
@@ -153,7 +141,7 @@ void ModbusTransfer::Execute(std::span<const double> commands, std::span<Measure
     }
   }
   last_ack_ = sequence;
-  const std::string& force_unit = options_.map.units.force_name;
+  const std::string& force_unit = maps_[0].units.force_name;
   for (std::size_t k = 0; k < n; ++k) {
     // 3. The first exchange must be plausible (catches a wrong word or byte order).
     if (first_exchange_) {
@@ -176,7 +164,7 @@ void ModbusTransfer::Execute(std::span<const double> commands, std::span<Measure
   for (std::size_t k = 0; k < n; ++k) positions[k] = r[k].position;
   SettledReadingCheck::Source source;
   source.unit = unit;
-  source.metres_per_unit = options_.map.units.metres_per_length_unit;
+  source.metres_per_unit = maps_[0].units.metres_per_length_unit;
   source.answered = [&](std::size_t k) {
     return fmt::format("T{} acknowledged command {} {} (sequence {})", Subject(k).substr(1),
                        commands[k], unit, sequence[k]);

@@ -13,8 +13,8 @@ std::optional<ProbeReading> ModbusTransfer::Probe() {
   const std::vector<Readout> r = ReadRegisters("the probe, before anything moves");
   const bool several = maps_.size() > 1;
   ProbeReading reading;
-  reading.measurement = Measurement{r[0].position, r[0].force, 0.0};
   for (std::size_t k = 0; k < maps_.size(); ++k) {
+    reading.measurements.push_back(Measurement{r[k].position, r[k].force, 0.0});
     const RegisterMap& m = maps_[k];
     const StatusBits& b = m.status_bits;
     const std::string who = several ? fmt::format("actuator {}: ", k + 1) : "";

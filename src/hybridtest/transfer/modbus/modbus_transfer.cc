@@ -36,12 +36,12 @@ std::string EveryActuator(const std::vector<RegisterMap>& maps, F field) {
 
 ModbusTransfer::ModbusTransfer(ModbusOptions options)
     : options_(std::move(options)), input_(65536), holding_(65536) {
-  if (options_.maps.empty()) {
-    options_.maps = {options_.map};
-  } else {
-    options_.map = options_.maps.front();
-  }
   const ModbusOptions& o = options_;
+  if (o.maps.empty()) {
+    throw ConfigError("modbus transfer: map: no register map; give one per actuator (the "
+                      "default profile for one actuator)");
+  }
+  const RegisterMap& first = o.maps[0];
   for (const auto& [name, value] :
        {std::pair{"connect_timeout", o.connect_timeout}, {"response_timeout", o.response_timeout},
         {"ack_timeout", o.ack_timeout}, {"hold_timeout", o.hold_timeout}}) {
@@ -51,12 +51,12 @@ ModbusTransfer::ModbusTransfer(ModbusOptions options)
     }
   }
   if (!options_.position_tolerance) {
-    options_.position_tolerance = 1e-3 / o.map.units.metres_per_length_unit;  // 1 mm
+    options_.position_tolerance = 1e-3 / first.units.metres_per_length_unit;  // 1 mm
   }
   if (!options_.force_plausible) {
-    options_.force_plausible = 1e6 / o.map.units.newtons_per_force_unit;  // 1 MN
+    options_.force_plausible = 1e6 / first.units.newtons_per_force_unit;  // 1 MN
   }
-  const double metres = o.map.units.metres_per_length_unit;
+  const double metres = first.units.metres_per_length_unit;
   if (!options_.settle_tolerance) {
     options_.settle_tolerance = InBenchUnit(kDefaultSettleTolerance, metres);
   }
@@ -64,7 +64,7 @@ ModbusTransfer::ModbusTransfer(ModbusOptions options)
     throw ConfigError(fmt::format("modbus transfer: settle_tolerance = {} {}: expected a positive "
                                   "distance in the map's length unit (the controller's "
                                   "in-position window)", *o.settle_tolerance,
-                                  o.map.units.length_name));
+                                  first.units.length_name));
   }
   if (!options_.following_error) {
     options_.following_error = DefaultFollowingError(
@@ -79,7 +79,7 @@ ModbusTransfer::ModbusTransfer(ModbusOptions options)
   if (!(*o.following_error > 0.0) || !std::isfinite(*o.following_error)) {
     throw ConfigError(fmt::format("modbus transfer: following_error = {} {}: expected a positive "
                                   "distance in the map's length unit",
-                                  *o.following_error, o.map.units.length_name));
+                                  *o.following_error, first.units.length_name));
   }
   if (o.unit_id < 0 || o.unit_id > 255) {
     throw ConfigError(fmt::format("modbus transfer: unit_id = {}: expected 0..255 (usually 1; "
@@ -93,18 +93,18 @@ ModbusTransfer::ModbusTransfer(ModbusOptions options)
     if (!(limit > 0.0) || !std::isfinite(limit)) {
       throw ConfigError(fmt::format("modbus transfer: following_error {} {}: expected a positive "
                                     "distance in the map's length unit", limit,
-                                    o.map.units.length_name));
+                                    first.units.length_name));
     }
   }
   for (const RegisterMap& m : o.maps) {
     const BenchUnits& u = m.units;
-    if (u.length_name != o.map.units.length_name || u.force_name != o.map.units.force_name ||
-        m.word_order != o.map.word_order || m.byte_order != o.map.byte_order) {
+    if (u.length_name != first.units.length_name || u.force_name != first.units.force_name ||
+        m.word_order != first.word_order || m.byte_order != first.byte_order) {
       throw ConfigError("modbus transfer: map: every actuator's map must have the controller's "
                         "units, word_order and byte_order (those of actuator 1)");
     }
   }
-  ValidateActuatorMaps(o.maps, "modbus transfer: map");
+  ValidateRegisterMaps(o.maps, "modbus transfer: map");
   std::vector<SettledReadingCheck::Limits> settled;
   for (std::size_t k = 0; k < o.maps.size(); ++k) {
     settled.push_back({o.following_errors.empty() ? *o.following_error : o.following_errors[k],
@@ -120,7 +120,7 @@ ModbusTransfer::ModbusTransfer(ModbusOptions options)
 ModbusTransfer::~ModbusTransfer() { Close(); }
 
 std::string ModbusTransfer::Describe() const {
-  const RegisterMap& m = options_.map;
+  const RegisterMap& m = maps_[0];
   if (maps_.size() == 1) {
     return fmt::format("Modbus/TCP controller at {} ({}, {}; command at {}, ack at {})",
                        Endpoint(), m.units.length_name, m.units.force_name,
@@ -152,13 +152,6 @@ std::string ModbusTransfer::StatusProblem(const Readout& r, std::size_t k) const
   }
   if (Bit(r, b.holding)) return fmt::format("reports holding (status bit {})", b.holding);
   return "";
-}
-
-std::optional<Measurement> ModbusTransfer::Read() const {
-  if (maps_.size() != 1) return std::nullopt;  // one position means nothing for n actuators
-  auto all = ReadAll();
-  if (!all) return std::nullopt;
-  return all->front();
 }
 
 std::optional<std::vector<Measurement>> ModbusTransfer::ReadAll() const {

@@ -3,7 +3,7 @@
 // an actuator controller) over Modbus/TCP with libmodbus, through a RegisterMap
 // (register_map.h; docs/modbus.md for the lab engineer).
 //
-// One Execute(command):
+// One Execute(commands, out), per actuator:
 //   1. one write (function 16) of the command and its sequence number s, where s is the
 //      previous one plus 1 modulo 65536 (uint16 sequence);
 //   2. reads of the readout registers (function 4 / 3), repeated every `poll_interval` until
@@ -39,8 +39,8 @@
 // within `force_plausible` (default 1 MN). A wrong word or byte order in the map turns a settled position into an
 // absurd number (±1e±30, NaN), which this catches before the test goes on.
 //
-// Read() reads the readout registers once (no write, so no move) and returns the position and
-// force in bench units; it never throws. It returns nullopt when it cannot read, when a value
+// ReadAll() reads the readout registers once (no write, so no move) and returns every position
+// and force in bench units; it never throws. It returns nullopt when it cannot read, when a value
 // is not finite, or when the status shows a fault, no enable or holding; it then remembers why,
 // and the next Execute() refuses to move (TransferError) until the next Activate(). That is
 // the choice for resume: a resume that cannot see where the actuator is must not re-impose the
@@ -53,7 +53,7 @@
 // Deactivate() sets the hold coil, clears the enable coil and disconnects.
 // Every request is bounded by libmodbus's response timeout; nothing blocks without a bound.
 //
-// Several actuators (`options.maps`, one RegisterMap each; register_map_multi.h and
+// Several actuators (`options.maps`, one RegisterMap each; register_map.h and
 // docs/modbus.md, "Several actuators"): num_actuators() = n and Execute(commands, out) writes
 // every actuator's command and its own sequence (one write per contiguous run of command
 // blocks, so one write when they follow each other) before it reads anything, then reads every
@@ -62,9 +62,8 @@
 // `<name>_a2_…` channels); a fault, a dropped enable or a controller that holds on one actuator
 // sets the hold coil of every actuator before the TransferError, as do an ack timeout and an
 // unexpected ack. Hold() and Deactivate() set every hold coil (a shared coil once), Activate()
-// enables every actuator and waits until each shows enabled and not holding. The scalar
-// Execute and Read serve one actuator only (n > 1: TransferError, and nullopt); ReadAll()
-// reads every actuator; Probe() looks at every actuator and names the first with a problem.
+// enables every actuator and waits until each shows enabled and not holding. Probe() looks at
+// every actuator and names the first with a problem.
 #include <chrono>
 #include <cstdint>
 #include <optional>
@@ -73,7 +72,6 @@
 #include <vector>
 
 #include "hybridtest/transfer/modbus/register_map.h"
-#include "hybridtest/transfer/modbus/register_map_multi.h"
 #include "hybridtest/transfer/transfer_system.h"
 #include "hybridtest/transfer/safety_settled_reading.h"
 
@@ -85,10 +83,9 @@ struct ModbusOptions {
   std::string host = "127.0.0.1";
   std::uint16_t port = 502;
   int unit_id = 1;                     // Modbus unit identifier (0..247; 255 for "any")
-  RegisterMap map;                     // default profile unless configured
-  // One map per actuator (register_map_multi.h); empty: one actuator with `map`. The
-  // constructor sets `map` to maps[0].
-  std::vector<RegisterMap> maps;
+  // One register map per actuator (register_map.h); by default one actuator on the default
+  // profile. Units, word and byte order are the controller's: those of maps[0].
+  std::vector<RegisterMap> maps{RegisterMap{}};
   double connect_timeout = 5.0;        // longest wait for the TCP connection. Unit: [s].
   double response_timeout = 1.0;       // longest wait for the answer to one request. Unit: [s].
   double ack_timeout = 5.0;            // longest wait for the ack of one command. Unit: [s].
@@ -120,19 +117,16 @@ class ModbusTransfer final : public TransferSystem {
   ModbusTransfer& operator=(const ModbusTransfer&) = delete;
 
   void Activate() override;
-  Measurement Execute(double command) override;
   void Execute(std::span<const double> commands, std::span<Measurement> out) override;
   int num_actuators() const override { return static_cast<int>(maps_.size()); }
   void Hold() noexcept override;
   void Deactivate() override;
-  BenchUnits bench_units() const override { return options_.map.units; }
+  BenchUnits bench_units() const override { return maps_[0].units; }
   std::string Describe() const override;
-  // The position and force now (bench units), and the lab time [s], read without writing a
-  // command. nullopt (and the next Execute() refuses) if not connected, the read fails, a value
-  // is not finite, or the status shows fault, no enable or holding. Never throws.
-  std::optional<Measurement> Read() const override;
-  // Read() for every actuator (n measurements), with the same rules: any actuator that cannot
-  // be read or shows a problem gives nullopt. Never throws.
+  // Every actuator's position and force now (bench units), and the lab time [s], read without
+  // writing a command. nullopt (and the next Execute() refuses) if not connected, a read fails,
+  // a value is not finite, or any actuator's status shows fault, no enable or holding. Never
+  // throws.
   std::optional<std::vector<Measurement>> ReadAll() const override;
   // Connects if needed (bounded by connect_timeout) and reads the readout registers once:
   // no write, no coil, so nothing moves and no drive is enabled (modbus_probe.cc). The

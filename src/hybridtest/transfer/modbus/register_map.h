@@ -30,6 +30,33 @@
 //     enable_coil: 0                      # `none`: not written
 //     hold_coil: 1                        # `none`: not written
 //
+// A controller of n actuators has one RegisterMap per actuator (docs/modbus.md, "Several
+// actuators"); n = 1 is the case above. Actuator k has a whole RegisterMap of its own (its
+// command, sequence, position, force, ack, status with its bits, and coils); units, word and
+// byte order and the lab-time register are the controller's and shared by every actuator
+// (the lab time is read once, from actuator 1's map).
+//
+//   map:
+//     ...                                # actuator 1's fields, as for one actuator
+//     actuators: 2                       # n (default 1; or the length of per_actuator)
+//     stride: {holding: 3, input: 6, coils: 2}   # actuator k + 1's fields lie this many
+//                                        #   addresses after actuator k's. Default per table:
+//                                        #   the width of actuator 1's block (packed blocks);
+//                                        #   coils: 0 shares one enable and one hold coil
+//     per_actuator:                      # optional, n entries: fields given here replace the
+//       - {}                             #   strided ones of that actuator (a field's keys
+//       - {command: {address: 100}, sequence: {address: 102}, hold_coil: 11}  # start from them)
+//
+// Rules (ConfigError naming the key path and the fix): every actuator's map obeys the
+// one-actuator rules below; no register of one actuator overlaps a register of
+// another or the lab time; a coil is one actuator's, or the same role (enable, hold) of every
+// actuator that names it.
+//
+// Requests: the command blocks (command + sequence) of actuators that follow each other
+// without a gap go in one write (function 16, at most 123 registers); the readout registers
+// of every actuator are read per table in as few requests (of at most 125 registers) as
+// their addresses allow.
+//
 // A value is `raw × scale` in bench units (lab_time: in seconds); types are int16, uint16,
 // int32, uint32, float32 and float64; addresses are 0-based protocol addresses (the register
 // "40001" of a PLC manual is holding address 0). The command and the sequence must be holding
@@ -103,18 +130,47 @@ struct RegisterBlock {
   int start = 0;
   int count = 0;
 };
-// The one write that carries the command and its sequence.
+// The one write that carries one actuator's command and its sequence.
 RegisterBlock CommandBlock(const RegisterMap& map);
-// The reads that fetch position, force, ack, status and lab time: one per table used.
-std::vector<RegisterBlock> ReadoutBlocks(const RegisterMap& map);
 
-// Parses the `map:` mapping at `key_path` (undefined node: the default profile). Throws
-// ConfigError naming the key path for unknown keys, bad values, overlapping fields, a command
-// and sequence that one write cannot carry, or a readout wider than one request.
-RegisterMap ParseRegisterMap(const YamlInput& in, const YAML::Node& node,
-                             const std::string& key_path);
+inline constexpr int kMaxReadRegisters = 125;   // function 3 and 4
+inline constexpr int kMaxWriteRegisters = 123;  // function 16
 
-// Throws ConfigError (prefixed with `where`) unless the map is consistent (see above).
-void ValidateRegisterMap(const RegisterMap& map, const std::string& where);
+// Address offset from one actuator's fields to the next one's; unset: packed (the width of
+// actuator 1's block in that table; coils: the span of its enable and hold coils).
+struct Stride {
+  std::optional<int> holding, input, coils;
+};
+
+// Actuator k (0-based) of n: `base` with every register field moved by k × stride of its table
+// and every coil by k × stride.coils; the lab time stays with actuator 0.
+RegisterMap StridedMap(const RegisterMap& base, const Stride& stride, int k);
+
+// One write of the command blocks of `actuators` (0-based, in address order).
+struct WriteBlock {
+  RegisterBlock block;
+  std::vector<int> actuators;
+};
+std::vector<WriteBlock> CommandWrites(const std::vector<RegisterMap>& maps);
+// The reads that fetch every actuator's readout and the lab time: per table (input, then
+// holding), consecutive fields in address order share a request while it spans at most 125.
+std::vector<RegisterBlock> ReadoutBlocks(const std::vector<RegisterMap>& maps);
+
+// Throws ConfigError (prefixed with `where`) unless every map obeys the rules of one actuator's
+// map (see above: fields that do not overlap, command and sequence adjacent holding registers,
+// a readout of at most 125 registers per table, distinct coils) and the maps fit together.
+// maps[k] names actuator k + 1 in messages (n > 1); `fix` is appended to an overlap's message.
+void ValidateRegisterMaps(const std::vector<RegisterMap>& maps, const std::string& where,
+                          const std::string& fix = "");
+
+// The unique coils of a role, in actuator order (shared coils once).
+std::vector<int> EnableCoils(const std::vector<RegisterMap>& maps);
+std::vector<int> HoldCoils(const std::vector<RegisterMap>& maps);
+
+// Parses the `map:` mapping at `key_path` (undefined node: one actuator on the default
+// profile), with its keys for several actuators (see above): one map per actuator. Throws
+// ConfigError naming the key path and the fix for unknown keys, bad values and broken rules.
+std::vector<RegisterMap> ParseRegisterMaps(const YamlInput& in, const YAML::Node& node,
+                                           const std::string& key_path);
 
 }  // namespace hybridtest::transfer::modbus

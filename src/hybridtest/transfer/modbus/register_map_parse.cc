@@ -1,11 +1,9 @@
-// See register_map.h and register_map_multi.h: ParseRegisterMap and ParseActuatorMaps, the
-// `map:` mapping of a Modbus transfer.
+// See register_map.h: ParseRegisterMaps, the `map:` mapping of a Modbus transfer.
 #include <fmt/core.h>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/units.h"
 #include "hybridtest/transfer/modbus/register_map.h"
-#include "hybridtest/transfer/modbus/register_map_multi.h"
 
 namespace hybridtest::transfer::modbus {
 namespace {
@@ -117,22 +115,15 @@ void ApplyActuatorFields(const YamlInput& in, const YAML::Node& node, const std:
   map.hold_coil = ParseCoil(in, node["hold_coil"], kp + ".hold_coil", map.hold_coil);
 }
 
-// The map of actuator 1 with the controller's settings; `multi`: the keys of several actuators
-// are allowed (and read by the caller).
-RegisterMap ParseBaseMap(const YamlInput& in, const YAML::Node& node, const std::string& kp,
-                         bool multi) {
+// The map of actuator 1 with the controller's settings (the keys of several actuators are
+// read by the caller).
+RegisterMap ParseBaseMap(const YamlInput& in, const YAML::Node& node, const std::string& kp) {
   RegisterMap map;
   if (!node.IsDefined() || node.IsNull()) return map;
   in.RequireMapping(node, kp);
-  if (multi) {
-    in.CheckKeys(node, kp, {"units", "word_order", "byte_order", "command", "sequence",
-                            "position", "force", "ack", "status", "lab_time", "enable_coil",
-                            "hold_coil", "actuators", "stride", "per_actuator"});
-  } else {
-    in.CheckKeys(node, kp, {"units", "word_order", "byte_order", "command", "sequence",
-                            "position", "force", "ack", "status", "lab_time", "enable_coil",
-                            "hold_coil"});
-  }
+  in.CheckKeys(node, kp, {"units", "word_order", "byte_order", "command", "sequence", "position",
+                          "force", "ack", "status", "lab_time", "enable_coil", "hold_coil",
+                          "actuators", "stride", "per_actuator"});
   if (node["units"]) ParseUnits(in, node["units"], kp + ".units", map.units);
   if (node["word_order"]) {
     const std::string w = in.String(node["word_order"], kp + ".word_order", "a word order");
@@ -161,21 +152,16 @@ RegisterMap ParseBaseMap(const YamlInput& in, const YAML::Node& node, const std:
     map.lab_time = RegisterField{Table::kInput, 6, ValueType::kFloat32};
     ParseField(in, l, kp + ".lab_time", *map.lab_time);
   }
-  ValidateRegisterMap(map, in.Where(node, kp));
+  ValidateRegisterMaps({map}, in.Where(node, kp));
   return map;
 }
 
 }  // namespace
 
-RegisterMap ParseRegisterMap(const YamlInput& in, const YAML::Node& node,
-                             const std::string& kp) {
-  return ParseBaseMap(in, node, kp, false);
-}
-
-std::vector<RegisterMap> ParseActuatorMaps(const YamlInput& in, const YAML::Node& node,
+std::vector<RegisterMap> ParseRegisterMaps(const YamlInput& in, const YAML::Node& node,
                                            const std::string& kp) {
   if (!node.IsDefined() || node.IsNull()) return {RegisterMap{}};
-  const RegisterMap base = ParseBaseMap(in, node, kp, true);
+  const RegisterMap base = ParseBaseMap(in, node, kp);
   const YAML::Node count = node["actuators"], list = node["per_actuator"];
   const std::string list_kp = kp + ".per_actuator";
   int n = 1;
@@ -234,10 +220,10 @@ std::vector<RegisterMap> ParseActuatorMaps(const YamlInput& in, const YAML::Node
         where = fmt::format("{} (actuator {})", in.Where(entry, ekp), k + 1);
       }
     }
-    ValidateRegisterMap(m, where);
+    ValidateRegisterMaps({m}, where);
     maps.push_back(std::move(m));
   }
-  ValidateActuatorMaps(maps, in.Where(node, kp), fix);
+  ValidateRegisterMaps(maps, in.Where(node, kp), fix);
   return maps;
 }
 

@@ -124,18 +124,6 @@ void Client::CheckNothingPending(const std::string& after) {
   }
 }
 
-Measurement Client::Execute(double command) {
-  if (options_.dofs != 1) {
-    throw TransferError(fmt::format("OpenFresco site server at {}:{}: one command for an element "
-                                    "of dofs = {}; serve it through a substructure of {} slots "
-                                    "(`slots:` and `setup: {{p0: [0, ...], transform: identity}}`)",
-                                    options_.host, options_.port, options_.dofs, options_.dofs));
-  }
-  Measurement m;
-  Execute(std::span<const double>(&command, 1), std::span<Measurement>(&m, 1));
-  return m;
-}
-
 void Client::Execute(std::span<const double> commands, std::span<Measurement> out) {
   const auto n = static_cast<std::size_t>(options_.dofs);
   if (commands.size() != n || out.size() != n) {

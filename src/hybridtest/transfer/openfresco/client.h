@@ -53,7 +53,6 @@ class Client final : public TransferSystem {
   ~Client() override;
 
   void Activate() override;  // a no-op when already connected
-  Measurement Execute(double command) override;  // n = 1 only (TransferError otherwise)
   void Execute(std::span<const double> commands, std::span<Measurement> out) override;
   int num_actuators() const override { return options_.dofs; }
   void Hold() noexcept override {}

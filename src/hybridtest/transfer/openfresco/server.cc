@@ -53,14 +53,7 @@ Server::Server(TransferSystem& bench, ExpSetup setup, BenchServerOptions options
     throw ConfigError(fmt::format("openfresco: the transform has {} rows, the bench moves {} "
                                   "actuators", setup_.actuators, bench_.num_actuators()));
   }
-  for (int k = 0; k < gate_.size(); ++k) {
-    const auto i = static_cast<std::size_t>(k);
-    if (i < options_.start_positions.size()) {
-      gate_.monitor(k).SetStartPosition(options_.start_positions[i]);
-    } else if (options_.start_position) {
-      gate_.monitor(k).SetStartPosition(*options_.start_position);
-    }
-  }
+  SetStartPositions(gate_, options_);
   const Eigen::MatrixXd setup_k =
       Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
           setup_.stiffness_matrix.data(), setup_.actuators, setup_.actuators);

@@ -1,6 +1,6 @@
-// See register_map_multi.h: the layout of several actuators' blocks, its rules and its
-// requests. The YAML is read in register_map_parse.cc.
-#include "hybridtest/transfer/modbus/register_map_multi.h"
+// See register_map.h: the rules of one actuator's map and of several actuators' blocks, and
+// the requests that write and read them. The YAML is read in register_map_parse.cc.
+#include "hybridtest/transfer/modbus/register_map.h"
 
 #include <fmt/core.h>
 
@@ -12,6 +12,102 @@
 
 namespace hybridtest::transfer::modbus {
 namespace {
+
+const char* TableName(Table table) { return table == Table::kHolding ? "holding" : "input"; }
+
+// The span of one actuator's readout registers per table (the rule: at most 125 each).
+std::vector<RegisterBlock> ReadoutSpans(const RegisterMap& map) {
+  std::vector<RegisterBlock> blocks;
+  for (Table table : {Table::kInput, Table::kHolding}) {
+    int start = std::numeric_limits<int>::max(), end = -1;
+    for (const RegisterField* f : {&map.position, &map.force, &map.ack}) {
+      if (f->table != table) continue;
+      start = std::min(start, f->address);
+      end = std::max(end, f->end());
+    }
+    for (const auto* f : {&map.status, &map.lab_time}) {
+      if (!f->has_value() || (*f)->table != table) continue;
+      start = std::min(start, (*f)->address);
+      end = std::max(end, (*f)->end());
+    }
+    if (end >= 0) blocks.push_back({table, start, end - start});
+  }
+  return blocks;
+}
+
+void ValidateRegisterMap(const RegisterMap& map, const std::string& where) {
+  const auto fail = [&](const std::string& what) {
+    throw ConfigError(fmt::format("{}: {}", where, what));
+  };
+  std::vector<std::pair<std::string, const RegisterField*>> fields = {
+      {"command", &map.command}, {"sequence", &map.sequence}, {"position", &map.position},
+      {"force", &map.force},     {"ack", &map.ack}};
+  if (map.status) fields.emplace_back("status", &*map.status);
+  if (map.lab_time) fields.emplace_back("lab_time", &*map.lab_time);
+  for (const auto& [name, f] : fields) {
+    if (f->address < 0 || f->end() > 65536) {
+      fail(fmt::format("{}.address = {}: expected an address in 0..{}", name, f->address,
+                       65536 - f->width()));
+    }
+    if (!(std::abs(f->scale) > 0.0) || !std::isfinite(f->scale)) {
+      fail(fmt::format("{}.scale = {}: expected a non-zero finite factor", name, f->scale));
+    }
+  }
+  // The sequence, the ack and the status are counts and bits, not scaled floats.
+  for (const auto& [name, f] : {std::pair{"sequence", &map.sequence}, std::pair{"ack", &map.ack}}) {
+    if ((f->type != ValueType::kUint16 && f->type != ValueType::kUint32) || f->scale != 1.0) {
+      fail(fmt::format("{}: expected type uint16 or uint32 with scale 1 (a sequence number)", name));
+    }
+  }
+  if (map.ack.type != map.sequence.type) {
+    fail("ack and sequence: expected the same type (both uint16 or both uint32)");
+  }
+  if (map.status && (map.status->type != ValueType::kUint16 || map.status->scale != 1.0)) {
+    fail("status: expected type uint16 with scale 1 (a register of bits)");
+  }
+  for (int bit : {map.status_bits.enabled, map.status_bits.fault, map.status_bits.holding}) {
+    if (bit < -1 || bit > 15) fail(fmt::format("status bit {}: expected 0..15, or -1 (unused)", bit));
+  }
+  // Fields of one table must not overlap.
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    for (std::size_t j = i + 1; j < fields.size(); ++j) {
+      const RegisterField& a = *fields[i].second;
+      const RegisterField& b = *fields[j].second;
+      if (a.table == b.table && a.address < b.end() && b.address < a.end()) {
+        fail(fmt::format("{} ({}) and {} ({}) overlap; give each its own registers",
+                         fields[i].first, DescribeField(a), fields[j].first, DescribeField(b)));
+      }
+    }
+  }
+  // One write (function 16) carries the command and its sequence: adjacent holding registers.
+  if (map.command.table != Table::kHolding || map.sequence.table != Table::kHolding) {
+    fail("command and sequence: expected holding registers (they are written)");
+  }
+  const RegisterBlock write = CommandBlock(map);
+  if (write.count != map.command.width() + map.sequence.width()) {
+    fail(fmt::format("command ({}) and sequence ({}) must be adjacent so that one request "
+                     "(function 16) writes both; move the sequence next to the command",
+                     DescribeField(map.command), DescribeField(map.sequence)));
+  }
+  for (const RegisterBlock& b : ReadoutSpans(map)) {
+    if (b.count > 125) {
+      fail(fmt::format("the {} registers read back span {} registers ({}..{}); one request "
+                       "reads at most 125: place position, force, ack, status and lab_time "
+                       "closer together", TableName(b.table), b.count, b.start,
+                       b.start + b.count - 1));
+    }
+  }
+  if (map.enable_coil && map.hold_coil && *map.enable_coil == *map.hold_coil) {
+    fail(fmt::format("enable_coil and hold_coil are both coil {}: expected two coils",
+                     *map.enable_coil));
+  }
+  for (const auto& coil : {map.enable_coil, map.hold_coil}) {
+    if (coil && (*coil < 0 || *coil > 65535)) {
+      fail(fmt::format("coil {}: expected an address in 0..65535", *coil));
+    }
+  }
+}
+
 
 struct NamedField {
   std::string name;  // "actuator 2's force", or "lab_time"
@@ -142,7 +238,7 @@ std::vector<int> HoldCoils(const std::vector<RegisterMap>& maps) {
   return coils;
 }
 
-void ValidateActuatorMaps(const std::vector<RegisterMap>& maps, const std::string& where,
+void ValidateRegisterMaps(const std::vector<RegisterMap>& maps, const std::string& where,
                           const std::string& fix) {
   if (maps.empty()) throw ConfigError(fmt::format("{}: expected at least one actuator", where));
   const std::size_t n = maps.size();
