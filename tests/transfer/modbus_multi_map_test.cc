@@ -189,10 +189,11 @@ TEST(ModbusMultiMap, TheTransferSectionGivesATransferOfNActuators) {
   EXPECT_EQ(transfer.num_actuators(), 2);
   EXPECT_NE(transfer.Describe().find("2 actuators; commands at holding registers 0–1, 3–4"),
             std::string::npos) << transfer.Describe();
-  // One actuator: the scalar transfer as before.
+  // One actuator: one map, of the default profile.
   const YamlInput one = YamlInput::FromText("transfer: {type: modbus, host: plc.lab}", "run.yaml");
   const ModbusOptions p = ParseModbusOptions(one, one.root()["transfer"], "transfer", {}, 3.0);
-  EXPECT_TRUE(p.maps.empty());
+  ASSERT_EQ(p.maps.size(), 1u);
+  EXPECT_EQ(p.maps[0].command.address, RegisterMap{}.command.address);
   EXPECT_EQ(ModbusTransfer(p).num_actuators(), 1);
   // The following error: one for all, or one per actuator.
   const auto following = [](const std::string& value) {

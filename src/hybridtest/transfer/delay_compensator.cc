@@ -131,7 +131,7 @@ void DelayCompensator::Identify() {
 }
 
 void DelayCompensator::Execute(std::span<const double> commands, std::span<Measurement> out) {
-  RequireOneActuator(commands, out, Describe());
+  RequireOneActuator(commands, out, "compensated transfer system");
   const double command = commands[0];
   if (!paced_) {
     origin_ = command;

@@ -24,7 +24,7 @@ std::optional<Measurement> ReadOne(const TransferSystem& transfer) {
 }
 
 void RequireOneActuator(std::span<const double> commands, std::span<const Measurement> out,
-                        const std::string& who) {
+                        std::string_view who) {
   if (commands.size() != 1 || out.size() != 1) {
     throw TransferError(fmt::format("{}: {} commands and {} measurements for its one actuator",
                                     who, commands.size(), out.size()));

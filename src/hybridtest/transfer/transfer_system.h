@@ -11,6 +11,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "hybridtest/common/clock.h"
@@ -141,7 +142,8 @@ Measurement ExecuteOne(TransferSystem& transfer, double command);
 std::optional<Measurement> ReadOne(const TransferSystem& transfer);
 // For a transfer system of exactly one actuator: throws TransferError naming `who` unless
 // `commands` and `out` each hold one value.
+// (`who` is read only on a refusal: a literal costs nothing per move.)
 void RequireOneActuator(std::span<const double> commands, std::span<const Measurement> out,
-                        const std::string& who);
+                        std::string_view who);
 
 }  // namespace hybridtest::transfer
