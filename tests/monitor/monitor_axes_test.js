@@ -21,6 +21,8 @@ assert.equal(tickLabel(-0.005, 0.005), MINUS + "0.005");
 assert.equal(tickLabel(-0.0123, 0.01), MINUS + "0.01");
 assert.equal(tickLabel(-1e-15, 0.005), "0.000");
 assert.equal(tickLabel(0.02, 0.005), "0.020");
+assert.equal(tickLabel(-0.0025, 0.0025), MINUS + "0.0025");  // never rounded to "−0.003"
+assert.equal(tickLabel(-7.5, 2.5), MINUS + "7.5");
 // Every tick is inside the range and a multiple of the step; the range is covered to a step.
 for (const [lo, hi] of [[-0.0123, 0.004], [-45.8, 53.6], [0.02, 0.0232], [-3000, 3000]]) {
   const t = niceTicks(lo, hi, 5), s = niceStep(hi - lo, 5);

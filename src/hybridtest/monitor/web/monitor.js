@@ -38,7 +38,9 @@ function niceTicks(lo, hi, count = 5) {
 // A tick's label: as many decimals as the step needs, thousands grouped, and a minus sign
 // (U+2212) that is never dropped: "−2,500", "−0.005", "0".
 function tickLabel(v, step) {
-  const decimals = step > 0 && step < 1 ? Math.min(12, Math.ceil(-Math.log10(step) - 1e-9)) : 0;
+  let decimals = 0;  // as many as the step needs to be exact: 0.0025 → 4
+  const scaled = (d) => step * Math.pow(10, d);
+  while (step > 0 && decimals < 12 && Math.abs(Math.round(scaled(decimals)) - scaled(decimals)) > 1e-6 * scaled(decimals)) ++decimals;
   const text = Math.abs(v).toLocaleString("en-US", { minimumFractionDigits: decimals, maximumFractionDigits: decimals });
   const zero = Number(Math.abs(v).toFixed(decimals)) === 0;
   return (v < 0 && !zero ? "\u2212" : "") + text;
@@ -195,7 +197,8 @@ if (typeof document !== "undefined") {
       const lim = l ? `stroke ${fmt(l.stroke_min, 3)} … ${fmt(l.stroke_max, 3)} m, max increment ${fmt(l.max_increment, 3)} m, ` +
                       `force soft ${fmt(l.force_soft, 4)} N, hard ${fmt(l.force_hard, 4)} N` : "no limits known";
       const strokeFrac = (v) => l && v !== null ? Math.abs(v - (l.stroke_max + l.stroke_min) / 2) / ((l.stroke_max - l.stroke_min) / 2) : 0;
-      const of = a.slots.length > 1 ? `actuator ${a.index + 1} of ${a.substructure} (slots ${a.slots.join(", ")})` : `of ${a.substructure}`;
+      const of = a.slots.length > 1 ? `actuator ${a.index + 1} of ${a.substructure} (slots ${a.slots.join(", ")})`
+        : a.name === a.substructure ? "" : `of ${a.substructure}`;
       return `<div class="meter"><h3>Actuator ${a.name} <small>${of}</small> — <span class="level ${m.level}">${m.level}</span></h3>` +
         `<p class="hint">p0 ${a.p0 === null ? "unknown" : fmt(a.p0) + " m"}; displacement from p0 ${fmt(a.displacement)} m</p>` +
         gauge("command", strokeFrac(a.command), m.level, `${fmt(a.command)} m`) +
