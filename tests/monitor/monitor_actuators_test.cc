@@ -7,31 +7,19 @@
 // values, and the elapsed time, lab time and evaluations the sidecar records.
 #include <gtest/gtest.h>
 
-#include <regex>
-
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/monitor/monitor_observer.h"
 #include "hybridtest/monitor/run_follower.h"
-#include "integration/resume_support.h"
-#include "support/temp_dir.h"
+#include "monitor/example_config.h"
 
 namespace hybridtest::testing {
 namespace {
 
-// bouc-wen.yaml, 0.2 s of it, with its files' paths made absolute.
+// bouc-wen.yaml, 0.2 s of it.
 fs::path WriteBladeConfig(const fs::path& dir) {
-  const std::string example = kSource + "/examples/06_blade_two_actuators/";
-  std::string config = test_support::ReadText(example + "bouc-wen.yaml");
-  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
-           {"duration: 10.0", "duration: 0.2"},
-           {"file: blade_tip.yaml", "file: " + example + "blade_tip.yaml"},
-           {"config: bench-2act-bouc-wen.yaml", "config: " + example + "bench-2act-bouc-wen.yaml"}}) {
-    const std::string edited = std::regex_replace(config, std::regex(from), to);
-    EXPECT_NE(edited, config) << "bouc-wen.yaml no longer has " << from;
-    config = edited;
-  }
-  test_support::WriteText(dir / "blade.yaml", config);
-  return dir / "blade.yaml";
+  return WriteExampleConfig(dir, "06_blade_two_actuators", "bouc-wen.yaml",
+                            {{"duration: 10.0", "duration: 0.2"}},
+                            {"blade_tip.yaml", "bench-2act-bouc-wen.yaml"});
 }
 
 class Rows final : public runner::SessionObserver {

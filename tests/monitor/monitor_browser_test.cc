@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "monitor/example_config.h"
 #include "monitor/monitor_process.h"
 #include "support/listening_process.h"
 #include "support/run_command.h"
@@ -115,17 +116,13 @@ TEST(MonitorBrowser, BothActuatorsOfTheBladeLiveAndFollowed) {
   const std::string chromium = FindChromium();
   if (chromium.empty()) GTEST_SKIP() << "chromium not found (scripts/install-deps.sh)";
   const fs::path dir = ResumeTestDir("monitor_browser_blade");
-  const std::string example = kSource + "/examples/06_blade_two_actuators/";
-  std::string config = test_support::ReadText(example + "bouc-wen.yaml");
-  config = std::regex_replace(config, std::regex("duration: 10.0"), "duration: 1.0");
-  config = std::regex_replace(config, std::regex("file: blade_tip.yaml"),
-                              "file: " + example + "blade_tip.yaml");
-  config = std::regex_replace(config, std::regex("config: bench-2act-bouc-wen.yaml"),
-                              "config: " + example + "bench-2act-bouc-wen.yaml");
-  test_support::WriteText(dir / "blade.yaml", config);
+  const fs::path config =
+      WriteExampleConfig(dir, "06_blade_two_actuators", "bouc-wen.yaml",
+                         {{"duration: 10.0", "duration: 1.0"}},
+                         {"blade_tip.yaml", "bench-2act-bouc-wen.yaml"});
   const fs::path csv = dir / "blade.csv";
   {
-    MonitoredRun run({"run", (dir / "blade.yaml").string(), "--out", csv.string(), "--quiet",
+    MonitoredRun run({"run", config.string(), "--out", csv.string(), "--quiet",
                       "--monitor", "127.0.0.1:0", "--monitor-no-token", "--monitor-linger", "120"},
                      dir / "run.log");
     ASSERT_NE(run.port(), 0) << run.child().output();

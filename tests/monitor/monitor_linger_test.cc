@@ -3,31 +3,22 @@
 // while it runs, as recorded once it has ended), and the monitor keeps serving the final state
 // after the run until Ctrl-C (the linger), which ends the process.
 #include <csignal>
-#include <fstream>
-#include <regex>
 
+#include "monitor/example_config.h"
 #include "monitor/monitor_process.h"
-#include "support/temp_dir.h"
 
 namespace hybridtest::testing {
 namespace {
 
 TEST(MonitorLinger, ARealTimeRunShowsItsTicksMissesAndJAndLingers) {
   const fs::path dir = ResumeTestDir("monitor_linger");
-  const std::string example = kSource + "/examples/real-time/";
-  std::string config = test_support::ReadText(example + "storey-ats.yaml");
-  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
-           {"duration: 10.0", "duration: 2.0"},
-           {"lock_memory: true", "lock_memory: false"},
-           {"hold_after_misses: 10", "hold_after_misses: 0"},  // a busy test machine misses
-           {"file: storey.model.yaml", "file: " + example + "storey.model.yaml"}}) {
-    const std::string edited = std::regex_replace(config, std::regex(from), to);
-    ASSERT_NE(edited, config) << "storey-ats.yaml no longer has " << from;
-    config = edited;
-  }
-  test_support::WriteText(dir / "storey-ats.yaml", config);
+  const fs::path config = WriteExampleConfig(
+      dir, "real-time", "storey-ats.yaml",
+      {{"duration: 10.0", "duration: 2.0"}, {"lock_memory: true", "lock_memory: false"},
+       {"hold_after_misses: 10", "hold_after_misses: 0"}},  // a busy test machine misses
+      {"storey.model.yaml"});
   const fs::path csv = dir / "storey-ats.csv";
-  MonitoredRun run({"run", (dir / "storey-ats.yaml").string(), "--clock", "wall", "--out",
+  MonitoredRun run({"run", config.string(), "--clock", "wall", "--out",
                     csv.string(), "--quiet", "--monitor", "127.0.0.1:0", "--monitor-no-token",
                     "--monitor-linger", "120"},
                    dir / "run.log");

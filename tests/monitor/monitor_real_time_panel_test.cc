@@ -9,14 +9,12 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
-#include <regex>
 
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/monitor/monitor_observer.h"
 #include "hybridtest/monitor/real_time_panel.h"
 #include "hybridtest/runner/real_time_run.h"
-#include "integration/resume_support.h"
-#include "support/temp_dir.h"
+#include "monitor/example_config.h"
 
 namespace hybridtest::testing {
 namespace {
@@ -76,18 +74,11 @@ class Snapshot final : public runner::SessionObserver {
 
 TEST(MonitorRealTimePanel, ThePanelIsThePacedLoopsLiveAndTheRecordAtTheEnd) {
   const fs::path dir = ResumeTestDir("monitor_real_time_panel");
-  const std::string example = kSource + "/examples/real-time/";
-  std::string config = test_support::ReadText(example + "storey-ats.yaml");
-  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
-           {"duration: 10.0", "duration: 1.0"},
-           {"lock_memory: true", "lock_memory: false"},
-           {"file: storey.model.yaml", "file: " + example + "storey.model.yaml"}}) {
-    const std::string edited = std::regex_replace(config, std::regex(from), to);
-    ASSERT_NE(edited, config) << "storey-ats.yaml no longer has " << from;
-    config = edited;
-  }
-  test_support::WriteText(dir / "storey-ats.yaml", config);
-  io::RunSpec spec = io::LoadRunSpec((dir / "storey-ats.yaml").string());
+  const fs::path config = WriteExampleConfig(
+      dir, "real-time", "storey-ats.yaml",
+      {{"duration: 10.0", "duration: 1.0"}, {"lock_memory: true", "lock_memory: false"}},
+      {"storey.model.yaml"});
+  io::RunSpec spec = io::LoadRunSpec(config.string());
   spec.output.files = false;
   runner::Session session(std::move(spec));
   monitor::MonitorState state(100000);
