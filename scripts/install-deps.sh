@@ -24,6 +24,7 @@ test_packages=(
   pybind11-dev python3-dev python3-pytest                  # the Python package and its tests
   libopenmpi-dev openmpi-bin                               # campaigns on a cluster (MPI)
   chromium                                                 # the monitor's page test
+  nodejs                                                   # the monitor page's axis test (node)
 )
 
 app_only=0

@@ -79,7 +79,7 @@ void DescribeOneSlot(MonitorState& state) {
   RunIdentity id;
   id.slots = {"r1"};
   id.end_time = 10.0;
-  state.SetIdentity(id, FrameLayout{1, 1}, {{"r1", transfer::SafetyLimits{}, 0.02}});
+  state.SetIdentity(id, FrameLayout{1, 1}, {{"r1", "r1", 0, {"r1"}, transfer::SafetyLimits{}, 0.02}});
 }
 
 std::vector<double> Frame(long step) {

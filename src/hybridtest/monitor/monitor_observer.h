@@ -8,8 +8,12 @@
 // viewer therefore costs the run nothing but the copy.
 //
 // d is the slot displacement of the last stage-0 trial (the trial at the committed state);
-// what the seam reports, per slot and per physical actuator, is all it reads (TrialEvent,
-// CommitEvent's journal row); the limits and identity come from the run's spec.
+// what the seam reports, per model slot and per actuator, is all it reads (TrialEvent,
+// CommitEvent's journal row). The actuators, their names, p0 and limits come from the
+// session's slot map and each substructure's actuator_p0/actuator_limits (decision 0016);
+// the identity from the run's spec. On a paced run it is given the paced loop
+// (SetPacedLoop) and copies its per-tick counts into each frame on the stepping thread (the
+// thread that writes them), allocating nothing.
 #include <condition_variable>
 #include <memory>
 #include <mutex>
@@ -18,6 +22,7 @@
 
 #include "hybridtest/monitor/frame_ring.h"
 #include "hybridtest/monitor/monitor_state.h"
+#include "hybridtest/runner/paced_loop.h"
 #include "hybridtest/runner/session.h"
 
 namespace hybridtest::monitor {
@@ -27,7 +32,7 @@ struct MonitorObserverOptions {
   double drain_interval = 0.05;      // collector period. Unit: [s]
 };
 
-// The identity, layout and actuators of a session's run, from its spec.
+// The identity, layout and actuators of a session's run, from its spec and slot map.
 void DescribeRun(const runner::Session& session, RunIdentity& identity, FrameLayout& layout,
                  std::vector<ActuatorInfo>& actuators);
 
@@ -48,15 +53,20 @@ class MonitorObserver final : public runner::SessionObserver {
   bool real_time_safe() const override { return true; }
 
   long dropped() const { return ring_ ? ring_->dropped() : 0; }
+  // A paced run's loop (before the session's Initialize()); not owned, outlives the run.
+  void SetPacedLoop(const runner::PacedLoop* loop) { paced_ = loop; }
 
  private:
   void Collect();       // the collector thread
   void DrainNow();      // ring → state (collector, or the stepping thread at the stop)
   void StopCollector();
+  void FillRealTime(double* frame) const;  // the paced loop's per-tick columns
 
   MonitorState& state_;
   MonitorObserverOptions options_;
   const runner::Session* session_ = nullptr;
+  const runner::PacedLoop* paced_ = nullptr;
+  std::vector<const transfer::TransferSystem*> compensators_;  // their delay columns
   FrameLayout layout_;
   std::unique_ptr<FrameRing> ring_;
   std::vector<double> last_d_;  // (m) d of the last stage-0 trial
