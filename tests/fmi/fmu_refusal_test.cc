@@ -1,6 +1,6 @@
 // What an FMU substructure refuses, each a ConfigError that names the FMU file and the
 // variable or capability: no binary for this platform, a missing variable, a wrong causality,
-// a unit mismatch, state without get/set FMU state, FMI 3.0, not an FMU at all.
+// a unit mismatch, state without get/set FMU state, FMI 1.0, not an FMU at all.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -86,10 +86,15 @@ TEST(FmuRefusal, UndeclaredDependenciesCountAsState) {
   EXPECT_HAS(Refusal(Yaml(fmu)), "outputs that may depend on more than its inputs");
 }
 
-TEST(FmuRefusal, Fmi3AndModelExchangeAndNotAnFmu) {
+TEST(FmuRefusal, WrongVersionOrPlatformModelExchangeAndNotAnFmu) {
+  // An FMI 3.0 description with only an FMI 2.0 binary folder: no binary for this platform.
   const std::string v3 = EditedFmu("spring", R"(fmiVersion="2.0")", R"(fmiVersion="3.0")",
                                    "v3.fmu");
-  EXPECT_HAS(Refusal(Yaml(v3)), "v3.fmu: an FMI 3.0 FMU");
+  EXPECT_HAS(Refusal(Yaml(v3)), "v3.fmu: no binary for this platform "
+                                "(binaries/x86_64-linux/spring.so is missing)");
+  const std::string v1 = EditedFmu("spring", R"(fmiVersion="2.0")", R"(fmiVersion="1.0")",
+                                   "v1.fmu");
+  EXPECT_HAS(Refusal(Yaml(v1)), "v1.fmu: fmiVersion '1.0'; hybridtest imports FMI 2.0 and 3.0");
   const std::string me = EditedFmu("spring", "<CoSimulation", "<ModelExchange", "me.fmu");
   EXPECT_HAS(Refusal(Yaml(me)), "me.fmu: the FMU does not support co-simulation");
   const auto dir = test_support::FreshTempDir("fmi_not_zip");
@@ -118,6 +123,14 @@ TEST(ModelDescription, StateIsReadFromTheStructure) {
   EXPECT_TRUE(spring.DeclaresNoState());
   EXPECT_EQ(spring.UnitOf(*spring.Find("F"))->kg, 1);
   EXPECT_THROW(ParseModelDescription("<fmiModelDescription", "x"), ConfigError);
+  // FMI 3.0: the state from ContinuousStateDerivative, dependencies by value reference.
+  const auto v3 = ParseModelDescription(ReadMember(TestFmu("maxwell3"), "modelDescription.xml"), "3");
+  EXPECT_TRUE(v3.is_fmi3());
+  EXPECT_EQ(v3.num_states, 1);
+  EXPECT_TRUE(v3.can_get_and_set_state);
+  EXPECT_EQ(v3.guid, "{hybridtest-test-maxwell}");
+  EXPECT_EQ(v3.Find("F")->type, "Float64");
+  EXPECT_EQ(v3.output_dependencies.at(2), (std::vector<int>{1, 6}));
 }
 
 }  // namespace

@@ -30,8 +30,12 @@ struct MaxwellOracle {
   void Commit(double x, double h) { y = x + (y - x) * std::exp(-k * h / c); }
 };
 
-TEST(FmuSubstructure, StatefulFmuIsRolledBackBeforeEveryTrial) {
-  const auto spec = FmuSpec("{type: fmu, fmu: " + TestFmu("maxwell") +
+// The same element as an FMI 2.0 and an FMI 3.0 FMU.
+class StatefulFmu : public ::testing::TestWithParam<const char*> {};
+INSTANTIATE_TEST_SUITE_P(FmiVersions, StatefulFmu, ::testing::Values("maxwell", "maxwell3"));
+
+TEST_P(StatefulFmu, IsRolledBackBeforeEveryTrial) {
+  const auto spec = FmuSpec("{type: fmu, fmu: " + TestFmu(GetParam()) +
                             ", displacement: x, force: F, parameters: {k: 7200, c: 50}}");
   auto s = spec.Build();
   ASSERT_EQ(s->num_slots(), 1);
@@ -80,8 +84,8 @@ TEST(FmuSubstructure, DeclaredUnitsAreConverted) {
   EXPECT_NEAR(TryOne(*s, 0.01, 0, 0, 0.0), 72.0, 1e-12);
 }
 
-TEST(FmuSubstructure, CheckpointContinuesBitIdentically) {
-  const auto spec = FmuSpec("{type: fmu, fmu: " + TestFmu("maxwell") +
+TEST_P(StatefulFmu, CheckpointContinuesBitIdentically) {
+  const auto spec = FmuSpec("{type: fmu, fmu: " + TestFmu(GetParam()) +
                             ", displacement: x, force: F, parameters: {k: 7200, c: 50}}");
   auto a = spec.Build();
   const double h = 0.001;
@@ -102,8 +106,10 @@ TEST(FmuSubstructure, CheckpointContinuesBitIdentically) {
 }
 
 // fail_at: fmi2DoStep returns fmi2Error; the trial throws TransferError with the FMU's words.
-TEST(FmuSubstructure, ErrorStatusIsATransferErrorWithTheFmusLog) {
-  const auto spec = FmuSpec("{type: fmu, fmu: " + TestFmu("maxwell") +
+TEST_P(StatefulFmu, ErrorStatusIsATransferErrorWithTheFmusLog) {
+  const std::string id = GetParam();
+  const std::string version = id == "maxwell3" ? "fmi3" : "fmi2";
+  const auto spec = FmuSpec("{type: fmu, fmu: " + TestFmu(id) +
                             ", displacement: x, force: F, parameters: {fail_at: 0.0025}}");
   std::vector<std::string> logged;
   auto s = spec.Build();
@@ -116,9 +122,9 @@ TEST(FmuSubstructure, ErrorStatusIsATransferErrorWithTheFmusLog) {
     FAIL() << "no error";
   } catch (const TransferError& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("maxwell.fmu"), std::string::npos) << what;
-    EXPECT_NE(what.find("fmi2DoStep"), std::string::npos) << what;
-    EXPECT_NE(what.find("fmi2Error"), std::string::npos) << what;
+    EXPECT_NE(what.find(id + ".fmu"), std::string::npos) << what;
+    EXPECT_NE(what.find(version + "DoStep"), std::string::npos) << what;
+    EXPECT_NE(what.find(version + "Error"), std::string::npos) << what;
     EXPECT_NE(what.find("fail_at reached: the step ends at 0.003 s"), std::string::npos) << what;
   }
 }

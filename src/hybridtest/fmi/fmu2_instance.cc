@@ -1,7 +1,6 @@
 // See fmu2_instance.h.
 #include "hybridtest/fmi/fmu2_instance.h"
 
-#include <dlfcn.h>
 #include <fmt/core.h>
 
 #include <cmath>
@@ -9,33 +8,21 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <iostream>
 
 #include "hybridtest/common/error.h"
 
 namespace hybridtest::fmi {
 namespace {
 
-const char* StatusName(fmi2Status s) {
-  switch (s) {
-    case fmi2OK: return "OK";
-    case fmi2Warning: return "Warning";
-    case fmi2Discard: return "Discard";
-    case fmi2Error: return "Error";
-    case fmi2Fatal: return "Fatal";
-    case fmi2Pending: return "Pending";
-  }
-  return "?";
-}
-
 void* Allocate(size_t n, size_t size) { return std::calloc(n, size); }
 void Free(void* p) { std::free(p); }
 
-}  // namespace
-
-LogSink StderrLog() {
-  return [](const std::string& line) { std::cerr << line << '\n'; };
+std::string SharedObject(const std::string& dir, const ModelDescription& md) {
+  return (std::filesystem::path(dir) / "binaries" / "linux64" / (md.model_identifier + ".so"))
+      .string();
 }
+
+}  // namespace
 
 struct Fmu2Instance::Functions {
   fmi2InstantiateTYPE* instantiate = nullptr;
@@ -57,116 +44,61 @@ struct Fmu2Instance::Functions {
   fmi2DeSerializeFMUstateTYPE* deserialize = nullptr;
 };
 
-template <typename F>
-F* Fmu2Instance::Symbol(const char* name, bool required) {
-  void* p = dlsym(library_, name);
-  if (p == nullptr && required) {
-    throw ConfigError(fmt::format("{}: its binary exports no {} (an FMI 2.0 co-simulation FMU "
-                                  "must export it); re-export the FMU with its binary",
-                                  fmu_, name));
-  }
-  return reinterpret_cast<F*>(p);
-}
-
 Fmu2Instance::Fmu2Instance(const std::string& dir, const ModelDescription& md, std::string fmu,
                            std::string instance_name, LogSink log)
-    : fmu_(std::move(fmu)), instance_name_(std::move(instance_name)), log_(std::move(log)),
+    : FmuInstance(SharedObject(dir, md), "binaries/linux64/" + md.model_identifier + ".so",
+                  std::move(fmu), std::move(instance_name), std::move(log)),
       f_(std::make_unique<Functions>()) {
-  namespace fs = std::filesystem;
-  const fs::path so =
-      fs::path(dir) / "binaries" / kFmi2Platform / (md.model_identifier + ".so");
-  if (!fs::exists(so)) {
-    throw ConfigError(fmt::format("{}: no binary for this platform: binaries/{}/{}.so is "
-                                  "missing; export the FMU for Linux x86-64 (a binary FMU, "
-                                  "platform {})", fmu_, kFmi2Platform, md.model_identifier,
-                                  kFmi2Platform));
-  }
-  library_ = dlopen(so.c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (library_ == nullptr) {
-    throw ConfigError(fmt::format("{}: cannot load binaries/{}/{}.so: {}", fmu_, kFmi2Platform,
-                                  md.model_identifier, dlerror()));
-  }
-  try {
-    LoadAndInstantiate(dir, md);
-  } catch (...) {
-    dlclose(library_);  // the destructor does not run for a constructor that throws
-    throw;
-  }
-}
-
-void Fmu2Instance::LoadAndInstantiate(const std::string& dir, const ModelDescription& md) {
-  namespace fs = std::filesystem;
-  f_->instantiate = Symbol<fmi2InstantiateTYPE>("fmi2Instantiate", true);
-  f_->free_instance = Symbol<fmi2FreeInstanceTYPE>("fmi2FreeInstance", true);
-  f_->setup_experiment = Symbol<fmi2SetupExperimentTYPE>("fmi2SetupExperiment", true);
-  f_->enter_initialization =
-      Symbol<fmi2EnterInitializationModeTYPE>("fmi2EnterInitializationMode", true);
-  f_->exit_initialization =
-      Symbol<fmi2ExitInitializationModeTYPE>("fmi2ExitInitializationMode", true);
-  f_->terminate = Symbol<fmi2TerminateTYPE>("fmi2Terminate", true);
-  f_->get_real = Symbol<fmi2GetRealTYPE>("fmi2GetReal", true);
-  f_->set_real = Symbol<fmi2SetRealTYPE>("fmi2SetReal", true);
-  f_->set_integer = Symbol<fmi2SetIntegerTYPE>("fmi2SetInteger", true);
-  f_->set_boolean = Symbol<fmi2SetBooleanTYPE>("fmi2SetBoolean", true);
-  f_->do_step = Symbol<fmi2DoStepTYPE>("fmi2DoStep", true);
+  fmi_version_ = 2;
+  f_->instantiate = Fn<fmi2InstantiateTYPE>("fmi2Instantiate");
+  f_->free_instance = Fn<fmi2FreeInstanceTYPE>("fmi2FreeInstance");
+  f_->setup_experiment = Fn<fmi2SetupExperimentTYPE>("fmi2SetupExperiment");
+  f_->enter_initialization = Fn<fmi2EnterInitializationModeTYPE>("fmi2EnterInitializationMode");
+  f_->exit_initialization = Fn<fmi2ExitInitializationModeTYPE>("fmi2ExitInitializationMode");
+  f_->terminate = Fn<fmi2TerminateTYPE>("fmi2Terminate");
+  f_->get_real = Fn<fmi2GetRealTYPE>("fmi2GetReal");
+  f_->set_real = Fn<fmi2SetRealTYPE>("fmi2SetReal");
+  f_->set_integer = Fn<fmi2SetIntegerTYPE>("fmi2SetInteger");
+  f_->set_boolean = Fn<fmi2SetBooleanTYPE>("fmi2SetBoolean");
+  f_->do_step = Fn<fmi2DoStepTYPE>("fmi2DoStep");
   const bool state = md.can_get_and_set_state;
-  f_->get_state = Symbol<fmi2GetFMUstateTYPE>("fmi2GetFMUstate", state);
-  f_->set_state = Symbol<fmi2SetFMUstateTYPE>("fmi2SetFMUstate", state);
-  f_->free_state = Symbol<fmi2FreeFMUstateTYPE>("fmi2FreeFMUstate", state);
+  f_->get_state = Fn<fmi2GetFMUstateTYPE>("fmi2GetFMUstate", state);
+  f_->set_state = Fn<fmi2SetFMUstateTYPE>("fmi2SetFMUstate", state);
+  f_->free_state = Fn<fmi2FreeFMUstateTYPE>("fmi2FreeFMUstate", state);
   const bool serial = md.can_serialize_state;
-  f_->serialized_size =
-      Symbol<fmi2SerializedFMUstateSizeTYPE>("fmi2SerializedFMUstateSize", serial);
-  f_->serialize = Symbol<fmi2SerializeFMUstateTYPE>("fmi2SerializeFMUstate", serial);
-  f_->deserialize = Symbol<fmi2DeSerializeFMUstateTYPE>("fmi2DeSerializeFMUstate", serial);
+  f_->serialized_size = Fn<fmi2SerializedFMUstateSizeTYPE>("fmi2SerializedFMUstateSize", serial);
+  f_->serialize = Fn<fmi2SerializeFMUstateTYPE>("fmi2SerializeFMUstate", serial);
+  f_->deserialize = Fn<fmi2DeSerializeFMUstateTYPE>("fmi2DeSerializeFMUstate", serial);
 
+  // FMI 2.0 section 2.1.5: the resource location is a file URI.
   callbacks_.reset(new fmi2CallbackFunctions{&Logger, &Allocate, &Free, nullptr, this});
   const std::string resources =
-      "file://" + (fs::absolute(fs::path(dir)) / "resources").lexically_normal().string();
+      "file://" +
+      (std::filesystem::absolute(std::filesystem::path(dir)) / "resources").lexically_normal().string();
   component_ = f_->instantiate(instance_name_.c_str(), fmi2CoSimulation, md.guid.c_str(),
                                resources.c_str(), callbacks_.get(), fmi2False, fmi2False);
   if (component_ == nullptr) {
-    std::string lines;
-    for (const auto& line : recent_) lines += "\n  " + line;
+    const std::string lines = RecentLines();
     throw TransferError(fmt::format("{}: fmi2Instantiate failed (guid {}){}", fmu_, md.guid,
                                     lines.empty() ? " and the FMU logged nothing" : lines));
   }
 }
 
 Fmu2Instance::~Fmu2Instance() {
-  if (component_ != nullptr && !fatal_) {
-    if (snapshot_ != nullptr && !failed_) f_->free_state(component_, &snapshot_);
-    if (initialized_ && !failed_) f_->terminate(component_);
-    f_->free_instance(component_);
-  }
-  if (library_ != nullptr) dlclose(library_);
+  if (component_ == nullptr || fatal_) return;
+  if (snapshot_ != nullptr && !failed_) f_->free_state(component_, &snapshot_);
+  if (initialized_ && !failed_) f_->terminate(component_);
+  f_->free_instance(component_);
 }
 
-void Fmu2Instance::Logger(fmi2ComponentEnvironment env, fmi2String instance, fmi2Status status,
-                          fmi2String category, fmi2String message, ...) {
-  auto* self = static_cast<Fmu2Instance*>(env);
+void Fmu2Instance::Logger(fmi2ComponentEnvironment env, fmi2String /*instance*/,
+                          fmi2Status status, fmi2String category, fmi2String message, ...) {
   char text[1024];
   va_list args;
   va_start(args, message);
   std::vsnprintf(text, sizeof text, message != nullptr ? message : "", args);
   va_end(args);
-  const std::string line = fmt::format("fmu {}: {} [{}] {}", instance != nullptr ? instance : "?",
-                                       StatusName(status), category != nullptr ? category : "",
-                                       text);
-  if (self == nullptr) return;
-  self->recent_.push_back(line);
-  if (self->recent_.size() > 8) self->recent_.pop_front();
-  if (self->log_) self->log_(line);
-}
-
-void Fmu2Instance::Check(fmi2Status status, const std::string& call) {
-  if (status == fmi2OK || status == fmi2Warning) return;
-  if (status == fmi2Fatal) fatal_ = true;
-  if (status == fmi2Error || status == fmi2Discard || status == fmi2Pending) failed_ = true;
-  std::string log;
-  for (const auto& line : recent_) log += "\n  " + line;
-  throw TransferError(fmt::format("{}: {} returned fmi2{}{}", fmu_, call, StatusName(status),
-                                  log.empty() ? " (the FMU logged nothing)"
-                                              : "; the FMU's last messages:" + log));
+  if (env != nullptr) static_cast<Fmu2Instance*>(env)->Log(status, category, text);
 }
 
 void Fmu2Instance::Initialize(double start_time, const std::vector<Value>& parameters) {
@@ -190,12 +122,11 @@ void Fmu2Instance::Initialize(double start_time, const std::vector<Value>& param
   initialized_ = true;
 }
 
-void Fmu2Instance::SetReal(const std::vector<fmi2ValueReference>& vr,
-                           const std::vector<double>& values) {
+void Fmu2Instance::SetReal(const std::vector<unsigned>& vr, const std::vector<double>& values) {
   Check(f_->set_real(component_, vr.data(), vr.size(), values.data()), "fmi2SetReal");
 }
 
-void Fmu2Instance::GetReal(const std::vector<fmi2ValueReference>& vr, std::vector<double>& values) {
+void Fmu2Instance::GetReal(const std::vector<unsigned>& vr, std::vector<double>& values) {
   values.resize(vr.size());
   Check(f_->get_real(component_, vr.data(), vr.size(), values.data()), "fmi2GetReal");
 }

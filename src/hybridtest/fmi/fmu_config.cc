@@ -59,10 +59,10 @@ const ModelVariable& Require(const YamlInput& in, const YAML::Node& node, const 
   return *v;
 }
 
-std::vector<Fmu2Instance::Value> ReadParameters(const YamlInput& in, const YAML::Node& node,
+std::vector<FmuInstance::Value> ReadParameters(const YamlInput& in, const YAML::Node& node,
                                                 const std::string& kp, const std::string& fmu,
                                                 const ModelDescription& md) {
-  std::vector<Fmu2Instance::Value> out;
+  std::vector<FmuInstance::Value> out;
   if (!node) return out;
   in.RequireMapping(node, kp);
   for (const auto& kv : node) {
@@ -85,11 +85,14 @@ std::vector<Fmu2Instance::Value> ReadParameters(const YamlInput& in, const YAML:
     if (v->type == "Boolean" && kv.second.IsScalar() &&
         (kv.second.Scalar() == "true" || kv.second.Scalar() == "false")) {
       value = kv.second.Scalar() == "true" ? 1.0 : 0.0;
-    } else if (v->type == "Real" || v->type == "Integer" || v->type == "Enumeration") {
+    } else if (v->type == "Real" || v->type == "Integer" || v->type == "Enumeration" ||
+               v->type == "Float64" || v->type == "Int32") {
       value = in.Number(kv.second, key, fmt::format("a number in the FMU's unit{}",
                                                     v->unit.empty() ? "" : " (" + v->unit + ")"));
     } else {
-      in.ThrowValue(kv.second, key, fmt::format("a value of the FMU's type {}", v->type));
+      throw ConfigError(fmt::format("{}: {}: parameter '{}' is of type {}, which hybridtest "
+                                    "cannot set (Real/Float64, Integer/Int32, Enumeration, "
+                                    "Boolean)", in.Where(kv.second, key), fmu, name, v->type));
     }
     out.push_back({v, value});
   }
@@ -149,13 +152,8 @@ substructures::SubstructureSpec ParseFmuSubstructure(const YamlInput& in, const 
                                   "CoSimulation element); export it for co-simulation",
                                   where, b->fmu));
   }
-  if (md.is_fmi3()) {
-    throw ConfigError(fmt::format("{}: {}: an FMI 3.0 FMU; this hybridtest imports FMI 2.0 "
-                                  "co-simulation FMUs only (FMI 3.0 is planned): export it as "
-                                  "FMI 2.0", where, b->fmu));
-  }
   const std::string binary =
-      fmt::format("binaries/{}/{}.so", kFmi2Platform, md.model_identifier);
+      fmt::format("binaries/{}/{}.so", PlatformFolder(md), md.model_identifier);
   const auto members = ListMembers(b->fmu);
   if (std::find(members.begin(), members.end(), binary) == members.end()) {
     throw ConfigError(fmt::format("{}: {}: no binary for this platform ({} is missing); export "

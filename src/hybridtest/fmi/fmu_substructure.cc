@@ -51,8 +51,7 @@ FmuSubstructure::FmuSubstructure(std::shared_ptr<const FmuBinding> binding, LogS
     : binding_(std::move(binding)), dir_(MakeUnpackDir()) {
   try {
     ExtractArchive(binding_->fmu, dir_);
-    fmu_ = std::make_unique<Fmu2Instance>(dir_, binding_->md, binding_->fmu, binding_->name,
-                                          std::move(log));
+    fmu_ = LoadFmu(dir_, binding_->md, binding_->fmu, binding_->name, std::move(log));
     fmu_->Initialize(0.0, binding_->parameters);
     if (!binding_->stateless) fmu_->SnapshotState();
   } catch (...) {

@@ -1,6 +1,6 @@
 #pragma once
-// FmuSubstructure: a numerical substructure of m slots served by an FMI 2.0 co-simulation
-// FMU. Slot displacements d (m) [m] are its inputs, restoring forces r (m) [N] its outputs,
+// FmuSubstructure: a numerical substructure of m slots served by a co-simulation FMU (FMI 2.0
+// or 3.0; the calls below are named in FMI 2's words, FMI 3's are the same with fmi3). Slot displacements d (m) [m] are its inputs, restoring forces r (m) [N] its outputs,
 // converted from and to the units the FMU declares (value in SI = factor · value + offset).
 //
 // Trials before a commit (OpenFresco's two phases, substructure.h), with t_c the committed
@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "hybridtest/fmi/fmu2_instance.h"
+#include "hybridtest/fmi/fmu_instance.h"
 #include "hybridtest/fmi/model_description.h"
 #include "hybridtest/substructures/substructure.h"
 
@@ -32,7 +32,7 @@ struct FmuBinding {
   // factor and offset (SI = factor · value + offset).
   std::vector<const ModelVariable*> inputs, outputs;
   std::vector<double> in_factor, in_offset, out_factor, out_offset;
-  std::vector<Fmu2Instance::Value> parameters;
+  std::vector<FmuInstance::Value> parameters;
   bool stateless = false;
   std::optional<Eigen::MatrixXd> initial_stiffness;  // (m × m) [N/m], from the config
 };
@@ -60,8 +60,8 @@ class FmuSubstructure final : public substructures::Substructure {
  private:
   std::shared_ptr<const FmuBinding> binding_;
   std::string dir_;  // the unpacked FMU
-  std::unique_ptr<Fmu2Instance> fmu_;
-  std::vector<fmi2ValueReference> in_vr_, out_vr_;
+  std::unique_ptr<FmuInstance> fmu_;
+  std::vector<unsigned> in_vr_, out_vr_;
   std::vector<double> in_, out_;
   double t_committed_ = 0.0;  // [s]
   double t_trial_ = 0.0;      // [s]
