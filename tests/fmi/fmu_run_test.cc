@@ -98,6 +98,27 @@ TEST(FmuRun, Fmi3FmuEqualsTheLinearLaw) {
   EXPECT_LE(WorstDifference(reference, fmu), 1e-9);
 }
 
+// One FMU serving two slots (`slots: [r1, r2]`): equals the built-in coupled linear block.
+TEST(FmuRun, TwoSlotFmuEqualsTheLinearBlock) {
+  const std::string k = "[[7200, 1500], [1500, 6000]]";
+  const auto reference = RunRotor(Config(
+      kHeun, "substructures:\n  blade: {type: numerical, slots: [r1, r2], law: {type: linear, "
+             "stiffness: " + k + "}}\n"));
+  const auto fmu = RunRotor(Config(
+      kHeun, "substructures:\n  blade: {type: fmu, slots: [r1, r2], fmu: " +
+                 TestFmu("coupled_spring") + ", displacement: [x1, x2], force: [F1, F2], "
+                 "parameters: {k11: 7200, k12: 1500, k21: 1500, k22: 6000}, "
+                 "initial_stiffness: " + k + "}\n"));
+  EXPECT_GT(Peak(reference, 2), 1e-3);
+  EXPECT_LE(WorstDifference(reference, fmu), 1e-12);
+  // The slots in the other order swap the FMU's springs: a different run.
+  const auto swapped = RunRotor(Config(
+      kHeun, "substructures:\n  blade: {type: fmu, slots: [r1, r2], fmu: " +
+                 TestFmu("coupled_spring") + ", displacement: [x2, x1], force: [F2, F1], "
+                 "parameters: {k11: 7200, k12: 1500, k21: 1500, k22: 6000}}\n"));
+  EXPECT_GT(WorstDifference(reference, swapped), 1e-4);
+}
+
 // A soft dashpot makes the blade visibly different: the comparison above can fail.
 TEST(FmuRun, ASoftDashpotChangesTheRun) {
   const auto reference = RunRotor(Config(kHeun, kLinear));
