@@ -97,7 +97,10 @@ void MonitorObserver::OnStart(const runner::Session& session) {
     compensators_.push_back(session.substructures()[std::size_t(b)]->transfer_system());
   }
   layout_ = state_.SetIdentity(std::move(identity), layout_, std::move(actuators));
-  ring_ = std::make_unique<FrameRing>(options_.ring_capacity, layout_.width());
+  ring_ = std::make_unique<runner::SpscRing<std::vector<double>>>(
+      std::max<std::size_t>(options_.ring_capacity, 1),
+      [width = layout_.width()] { return std::vector<double>(width); });
+  dropped_.store(0, std::memory_order_relaxed);
   last_d_.assign(static_cast<std::size_t>(layout_.slots), std::nan(""));
   // On a real-time run the collector stays off the stepping thread's core and time
   // (background_thread.h); it would otherwise inherit the stepping thread's SCHED_FIFO.
@@ -118,8 +121,12 @@ void MonitorObserver::OnTrial(const runner::TrialEvent& event) {
 
 void MonitorObserver::OnCommit(const runner::CommitEvent& event) {
   if (event.kind != runner::RowKind::kCommitted || !ring_) return;
-  double* f = ring_->Begin();
-  if (f == nullptr) return;  // full: dropped, counted
+  std::vector<double>* frame = ring_->Claim();
+  if (frame == nullptr) {  // full: dropped, counted
+    dropped_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  double* f = frame->data();
   const runner::RunStatistics& s = session_->statistics();
   f[0] = static_cast<double>(event.step);
   f[1] = event.t;
@@ -141,7 +148,7 @@ void MonitorObserver::OnCommit(const runner::CommitEvent& event) {
     f[layout_.force(a)] = has ? event.row[c + 2] : std::nan("");
   }
   if (layout_.real_time > 0) FillRealTime(f + layout_.rt(0));
-  ring_->Commit();
+  ring_->Publish();
 }
 
 void MonitorObserver::FillRealTime(double* c) const {
@@ -190,9 +197,11 @@ void MonitorObserver::OnStop(const runner::StopEvent& event) {
 
 void MonitorObserver::DrainNow() {
   if (!ring_) return;
-  const std::size_t width = ring_->width();
-  ring_->Drain([&](const double* f) { state_.AddFrame({f, width}); });
-  state_.SetDropped(ring_->dropped());
+  while (const std::vector<double>* f = ring_->Front()) {
+    state_.AddFrame({f->data(), f->size()});
+    ring_->Pop();
+  }
+  state_.SetDropped(dropped());
 }
 
 void MonitorObserver::Collect() {

@@ -1,6 +1,8 @@
 // See monitor_state.h.
 #include "hybridtest/monitor/monitor_state.h"
 
+#include <fmt/core.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -213,14 +215,15 @@ nlohmann::json MonitorState::SeriesJson(long since, long generation) const {
   };
   column("t", 1);
   column("seq", layout_.width());
+  // (Names by fmt: GCC 12 warns -Wrestrict inside `"d" + std::to_string(s)`.)
   for (int s = 0; s < layout_.slots; ++s) {
-    column("d" + std::to_string(s), layout_.d(s));
-    column("r" + std::to_string(s), layout_.r(s));
+    column(fmt::format("d{}", s), layout_.d(s));
+    column(fmt::format("r{}", s), layout_.r(s));
   }
   for (int a = 0; a < layout_.actuators; ++a) {
-    column("command" + std::to_string(a), layout_.command(a));
-    column("position" + std::to_string(a), layout_.position(a));
-    column("force" + std::to_string(a), layout_.force(a));
+    column(fmt::format("command{}", a), layout_.command(a));
+    column(fmt::format("position{}", a), layout_.position(a));
+    column(fmt::format("force{}", a), layout_.force(a));
   }
   return {{"generation", generation_}, {"reset", all}, {"slots", layout_.slots},
           {"actuators", layout_.actuators}, {"columns", columns}};

@@ -2,7 +2,7 @@
 // MonitorState: what the monitor's page shows about one run, shared between the side that
 // feeds it (the live observer's collector thread, or the follower of a journal) and the HTTP
 // server's threads, behind one mutex. The stepping thread of a run never touches it (it
-// writes frames into a FrameRing; see monitor_observer.h).
+// writes frames into a runner::SpscRing; see monitor_observer.h).
 //
 // A frame is one committed row, flat (FrameLayout): step, t [s], wall time [s], lab time [s],
 // physical evaluations, then d [m] and r [N] per model slot, then command, position [m] and
