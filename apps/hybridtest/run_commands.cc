@@ -113,6 +113,7 @@ void RunAndReport(io::RunSpec spec,
   // A `real_time:` config paces the session on its clock (runner/real_time_run.h). One loop
   // drives every run, paced or not, and the monitor's actions act on each the same way.
   runner::RealTimeRun real_time(session, clock, quiet || session.spec().quiet);
+  if (live) live->SetPacedLoop(real_time.loop());
   const runner::StepResult result = real_time.Run();
   if (live) live->Linger(session);
   if (result.status != runner::SessionStatus::kFinished) {

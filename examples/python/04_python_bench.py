@@ -80,7 +80,7 @@ try:
     ht.run(ROOT / "examples/rotor/remote.yaml", transfers={"r1": FailingBench(7200.0, 20.0)},
            out=out)
 except ht.TransferError as e:
-    print(f"TransferError: {e}\n  committed rows kept: {len(e.result)}")
+    print(f"TransferError: {e}\n  committed rows kept: {e.result.num_rows}")
 
 # The route is back: continue from the last committed step, as `hybridtest resume` does (the
 # bench is brought back to the last committed command and checked first).

@@ -10,7 +10,9 @@ Every quantity is SI. Errors are hybridtest.Error and its subclasses ConfigError
 TransferError, IoError and SafetyStop, with the C++ library's messages. docs/python.md has the
 whole API.
 """
+import enum
 import os
+from collections.abc import Mapping
 
 from ._core import (  # noqa: F401
     ConfigError,
@@ -28,27 +30,48 @@ from ._core import read_run as _read_run
 
 __all__ = [
     "ConfigError", "Error", "IoError", "Model", "ModelError", "Result", "SafetyStop", "Session",
-    "TransferError", "read_run", "resume", "run", "simulate",
+    "Status", "TransferError", "read_run", "resume", "run", "simulate",
 ]
 
 
-class Result:
-    """A run's channels as numpy arrays: result["q1"] is one column (rows,), SI.
+class Status(str, enum.Enum):
+    """A session's status: WORKING (a step was committed, more to go), FINISHED, HELD (stopped
+    on request: resumable) or STOPPED (a failure: step() and run() raise it instead). Equal to
+    its name in lower case ("finished"), as the command line prints it."""
 
-    values: (rows × channels); channels: names in column order; units and descriptions: by
-    name; metadata: the sidecar (a run read from files) or None.
+    WORKING = "working"
+    FINISHED = "finished"
+    HELD = "held"
+    STOPPED = "stopped"
+
+    def __str__(self):
+        return self.value
+
+
+class Result(Mapping):
+    """A run's channels as a mapping of channel name → numpy array (rows,), SI.
+
+    len(result), iteration, `in` and indexing all speak of channels: len(result) is the number
+    of channels, `for name in result` gives their names in column order, result["q1"] one
+    column. num_rows is the number of rows; values: (rows × channels); units and descriptions:
+    by name; metadata: the sidecar (a run read from files) or None; statistics: the run's
+    statistics (its sidecar's, for a run read from files) or None.
     """
 
-    def __init__(self, values, channels, metadata=None, warnings=()):
+    def __init__(self, values, channels, metadata=None, warnings=(), statistics=None):
         self.values = values
         self.channels = [c[0] for c in channels]
         self.units = {c[0]: c[1] for c in channels}
         self.descriptions = {c[0]: c[2] for c in channels}
         self.metadata = metadata
         self.warnings = list(warnings)
+        self.statistics = statistics
         self._column = {name: j for j, name in enumerate(self.channels)}
 
     def __getitem__(self, name):
+        if not isinstance(name, str):
+            raise KeyError(f"{name!r}: a Result is indexed by channel name (result['q1']); "
+                           "rows are result.values[i]")
         try:
             return self.values[:, self._column[name]]
         except KeyError:
@@ -58,7 +81,15 @@ class Result:
     def __contains__(self, name):
         return name in self._column
 
+    def __iter__(self):
+        return iter(self.channels)
+
     def __len__(self):
+        return len(self.channels)
+
+    @property
+    def num_rows(self):
+        """The number of rows (committed points) of the run."""
         return self.values.shape[0]
 
     def keys(self):
@@ -75,15 +106,79 @@ class Result:
         return df
 
     def __repr__(self):
-        return f"<hybridtest.Result {len(self)} rows × {len(self.channels)} channels>"
+        return f"<hybridtest.Result {self.num_rows} rows × {len(self.channels)} channels>"
+
+
+def _settings(changes):
+    """{key: value} or ["KEY=VALUE", ...] as the command line's --set strings."""
+    if changes is None:
+        return []
+    if isinstance(changes, dict):
+        return [f"{key}={float(value)!r}" for key, value in changes.items()]
+    return [str(c) for c in changes]
 
 
 class Session(_CoreSession):
-    """A run stepped from Python: initialize(), step(), run(), add_observer(), result()."""
+    """A run stepped from Python: initialize(), step(), run() return a Status and raise the
+    typed error (SafetyStop, TransferError, ...) of a run that stopped on a failure;
+    add_observer(), result(), Session.resume(csv, ...)."""
+
+    @classmethod
+    def resume(cls, csv_path, *, transfers=None, laws=None, changes=None,
+               after_safety_stop=False, force_tolerance=None, position_tolerance=None):
+        """The session that continues the run written at csv_path (see hybridtest.resume)."""
+        return cls(transfers=dict(transfers or {}), laws=dict(laws or {}),
+                   resume=os.fspath(csv_path), after_safety_stop=after_safety_stop,
+                   force_tolerance=force_tolerance, position_tolerance=position_tolerance,
+                   set=_settings(changes))
+
+    def _checked(self, status):
+        status = Status(status)
+        if status is Status.STOPPED:
+            self.raise_error()
+            raise Error(f"the run stopped: {self.reason}")
+        return status
+
+    def initialize(self):
+        """Starts the run (r_0 tried at x_0); returns its Status, raises a failure."""
+        return self._checked(super().initialize())
+
+    def step(self):
+        """One committed step; returns the Status, raises a failure."""
+        return self._checked(super().step())
+
+    def run(self):
+        """Steps until the run is no longer working; returns the Status, raises a failure."""
+        return self._checked(super().run())
+
+    @property
+    def status(self):
+        return Status(super().status)
 
     def result(self):
         """The rows recorded so far as a Result (a view once the run has ended)."""
         return Result(self.values, self.channels)
+
+
+def _finish(session):
+    """session.run(); a failure's exception carries every committed row (.result)."""
+    try:
+        status = session.run()
+    except Error as e:
+        result = session.result()
+        result.values = result.values.copy()  # outlives the session
+        e.result = result  # every committed row, as the journal keeps them
+        raise
+    if status is not Status.FINISHED:
+        result = session.result()
+        result.values = result.values.copy()
+        try:
+            session.raise_error()
+        except Error as e:
+            e.result = result
+            raise
+        raise Error(f"the run ended {status}: {session.reason}")
+    return status
 
 
 def _execute(config, command, transfers, laws, out, overwrite, observers):
@@ -92,17 +187,10 @@ def _execute(config, command, transfers, laws, out, overwrite, observers):
                  overwrite=overwrite, command=command) as session:
         for observer in observers:
             session.add_observer(observer)
-        status = session.run()
+        _finish(session)
         result = session.result()
         result.values = result.values.copy()  # outlives the session
         result.statistics = session.statistics
-        if status != "finished":
-            try:
-                session.raise_error()
-            except Error as e:
-                e.result = result  # every committed row, as the journal keeps them
-                raise
-            raise Error(f"the run ended {status}: {session.reason}")
         return result
 
 
@@ -125,23 +213,14 @@ def run(config, *, transfers=None, laws=None, out=None, overwrite=False, observe
     return _execute(config, "run", transfers, laws, out, overwrite, observers)
 
 
-def _settings(changes):
-    """{key: value} or ["KEY=VALUE", ...] as the command line's --set strings."""
-    if changes is None:
-        return []
-    if isinstance(changes, dict):
-        return [f"{key}={float(value)!r}" for key, value in changes.items()]
-    return [str(c) for c in changes]
-
-
-def resume(csv_path, *, transfers=None, laws=None, set=None, after_safety_stop=False,
+def resume(csv_path, *, transfers=None, laws=None, changes=None, after_safety_stop=False,
            force_tolerance=None, position_tolerance=None, observers=()):
     """Continues the run written at csv_path from its last committed step, as
     `hybridtest resume` does: the run's own config (its sidecar's copy), its run state, the
     bench brought back to the last committed command and checked.
 
     transfers/laws: Python drivers and laws in place of configured slots (a Python driver
-    the run used is not recorded: give it again). set: {key: value} changes of a safety
+    the run used is not recorded: give it again). changes: {key: value} changes of a safety
     limit, a timeout or a resume tolerance (SI), recorded in the sidecar's resume record as
     --set is. after_safety_stop: the operator found and fixed the cause of a safety stop.
     force_tolerance [N], position_tolerance [m]: the re-imposition check's tolerances.
@@ -149,21 +228,12 @@ def resume(csv_path, *, transfers=None, laws=None, set=None, after_safety_stop=F
     it again (its .result holds the rows of this resume).
     """
     csv_path = os.fspath(csv_path)
-    with Session(transfers=dict(transfers or {}), laws=dict(laws or {}), resume=csv_path,
-                 after_safety_stop=after_safety_stop, force_tolerance=force_tolerance,
-                 position_tolerance=position_tolerance, set=_settings(set)) as session:
+    with Session.resume(csv_path, transfers=transfers, laws=laws, changes=changes,
+                        after_safety_stop=after_safety_stop, force_tolerance=force_tolerance,
+                        position_tolerance=position_tolerance) as session:
         for observer in observers:
             session.add_observer(observer)
-        status = session.run()
-        if status != "finished":
-            result = session.result()
-            result.values = result.values.copy()
-            try:
-                session.raise_error()
-            except Error as e:
-                e.result = result
-                raise
-            raise Error(f"the run ended {status}: {session.reason}")
+        _finish(session)
         notes = list(session.notes)
         statistics = session.statistics
     result = read_run(csv_path)
@@ -174,5 +244,7 @@ def resume(csv_path, *, transfers=None, laws=None, set=None, after_safety_stop=F
 
 def read_run(csv_path):
     """A run written to files (journal or stage record) with its sidecar, as a Result."""
-    data = _read_run(str(csv_path))
-    return Result(data["values"], data["channels"], data["metadata"], data["warnings"])
+    data = _read_run(os.fspath(csv_path))
+    metadata = data["metadata"]
+    statistics = metadata.get("statistics") if isinstance(metadata, dict) else None
+    return Result(data["values"], data["channels"], metadata, data["warnings"], statistics)

@@ -100,7 +100,7 @@ def test_a_python_driver_announces_its_p0(tmp_path):
         ht.run(config, transfers={"r1": far})
     assert far.calls == []
     close = Spring(p0=0.0201)  # within a tenth of max_increment
-    assert len(ht.run(config, transfers={"r1": close})) == 51
+    assert ht.run(config, transfers={"r1": close}).num_rows == 51
     assert close.calls.count("execute") > 0
     with pytest.raises(ht.ConfigError, match="p0 = 'x'"):
         ht.run(config, transfers={"r1": Spring(p0="x")})
@@ -115,14 +115,14 @@ def test_a_stopped_python_run_is_resumed_from_python(tmp_path):
         ht.run(config, transfers={"r1": failing}, out=csv)
     assert failing.calls[-1] == "hold"
     committed = ht.read_run(csv)
-    assert 100 < len(committed) < len(reference)  # committed rows kept (+ the uncommitted one)
+    assert 100 < committed.num_rows < reference.num_rows  # committed rows kept (+ the uncommitted one)
     assert committed.metadata["status"] != "completed"
 
     with pytest.raises(ht.ConfigError, match="nothing to resume"):
         ht.resume(tmp_path / "reference.csv", transfers={"r1": Spring()})
     good = Spring()
     resumed = ht.resume(csv, transfers={"r1": good},
-                        set={"substructures.r1.safety.force_soft": 8500})
+                        changes={"substructures.r1.safety.force_soft": 8500})
     assert good.calls[0] == "activate" and good.calls[-1] == "deactivate"
     assert resumed.channels == reference.channels
     assert resumed.values.shape == reference.values.shape
@@ -148,7 +148,7 @@ def test_resume_refuses_what_the_command_line_refuses(tmp_path):
     with pytest.raises(ht.TransferError):
         ht.run(config, transfers={"r1": Spring(fail_at=50)}, out=csv)
     with pytest.raises(ht.ConfigError, match="unknown key 'resume.bogus'"):
-        ht.resume(csv, transfers={"r1": Spring()}, set={"resume.bogus": 1.0})
+        ht.resume(csv, transfers={"r1": Spring()}, changes={"resume.bogus": 1.0})
     with pytest.raises(ht.ConfigError, match="no config"):
         ht.Session(str(csv), resume=str(csv))
 

@@ -68,7 +68,7 @@ def test_a_session_call_from_inside_execute_is_refused_and_holds(tmp_path, name,
     saved = check_journal(out, rows)
     # Heun: 41 moves are row 0 and steps 1..20; step 20's trial failed: 20 committed rows and
     # step 20 without forces.
-    assert len(saved) == 21 and np.isnan(saved["r1"][-1]) and not np.isnan(saved["r1"][-2])
+    assert saved.num_rows == 21 and np.isnan(saved["r1"][-1]) and not np.isnan(saved["r1"][-2])
 
 
 def test_a_refused_reentry_that_the_driver_swallows_still_stops_the_run(tmp_path):
@@ -82,7 +82,7 @@ def test_a_refused_reentry_that_the_driver_swallows_still_stops_the_run(tmp_path
         assert bench.calls == ["activate", "hold"]
         rows = s.values.copy()
     saved = check_journal(out, rows)
-    assert len(saved) == 21 and not np.isnan(saved["r1"][-1])
+    assert saved.num_rows == 21 and not np.isnan(saved["r1"][-1])
 
 
 def test_an_execute_beyond_safety_timeout_stops_the_run(tmp_path):
@@ -103,7 +103,7 @@ def test_an_execute_beyond_safety_timeout_stops_the_run(tmp_path):
     assert "substructures.r1.safety.timeout" in str(caught.value)
     assert bench.calls == ["activate", "hold"]
     saved = check_journal(out, caught.value.result.values)
-    assert len(saved) == 6  # moves 1..10: row 0 and steps 1..5 committed, step 5 without forces
+    assert saved.num_rows == 6  # moves 1..10: row 0 and steps 1..5 committed, step 5 without forces
 
 
 def test_ctrl_c_inside_a_driver_that_never_returns_is_a_keyboard_interrupt(tmp_path):
@@ -130,7 +130,7 @@ def test_ctrl_c_inside_a_driver_that_never_returns_is_a_keyboard_interrupt(tmp_p
     rows = s.values.copy()
     s.close()
     saved = check_journal(out, rows)
-    assert len(saved) == 16 and np.isnan(saved["r1"][-1])
+    assert saved.num_rows == 16 and np.isnan(saved["r1"][-1])
 
 
 @pytest.mark.parametrize("lie", [0.050, 0.0015])  # [m]: +50 mm, +1.5 mm
@@ -166,7 +166,7 @@ def test_a_settled_driver_passes_and_its_own_limits_are_read():
             return command + (0.00003 if self.moves % 2 else -0.00003), \
                 self.k * (command - self.p0)
 
-    assert len(ht.run(physical_short(), transfers={"r1": Settled()})) == 1001
+    assert ht.run(physical_short(), transfers={"r1": Settled()}).num_rows == 1001
 
     class Loose(Spring):
         units = ("mm", "N")
@@ -178,7 +178,7 @@ def test_a_settled_driver_passes_and_its_own_limits_are_read():
         def execute(self, command):
             return command + 1.0, self.k * 1e-3 * (command - self.p0)
 
-    assert len(ht.run(physical_short(), transfers={"r1": Loose()})) == 1001
+    assert ht.run(physical_short(), transfers={"r1": Loose()}).num_rows == 1001
 
     class Wrong(Settled):
         following_error = -1.0
@@ -225,7 +225,7 @@ def test_ctrl_c_inside_a_python_law_is_a_keyboard_interrupt(tmp_path):
     rows = s.values.copy()
     s.close()
     saved = check_journal(out, rows)
-    assert 1 < len(saved) <= 21
+    assert 1 < saved.num_rows <= 21
 
 
 def test_ctrl_c_inside_a_python_observer_is_a_keyboard_interrupt(tmp_path):
@@ -243,4 +243,4 @@ def test_ctrl_c_inside_a_python_observer_is_a_keyboard_interrupt(tmp_path):
     rows = s.values.copy()
     s.close()
     saved = check_journal(out, rows)
-    assert len(saved) >= 11 and saved["t"][10] == pytest.approx(0.010)
+    assert saved.num_rows >= 11 and saved["t"][10] == pytest.approx(0.010)

@@ -109,7 +109,7 @@ def test_an_exception_in_execute_is_a_transfer_error_and_holds(tmp_path):
     # Heun: trial 1 is row 0, then two a step; the 101st is the one at the end of step 50. Rows
     # 0..49 are committed, then the state of step 50 without its forces; the file says the same.
     result = caught.value.result
-    assert len(result) == 51 and np.isnan(result["r1"][-1]) and not np.isnan(result["r1"][-2])
+    assert result.num_rows == 51 and np.isnan(result["r1"][-1]) and not np.isnan(result["r1"][-2])
     assert result["t"][-1] == pytest.approx(0.050)
     saved = ht.read_run(out)
     np.testing.assert_array_equal(saved.values[:50], result.values[:50])
@@ -170,7 +170,7 @@ def test_observers_see_every_committed_row_as_views():
     s = ht.Session(physical_short())
     s.add_observer(type("T", (), {"on_trial": lambda self, e: trials.append(e.exchanges.copy())})())
     assert s.run() == "finished"
-    assert len(rows) == len(result) == 1001 and stops == ["finished"]
+    assert len(rows) == result.num_rows == 1001 and stops == ["finished"]
     np.testing.assert_array_equal(np.array([r[4] for r in rows]), result.values)
     np.testing.assert_array_equal(rows[-1][2], result.values[-1, 1:9])
     assert len(trials) == 2 * 1000 + 1 and trials[0].shape == (1, 4)
@@ -193,7 +193,7 @@ def test_stepping_and_stopping_a_session():
     assert s.t == pytest.approx(0.010)
     s.request_stop()
     assert s.step() == "held"
-    assert len(s.result()) == 12
+    assert s.result().num_rows == 12
     np.testing.assert_array_equal(s.x, s.result().values[-1, 1:9])
 
 
@@ -236,5 +236,5 @@ def test_ctrl_c_holds_the_run_after_the_step_in_progress():
     with pytest.raises(KeyboardInterrupt):
         s.run()
     assert s.status == "held"
-    assert 1 < len(s.result()) < 500001
+    assert 1 < s.result().num_rows < 500001
     np.testing.assert_array_equal(s.x, s.result().values[-1, 1:9])

@@ -4,12 +4,17 @@
 // loaded twice 2 s apart during the run, the page's text shows two different simulated
 // times, the physical slot's force and its limit; a Hold without the token is refused and the
 // page lists the refusal; after the run, the page shows "finished".
+#include <fmt/core.h>
+
+#include <cmath>
 #include <cstdlib>
 #include <regex>
 #include <utility>
 #include <vector>
 
+#include "monitor/example_config.h"
 #include "monitor/monitor_process.h"
+#include "support/listening_process.h"
 #include "support/run_command.h"
 
 namespace hybridtest::testing {
@@ -84,7 +89,7 @@ TEST(MonitorBrowser, ThePageFollowsTheRunAndShowsItsEnd) {
   ASSERT_FALSE(t2.empty()) << second;
   EXPECT_NE(t1, t2);
   // The physical slot's force and its limit (force_hard = 300 N in emulated.yaml).
-  EXPECT_FALSE(Capture(first, R"(Slot r1 force (-?[0-9.e+-]+) N)").empty()) << first;
+  EXPECT_FALSE(Capture(first, R"(Actuator r1 force (-?[0-9.e+-]+) N)").empty()) << first;
   EXPECT_EQ(Capture(first, R"(limit \(force_hard\) ([0-9.e+]+) N)"), "300.0") << first;
 
   // A Hold without the token is refused, and the page says so.
@@ -99,6 +104,57 @@ TEST(MonitorBrowser, ThePageFollowsTheRunAndShowsItsEnd) {
   EXPECT_EQ(Capture(last, R"(id="t">([0-9.]+)<)"), "2.0000");
   run.child().Signal(SIGINT);  // ends the linger
   EXPECT_EQ(run.child().WaitExit(30.0), 0) << run.child().output();
+  fs::remove_all(dir);
+}
+
+// Issue 38's contract: the two-actuator blade (examples/06_blade_two_actuators/bouc-wen.yaml,
+// 1 s of it): the live page names both actuators with their positions and forces, and the
+// loop's x axis (displacement from each actuator's own p0) starts near 0, not at p0; the
+// follower's page of the finished run shows both actuators' limits and the lab time its
+// sidecar records.
+TEST(MonitorBrowser, BothActuatorsOfTheBladeLiveAndFollowed) {
+  const std::string chromium = FindChromium();
+  if (chromium.empty()) GTEST_SKIP() << "chromium not found (scripts/install-deps.sh)";
+  const fs::path dir = ResumeTestDir("monitor_browser_blade");
+  const fs::path config =
+      WriteExampleConfig(dir, "06_blade_two_actuators", "bouc-wen.yaml",
+                         {{"duration: 10.0", "duration: 1.0"}},
+                         {"blade_tip.yaml", "bench-2act-bouc-wen.yaml"});
+  const fs::path csv = dir / "blade.csv";
+  {
+    MonitoredRun run({"run", config.string(), "--out", csv.string(), "--quiet",
+                      "--monitor", "127.0.0.1:0", "--monitor-no-token", "--monitor-linger", "120"},
+                     dir / "run.log");
+    ASSERT_NE(run.port(), 0) << run.child().output();
+    ASSERT_TRUE(run.WaitState([](const auto& s) { return s["step"].template get<long>() > 100; }));
+    const std::string page = DumpDom(chromium, run.port(), dir / "profile1");
+    for (const char* name : {"blade1_a1", "blade1_a2"}) {
+      EXPECT_FALSE(Capture(page, std::string("Actuator ") + name + R"( force (-?[0-9.e+-]+) N)").empty())
+          << name << "\n" << page;
+      EXPECT_NE(page.find(std::string("position ") + name), std::string::npos) << name;
+    }
+    // The loop's x range: displacements from p0 (0.02 and 0.03 m) of a few mm, around 0.
+    const std::string range = Capture(page, R"re(id="scope-loop"[^>]*><canvas[^>]*data-x-range="([^"]+)")re");
+    ASSERT_FALSE(range.empty()) << page;
+    const double x0 = std::stod(range.substr(0, range.find(' ')));
+    EXPECT_LT(std::abs(x0), 0.01) << range;
+    ASSERT_TRUE(run.WaitState([](const auto& s) { return s["status"] == "finished"; }));
+    run.child().Signal(SIGINT);
+    EXPECT_EQ(run.child().WaitExit(30.0), 0) << run.child().output();
+  }
+  test_support::ListeningProcess follower(
+      {HYBRIDTEST_BINARY, "monitor", csv.string(), "--listen", "127.0.0.1:0"},
+      test_support::CurrentEnvironment(), R"(at http://127\.0\.0\.1:(\d+)/)",
+      "hybridtest monitor");
+  const std::string page = DumpDom(chromium, follower.port(), dir / "profile2");
+  for (const char* name : {"blade1_a1", "blade1_a2"}) {
+    EXPECT_EQ(Capture(page, std::string("Actuator ") + name + R"( force -?[0-9.e+-]+ N; limit \(force_hard\) ([0-9.e+]+) N)"),
+              "3000") << name << "\n" << page;
+  }
+  const double lab = Sidecar(csv)["statistics"]["lab_time_s"].get<double>();
+  EXPECT_EQ(Capture(page, R"(id="lab-time">([^<]+)<)"), fmt::format("{:.1f} s", lab)) << page;
+  EXPECT_NE(page.find("a run that has ended, from its files (read-only)"), std::string::npos);
+  follower.Terminate(5.0);
   fs::remove_all(dir);
 }
 

@@ -44,7 +44,8 @@ TEST(MonitorObserver, SeesEveryCommittedRowAndTheFinish) {
   EXPECT_EQ(j["physical_evaluations"].get<long>(), session.statistics().physical_evaluations);
   EXPECT_EQ(j["identity"]["model"], "rotor");
   EXPECT_EQ(j["actuators"].size(), 1u);
-  EXPECT_EQ(j["actuators"][0]["slot"], "r1");
+  EXPECT_EQ(j["actuators"][0]["name"], "r1");
+  EXPECT_EQ(j["actuators"][0]["substructure"], "r1");
   // d of the physical slot: the command minus p0 (the loopback's setup has p0 = 0).
   EXPECT_DOUBLE_EQ(j["slots"][0]["d"].get<double>(), j["actuators"][0]["command"].get<double>());
 }

@@ -1,65 +1,13 @@
-// The monitor's data side: the frame ring (order, drops, a concurrent producer), the margins
-// of the meters, the bounded history and the incremental series.
+// The monitor's data side: the margins of the meters, the bounded history and the incremental series.
 #include <gtest/gtest.h>
 
 #include <thread>
 #include <vector>
 
-#include "hybridtest/monitor/frame_ring.h"
 #include "hybridtest/monitor/monitor_state.h"
 
 namespace hybridtest::monitor {
 namespace {
-
-TEST(FrameRing, KeepsOrderAndCountsWhatAFullRingDrops) {
-  FrameRing ring(4, 2);
-  for (int i = 0; i < 6; ++i) {
-    double* f = ring.Begin();
-    if (f == nullptr) continue;
-    f[0] = i;
-    f[1] = 10 * i;
-    ring.Commit();
-  }
-  EXPECT_EQ(ring.dropped(), 2);
-  std::vector<double> seen;
-  ring.Drain([&](const double* f) {
-    EXPECT_EQ(f[1], 10 * f[0]);
-    seen.push_back(f[0]);
-  });
-  EXPECT_EQ(seen, (std::vector<double>{0, 1, 2, 3}));
-  EXPECT_EQ(ring.Drain([](const double*) {}), 0u);
-}
-
-TEST(FrameRing, AConcurrentConsumerSeesEveryKeptFrameWholeAndInOrder) {
-  FrameRing ring(64, 3);
-  constexpr int kFrames = 200000;
-  std::thread producer([&] {
-    for (int i = 0; i < kFrames; ++i) {
-      if (double* f = ring.Begin()) {
-        f[0] = i;
-        f[1] = -i;
-        f[2] = 2.0 * i;
-        ring.Commit();
-      }
-    }
-  });
-  long kept = 0;
-  double last = -1;
-  bool whole = true, ordered = true;
-  auto drain = [&] {
-    kept += static_cast<long>(ring.Drain([&](const double* f) {
-      whole = whole && f[1] == -f[0] && f[2] == 2.0 * f[0];
-      ordered = ordered && f[0] > last;
-      last = f[0];
-    }));
-  };
-  while (kept + ring.dropped() < kFrames) drain();
-  producer.join();
-  drain();
-  EXPECT_TRUE(whole);
-  EXPECT_TRUE(ordered);
-  EXPECT_EQ(kept + ring.dropped(), kFrames);
-}
 
 TEST(Margin, NormalNearAndTrippedFromTheLimits) {
   transfer::SafetyLimits l;  // stroke ±0.15 m, force soft 8 kN, hard 10 kN
@@ -79,7 +27,7 @@ void DescribeOneSlot(MonitorState& state) {
   RunIdentity id;
   id.slots = {"r1"};
   id.end_time = 10.0;
-  state.SetIdentity(id, FrameLayout{1, 1}, {{"r1", transfer::SafetyLimits{}, 0.02}});
+  state.SetIdentity(id, FrameLayout{1, 1}, {{"r1", "r1", 0, {"r1"}, transfer::SafetyLimits{}, 0.02}});
 }
 
 std::vector<double> Frame(long step) {

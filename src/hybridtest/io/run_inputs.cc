@@ -83,6 +83,13 @@ nlohmann::json InputTexts(const std::vector<InputText>& inputs) {
   nlohmann::json out = nlohmann::json::array();
   for (const InputText& input : inputs) {
     if (input.file.role == "token") continue;  // a secret: never copied
+    // "fmu" (an FMU substructure's file, fmi/fmu_config.h): a zip archive, so its digest and
+    // not its bytes (which are no UTF-8 text).
+    if (input.file.role == "fmu") {
+      out.push_back({{"role", input.file.role}, {"path", input.file.path},
+                     {"sha256", input.sha256}, {"binary", true}});
+      continue;
+    }
     out.push_back({{"role", input.file.role}, {"path", input.file.path},
                    {"sha256", input.sha256}, {"text", input.text}});
   }

@@ -14,6 +14,7 @@
 #include "hybridtest/constitutive/linear_spring.h"
 #include "hybridtest/constitutive/parse_law.h"
 #include "hybridtest/constitutive/parse_vector_law.h"
+#include "hybridtest/fmi/fmu_config.h"
 #include "hybridtest/substructures/numerical_substructure.h"
 #include "hybridtest/substructures/physical_substructure.h"
 #include "hybridtest/transfer/emulated_bench.h"
@@ -274,6 +275,17 @@ substructures::SubstructureSpec ParseBlock(const YamlInput& in, const YAML::Node
   return spec;
 }
 
+// A `type: fmu` substructure; its FMU file is one of the run's inputs.
+substructures::SubstructureSpec ParseFmu(const YamlInput& in, const YAML::Node& node,
+                                         const std::string& name,
+                                         const std::vector<std::string>& slots,
+                                         const std::string& kp, const SubstructureOptions& options) {
+  std::string file;
+  auto spec = fmi::ParseFmuSubstructure(in, node, name, slots, kp, &file);
+  if (options.files_read != nullptr) options.files_read->push_back({"fmu", file});
+  return spec;
+}
+
 }  // namespace
 
 std::vector<substructures::SubstructureSpec> ParseSubstructureSpecs(
@@ -289,9 +301,15 @@ std::vector<substructures::SubstructureSpec> ParseSubstructureSpecs(
       const std::string slot_name = in.String(kv.first, "substructures", "a slot name");
       const std::string kp = "substructures." + slot_name;
       if (kv.second.IsMap() && kv.second["slots"]) {
-        in.CheckKeys(kv.second, kp, {"type", "slots", "law", "transform", "transfer", "setup", "safety",
-                                     "initial_stiffness"});
-        blocks.push_back(ParseBlock(in, kv.second, slot_name, kp, options));
+        if (fmi::IsFmuNode(kv.second)) {  // an FMU of several slots (fmi/fmu_config.h)
+          std::vector<std::string> names;
+          for (const auto& s : kv.second["slots"]) names.push_back(in.String(s, kp + ".slots", "a slot name"));
+          blocks.push_back(ParseFmu(in, kv.second, slot_name, names, kp, options));
+        } else {
+          in.CheckKeys(kv.second, kp, {"type", "slots", "law", "transform", "transfer", "setup",
+                                       "safety", "initial_stiffness"});
+          blocks.push_back(ParseBlock(in, kv.second, slot_name, kp, options));
+        }
         for (const auto& name : blocks.back().slots) {
           bool known = false;
           for (std::size_t s = 0; s < slots.size(); ++s) {
@@ -327,6 +345,15 @@ std::vector<substructures::SubstructureSpec> ParseSubstructureSpecs(
       if (!node.IsMap()) {
         throw ConfigError(fmt::format("{}: expected a mapping with `type: numerical` or "
                                       "`type: physical`", in.Where(node, kp)));
+      }
+      if (fmi::IsFmuNode(node)) {  // one slot served by an FMU (fmi/fmu_config.h)
+        if (given[slot]) {
+          throw ConfigError(fmt::format("{}: slot {} is given twice; give each slot to one "
+                                        "substructure", in.Where(node, kp), slot_name));
+        }
+        given[slot] = true;
+        result[slot] = ParseFmu(in, node, slot_name, {slot_name}, kp, options);
+        continue;
       }
       in.CheckKeys(node, kp, {"type", "law", "transfer", "setup", "safety", "initial_stiffness"});
       const std::string type = in.String(node["type"], kp + ".type", "numerical or physical");

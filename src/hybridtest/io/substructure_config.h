@@ -25,6 +25,11 @@
 //     r2:
 //       type: numerical
 //       law: {type: linear, stiffness: 7200}   # or bouc_wen / cantilever (constitutive/)
+//     r3:
+//       type: fmu                     # an FMU (FMI 2.0/3.0 co-simulation): fmi/fmu_config.h
+//       fmu: spring.fmu               # relative to this config
+//       displacement: x               # its input and output, by name (lists for `slots:`)
+//       force: F
 //     blade1:                         # a specimen that serves several slots, on n actuators
 //       type: physical
 //       slots: [r_flap, r_edge]

@@ -2,17 +2,38 @@
 #include "hybridtest/monitor/monitor_observer.h"
 
 #include "hybridtest/monitor/background_thread.h"
+#include "hybridtest/runner/run_record.h"
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
 namespace hybridtest::monitor {
 
+namespace {
+
+// The physical substructures whose transfer system compensates a delay (their estimates are
+// shown live on a paced run).
+std::vector<int> CompensatedBlocks(const runner::Session& session) {
+  std::vector<int> blocks;
+  const auto& map = session.slot_map().substructures;
+  for (std::size_t b = 0; b < map.size(); ++b) {
+    const transfer::TransferSystem* t = session.substructures()[b]->transfer_system();
+    if (map[b].physical && t != nullptr && !t->CompensationRecord().is_null()) {
+      blocks.push_back(static_cast<int>(b));
+    }
+  }
+  return blocks;
+}
+
+}  // namespace
+
 void DescribeRun(const runner::Session& session, RunIdentity& identity, FrameLayout& layout,
                  std::vector<ActuatorInfo>& actuators) {
   const io::RunSpec& spec = session.spec();
+  const runner::SlotMap& map = session.slot_map();
   identity.config = spec.source.config_path;
   identity.model = spec.model.name;
   if (spec.source.test.is_object() && spec.source.test.contains("specimen")) {
@@ -23,23 +44,40 @@ void DescribeRun(const runner::Session& session, RunIdentity& identity, FrameLay
   identity.csv = spec.output.files ? spec.output.csv_path : "";
   identity.end_time = spec.scheme.duration;
   identity.slots.clear();
+  for (const auto& slot : map.slots) identity.slots.push_back(slot.name);
+  // The actuators in the run's order, named as their journal channels are.
+  std::vector<std::string> names;
+  for (const io::Channel& c : runner::JournalChannels(spec)) {
+    if (c.name.ends_with("_command")) names.push_back(c.name.substr(0, c.name.size() - 8));
+  }
   actuators.clear();
   std::string bench;
-  for (const auto& sub : spec.substructures) {
-    identity.slots.push_back(sub.slot);
-    if (!sub.is_physical()) continue;
-    ActuatorInfo info{sub.slot, std::nullopt, 0.0};
-    std::string type = "custom";
-    if (sub.physical) {
-      info.limits = sub.physical->limits;
-      info.p0 = sub.physical->setup.p0;
-      type = sub.physical->transfer.type;
+  for (std::size_t b = 0; b < map.substructures.size(); ++b) {
+    const runner::SlotMap::Block& block = map.substructures[b];
+    if (!block.physical) continue;
+    const substructures::Substructure& sub = *session.substructures()[b];
+    std::vector<std::string> slots;
+    for (int s : block.slots) slots.push_back(map.slots[std::size_t(s)].name);
+    for (int k = 0; k < block.num_actuators; ++k) {
+      const auto a = static_cast<std::size_t>(block.first_actuator + k);
+      actuators.push_back({a < names.size() ? names[a] : fmt::format("{}_a{}", block.name, k + 1),
+                           block.name, k, slots, sub.actuator_limits(k), sub.actuator_p0(k)});
     }
-    actuators.push_back(info);
-    bench += (bench.empty() ? "" : ", ") + sub.slot + ": " + type;
+    const auto& spec_sub = spec.substructures[b];
+    bench += fmt::format("{}{}: {}{}", bench.empty() ? "" : ", ", block.name,
+                         spec_sub.physical ? spec_sub.physical->transfer.type : "custom",
+                         block.num_actuators > 1
+                             ? fmt::format(" ({} actuators)", block.num_actuators) : "");
   }
   identity.bench = bench.empty() ? "none (numerical)" : bench;
-  layout.slots = static_cast<int>(spec.substructures.size());
+  identity.real_time = {};
+  if (spec.real_time.enabled) {
+    identity.real_time = {true, "", spec.scheme.dt, spec.real_time.hold_after_misses, {}};
+    for (int b : CompensatedBlocks(session)) {
+      identity.real_time.compensators.push_back(map.substructures[std::size_t(b)].name);
+    }
+  }
+  layout.slots = static_cast<int>(map.slots.size());
   layout.actuators = static_cast<int>(actuators.size());
 }
 
@@ -53,8 +91,16 @@ void MonitorObserver::OnStart(const runner::Session& session) {
   RunIdentity identity;
   std::vector<ActuatorInfo> actuators;
   DescribeRun(session, identity, layout_, actuators);
-  state_.SetIdentity(std::move(identity), layout_, std::move(actuators));
-  ring_ = std::make_unique<FrameRing>(options_.ring_capacity, layout_.width());
+  if (paced_ != nullptr) identity.real_time.clock = paced_->clock_name();
+  compensators_.clear();
+  for (int b : CompensatedBlocks(session)) {
+    compensators_.push_back(session.substructures()[std::size_t(b)]->transfer_system());
+  }
+  layout_ = state_.SetIdentity(std::move(identity), layout_, std::move(actuators));
+  ring_ = std::make_unique<runner::SpscRing<std::vector<double>>>(
+      std::max<std::size_t>(options_.ring_capacity, 1),
+      [width = layout_.width()] { return std::vector<double>(width); });
+  dropped_.store(0, std::memory_order_relaxed);
   last_d_.assign(static_cast<std::size_t>(layout_.slots), std::nan(""));
   // On a real-time run the collector stays off the stepping thread's core and time
   // (background_thread.h); it would otherwise inherit the stepping thread's SCHED_FIFO.
@@ -75,8 +121,12 @@ void MonitorObserver::OnTrial(const runner::TrialEvent& event) {
 
 void MonitorObserver::OnCommit(const runner::CommitEvent& event) {
   if (event.kind != runner::RowKind::kCommitted || !ring_) return;
-  double* f = ring_->Begin();
-  if (f == nullptr) return;  // full: dropped, counted
+  std::vector<double>* frame = ring_->Claim();
+  if (frame == nullptr) {  // full: dropped, counted
+    dropped_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  double* f = frame->data();
   const runner::RunStatistics& s = session_->statistics();
   f[0] = static_cast<double>(event.step);
   f[1] = event.t;
@@ -97,7 +147,26 @@ void MonitorObserver::OnCommit(const runner::CommitEvent& event) {
     f[layout_.position(a)] = has ? event.row[c + 1] : std::nan("");
     f[layout_.force(a)] = has ? event.row[c + 2] : std::nan("");
   }
-  ring_->Commit();
+  if (layout_.real_time > 0) FillRealTime(f + layout_.rt(0));
+  ring_->Publish();
+}
+
+void MonitorObserver::FillRealTime(double* c) const {
+  std::fill(c, c + layout_.real_time, std::nan(""));
+  if (paced_ == nullptr) return;
+  const runner::PacedStatistics& s = paced_->statistics();
+  c[kRtTicks] = static_cast<double>(s.ticks);
+  c[kRtMisses] = static_cast<double>(s.misses);
+  c[kRtMissesInARow] = static_cast<double>(paced_->consecutive_misses());
+  c[kRtMaxInARow] = static_cast<double>(s.max_consecutive_misses);
+  c[kRtOverruns] = static_cast<double>(s.overruns);
+  c[kRtLate] = paced_->tick_late();
+  c[kRtCompute] = paced_->previous_compute();
+  c[kRtJ2] = paced_->criteria().J2();
+  c[kRtJ3] = paced_->criteria().J3();
+  for (std::size_t k = 0; k < compensators_.size() && kRtColumns + k < layout_.real_time; ++k) {
+    c[kRtColumns + k] = compensators_[k]->compensated_delay();
+  }
 }
 
 void MonitorObserver::OnResume(const runner::ResumeEvent& event) {
@@ -109,6 +178,7 @@ void MonitorObserver::OnResume(const runner::ResumeEvent& event) {
 void MonitorObserver::OnStop(const runner::StopEvent& event) {
   StopCollector();
   DrainNow();
+  if (event.statistics.contains("real_time")) state_.SetRealTime(event.statistics["real_time"]);
   if (event.status == runner::SessionStatus::kFinished) {
     state_.SetStatus("finished");
     return;
@@ -127,9 +197,11 @@ void MonitorObserver::OnStop(const runner::StopEvent& event) {
 
 void MonitorObserver::DrainNow() {
   if (!ring_) return;
-  const std::size_t width = ring_->width();
-  ring_->Drain([&](const double* f) { state_.AddFrame({f, width}); });
-  state_.SetDropped(ring_->dropped());
+  while (const std::vector<double>* f = ring_->Front()) {
+    state_.AddFrame({f->data(), f->size()});
+    ring_->Pop();
+  }
+  state_.SetDropped(dropped());
 }
 
 void MonitorObserver::Collect() {

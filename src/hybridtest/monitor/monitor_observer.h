@@ -2,23 +2,29 @@
 // MonitorObserver: the live monitor as a session observer. It never blocks the stepping
 // thread and never allocates there: every committed row is copied as one small frame (step,
 // t, wall and lab time, evaluations, d and r per slot, command/position/force per physical
-// actuator; monitor_state.h) into a preallocated FrameRing, or dropped (and counted) if the
+// actuator; monitor_state.h) into a preallocated runner::SpscRing, or dropped (and counted) if the
 // ring is full. A collector thread of its own drains the ring into the MonitorState every
 // `drain_interval`; the HTTP server reads only the MonitorState. A slow, stalled or absent
 // viewer therefore costs the run nothing but the copy.
 //
 // d is the slot displacement of the last stage-0 trial (the trial at the committed state);
-// what the seam reports, per slot and per physical actuator, is all it reads (TrialEvent,
-// CommitEvent's journal row); the limits and identity come from the run's spec.
+// what the seam reports, per model slot and per actuator, is all it reads (TrialEvent,
+// CommitEvent's journal row). The actuators, their names, p0 and limits come from the
+// session's slot map and each substructure's actuator_p0/actuator_limits (decision 0016);
+// the identity from the run's spec. On a paced run it is given the paced loop
+// (SetPacedLoop) and copies its per-tick counts into each frame on the stepping thread (the
+// thread that writes them), allocating nothing.
+#include <atomic>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
 
-#include "hybridtest/monitor/frame_ring.h"
 #include "hybridtest/monitor/monitor_state.h"
+#include "hybridtest/runner/paced_loop.h"
 #include "hybridtest/runner/session.h"
+#include "hybridtest/runner/spsc_ring.h"
 
 namespace hybridtest::monitor {
 
@@ -27,7 +33,7 @@ struct MonitorObserverOptions {
   double drain_interval = 0.05;      // collector period. Unit: [s]
 };
 
-// The identity, layout and actuators of a session's run, from its spec.
+// The identity, layout and actuators of a session's run, from its spec and slot map.
 void DescribeRun(const runner::Session& session, RunIdentity& identity, FrameLayout& layout,
                  std::vector<ActuatorInfo>& actuators);
 
@@ -47,18 +53,24 @@ class MonitorObserver final : public runner::SessionObserver {
   // Copies into its ring or drops: a paced run keeps it on the stepping thread.
   bool real_time_safe() const override { return true; }
 
-  long dropped() const { return ring_ ? ring_->dropped() : 0; }
+  long dropped() const { return dropped_.load(std::memory_order_relaxed); }
+  // A paced run's loop (before the session's Initialize()); not owned, outlives the run.
+  void SetPacedLoop(const runner::PacedLoop* loop) { paced_ = loop; }
 
  private:
   void Collect();       // the collector thread
   void DrainNow();      // ring → state (collector, or the stepping thread at the stop)
   void StopCollector();
+  void FillRealTime(double* frame) const;  // the paced loop's per-tick columns
 
   MonitorState& state_;
   MonitorObserverOptions options_;
   const runner::Session* session_ = nullptr;
+  const runner::PacedLoop* paced_ = nullptr;
+  std::vector<const transfer::TransferSystem*> compensators_;  // their delay columns
   FrameLayout layout_;
-  std::unique_ptr<FrameRing> ring_;
+  std::unique_ptr<runner::SpscRing<std::vector<double>>> ring_;  // frames (layout_.width())
+  std::atomic<long> dropped_{0};  // frames a full ring dropped (the stepping thread counts)
   std::vector<double> last_d_;  // (m) d of the last stage-0 trial
   std::mutex mutex_;            // the collector's wake-up and the drain
   std::condition_variable wake_;

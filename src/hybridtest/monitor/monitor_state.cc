@@ -1,6 +1,8 @@
 // See monitor_state.h.
 #include "hybridtest/monitor/monitor_state.h"
 
+#include <fmt/core.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -35,13 +37,16 @@ Margin CalcMargin(const transfer::SafetyLimits& limits, double position, double 
 MonitorState::MonitorState(std::size_t history_capacity)
     : capacity_(std::max<std::size_t>(history_capacity, 2)) {}
 
-void MonitorState::SetIdentity(RunIdentity identity, FrameLayout layout,
-                               std::vector<ActuatorInfo> actuators) {
+FrameLayout MonitorState::SetIdentity(RunIdentity identity, FrameLayout layout,
+                                      std::vector<ActuatorInfo> actuators) {
   std::lock_guard lock(mutex_);
+  realtime_.Configure(identity.real_time);
+  layout.real_time = realtime_.columns();
   identity_ = std::move(identity);
   layout_ = layout;
   actuators_ = std::move(actuators);
   latest_.assign(layout_.width(), std::nan(""));
+  return layout_;
 }
 
 void MonitorState::SetStatus(const std::string& status, const std::string& reason,
@@ -63,6 +68,7 @@ void MonitorState::AddFrame(std::span<const double> frame) {
   if (frame.size() != layout_.width()) return;
   latest_.assign(frame.begin(), frame.end());
   if (status_ == "starting") status_ = "running";
+  realtime_.Add(frame.subspan(layout_.rt(0), layout_.real_time));
   // The rate of simulated time, for the ETA.
   const double t = frame[1], wall = frame[2];
   if (window_wall_ < 0.0) {
@@ -116,8 +122,12 @@ void MonitorState::SetActionsPolicy(const std::string& policy) {
 
 void MonitorState::SetRealTime(nlohmann::json realtime) {
   std::lock_guard lock(mutex_);
-  realtime_ = std::move(realtime);
-  realtime_["available"] = true;
+  realtime_.SetRecorded(std::move(realtime));
+}
+
+void MonitorState::SetRecorded(const RecordedTotals& totals) {
+  std::lock_guard lock(mutex_);
+  recorded_ = totals;
 }
 
 long MonitorState::frames() const {
@@ -145,15 +155,18 @@ nlohmann::json MonitorState::StateJson() const {
   nlohmann::json actuators = nlohmann::json::array();
   for (int a = 0; a < layout_.actuators && a < int(actuators_.size()); ++a) {
     const ActuatorInfo& info = actuators_[a];
-    nlohmann::json j = {{"slot", info.slot}, {"p0", info.p0},
-                        {"command", at(layout_.command(a))},
-                        {"position", at(layout_.position(a))}, {"force", at(layout_.force(a))},
-                        {"limits", nullptr}, {"margin", nullptr}};
+    const double position = any ? latest_[layout_.position(a)] : std::nan("");
+    const double force = any ? latest_[layout_.force(a)] : std::nan("");
+    nlohmann::json j = {{"name", info.name}, {"substructure", info.substructure},
+                        {"index", info.index}, {"slots", info.slots},
+                        {"p0", info.p0 ? nlohmann::json(*info.p0) : nlohmann::json()},
+                        {"command", at(layout_.command(a))}, {"position", Number(position)},
+                        {"displacement", info.p0 ? Number(position - *info.p0) : nlohmann::json()},
+                        {"force", Number(force)}, {"limits", nullptr}, {"margin", nullptr}};
     if (info.limits) {
       j["limits"] = LimitsJson(*info.limits);
-      if (any && std::isfinite(latest_[layout_.force(a)])) {
-        const Margin m = CalcMargin(*info.limits, latest_[layout_.position(a)],
-                                    latest_[layout_.force(a)]);
+      if (std::isfinite(force) && std::isfinite(position)) {
+        const Margin m = CalcMargin(*info.limits, position, force);
         j["margin"] = {{"force_fraction", m.force_fraction},
                        {"stroke_fraction", m.stroke_fraction}, {"level", m.level}};
       }
@@ -167,15 +180,16 @@ nlohmann::json MonitorState::StateJson() const {
           {"end_time", end},
           {"fraction", end > 0.0 ? std::min(1.0, t / end) : 0.0},
           {"step", any ? static_cast<long>(latest_[0]) : 0},
-          {"physical_evaluations", any ? static_cast<long>(latest_[4]) : 0},
-          {"wall_time", any ? latest_[2] : 0.0},
-          {"lab_time", any ? latest_[3] : 0.0},
+          {"physical_evaluations",
+           recorded_.physical_evaluations.value_or(any ? static_cast<long>(latest_[4]) : 0)},
+          {"wall_time", recorded_.wall_time.value_or(any ? latest_[2] : 0.0)},
+          {"lab_time", recorded_.lab_time.value_or(any ? latest_[3] : 0.0)},
           {"eta_s", eta},
           {"sim_rate", rate_},
           {"identity", {{"config", identity_.config}, {"model", identity_.model},
                         {"specimen", identity_.specimen}, {"bench", identity_.bench},
                         {"command", identity_.command}, {"csv", identity_.csv},
-                        {"mode", identity_.mode}}},
+                        {"mode", identity_.mode}, {"real_time", identity_.real_time.enabled}}},
           {"slots", slots},
           {"actuators", actuators},
           {"resumes", resumes_},
@@ -184,7 +198,7 @@ nlohmann::json MonitorState::StateJson() const {
           {"frames", frames_},
           {"dropped_frames", dropped_},
           {"history_generation", generation_},
-          {"realtime", realtime_}};
+          {"realtime", realtime_.Json()}};
 }
 
 nlohmann::json MonitorState::SeriesJson(long since, long generation) const {
@@ -201,14 +215,15 @@ nlohmann::json MonitorState::SeriesJson(long since, long generation) const {
   };
   column("t", 1);
   column("seq", layout_.width());
+  // (Names by fmt: GCC 12 warns -Wrestrict inside `"d" + std::to_string(s)`.)
   for (int s = 0; s < layout_.slots; ++s) {
-    column("d" + std::to_string(s), layout_.d(s));
-    column("r" + std::to_string(s), layout_.r(s));
+    column(fmt::format("d{}", s), layout_.d(s));
+    column(fmt::format("r{}", s), layout_.r(s));
   }
   for (int a = 0; a < layout_.actuators; ++a) {
-    column("command" + std::to_string(a), layout_.command(a));
-    column("position" + std::to_string(a), layout_.position(a));
-    column("force" + std::to_string(a), layout_.force(a));
+    column(fmt::format("command{}", a), layout_.command(a));
+    column(fmt::format("position{}", a), layout_.position(a));
+    column(fmt::format("force{}", a), layout_.force(a));
   }
   return {{"generation", generation_}, {"reset", all}, {"slots", layout_.slots},
           {"actuators", layout_.actuators}, {"columns", columns}};

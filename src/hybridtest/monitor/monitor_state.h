@@ -2,11 +2,13 @@
 // MonitorState: what the monitor's page shows about one run, shared between the side that
 // feeds it (the live observer's collector thread, or the follower of a journal) and the HTTP
 // server's threads, behind one mutex. The stepping thread of a run never touches it (it
-// writes frames into a FrameRing; see monitor_observer.h).
+// writes frames into a runner::SpscRing; see monitor_observer.h).
 //
 // A frame is one committed row, flat (FrameLayout): step, t [s], wall time [s], lab time [s],
-// physical evaluations, then d [m] and r [N] per slot, then command, position [m] and force
-// [N] per physical actuator. The history keeps at most `history_capacity` frames of the whole
+// physical evaluations, then d [m] and r [N] per model slot, then command, position [m] and
+// force [N] per actuator of every physical substructure (the run's actuator order: the
+// journal's channel groups), then, on a paced run, the real-time columns (real_time_panel.h).
+// The history keeps at most `history_capacity` frames of the whole
 // run: when full, every other frame is dropped and only every 2nd (4th, ...) frame is kept
 // from then on, so a long run is shown whole at a bounded cost.
 //
@@ -20,27 +22,35 @@
 #include <string>
 #include <vector>
 
+#include "hybridtest/monitor/real_time_panel.h"
 #include "hybridtest/transfer/safety.h"
 
 namespace hybridtest::monitor {
 
 struct FrameLayout {
-  int slots = 0;      // restoring-force slots m
-  int actuators = 0;  // physical actuators p
+  int slots = 0;      // the model's restoring-force slots m
+  int actuators = 0;  // actuators of every physical substructure n
+  std::size_t real_time = 0;  // real-time columns (RealTimePanel::columns(); 0: not paced)
   static constexpr int kHead = 5;  // step, t, wall, lab, evaluations
-  std::size_t width() const { return kHead + 2 * std::size_t(slots) + 3 * std::size_t(actuators); }
+  std::size_t width() const { return rt(0) + real_time; }
   std::size_t d(int s) const { return kHead + std::size_t(s); }
   std::size_t r(int s) const { return kHead + std::size_t(slots + s); }
   std::size_t command(int a) const { return kHead + 2 * std::size_t(slots) + 3 * std::size_t(a); }
   std::size_t position(int a) const { return command(a) + 1; }
   std::size_t force(int a) const { return command(a) + 2; }
+  std::size_t rt(int c) const {
+    return kHead + 2 * std::size_t(slots) + 3 * std::size_t(actuators) + std::size_t(c);
+  }
 };
 
-// One physical actuator as the meters show it.
+// One actuator of a physical substructure as its meter group, scopes and loop show it.
 struct ActuatorInfo {
-  std::string slot;                               // the slot it serves
-  std::optional<transfer::SafetyLimits> limits;   // the runner's limits, SI (if known)
-  double p0 = 0.0;                                // zero-force actuator position [m]
+  std::string name;                 // its journal channels' prefix: "r1", "blade1_a2"
+  std::string substructure;         // the physical substructure it belongs to (config key)
+  int index = 0;                    // its place among that substructure's actuators (0-based)
+  std::vector<std::string> slots;   // the model slots its substructure serves
+  std::optional<transfer::SafetyLimits> limits;  // the runner's limits, SI (if known)
+  std::optional<double> p0;         // zero-force actuator position [m] (if known)
 };
 
 // Who and what the run is.
@@ -51,9 +61,18 @@ struct RunIdentity {
   std::string bench;     // the physical slots' transfer types, e.g. "r1: emulated"
   std::string command;   // "run", "simulate", ...
   std::string csv;       // the journal
-  std::vector<std::string> slots;  // slot names
+  std::vector<std::string> slots;  // the model's slot names
   double end_time = 0.0;           // simulated time at which the run ends [s]
   std::string mode = "live";       // "live" (a run's own monitor) or "follow" (a journal)
+  RealTimeSetup real_time;         // a paced run's setting (enabled: the frames' rt columns)
+};
+
+// What a run's own record says of it once it has ended (a followed journal's sidecar, a live
+// run's stop): shown instead of what the frames add up to.
+struct RecordedTotals {
+  std::optional<double> wall_time;  // [s] elapsed, as recorded
+  std::optional<double> lab_time;   // [s]
+  std::optional<long> physical_evaluations;
 };
 
 // Near a limit: the fraction of a limit used at which a meter turns from normal to near.
@@ -72,7 +91,9 @@ class MonitorState {
  public:
   explicit MonitorState(std::size_t history_capacity = 4000);
 
-  void SetIdentity(RunIdentity identity, FrameLayout layout, std::vector<ActuatorInfo> actuators);
+  // Returns `layout` with its real-time columns (from identity.real_time): the frames' layout.
+  FrameLayout SetIdentity(RunIdentity identity, FrameLayout layout,
+                          std::vector<ActuatorInfo> actuators);
   // status: see above; reason (a stop's) and the command that continues a stopped run.
   void SetStatus(const std::string& status, const std::string& reason = "",
                  const std::string& resume_command = "");
@@ -82,8 +103,9 @@ class MonitorState {
   void AddAction(nlohmann::json action);         // an operator action (or a refusal)
   void SetDropped(long frames);                  // frames the ring dropped so far
   void SetActionsPolicy(const std::string& policy);  // "token", "open" or "read-only"
-  // Real-time fields (deadline misses, J1–J3) once a real-time loop reports them.
+  // A paced run's real-time record once it has ended (the sidecar's statistics.real_time).
   void SetRealTime(nlohmann::json realtime);
+  void SetRecorded(const RecordedTotals& totals);
 
   // GET /api/state.
   nlohmann::json StateJson() const;
@@ -107,8 +129,8 @@ class MonitorState {
   std::vector<double> resumes_;
   nlohmann::json actions_ = nlohmann::json::array();
   std::string actions_policy_ = "token";
-  nlohmann::json realtime_ = {{"available", false}, {"deadline_misses", nullptr},
-                              {"J1", nullptr}, {"J2", nullptr}, {"J3", nullptr}};
+  RealTimePanel realtime_;
+  RecordedTotals recorded_;
   // ETA: simulated time per wall second, smoothed over windows of ≥ 0.5 s of wall time.
   double rate_ = 0.0, window_t_ = 0.0, window_wall_ = -1.0;
 };

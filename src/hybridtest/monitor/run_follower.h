@@ -5,11 +5,17 @@
 // Each Poll() reads what was appended to the journal since the last one (whole lines only),
 // the sidecar (identity, status, stop reason, resumes, operator actions) and counts the stage
 // record's new rows (the physical evaluations). The journal has no slot displacement: d is
-// null for a followed run; the meters' limits come from the config kept in the sidecar
-// (substructures.SLOT.safety). "step" is the journal's row index. A frame's wall time is the
-// follower's own clock, for the ETA.
+// null for a followed run. Every actuator of every physical substructure has its meters, named
+// by its journal channels (the sidecar's substructures[].channels); its limits and p0 come
+// from the config kept in the sidecar (report::FindActuatorLimits: a list holds one value per
+// actuator; setup.p0). "step" is the journal's row index. A frame's wall time is the time
+// since the sidecar's start_time (the follower's own clock if it has none), for the ETA; once
+// the run has ended, its elapsed and lab time, evaluations and real-time statistics are the
+// ones its sidecar records.
 #include <chrono>
 #include <cstdint>
+#include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -28,8 +34,10 @@ class RunFollower {
 
  private:
   void ReadSidecar();
+  void Describe(const nlohmann::json& sidecar);  // identity, actuators, layout
   void ReadRows();
   void CountStages();
+  double Elapsed() const;  // [s] since the run started
 
   std::string csv_;
   MonitorState& state_;
@@ -40,7 +48,9 @@ class RunFollower {
   long rows_ = 0, evaluations_ = 0;
   bool header_read_ = false;
   FrameLayout layout_;
+  std::vector<std::pair<std::string, std::string>> channels_;  // per actuator: command, lab time
   std::vector<int> r_col_, cmd_col_, lab_col_;  // journal columns of r, command, lab time
+  std::optional<double> started_;               // the run's start_time [s since the epoch]
   std::vector<double> frame_;
   std::size_t resumes_seen_ = 0, actions_seen_ = 0;
   std::string status_;

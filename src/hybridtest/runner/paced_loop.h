@@ -70,6 +70,15 @@ class PacedLoop final : public SessionObserver, public StepPacer {
 
   const PacedStatistics& statistics() const { return stats_; }
   const TrackingCriteria& criteria() const { return criteria_; }
+  // For the live monitor, read on the stepping thread during a step: the clock's name, this
+  // tick's lateness [s], the compute time of the tick before it [s] (this tick's step is still
+  // going) and the missed deadlines in a row now.
+  std::string clock_name() const { return clock_.name(); }
+  double tick_late() const { return i_ < late_.size() ? late_[i_] : 0.0; }
+  double previous_compute() const {
+    return i_ > 0 && i_ - 1 < compute_.size() ? compute_[i_ - 1] : 0.0;
+  }
+  long consecutive_misses() const { return consecutive_; }
   // What the process setup did (memory lock, scheduling, affinity), for the sidecar.
   void AddSetupNote(std::string note) { setup_notes_.push_back(std::move(note)); }
   // The delay stability check's margins (delay_stability.h), for the sidecar.

@@ -1,0 +1,136 @@
+// The monitor's real-time panel (issue 38): the lateness and compute percentiles of the
+// histogram against the sorted samples; on a paced run of examples/real-time/storey-ats.yaml
+// (1 s of it, virtual clock), /api/state's `realtime` mid-run is the paced loop's (ticks,
+// misses, J2 and J3 equal to those computed from the journal's rows so far, the ATS
+// compensator's current delay), and at the end it is what the run records (its
+// statistics.real_time: J1 included).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "hybridtest/io/run_spec_yaml.h"
+#include "hybridtest/monitor/monitor_observer.h"
+#include "hybridtest/monitor/real_time_panel.h"
+#include "hybridtest/runner/real_time_run.h"
+#include "monitor/example_config.h"
+
+namespace hybridtest::testing {
+namespace {
+
+TEST(DurationHistogram, PercentilesAreWithinOneBinAboveTheSortedSamples) {
+  std::mt19937_64 gen(38);
+  std::lognormal_distribution<double> dist(std::log(20e-6), 1.0);
+  std::vector<double> v(5000);
+  monitor::DurationHistogram h;
+  for (double& x : v) {
+    x = dist(gen);
+    h.Add(x);
+  }
+  std::sort(v.begin(), v.end());
+  for (double p : {0.5, 0.9, 0.99}) {
+    const double exact = v[std::size_t(std::ceil(p * double(v.size()))) - 1];
+    EXPECT_GE(h.Percentile(p), exact) << p;
+    EXPECT_LE(h.Percentile(p), exact * 1.05 + 1e-12) << p;
+  }
+  EXPECT_DOUBLE_EQ(h.max(), v.back());
+  EXPECT_EQ(h.count(), 5000);
+  EXPECT_EQ(monitor::DurationHistogram().Percentile(0.5), 0.0);
+}
+
+// Takes /api/state once step `at` is in the monitor's state (the collector drains it), with
+// what the paced loop and the compensator hold at that moment, on the stepping thread.
+class Snapshot final : public runner::SessionObserver {
+ public:
+  Snapshot(monitor::MonitorState& state, const runner::Session& session, long at)
+      : state_(state), session_(session), at_(at) {}
+  void OnCommit(const runner::CommitEvent& e) override {
+    if (e.kind != runner::RowKind::kCommitted) return;
+    if (e.step >= 1 && e.step <= at_) {
+      // The row's actuator: command and position after t, x (2 + 2 + 0) and r (1).
+      const std::size_t c = 1 + e.x.size() + e.r.size();
+      command.push_back(e.row[c]);
+      position.push_back(e.row[c + 1]);
+    }
+    if (e.step != at_) return;
+    delay = session_.substructures()[0]->transfer_system()->compensated_delay();
+    for (int i = 0; i < 2000 && state_.frames() <= at_; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    json = state_.StateJson();
+  }
+  bool real_time_safe() const override { return true; }  // a test: it may wait for the drain
+
+  std::vector<double> command, position;
+  double delay = 0.0;
+  nlohmann::json json;
+
+ private:
+  monitor::MonitorState& state_;
+  const runner::Session& session_;
+  long at_;
+};
+
+TEST(MonitorRealTimePanel, ThePanelIsThePacedLoopsLiveAndTheRecordAtTheEnd) {
+  const fs::path dir = ResumeTestDir("monitor_real_time_panel");
+  const fs::path config = WriteExampleConfig(
+      dir, "real-time", "storey-ats.yaml",
+      {{"duration: 10.0", "duration: 1.0"}, {"lock_memory: true", "lock_memory: false"}},
+      {"storey.model.yaml"});
+  io::RunSpec spec = io::LoadRunSpec(config.string());
+  spec.output.files = false;
+  runner::Session session(std::move(spec));
+  monitor::MonitorState state(100000);
+  monitor::MonitorObserver observer(state);
+  session.AddObserver(observer);
+  Snapshot snapshot(state, session, 600);
+  session.AddObserver(snapshot);
+  runner::RealTimeRun run(session, "virtual", /*quiet=*/true);
+  ASSERT_NE(run.loop(), nullptr);
+  observer.SetPacedLoop(run.loop());
+  ASSERT_EQ(run.Run().status, runner::SessionStatus::kFinished);
+
+  // Mid-run: the paced loop's counts, and J2, J3 of the rows so far.
+  const nlohmann::json& live = snapshot.json["realtime"];
+  ASSERT_TRUE(live["available"].get<bool>()) << snapshot.json.dump();
+  EXPECT_EQ(live["source"], "live");
+  EXPECT_EQ(live["clock"], "virtual");
+  EXPECT_EQ(live["ticks"], 600);
+  EXPECT_EQ(live["misses"], 0);  // the virtual clock is never late
+  EXPECT_EQ(live["misses_in_a_row"], 0);
+  EXPECT_EQ(live["hold_after_misses"], 10);
+  EXPECT_DOUBLE_EQ(live["late_s"]["max"].get<double>(), 0.0);
+  EXPECT_GT(live["compute_s"]["max"].get<double>(), 0.0);
+  const auto n = static_cast<double>(snapshot.command.size());
+  ASSERT_EQ(snapshot.command.size(), 600u);
+  double sc = 0, scc = 0, se = 0, see = 0, emax = 0, cmax = 0;
+  for (std::size_t i = 0; i < snapshot.command.size(); ++i) {
+    const double c = snapshot.command[i], e = snapshot.position[i] - c;
+    sc += c, scc += c * c, se += e, see += e * e;
+    emax = std::max(emax, std::abs(e));
+    cmax = std::max(cmax, std::abs(c));
+  }
+  const double j2 = 100.0 * std::sqrt(see / n - (se / n) * (se / n)) /
+                    std::sqrt(scc / n - (sc / n) * (sc / n));
+  EXPECT_GT(j2, 0.0);
+  EXPECT_NEAR(live["J2"].get<double>(), j2, 1e-9 * j2);
+  EXPECT_NEAR(live["J3"].get<double>(), 100.0 * emax / cmax, 1e-9);
+  EXPECT_TRUE(live["J1_ms"].is_null());  // computed at the end
+  EXPECT_DOUBLE_EQ(live["compensation"]["r1"]["delay_s"].get<double>(), snapshot.delay);
+
+  // At the end: the run's own record.
+  const nlohmann::json end = state.StateJson()["realtime"];
+  const nlohmann::json record = run.loop()->ToJson();
+  EXPECT_EQ(end["source"], "recorded");
+  EXPECT_EQ(end["ticks"], 1024);
+  EXPECT_EQ(end["ticks"], record["ticks"]);
+  EXPECT_EQ(end["misses"], record["misses"]);
+  EXPECT_DOUBLE_EQ(end["J1_ms"].get<double>(), record["J1_ms"].get<double>());
+  EXPECT_DOUBLE_EQ(end["J3"].get<double>(), record["J3"].get<double>());
+  EXPECT_EQ(end["compensation"]["r1"]["method"], "ats");
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace hybridtest::testing
