@@ -14,6 +14,7 @@ app_packages=(
   libeigen3-dev libyaml-cpp-dev libcli11-dev libfmt-dev nlohmann-json3-dev zlib1g-dev libssl-dev
   libhdf5-dev hdf5-tools
   libmodbus-dev libcpp-httplib-dev
+  libginac-dev                                             # the Symbolic scalar (`equations`)
   gnuplot-nox
 )
 test_packages=(
@@ -24,6 +25,7 @@ test_packages=(
   pybind11-dev python3-dev python3-pytest                  # the Python package and its tests
   libopenmpi-dev openmpi-bin                               # campaigns on a cluster (MPI)
   chromium                                                 # the monitor's page test
+  texlive-latex-base                                       # pdflatex: `equations --format latex` test
 )
 
 app_only=0

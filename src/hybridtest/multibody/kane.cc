@@ -36,6 +36,7 @@ namespace {
   }
 }
 void AddGroupedMassTerms(const Model&, Data<AutoDiff>&) {}
+void AddGroupedMassTerms(const Model&, Data<Symbolic>&) {}
 
 // The generalized forces' sums, speed by speed in a register (projection_terms()).
 [[gnu::noinline]] void ProjectGrouped(const Model& model, Data<double>& data) {
@@ -50,6 +51,7 @@ void AddGroupedMassTerms(const Model&, Data<AutoDiff>&) {}
   }
 }
 void ProjectGrouped(const Model&, Data<AutoDiff>&) {}
+void ProjectGrouped(const Model&, Data<Symbolic>&) {}
 
 }  // namespace
 
@@ -268,5 +270,9 @@ void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
 HYBRIDTEST_INSTANTIATE(double)
 HYBRIDTEST_INSTANTIATE(AutoDiff)
 #undef HYBRIDTEST_INSTANTIATE
+// Symbolic (printing, decision 0019): the general paths only; no factorisation or solve.
+template void CalcMassMatrixPairwise<Symbolic>(const Model&, Data<Symbolic>&);
+template void CalcForcing<Symbolic>(const Model&, Data<Symbolic>&,
+                                    const Eigen::Ref<const VectorX<Symbolic>>&);
 
 }  // namespace hybridtest::multibody
