@@ -127,7 +127,7 @@ class Printer {
     const bool negative = coefficient.is_negative();
     if (negative) coefficient = -coefficient;
     if (coefficient.is_rational() && !coefficient.is_integer()) {
-      top.insert(top.begin(), coefficient.numer());
+      if (!coefficient.numer().is_equal(1) || top.empty()) top.insert(top.begin(), coefficient.numer());
       bottom.insert(bottom.begin(), coefficient.denom());
     } else if (!coefficient.is_equal(1) || top.empty()) {
       top.insert(top.begin(), coefficient);
