@@ -66,13 +66,17 @@ void BM_RunStateOverhead(benchmark::State& state) {
   runner::SubstructureList subs = io::MakeSubstructures(cfg, {});
   const multibody::Model& model = cfg.model.model;
   schemes::SlotInfo info{Eigen::VectorXd::Zero(3), Eigen::VectorXd::Constant(3, 0.002), {}};
-  for (int s = 0; s < 3; ++s) info.k0(s) = subs[static_cast<std::size_t>(s)]->initial_stiffness().value_or(7200.0);
+  for (int s = 0; s < 3; ++s) {
+    const auto k0 = subs[static_cast<std::size_t>(s)]->initial_stiffness();
+    info.k0(s) = k0 ? (*k0)(0, 0) : 7200.0;
+  }
   auto scheme = schemes::MakeScheme(cfg.scheme, cfg.tableau, cfg.dt, cfg.duration, cfg.steps,
                                     model, info);
   for (auto& s : subs) s->Activate();
   Eigen::VectorXd r0(3);
   for (int s = 0; s < 3; ++s) {
-    r0(s) = subs[static_cast<std::size_t>(s)]->Trial(0.0, {0, 0, 0.0});
+    const double d0 = 0.0;
+    subs[static_cast<std::size_t>(s)]->Trial({&d0, 1}, {&r0(s), 1}, {0, 0, 0.0});
     subs[static_cast<std::size_t>(s)]->Commit();
   }
   scheme->Start(0.0, cfg.x0, r0);

@@ -137,9 +137,10 @@ class StampingSubstructure final : public substructures::Substructure {
   StampingSubstructure(std::unique_ptr<substructures::Substructure> inner,
                        std::vector<Clock::time_point>* stamps)
       : inner_(std::move(inner)), stamps_(stamps) {}
-  double Trial(double displacement, const substructures::TrialContext& context) override {
+  void Trial(std::span<const double> d, std::span<double> r,
+             const substructures::TrialContext& context) override {
     if (stamps_ != nullptr) stamps_->push_back(Clock::now());
-    return inner_->Trial(displacement, context);
+    inner_->Trial(d, r, context);
   }
   void Commit() override { inner_->Commit(); }
   std::string Describe() const override { return inner_->Describe(); }
@@ -243,7 +244,7 @@ void BM_BareLoop(benchmark::State& state) {
                            Eigen::Ref<Eigen::VectorXd> r) {
     for (std::size_t s = 0; s < subs.size(); ++s) {
       const auto i = static_cast<Eigen::Index>(s);
-      r(i) = subs[s]->Trial(d(i), {at.step, at.stage, at.t});
+      subs[s]->Trial({&d(i), 1}, {&r(i), 1}, {at.step, at.stage, at.t});
     }
   });
   schemes::RowSinkOf rows([](double, const Eigen::VectorXd&, const Eigen::VectorXd&) {});

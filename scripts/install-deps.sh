@@ -13,8 +13,8 @@ app_packages=(
   build-essential cmake ninja-build git pkg-config
   libeigen3-dev libyaml-cpp-dev libcli11-dev libfmt-dev nlohmann-json3-dev zlib1g-dev libssl-dev
   libhdf5-dev hdf5-tools
-  libmodbus-dev libcpp-httplib-dev
-  libginac-dev                                             # the Symbolic scalar (`equations`)
+  libmodbus-dev libcpp-httplib-dev   # cpp-httplib: the HTTP client of the monitor's tests
+  libginac-dev                       # the Symbolic scalar (`equations`)
   gnuplot-nox
 )
 test_packages=(

@@ -42,7 +42,7 @@
 #include "hybridtest/transfer/bench_config.h"
 #include "hybridtest/transfer/bench_server.h"
 #include "hybridtest/transfer/emulated_bench.h"
-#include "hybridtest/transfer/multi_emulated_bench.h"
+#include "hybridtest/transfer/bench_spec.h"
 #include "hybridtest/transfer/openfresco/server.h"
 #include "hybridtest/transfer/openfresco/setup_config.h"
 
@@ -89,33 +89,28 @@ void ServeUntilSignal(Server& server, Server*& registered) {
   registered = nullptr;
 }
 
-// --protocol openfresco: the same bench and options, served by the OpenFresco server.
-void ServeOpenFresco(const BenchArgs& args, const transfer::EmulatedBenchConfig& config,
-                     transfer::TransferSystem& bench, const transfer::BenchServerOptions& options) {
+// --protocol openfresco: the same bench and options, served by the OpenFresco server with the
+// config's `openfresco:` setup (T of one row per actuator). In the `actuators:` form the
+// coupled prediction uses the section's `initial_stiffness` matrix, else the specimen's.
+void ServeOpenFresco(const BenchArgs& args, const transfer::EmulatedBenchSpec& spec,
+                     transfer::TransferSystem& bench, transfer::BenchServerOptions options) {
   if (args.config.empty()) {
     throw ConfigError("--protocol openfresco needs --config FILE with an `openfresco:` section "
                       "(see examples/rotor/bench-openfresco.yaml)");
   }
-  transfer::openfresco::Server server(bench, transfer::openfresco::LoadSetup(args.config, config),
-                                      options);
-  std::printf("hybridtest bench: listening on %s (OpenFresco protocol, n = %d; %s; token %s)\n",
-              server.address().c_str(), server.setup().dofs(), bench.Describe().c_str(),
-              options.token.empty() ? "none" : "required");
-  std::fflush(stdout);
-  ServeUntilSignal(server, g_openfresco_server);
-}
-
-// --protocol openfresco with a bench of several actuators: T of one row per actuator. The
-// coupled prediction uses the section's `initial_stiffness` matrix, else the specimen's.
-void ServeOpenFrescoMulti(const BenchArgs& args, const transfer::MultiBenchConfig& config,
-                          transfer::TransferSystem& bench, transfer::BenchServerOptions options) {
-  transfer::openfresco::ExpSetup setup = transfer::openfresco::LoadMultiSetup(args.config, config);
+  transfer::openfresco::ExpSetup setup = transfer::openfresco::LoadSetup(args.config, spec);
   options.actuator_stiffness.reset();  // the server takes the setup's K_a
   transfer::openfresco::Server server(bench, std::move(setup), options);
-  std::printf("hybridtest bench: listening on %s (OpenFresco protocol, n = %d, %d actuators; %s; "
-              "token %s)\n", server.address().c_str(), server.setup().dofs(),
-              server.setup().actuators, bench.Describe().c_str(),
-              options.token.empty() ? "none" : "required");
+  if (server.setup().actuators == 1) {
+    std::printf("hybridtest bench: listening on %s (OpenFresco protocol, n = %d; %s; token %s)\n",
+                server.address().c_str(), server.setup().dofs(), bench.Describe().c_str(),
+                options.token.empty() ? "none" : "required");
+  } else {
+    std::printf("hybridtest bench: listening on %s (OpenFresco protocol, n = %d, %d actuators; "
+                "%s; token %s)\n", server.address().c_str(), server.setup().dofs(),
+                server.setup().actuators, bench.Describe().c_str(),
+                options.token.empty() ? "none" : "required");
+  }
   std::fflush(stdout);
   ServeUntilSignal(server, g_openfresco_server);
 }
@@ -162,18 +157,14 @@ void RunBench(const BenchArgs& args) {
     throw ConfigError("--real-time serves the run config's plant alone: remove --config, "
                       "--protocol and --inject");
   }
-  // A bench file with `actuators:`: several actuators on one specimen.
-  std::optional<MultiBenchConfig> multi;
-  if (!args.config.empty() && IsMultiBenchFile(args.config)) {
-    multi = LoadMultiBenchConfig(args.config);
-    if (!args.inject.empty()) {
-      throw ConfigError(fmt::format("{}: a bench of several actuators serves without --inject; "
-                                    "remove --inject", args.config));
-    }
+  // The bench file, read once: one actuator, or `actuators: n` on one specimen.
+  const EmulatedBenchSpec spec = args.config.empty()
+                                     ? OneActuatorSpec(DefaultEmulatedBenchConfig())
+                                     : LoadEmulatedBenchSpec(args.config);
+  if (spec.coupled_safety && !args.inject.empty()) {
+    throw ConfigError(fmt::format("{}: a bench with `actuators:` serves without --inject; "
+                                  "remove --inject", args.config));
   }
-  const EmulatedBenchConfig config =
-      multi ? multi->actuators[0]
-            : args.config.empty() ? DefaultEmulatedBenchConfig() : LoadEmulatedBenchConfig(args.config);
   const HostPort listen = ParseHostPort(args.listen, "--listen");
 
   BenchServerOptions options;
@@ -191,30 +182,25 @@ void RunBench(const BenchArgs& args) {
     std::fprintf(stderr, "hybridtest bench: %s\n", line.c_str());
   };
   if (!args.real_time.empty()) return ServeRealTime(args, options);
-  options.limits = config.safety;
-  options.start_position = config.initial_position;
-  options.initial_stiffness = config.specimen->initial_stiffness();
-  for (const auto& spec : args.inject) options.faults.push_back(ParseFault(spec, "--inject"));
+  options.limits = spec.actuators[0].safety;
+  for (const auto& a : spec.actuators) options.start_positions.push_back(a.initial_position);
+  if (spec.coupled_safety) {
+    options.actuator_stiffness = spec.stiffness;  // the coupled force prediction
+  } else {
+    options.initial_stiffness = spec.stiffness(0, 0);  // the specimen's initial stiffness
+  }
+  for (const auto& f : args.inject) options.faults.push_back(ParseFault(f, "--inject"));
   options.log = [](const std::string& line) {
     std::fprintf(stderr, "hybridtest bench: %s\n", line.c_str());
   };
 
-  std::unique_ptr<TransferSystem> served;
-  if (multi) {
-    for (const auto& a : multi->actuators) options.start_positions.push_back(a.initial_position);
-    options.actuator_stiffness = multi->stiffness;  // the coupled force prediction
-    served = std::make_unique<MultiEmulatedBench>(*multi);
-    if (args.protocol == "openfresco") return ServeOpenFrescoMulti(args, *multi, *served, options);
-  } else {
-    std::unique_ptr<EmulatedBench> one = MakeEmulatedBench(config);
-    if (args.protocol == "openfresco") return ServeOpenFresco(args, config, *one, options);
-    served = std::move(one);
-  }
+  std::unique_ptr<TransferSystem> served = MakeEmulatedBench(spec);
+  if (args.protocol == "openfresco") return ServeOpenFresco(args, spec, *served, options);
   TransferSystem* bench = served.get();
   BenchServer server(*bench, options);
 
   std::string faults;
-  for (const auto& spec : args.inject) faults += (faults.empty() ? "" : ",") + spec;
+  for (const auto& f : args.inject) faults += (faults.empty() ? "" : ",") + f;
   std::printf("hybridtest bench: listening on %s (%s; token %s%s)\n", server.address().c_str(),
               bench->Describe().c_str(), options.token.empty() ? "none" : "required",
               faults.empty() ? "" : ("; TEST FAULTS INJECTED: " + faults).c_str());

@@ -48,10 +48,13 @@ void RunEom(const EomOptions& opt) {
   } else {
     // The configured (numerical) substructures compute r^s from the slot displacements.
     const auto subs = io::MakeSubstructures(
-        cfg, {std::nullopt, false, "give its restoring force with --restoring r1,...,rm"});
+        cfg, {std::nullopt, false, "give its restoring force with --restoring r1,...,rm",
+              std::nullopt, nullptr});
     Eigen::VectorXd d(model.num_slots());
     multibody::CalcSlotDisplacements<double>(model, data, opt.time, x.head(n), d);
-    for (int s = 0; s < model.num_slots(); ++s) r(s) = subs[s]->Trial(d(s), {0, 0, opt.time});
+    for (int s = 0; s < model.num_slots(); ++s) {
+      subs[s]->Trial({&d(s), 1}, {&r(s), 1}, {0, 0, opt.time});
+    }
   }
   Eigen::VectorXd xdot(nx);
   multibody::CalcStateDerivative<double>(model, data, opt.time, x, r, xdot);

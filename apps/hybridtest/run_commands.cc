@@ -16,6 +16,7 @@
 #include "hybridtest/io/run_lock.h"
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/runner/open_run.h"
+#include "hybridtest/runner/paced_loop.h"
 #include "hybridtest/runner/progress.h"
 #include "hybridtest/runner/real_time_run.h"
 #include "hybridtest/runner/resume_plan.h"
@@ -134,6 +135,7 @@ void RunAndReport(io::RunSpec spec,
     std::rethrow_exception(session.error());
   }
   if (quiet) return;
+  const runner::PacedLoop* paced = real_time.loop();
   const runner::RunStatistics& s = session.statistics();
   const io::SchemeSpec& scheme = session.spec().scheme;
   fmt::print("hybridtest {}: {} steps with {}, t = {} s, {} rows -> {}\n", command, s.steps,
@@ -144,14 +146,26 @@ void RunAndReport(io::RunSpec spec,
                        (scheme.config.adaptive.enabled ? " (adaptive step)"
                                                        : fmt::format(" at {} s", scheme.dt)),
              s.sim_time, s.rows, csv);
-  fmt::print("  wall time {:.3f} s ({:.3g}x real time)", s.wall_time, s.wall_slowdown);
+  // Durations: seconds with 3 digits below a minute, else 4m01s, 3h08m (runner::FormatDuration).
+  auto duration = [](double seconds) {
+    return seconds < 59.5 ? fmt::format("{:.3g} s", seconds) : runner::FormatDuration(seconds);
+  };
+  fmt::print("  wall time {} ({:.3g}x real time)", duration(s.wall_time), s.wall_slowdown);
   if (s.physical_evaluations > 0) {
-    fmt::print("; {} physical evaluations, lab time {:.0f} s = {}h{:02}m ({:.0f}x slower than "
-               "real time)", s.physical_evaluations, s.lab_time,
-               static_cast<long>(s.lab_time) / 3600, (static_cast<long>(s.lab_time) % 3600) / 60,
-               s.slowdown);
+    // lab time / simulated time: the time a real bench needs against the model's own.
+    fmt::print("; {} physical evaluations, lab time {} ({:.3g}x real time)",
+               s.physical_evaluations, duration(s.lab_time), s.slowdown);
   }
   fmt::print("\n");
+  if (paced != nullptr) {
+    // A real-time run: its deadlines, as the sidecar's statistics.real_time records them.
+    const runner::PacedStatistics& p = paced->statistics();
+    fmt::print("  real time: {} ticks, {} missed deadlines (at most {} in a row{}), {} "
+               "overruns; lateness p50 {:.0f} µs, p99 {:.0f} µs, max {:.0f} µs; compute p99 "
+               "{:.0f} µs\n", p.ticks, p.misses, p.max_consecutive_misses,
+               p.held_on_misses ? ", held" : "", p.overruns, p.late_p50 * 1e6, p.late_p99 * 1e6,
+               p.late_max * 1e6, p.compute_p99 * 1e6);
+  }
 }
 
 }  // namespace

@@ -103,6 +103,14 @@ std::optional<py::error_already_set> TakeKeptForCaller() {
   return out;
 }
 
+std::string InterruptOrDescribe(py::error_already_set& e, const std::string& where,
+                                const std::string& consequence) {
+  const std::string described = DescribePythonError(e);
+  if (e.matches(PyExc_Exception)) return described;
+  KeepForCaller(std::move(e));
+  throw runner::Interrupted(fmt::format("{} inside {}: {}", described, where, consequence));
+}
+
 SharedObject::SharedObject(py::object object) : object_(std::move(object)) {}
 
 SharedObject::~SharedObject() {
@@ -182,15 +190,10 @@ void PyTransfer::Call(const char* method, const std::string& what) {
   try {
     driver_->get().attr(method)();
   } catch (py::error_already_set& e) {
-    if (!e.matches(PyExc_Exception)) {
-      // KeyboardInterrupt, SystemExit: the caller gets it as itself; the run holds.
-      const std::string type = DescribePythonError(e);
-      KeepForCaller(std::move(e));
-      throw runner::Interrupted(fmt::format("{} inside the Python transfer system's {} of slot {}",
-                                            type, what, slot_));
-    }
-    throw TransferError(fmt::format("the Python transfer system's {} raised {}", what,
-                                    DescribePythonError(e)));
+    const std::string described = InterruptOrDescribe(
+        e, fmt::format("the Python transfer system's {} of slot {}", what, slot_),
+        "the bench holds; every committed step is kept");
+    throw TransferError(fmt::format("the Python transfer system's {} raised {}", what, described));
   }
 }
 
@@ -232,17 +235,10 @@ transfer::Measurement PyTransfer::Execute(double command) {
       }
     }
   } catch (py::error_already_set& e) {
-    if (!e.matches(PyExc_Exception)) {
-      // KeyboardInterrupt (Ctrl-C while the driver runs), SystemExit: not a transfer failure.
-      // The run holds after this step (runner::Interrupted: every committed row is kept) and
-      // PySession raises the exception itself to the caller.
-      const std::string type = DescribePythonError(e);
-      KeepForCaller(std::move(e));
-      throw runner::Interrupted(fmt::format(
-          "{} inside the Python transfer system's {} of slot {}: the bench holds; every "
-          "committed step is kept", type, inside.Call(), slot_));
-    }
-    problem = "raised " + DescribePythonError(e);
+    // Ctrl-C while the driver runs is not a transfer failure: the run holds after this step.
+    problem = "raised " + InterruptOrDescribe(
+        e, fmt::format("the Python transfer system's {} of slot {}", inside.Call(), slot_),
+        "the bench holds; every committed step is kept");
   } catch (const py::cast_error& e) {
     problem = fmt::format("returned something that is not (position, force[, lab_time]) "
                           "numbers ({})", e.what());
@@ -317,8 +313,11 @@ double PyLaw::Evaluate(double displacement) const {
   try {
     return law_->get()(displacement).cast<double>();
   } catch (py::error_already_set& e) {
-    throw Error(fmt::format("slot {}: the Python law raised {} at d = {} m", slot_,
-                            DescribePythonError(e), displacement));
+    const std::string described = InterruptOrDescribe(
+        e, fmt::format("the Python law of slot {} at d = {} m", slot_, displacement),
+        "the run holds; every committed step is kept");
+    throw Error(fmt::format("slot {}: the Python law raised {} at d = {} m", slot_, described,
+                            displacement));
   } catch (const py::cast_error&) {
     throw Error(fmt::format("slot {}: the Python law returned something that is not a number "
                             "at d = {} m: return the force in N", slot_, displacement));
@@ -337,8 +336,10 @@ void PyLaw::Commit() {
   try {
     f.attr("commit")();
   } catch (py::error_already_set& e) {
-    throw Error(fmt::format("slot {}: the Python law's commit() raised {}", slot_,
-                            DescribePythonError(e)));
+    const std::string described = InterruptOrDescribe(
+        e, fmt::format("the Python law's commit() of slot {}", slot_),
+        "the run holds; every committed step is kept");
+    throw Error(fmt::format("slot {}: the Python law's commit() raised {}", slot_, described));
   }
 }
 

@@ -78,6 +78,15 @@ const InCallback* CurrentCallback();
 void KeepForCaller(py::error_already_set error);
 std::optional<py::error_already_set> TakeKeptForCaller();
 
+// In the catch of a Python exception raised by any callback (a driver, a law, an observer): a
+// BaseException that is not an Exception (KeyboardInterrupt, SystemExit) is kept for the
+// caller (KeepForCaller) and stops the run as runner::Interrupted("<type> inside <where>:
+// <consequence>"), so that the run holds after the step in progress, every committed row is
+// kept, and the caller gets the exception as itself; any other exception is returned,
+// described, for the callback's own error.
+std::string InterruptOrDescribe(py::error_already_set& e, const std::string& where,
+                                const std::string& consequence);
+
 // A Python object that may be copied and dropped without the GIL (the last owner takes it).
 class SharedObject {
  public:

@@ -40,7 +40,10 @@ void CallObserver(const SharedPy& f, const char* what, Args&&... args) {
   try {
     f->get()(std::forward<Args>(args)...);
   } catch (py::error_already_set& e) {
-    throw Error(fmt::format("a Python observer's {} raised {}", what, DescribePythonError(e)));
+    const std::string described = InterruptOrDescribe(
+        e, fmt::format("a Python observer's {}", what),
+        "the run holds; every committed step is kept");
+    throw Error(fmt::format("a Python observer's {} raised {}", what, described));
   }
 }
 

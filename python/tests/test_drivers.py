@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import hybridtest as ht
-from test_runs import Spring, physical_short
+from test_runs import NUMERICAL, Spring, physical_short
 
 
 def check_journal(out, session_rows=None):
@@ -205,3 +205,42 @@ def test_a_driver_whose_reading_freezes_is_stopped():
         ht.run(physical_short(), transfers={"r1": bench})
     assert caught.value.limit in ("stale_acknowledgement", "following_error")
     assert bench.calls == ["activate", "hold"]
+
+
+def test_ctrl_c_inside_a_python_law_is_a_keyboard_interrupt(tmp_path):
+    calls = []
+
+    def law(d):
+        calls.append(d)
+        if len(calls) == 21:
+            raise KeyboardInterrupt
+        return 7200.0 * d
+
+    out = tmp_path / "law.csv"
+    s = ht.Session(NUMERICAL, laws={"r2": law}, command="simulate", out=str(out))
+    with pytest.raises(KeyboardInterrupt):
+        s.run()
+    assert s.status == "held"
+    assert "KeyboardInterrupt inside the Python law of slot r2" in s.reason
+    rows = s.values.copy()
+    s.close()
+    saved = check_journal(out, rows)
+    assert 1 < len(saved) <= 21
+
+
+def test_ctrl_c_inside_a_python_observer_is_a_keyboard_interrupt(tmp_path):
+    def watcher(c):
+        if c.step == 10:
+            raise KeyboardInterrupt
+
+    out = tmp_path / "observer.csv"
+    s = ht.Session(physical_short(), transfers={"r1": Spring()}, out=str(out))
+    s.add_observer(watcher)
+    with pytest.raises(KeyboardInterrupt):
+        s.run()
+    assert s.status == "held"
+    assert "KeyboardInterrupt inside a Python observer's" in s.reason
+    rows = s.values.copy()
+    s.close()
+    saved = check_journal(out, rows)
+    assert len(saved) >= 11 and saved["t"][10] == pytest.approx(0.010)

@@ -5,12 +5,17 @@
 //   - ramps back from that measured position in moves of at most max_increment (2 mm): no
 //     command the controller receives differs from the previous one (or from where it
 //     started) by more than max_increment,
-//   - and ends with the journal of an uninterrupted run (every channel but the lab time).
+//   - and ends with the journal of an uninterrupted run (every channel but the lab time);
+// and a genuine but older run state, or one forged with its checksum recomputed, is refused
+// before the controller receives any command (issue 33, item 4).
+#include <gmock/gmock.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 
 #include "hybridtest/io/run_reader.h"
+#include "hybridtest/runner/run_state.h"
 #include "integration/resume_support.h"
 #include "transfer/modbus_server_process.h"
 
@@ -64,7 +69,9 @@ TEST(ModbusResume, ControllerRestartedElsewhereIsRampedBackWithinMaxIncrement) {
   // The resume read where the actuator was and ramped from there.
   const auto check = Sidecar(csv)["resumes"][0]["checks"][0];
   EXPECT_FALSE(check["read_position_m"].is_null()) << "the position was not read: " << check.dump();
-  if (!check["read_position_m"].is_null()) EXPECT_EQ(check["read_position_m"].get<double>(), 0.0);
+  if (!check["read_position_m"].is_null()) {
+    EXPECT_EQ(check["read_position_m"].get<double>(), 0.0);
+  }
   const double committed_mm = check["command_m"].get<double>() * 1e3;
   ASSERT_GT(committed_mm, 10.0 * kMaxIncrementMm) << "the restart should be far from the commit";
   const long ramp_moves = check["ramp_moves"].get<long>();
@@ -98,6 +105,57 @@ TEST(ModbusResume, ControllerRestartedElsewhereIsRampedBackWithinMaxIncrement) {
   EXPECT_EQ(commands[static_cast<std::size_t>(ramp_moves)],
             static_cast<double>(static_cast<float>(committed_mm)));
   EXPECT_GT(largest, 0.9 * kMaxIncrementMm) << "the ramp should use most of the increment";
+  fs::remove_all(dir);
+}
+
+TEST(ModbusResume, AnOlderOrForgedStateIsRefusedBeforeTheControllerReceivesACommand) {
+  if (!PymodbusAvailable()) GTEST_SKIP() << kPymodbusMissing;
+  const fs::path dir = ResumeTestDir("modbus_older");
+  const std::string config = kSource + "/tests/data/resume-modbus.yaml";
+  const fs::path csv = dir / "k.csv";
+  const fs::path state = dir / "k.state.json";
+  std::string early, late;
+  {
+    // Stopped with Ctrl-C twice (run, then resume) on one controller: an early and a late state.
+    auto server = ModbusServerProcess::Pymodbus(Controller({}));
+    ASSERT_TRUE(RunAndSignalAt(RunArgs(config, csv, server.address()), csv, 20000, SIGINT,
+                               dir / "run.log", 130));
+    early = test_support::ReadText(state);
+    ASSERT_TRUE(RunAndSignalAt({"resume", csv.string(), "--quiet", "--bench", server.address()},
+                               csv, fs::file_size(csv) + 20000, SIGINT, dir / "r1.log", 130));
+    late = test_support::ReadText(state);
+  }
+  ASSERT_FALSE(early.empty());
+  ASSERT_NE(early, late);
+  const std::string journal = test_support::ReadText(csv);
+
+  // A controller that logs every command it receives: each refused resume must leave it empty.
+  const fs::path log = dir / "commands.log";
+  auto controller = ModbusServerProcess::Pymodbus(Controller({"--log-commands", log.string()}));
+  auto expect_refused = [&](const std::string& what) {
+    const auto [status, out] = Resume(csv, {"--quiet", "--bench", controller.address()},
+                                      dir / "refused.log");
+    EXPECT_EQ(status, 2) << out;
+    EXPECT_THAT(out, ::testing::HasSubstr(what));
+    EXPECT_TRUE(ReceivedCommands(log).empty()) << "the controller received a command";
+    EXPECT_EQ(test_support::ReadText(csv), journal);
+  };
+  // The early state put back: genuine (its checksum is right) but older than the journal.
+  test_support::WriteText(state, early);
+  expect_refused("is older than the journal");
+  // The late state with a later step, its checksum recomputed.
+  nlohmann::json forged = nlohmann::json::parse(late);
+  forged["scheme"]["step"] = forged["scheme"]["step"].get<long>() + 1;
+  forged["checksum"] = runner::RunStateChecksum(forged);
+  test_support::WriteText(state, forged.dump());
+  expect_refused("scheme.step");
+
+  // The genuine late state resumes to the end on that controller.
+  test_support::WriteText(state, late);
+  const auto [status, out] = Resume(csv, {"--quiet", "--bench", controller.address()},
+                                    dir / "r2.log");
+  EXPECT_EQ(status, 0) << out;
+  EXPECT_FALSE(ReceivedCommands(log).empty());
   fs::remove_all(dir);
 }
 

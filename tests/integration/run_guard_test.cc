@@ -125,21 +125,22 @@ TEST(AStateThatCannotLie, EditedStatesAreRefusedAndTheJournalIsUnchanged) {
        true, "damaged run state"},
       {"last command + 19 mm",
        [](nlohmann::json& s) {
-         auto& last = s["substructures"][0]["state"]["last"];
-         last["command_m"] = last["command_m"].get<double>() + 0.019;
+         // One row per actuator: command, position, force [m, m, N], lab time [s].
+         auto& last = s["substructures"][0]["state"]["last"][0];
+         last[0] = last[0].get<double>() + 0.019;
        },
        false, "checksum does not match"},
       {"last command + 19 mm, checksum recomputed",
        [](nlohmann::json& s) {
-         auto& last = s["substructures"][0]["state"]["last"];
-         last["command_m"] = last["command_m"].get<double>() + 0.019;
+         auto& last = s["substructures"][0]["state"]["last"][0];
+         last[0] = last[0].get<double>() + 0.019;
        },
        true, "the parts of the state disagree"},
       {"row and last command + 19 mm, checksum recomputed",
        [](nlohmann::json& s) {
-         auto& last = s["substructures"][0]["state"]["last"];
-         last["command_m"] = last["command_m"].get<double>() + 0.019;
-         s["row"][12] = last["command_m"];  // t, q1..q4, u1..u4, r1..r3, r1_command, ...
+         auto& last = s["substructures"][0]["state"]["last"][0];
+         last[0] = last[0].get<double>() + 0.019;
+         s["row"][12] = last[0];  // t, q1..q4, u1..u4, r1..r3, r1_command, ...
        },
        true, "does not belong to this journal"},
       {"another scheme.step and t, checksum recomputed",

@@ -174,7 +174,7 @@ TEST(PlotUnits, ParsesUnitsAndQuantities) {
 TEST(LimitUse, MatchesAHandComputationOfEachLimit) {
   const testing::ScratchDir dir("limit-use");
   const io::RunData run = io::LoadRun(WriteTurbineRun(dir.path(), kConfig));
-  PhysicalChannels r1{"r1", "beta1", "", "r1_command", "r1_position", "r1_force", ""};
+  PhysicalChannels r1{"r1", "beta1", "", "r1_command", "r1_position", "r1_force", "", "", -1};
   const std::vector<LimitUse> uses = CalcLimitUse(run, r1);
   ASSERT_EQ(uses.size(), 4u);
   // The oracle: the same quantities straight from the columns.
@@ -192,7 +192,7 @@ TEST(LimitUse, MatchesAHandComputationOfEachLimit) {
   EXPECT_DOUBLE_EQ(uses[2].peak, force / 200);
   EXPECT_DOUBLE_EQ(uses[3].peak, force / 400);
   // `safety: defaults` gives the defaults; NaN rows of a sparse channel are skipped.
-  PhysicalChannels r2{"r2", "beta2", "", "r2_command", "r2_position", "r2_force", ""};
+  PhysicalChannels r2{"r2", "beta2", "", "r2_command", "r2_position", "r2_force", "", "", -1};
   const auto defaults = CalcLimitUse(run, r2);
   ASSERT_EQ(defaults.size(), 4u);
   EXPECT_DOUBLE_EQ(defaults[3].peak, 90.0 / transfer::SafetyLimits{}.force_hard);

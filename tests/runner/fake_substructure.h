@@ -46,7 +46,9 @@ class FakeSubstructure final : public substructures::Substructure {
         failure_(failure) {}
 
   void Activate() override { log_->push_back({CallKind::kActivate, slot_}); }
-  double Trial(double d, const substructures::TrialContext& c) override {
+  void Trial(std::span<const double> ds, std::span<double> rs,
+             const substructures::TrialContext& c) override {
+    const double d = ds[0];
     if (failure_ && failure_->step == c.step && failure_->stage == c.stage) {
       log_->push_back({CallKind::kTrial, slot_, c.step, c.stage, c.t, d,
                        std::numeric_limits<double>::quiet_NaN()});
@@ -61,13 +63,13 @@ class FakeSubstructure final : public substructures::Substructure {
     log_->push_back({CallKind::kTrial, slot_, c.step, c.stage, c.t, d, r});
     ++evaluations_;
     last_ = {kP0 + d, kP0 + d, r, 0.5 * static_cast<double>(evaluations_)};
-    return r;
+    rs[0] = r;
   }
   void Commit() override { log_->push_back({CallKind::kCommit, slot_}); }
   void Hold() noexcept override { log_->push_back({CallKind::kHold, slot_}); }
   void Deactivate() override { log_->push_back({CallKind::kDeactivate, slot_}); }
   bool is_physical() const override { return physical_; }
-  substructures::Exchange last_exchange() const override { return last_; }
+  substructures::Exchange actuator_exchange(int /*k*/) const override { return last_; }
   long evaluations() const override { return physical_ ? evaluations_ : 0; }
   std::string Describe() const override { return "fake spring"; }
 

@@ -15,8 +15,8 @@
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/runner/session.h"
 #include "hybridtest/substructures/law_block.h"
-#include "hybridtest/substructures/multi_actuator_substructure.h"
-#include "hybridtest/transfer/multi_emulated_bench.h"
+#include "hybridtest/substructures/physical_substructure.h"
+#include "hybridtest/transfer/emulated_bench.h"
 
 namespace hybridtest::runner {
 namespace {
@@ -72,7 +72,7 @@ TEST(MultiActuatorBoucWen, EmulatedSpecimenFollowsItsNumericalTwin) {
   // The elastic twin (the law's virgin tangent seen by the slots).
   substructures::LawBlock block(twin_spec.substructures[0].block_law->Clone(),
                                 *twin_spec.substructures[0].block_transform);
-  twin_spec.substructures[0].stiffness = *block.initial_stiffness_matrix();
+  twin_spec.substructures[0].stiffness = *block.initial_stiffness();
   twin_spec.substructures[0].block_law.reset();
   const auto elastic = RunSpecInMemory(twin_spec);
   std::cout << "[ bench against the elastic twin: " << WorstDeflection(physical, elastic) << " m ]\n";
@@ -128,7 +128,7 @@ TEST(MultiActuatorSafety, AListOfTheWrongLengthNamesTheKeyAndTheLength) {
 // One actuator's refused command holds the whole specimen: nothing moves, and the bench
 // refuses every further command until it is activated again.
 TEST(MultiActuatorSafety, AHoldHoldsEveryActuator) {
-  const auto bench = transfer::LoadMultiBenchConfig(kExample + "bench-2act.yaml");
+  const auto bench = transfer::LoadEmulatedBenchSpec(kExample + "bench-2act.yaml");
   substructures::LinearSetup setup;
   setup.p0 = Eigen::Vector2d(0.02, 0.03);
   setup.transform = Eigen::Matrix2d::Identity();
@@ -137,13 +137,13 @@ TEST(MultiActuatorSafety, AHoldHoldsEveryActuator) {
   wide.max_increment = 0.01;
   narrow.max_increment = 0.01;
   narrow.stroke_max = 0.032;  // actuator 2 may go 2 mm past its p0
-  substructures::MultiActuatorSubstructure sub(
-      "blade1", std::make_unique<transfer::MultiEmulatedBench>(bench), setup, {wide, narrow});
+  substructures::PhysicalSubstructure sub(
+      "blade1", std::make_unique<transfer::EmulatedBench>(bench), setup, {wide, narrow});
   sub.Activate();
-  auto& emulated = dynamic_cast<transfer::MultiEmulatedBench&>(sub.transfer());
+  auto& emulated = dynamic_cast<transfer::EmulatedBench&>(sub.transfer());
   std::vector<double> r(2);
-  sub.TrialSlots(std::vector<double>{0.001, 0.001}, r, {0, 0, 0.0});
-  EXPECT_THROW(sub.TrialSlots(std::vector<double>{0.002, 0.003}, r, {1, 0, 0.001}),
+  sub.Trial(std::vector<double>{0.001, 0.001}, r, {0, 0, 0.0});
+  EXPECT_THROW(sub.Trial(std::vector<double>{0.002, 0.003}, r, {1, 0, 0.001}),
                transfer::SafetyStop);
   EXPECT_NEAR(emulated.actuator_position(0), 0.021, 1e-12);  // actuator 1 did not move either
   EXPECT_NEAR(emulated.actuator_position(1), 0.031, 1e-12);

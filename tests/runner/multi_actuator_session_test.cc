@@ -10,10 +10,10 @@
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/runner/run_record.h"
 #include "hybridtest/runner/session.h"
-#include "hybridtest/substructures/multi_actuator_substructure.h"
-#include "hybridtest/transfer/multi_emulated_bench.h"
+#include "hybridtest/substructures/physical_substructure.h"
+#include "hybridtest/transfer/emulated_bench.h"
 #include "hybridtest/transfer/bench_client.h"
-#include "hybridtest/transfer/safety_gate_group.h"
+#include "hybridtest/transfer/safety_gate.h"
 #include "transfer/bench_fake.h"
 
 namespace hybridtest::runner {
@@ -64,8 +64,8 @@ TEST(MultiActuatorSession, TwoActuatorBenchMatchesTheNumericalTransformedStiffne
 
 TEST(MultiActuatorSession, TheSameOverTcpThroughTheBenchProtocol) {
   // `hybridtest bench` serving the two-actuator bench; the run's transfer is a BenchClient.
-  const auto bench_config = transfer::LoadMultiBenchConfig(kExample + "bench-2act.yaml");
-  transfer::MultiEmulatedBench bench(bench_config);
+  const auto bench_config = transfer::LoadEmulatedBenchSpec(kExample + "bench-2act.yaml");
+  transfer::EmulatedBench bench(bench_config);
   transfer::BenchServerOptions options;
   options.limits = bench_config.actuators[0].safety;
   for (const auto& a : bench_config.actuators) options.start_positions.push_back(a.initial_position);
@@ -139,12 +139,12 @@ substructures::LinearSetup ExampleSetup() {
   return s;
 }
 
-TEST(MultiActuatorSubstructure, MeasuredK0IsTheTransformedSpecimenStiffness) {
-  const auto bench = transfer::LoadMultiBenchConfig(kExample + "bench-2act.yaml");
+TEST(PhysicalSubstructure, MeasuredK0IsTheTransformedSpecimenStiffness) {
+  const auto bench = transfer::LoadEmulatedBenchSpec(kExample + "bench-2act.yaml");
   transfer::SafetyLimits limits;
   limits.max_increment = 0.002;
-  substructures::MultiActuatorSubstructure sub(
-      "blade1", std::make_unique<transfer::MultiEmulatedBench>(bench), ExampleSetup(),
+  substructures::PhysicalSubstructure sub(
+      "blade1", std::make_unique<transfer::EmulatedBench>(bench), ExampleSetup(),
       {limits, limits});
   sub.Activate();
   const auto m = sub.MeasureInitialStiffness(1e-3);
@@ -154,18 +154,18 @@ TEST(MultiActuatorSubstructure, MeasuredK0IsTheTransformedSpecimenStiffness) {
   EXPECT_NEAR(m.actuator_k(0, 1), 1200.0, 1e-6);
   // Each actuator ramped in turn: 4 up and 4 down each.
   EXPECT_EQ(sub.evaluations(), 16);
-  ASSERT_TRUE(sub.initial_stiffness_matrix());
+  ASSERT_TRUE(sub.initial_stiffness());
 }
 
-TEST(SafetyGateGroup, OneRefusedCommandMovesNoActuator) {
-  const auto bench_config = transfer::LoadMultiBenchConfig(kExample + "bench-2act.yaml");
-  transfer::MultiEmulatedBench bench(bench_config);
+TEST(SafetyGate, OneRefusedCommandMovesNoActuator) {
+  const auto bench_config = transfer::LoadEmulatedBenchSpec(kExample + "bench-2act.yaml");
+  transfer::EmulatedBench bench(bench_config);
   bench.Activate();
   transfer::SafetyLimits limits;
   limits.stroke_min = -0.1;
   limits.stroke_max = 0.1;
   limits.max_increment = 0.005;
-  transfer::SafetyGateGroup gate({limits, limits});
+  transfer::SafetyGate gate({limits, limits});
   gate.monitor(0).SetStartPosition(0.02);
   gate.monitor(1).SetStartPosition(0.03);
   std::vector<transfer::GatedMove> out;

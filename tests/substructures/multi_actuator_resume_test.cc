@@ -1,4 +1,4 @@
-// Resume of a specimen on two actuators (MultiActuatorSubstructure::ReimposeCommitted): the
+// Resume of a specimen on two actuators (PhysicalSubstructure::ReimposeCommitted): the
 // actuators are read where they are, walked back together in moves within every
 // max_increment, and the committed commands re-imposed; a specimen that no longer carries the
 // committed forces is refused with the actuator named.
@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "hybridtest/substructures/multi_actuator_substructure.h"
-#include "hybridtest/transfer/multi_emulated_bench.h"
+#include "hybridtest/substructures/physical_substructure.h"
+#include "hybridtest/transfer/emulated_bench.h"
 
 namespace hybridtest::substructures {
 namespace {
@@ -20,8 +20,8 @@ const std::string kExample =
 constexpr double kMaxIncrement = 0.005;  // [m], as the example bench's own limit
 
 struct Rig {
-  transfer::MultiEmulatedBench* bench = nullptr;  // owned by specimen
-  std::unique_ptr<MultiActuatorSubstructure> specimen;
+  transfer::EmulatedBench* bench = nullptr;  // owned by specimen
+  std::unique_ptr<PhysicalSubstructure> specimen;
 };
 
 Rig MakeRig(const std::string& bench_file) {
@@ -32,11 +32,11 @@ Rig MakeRig(const std::string& bench_file) {
   setup.load_cell_zero = Eigen::Vector2d::Zero();
   transfer::SafetyLimits limits;
   limits.max_increment = kMaxIncrement;
-  auto bench = std::make_unique<transfer::MultiEmulatedBench>(
-      transfer::LoadMultiBenchConfig(kExample + bench_file));
+  auto bench = std::make_unique<transfer::EmulatedBench>(
+      transfer::LoadEmulatedBenchSpec(kExample + bench_file));
   Rig rig;
   rig.bench = bench.get();
-  rig.specimen = std::make_unique<MultiActuatorSubstructure>(
+  rig.specimen = std::make_unique<PhysicalSubstructure>(
       "blade1", std::move(bench), std::move(setup), std::vector{limits, limits});
   rig.specimen->Activate();
   return rig;
@@ -45,7 +45,7 @@ Rig MakeRig(const std::string& bench_file) {
 // Drives the specimen along slot displacements (out to `peak` and back to `end`, in steps the
 // gate accepts) and returns its state with the bench's own state dropped: a restored run whose
 // bench came back at p0, where a lab would find an actuator that was moved by hand.
-nlohmann::json RunAndSave(MultiActuatorSubstructure& s, double peak, double end) {
+nlohmann::json RunAndSave(PhysicalSubstructure& s, double peak, double end) {
   std::vector<double> path;
   for (int k = 1; k <= 40; ++k) path.push_back(peak * k / 40.0);
   for (int k = 1; k <= 30; ++k) path.push_back(peak + (end - peak) * k / 30.0);
@@ -53,7 +53,7 @@ nlohmann::json RunAndSave(MultiActuatorSubstructure& s, double peak, double end)
   for (double x : path) {
     const double d[2] = {x, -0.5 * x};
     double r[2];
-    s.TrialSlots(d, r, {++step, 0, 0.001 * static_cast<double>(step)});
+    s.Trial(d, r, {++step, 0, 0.001 * static_cast<double>(step)});
   }
   nlohmann::json state = s.SaveState();
   state["transfer"] = nullptr;

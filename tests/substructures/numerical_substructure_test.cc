@@ -7,9 +7,12 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/constitutive/bouc_wen.h"
 #include "hybridtest/constitutive/linear_spring.h"
+#include "substructures/trial_one.h"
 
 namespace hybridtest::substructures {
 namespace {
+
+using testing::TrialOne;
 
 // k0 = 7200 N/m, 10 % post-yield, yield at 2 mm.
 std::unique_ptr<constitutive::RestoringForceLaw> MakeBoucWen() {
@@ -19,7 +22,7 @@ std::unique_ptr<constitutive::RestoringForceLaw> MakeBoucWen() {
 
 TEST(NumericalSubstructure, LinearSpringIsKTimesD) {
   NumericalSubstructure sub(std::make_unique<constitutive::LinearSpring>(7200.0));
-  EXPECT_DOUBLE_EQ(sub.Trial(0.003, {}), 21.6);
+  EXPECT_DOUBLE_EQ(TrialOne(sub, 0.003, {}), 21.6);
   EXPECT_FALSE(sub.is_physical());
   EXPECT_EQ(sub.evaluations(), 0);
   EXPECT_NE(sub.Describe().find("numerical"), std::string::npos);
@@ -31,29 +34,29 @@ TEST(NumericalSubstructure, RejectsNoLaw) {
 
 TEST(NumericalSubstructure, BoucWenTrialsDoNotCommit) {
   NumericalSubstructure sub(MakeBoucWen());
-  const double first = sub.Trial(0.01, {0, 0, 0.0});
+  const double first = TrialOne(sub, 0.01, {0, 0, 0.0});
   // Any number of other trials (stages of the same step) leave the committed state alone.
-  for (double d : {0.02, -0.01, 0.005, 0.0}) sub.Trial(d, {0, 1, 0.0});
-  EXPECT_EQ(sub.Trial(0.01, {0, 0, 0.0}), first);
+  for (double d : {0.02, -0.01, 0.005, 0.0}) TrialOne(sub, d, {0, 1, 0.0});
+  EXPECT_EQ(TrialOne(sub, 0.01, {0, 0, 0.0}), first);
   // Back at zero without a commit: the virgin state, no force.
-  EXPECT_EQ(sub.Trial(0.0, {0, 0, 0.0}), 0.0);
+  EXPECT_EQ(TrialOne(sub, 0.0, {0, 0, 0.0}), 0.0);
 }
 
 TEST(NumericalSubstructure, BoucWenCommitMakesTheLastTrialPermanent) {
   NumericalSubstructure committed(MakeBoucWen());
   NumericalSubstructure fresh(MakeBoucWen());
   // Beyond yield and committed there: unloading to zero leaves a residual force.
-  committed.Trial(0.01, {0, 0, 0.0});
+  TrialOne(committed, 0.01, {0, 0, 0.0});
   committed.Commit();
-  const double residual = committed.Trial(0.0, {1, 0, 0.001});
+  const double residual = TrialOne(committed, 0.0, {1, 0, 0.001});
   EXPECT_GT(std::abs(residual), 1.0) << "the commit at 10 mm left no hysteresis";
-  EXPECT_EQ(fresh.Trial(0.0, {1, 0, 0.001}), 0.0);
+  EXPECT_EQ(TrialOne(fresh, 0.0, {1, 0, 0.001}), 0.0);
   // Only the last trial before Commit counts: trial far away, then back, then commit.
   NumericalSubstructure last(MakeBoucWen());
-  last.Trial(0.05, {0, 0, 0.0});
-  last.Trial(0.01, {0, 1, 0.0});
+  TrialOne(last, 0.05, {0, 0, 0.0});
+  TrialOne(last, 0.01, {0, 1, 0.0});
   last.Commit();
-  EXPECT_EQ(last.Trial(0.0, {1, 0, 0.001}), residual);
+  EXPECT_EQ(TrialOne(last, 0.0, {1, 0, 0.001}), residual);
 }
 
 }  // namespace

@@ -13,9 +13,12 @@
 #include "hybridtest/substructures/physical_substructure.h"
 #include "hybridtest/transfer/bench_config.h"
 #include "hybridtest/transfer/emulated_bench.h"
+#include "substructures/trial_one.h"
 
 namespace hybridtest::substructures {
 namespace {
+
+using testing::TrialOne;
 
 const std::string kIdeal = std::string(HYBRIDTEST_SOURCE_DIR) + "/examples/rotor/bench-ideal.yaml";
 const transfer::SafetyLimits kLimits{-0.15, 0.15, 0.005, 8000.0, 10000.0, 5.0};
@@ -32,7 +35,7 @@ std::unique_ptr<PhysicalSubstructure> MakeIdealSlot(std::optional<double> k0 = s
 nlohmann::json StateAfterTrials(double increment = 0.003) {
   auto slot = MakeIdealSlot();
   slot->Activate();
-  for (int k = 1; k <= 4; ++k) slot->Trial(increment * k, {k, 0, 0.001 * k});
+  for (int k = 1; k <= 4; ++k) TrialOne(*slot, increment * k, {k, 0, 0.001 * k});
   slot->Commit();
   return nlohmann::json::parse(slot->SaveState().dump());
 }
@@ -59,12 +62,13 @@ TEST(PhysicalResume, ReimposesTheCommittedCommandOnce) {
   std::vector<bool> moves;
   const auto check = slot->ReimposeCommitted(0.0, 0.0, 4, [&](bool r) { moves.push_back(r); });
   EXPECT_EQ(moves, std::vector<bool>{true});
-  EXPECT_NEAR(check.command, 0.032, 1e-12);
-  ASSERT_TRUE(check.read_position.has_value());
-  EXPECT_NEAR(*check.read_position, 0.032, 1e-12);
+  EXPECT_NEAR(check.actuators[0].command, 0.032, 1e-12);
+  ASSERT_TRUE(check.actuators[0].read_position.has_value());
+  EXPECT_NEAR(*check.actuators[0].read_position, 0.032, 1e-12);
   EXPECT_EQ(check.ramp_moves, 0);
-  EXPECT_EQ(check.force, check.committed_force);  // ideal bench: exactly
-  EXPECT_DOUBLE_EQ(check.tolerance, 100.0);       // 1 % of force_hard
+  // Ideal bench: exactly; the tolerance is 1 % of force_hard.
+  EXPECT_EQ(check.actuators[0].force, check.actuators[0].committed_force);
+  EXPECT_DOUBLE_EQ(check.actuators[0].force_tolerance, 100.0);
 }
 
 TEST(PhysicalResume, RampsBackWithinTheIncrementLimit) {
@@ -75,8 +79,8 @@ TEST(PhysicalResume, RampsBackWithinTheIncrementLimit) {
   slot->RestoreState(state);
   std::vector<double> commands;
   const auto check = slot->ReimposeCommitted(
-      0.0, 0.0, 4, [&](bool) { commands.push_back(slot->last_exchange().command); });
-  EXPECT_NEAR(*check.read_position, 0.020, 1e-12);
+      0.0, 0.0, 4, [&](bool) { commands.push_back(slot->actuator_exchange(0).command); });
+  EXPECT_NEAR(*check.actuators[0].read_position, 0.020, 1e-12);
   EXPECT_EQ(check.ramp_moves, 2);  // 12 mm in moves of at most 5 mm: 3 moves
   ASSERT_EQ(commands.size(), 3u);
   double previous = 0.020;
@@ -85,13 +89,13 @@ TEST(PhysicalResume, RampsBackWithinTheIncrementLimit) {
     previous = c;
   }
   EXPECT_NEAR(commands.back(), 0.032, 1e-12);
-  EXPECT_NEAR(check.force, check.committed_force, 1e-9);
+  EXPECT_NEAR(check.actuators[0].force, check.actuators[0].committed_force, 1e-9);
 }
 
 TEST(PhysicalResume, RefusesAForceThatDisagreesWithTheJournal) {
   auto state = StateAfterTrials();
-  const double committed = state["last"]["force_N"].get<double>();
-  state["last"]["force_N"] = committed + 150.0;  // the specimen changed (say, it cracked)
+  const double committed = state["last"][0][2].get<double>();  // [command, position, force, t]
+  state["last"][0][2] = committed + 150.0;  // the specimen changed (say, it cracked)
   {
     const transfer::SafetyStop e = RefusalOf(state);
     EXPECT_EQ(e.limit(), "resume_force_tolerance");
@@ -116,7 +120,7 @@ TEST(PhysicalResume, AGapOfExactlyTwoIncrementsIsRampedStrictlyWithinTheLimit) {
   slot->RestoreState(state);
   std::vector<double> commands;
   const auto check = slot->ReimposeCommitted(
-      0.0, 0.0, 4, [&](bool) { commands.push_back(slot->last_exchange().command); });
+      0.0, 0.0, 4, [&](bool) { commands.push_back(slot->actuator_exchange(0).command); });
   EXPECT_EQ(check.ramp_moves, 2);  // 10 mm = 2 × 5 mm: three moves, none at the limit
   double previous = 0.020;
   for (double c : commands) {
@@ -130,7 +134,7 @@ TEST(PhysicalResume, RefusesAPositionThatDisagreesWithTheJournal) {
   auto state = StateAfterTrials();
   // The journal says the actuator stood 2 mm elsewhere (a slipped clamp, a re-zeroed encoder):
   // the force alone would not tell on a soft specimen.
-  state["last"]["position_m"] = state["last"]["position_m"].get<double>() + 0.002;
+  state["last"][0][1] = state["last"][0][1].get<double>() + 0.002;
   {
     const transfer::SafetyStop e = RefusalOf(state);
     EXPECT_EQ(e.limit(), "resume_position_tolerance");
@@ -142,6 +146,37 @@ TEST(PhysicalResume, RefusesAPositionThatDisagreesWithTheJournal) {
   again->Activate();
   again->RestoreState(state);
   EXPECT_NO_THROW(again->ReimposeCommitted(0.0, 0.003, 4, {}));
+}
+
+// The state of a one-actuator run saved before the one- and several-actuator substructures were
+// one class: {"last": {"command_m", ...}, "k0": number or null, "safety": one monitor state}.
+nlohmann::json OneActuatorStateOfBefore(const nlohmann::json& state) {
+  const auto& last = state["last"][0];
+  return {{"last", {{"command_m", last[0]}, {"position_m", last[1]}, {"force_N", last[2]},
+                    {"lab_time_s", last[3]}}},
+          {"evaluations", state["evaluations"]},
+          {"k0", 7200.0},
+          {"safety", state["safety"][0]},
+          {"transfer", state["transfer"]}};
+}
+
+TEST(PhysicalResume, AOneActuatorStateSavedBeforeStillResumes) {
+  const auto state = StateAfterTrials();
+  auto slot = MakeIdealSlot();
+  slot->Activate();
+  slot->RestoreState(OneActuatorStateOfBefore(state));
+  EXPECT_EQ(slot->evaluations(), state["evaluations"].get<long>());
+  ASSERT_TRUE(slot->initial_stiffness());
+  EXPECT_EQ((*slot->initial_stiffness())(0, 0), 7200.0);
+  const auto check = slot->ReimposeCommitted(0.0, 0.0, 4, {});
+  EXPECT_NEAR(check.actuators[0].command, 0.032, 1e-12);
+  EXPECT_EQ(check.ramp_moves, 0);
+  EXPECT_EQ(check.actuators[0].force, check.actuators[0].committed_force);
+  // What it saves now reads back the same.
+  auto again = MakeIdealSlot();
+  again->Activate();
+  again->RestoreState(nlohmann::json::parse(slot->SaveState().dump()));
+  EXPECT_EQ(again->SaveState(), slot->SaveState());
 }
 
 TEST(PhysicalResume, TheDefaultForceToleranceFollowsK0AndThePositionTolerance) {

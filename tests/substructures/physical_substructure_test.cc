@@ -16,9 +16,12 @@
 #include "hybridtest/transfer/emulated_bench.h"
 #include "hybridtest/transfer/numerical_loopback.h"
 #include "substructures/recording_transfer.h"
+#include "substructures/trial_one.h"
 
 namespace hybridtest::substructures {
 namespace {
+
+using testing::TrialOne;
 
 using testing::RecordingTransfer;
 using testing::TransferLog;
@@ -63,11 +66,11 @@ E ExpectThrows(const std::function<void()>& f) {
 TEST(PhysicalSubstructure, ConvertsToBenchUnitsAndBackToSi) {
   Rig rig;
   EXPECT_EQ(rig.log->activations, 1);
-  const double r = rig.sub.Trial(0.004, {0, 0, 0.0});
+  const double r = TrialOne(rig.sub, 0.004, {0, 0, 0.0});
   ASSERT_EQ(rig.log->executed.size(), 1u);
   EXPECT_NEAR(rig.log->executed[0], 24.0, 1e-12);  // p0 + d in mm
   EXPECT_NEAR(r, kStiffness * 0.004, 1e-9);        // N, from kN
-  const Exchange e = rig.sub.last_exchange();
+  const Exchange e = rig.sub.actuator_exchange(0);
   EXPECT_NEAR(e.command, 0.024, 1e-15);
   EXPECT_NEAR(e.position, 0.024, 1e-15);
   EXPECT_NEAR(e.force, kStiffness * 0.004, 1e-9);
@@ -81,7 +84,7 @@ TEST(PhysicalSubstructure, ConvertsToBenchUnitsAndBackToSi) {
 
 TEST(PhysicalSubstructure, CountsEveryEvaluation) {
   Rig rig;
-  for (int i = 0; i < 7; ++i) rig.sub.Trial(1e-4 * i, {i / 2, i % 2, 1e-3 * i});
+  for (int i = 0; i < 7; ++i) TrialOne(rig.sub, 1e-4 * i, {i / 2, i % 2, 1e-3 * i});
   EXPECT_EQ(rig.sub.evaluations(), 7);
   EXPECT_EQ(rig.log->executed.size(), 7u);
 }
@@ -90,9 +93,9 @@ TEST(PhysicalSubstructure, CommandBeyondStrokeIsNeverExecutedAndHolds) {
   transfer::SafetyLimits limits;
   limits.stroke_max = 0.030;
   Rig rig(limits);
-  rig.sub.Trial(0.004, {0, 0, 0.0});   // 24 mm
-  rig.sub.Trial(0.0075, {0, 1, 0.0});  // 27.5 mm
-  const auto stop = ExpectThrows<transfer::SafetyStop>([&] { rig.sub.Trial(0.011, {1, 0, 0.001}); });
+  TrialOne(rig.sub, 0.004, {0, 0, 0.0});   // 24 mm
+  TrialOne(rig.sub, 0.0075, {0, 1, 0.0});  // 27.5 mm
+  const auto stop = ExpectThrows<transfer::SafetyStop>([&] { TrialOne(rig.sub, 0.011, {1, 0, 0.001}); });
   EXPECT_EQ(stop.limit(), "stroke_max");
   EXPECT_NEAR(stop.value(), 0.031, 1e-15);
   EXPECT_EQ(stop.step(), 1);
@@ -105,8 +108,8 @@ TEST(PhysicalSubstructure, CommandBeyondStrokeIsNeverExecutedAndHolds) {
 
 TEST(PhysicalSubstructure, IncrementBeyondLimitIsNeverExecuted) {
   Rig rig;  // max_increment 5 mm
-  rig.sub.Trial(0.0, {0, 0, 0.0});
-  const auto stop = ExpectThrows<transfer::SafetyStop>([&] { rig.sub.Trial(0.006, {0, 1, 0.0}); });
+  TrialOne(rig.sub, 0.0, {0, 0, 0.0});
+  const auto stop = ExpectThrows<transfer::SafetyStop>([&] { TrialOne(rig.sub, 0.006, {0, 1, 0.0}); });
   EXPECT_EQ(stop.limit(), "max_increment");
   EXPECT_EQ(rig.log->executed.size(), 1u);
   EXPECT_EQ(rig.log->holds, 1);
@@ -117,10 +120,10 @@ TEST(PhysicalSubstructure, PredictedForceBeyondSoftLimitIsNeverExecuted) {
   limits.force_soft = 50.0;
   limits.force_hard = 60.0;
   Rig rig(limits);
-  rig.sub.Trial(0.001, {0, 0, 0.0});  // 7.2 N
-  rig.sub.Trial(0.002, {0, 1, 0.0});  // 14.4 N: the secant stiffness is now 7200 N/m
-  rig.sub.Trial(0.004, {1, 0, 0.0});  // 28.8 N
-  const auto stop = ExpectThrows<transfer::SafetyStop>([&] { rig.sub.Trial(0.0075, {1, 1, 0.0}); });
+  TrialOne(rig.sub, 0.001, {0, 0, 0.0});  // 7.2 N
+  TrialOne(rig.sub, 0.002, {0, 1, 0.0});  // 14.4 N: the secant stiffness is now 7200 N/m
+  TrialOne(rig.sub, 0.004, {1, 0, 0.0});  // 28.8 N
+  const auto stop = ExpectThrows<transfer::SafetyStop>([&] { TrialOne(rig.sub, 0.0075, {1, 1, 0.0}); });
   EXPECT_EQ(stop.limit(), "force_soft");
   EXPECT_NEAR(stop.value(), 54.0, 1e-6);
   EXPECT_EQ(rig.log->executed.size(), 3u);
@@ -135,7 +138,7 @@ TEST(PhysicalSubstructure, MeasuredForceBeyondHardLimitStopsAndHolds) {
   Rig rig(limits);
   // No measurement yet: nothing to predict from, so the command goes out; the measurement
   // (72 N) is then caught.
-  const auto stop = ExpectThrows<transfer::SafetyStop>([&] { rig.sub.Trial(0.010, {0, 0, 0.0}); });
+  const auto stop = ExpectThrows<transfer::SafetyStop>([&] { TrialOne(rig.sub, 0.010, {0, 0, 0.0}); });
   EXPECT_EQ(stop.limit(), "force_hard");
   EXPECT_NEAR(stop.value(), 72.0, 1e-9);
   EXPECT_EQ(rig.log->executed.size(), 1u);
@@ -149,20 +152,20 @@ TEST(PhysicalSubstructure, MeasuredForceBeyondHardLimitStopsAndHolds) {
 TEST(PhysicalSubstructure, NonFiniteMeasurementStopsAndHolds) {
   Rig rig;
   rig.log->nan_force_at = 1;
-  rig.sub.Trial(0.001, {0, 0, 0.0});
-  const auto stop = ExpectThrows<transfer::SafetyStop>([&] { rig.sub.Trial(0.002, {0, 1, 0.0}); });
+  TrialOne(rig.sub, 0.001, {0, 0, 0.0});
+  const auto stop = ExpectThrows<transfer::SafetyStop>([&] { TrialOne(rig.sub, 0.002, {0, 1, 0.0}); });
   EXPECT_EQ(stop.limit(), "force_finite");
   EXPECT_EQ(stop.step(), 0);
   EXPECT_EQ(stop.stage(), 1);
   EXPECT_EQ(rig.log->holds, 1);
   EXPECT_EQ(rig.sub.evaluations(), 2);
-  EXPECT_TRUE(std::isnan(rig.sub.last_exchange().force));
+  EXPECT_TRUE(std::isnan(rig.sub.actuator_exchange(0).force));
 }
 
 TEST(PhysicalSubstructure, NonFiniteCommandIsNeverExecuted) {
   Rig rig;
   const auto stop = ExpectThrows<transfer::SafetyStop>(
-      [&] { rig.sub.Trial(std::numeric_limits<double>::quiet_NaN(), {3, 1, 0.0}); });
+      [&] { TrialOne(rig.sub, std::numeric_limits<double>::quiet_NaN(), {3, 1, 0.0}); });
   EXPECT_EQ(stop.limit(), "command_finite");
   EXPECT_TRUE(rig.log->executed.empty());
   EXPECT_EQ(rig.log->holds, 1);
@@ -171,9 +174,9 @@ TEST(PhysicalSubstructure, NonFiniteCommandIsNeverExecuted) {
 TEST(PhysicalSubstructure, TransferErrorHoldsAndPropagates) {
   Rig rig;
   rig.log->throw_transfer_error_at = 2;
-  rig.sub.Trial(0.001, {0, 0, 0.0});
-  rig.sub.Trial(0.001, {0, 1, 0.0});
-  EXPECT_THROW(rig.sub.Trial(0.001, {1, 0, 0.0}), TransferError);
+  TrialOne(rig.sub, 0.001, {0, 0, 0.0});
+  TrialOne(rig.sub, 0.001, {0, 1, 0.0});
+  EXPECT_THROW(TrialOne(rig.sub, 0.001, {1, 0, 0.0}), TransferError);
   EXPECT_EQ(rig.log->holds, 1);
   EXPECT_EQ(rig.sub.evaluations(), 2);  // the failed exchange returned nothing
 }
@@ -217,14 +220,14 @@ TEST(PhysicalSubstructure, OverNumericalLoopbackIsTheSpring) {
       SetupP0(), {});
   sub.Activate();
   for (double d : {0.0, 0.001, -0.002, 0.0025}) {
-    EXPECT_NEAR(sub.Trial(d, {0, 0, 0.0}), kStiffness * d, 1e-9) << d;
+    EXPECT_NEAR(TrialOne(sub, d, {0, 0, 0.0}), kStiffness * d, 1e-9) << d;
   }
   EXPECT_EQ(sub.evaluations(), 4);
   // A refused command holds the loopback: it refuses to move until activated again.
-  EXPECT_THROW(sub.Trial(0.2, {1, 0, 0.0}), transfer::SafetyStop);
-  EXPECT_THROW(sub.Trial(0.003, {1, 0, 0.0}), TransferError);
+  EXPECT_THROW(TrialOne(sub, 0.2, {1, 0, 0.0}), transfer::SafetyStop);
+  EXPECT_THROW(TrialOne(sub, 0.003, {1, 0, 0.0}), TransferError);
   sub.Activate();
-  EXPECT_NEAR(sub.Trial(0.003, {1, 0, 0.0}), kStiffness * 0.003, 1e-9);
+  EXPECT_NEAR(TrialOne(sub, 0.003, {1, 0, 0.0}), kStiffness * 0.003, 1e-9);
 }
 
 TEST(PhysicalSubstructure, OverEmulatedBenchRefusedCommandNeverMovesTheActuator) {
@@ -236,14 +239,14 @@ TEST(PhysicalSubstructure, OverEmulatedBenchRefusedCommandNeverMovesTheActuator)
   limits.stroke_max = 0.025;  // tighter than the bench's own 150 mm
   PhysicalSubstructure sub("r1", std::move(bench), SetupP0(), limits);
   sub.Activate();
-  EXPECT_NEAR(sub.Trial(0.001, {0, 0, 0.0}), kStiffness * 0.001, 1e-9);
-  EXPECT_NEAR(sub.Trial(0.004, {0, 1, 0.0}), kStiffness * 0.004, 1e-9);
+  EXPECT_NEAR(TrialOne(sub, 0.001, {0, 0, 0.0}), kStiffness * 0.001, 1e-9);
+  EXPECT_NEAR(TrialOne(sub, 0.004, {0, 1, 0.0}), kStiffness * 0.004, 1e-9);
   EXPECT_EQ(raw->command_count(), 2);
   const double position = raw->actuator_position();
   EXPECT_NEAR(position, 0.024, 1e-9);
-  EXPECT_GT(sub.last_exchange().lab_time, 0.0);
+  EXPECT_GT(sub.actuator_exchange(0).lab_time, 0.0);
 
-  EXPECT_THROW(sub.Trial(0.0055, {1, 0, 0.001}), transfer::SafetyStop);
+  EXPECT_THROW(TrialOne(sub, 0.0055, {1, 0, 0.001}), transfer::SafetyStop);
   EXPECT_EQ(raw->command_count(), 2) << "the refused command reached the bench";
   EXPECT_TRUE(raw->holding());
   EXPECT_EQ(raw->actuator_position(), position) << "the actuator moved on a refused command";
@@ -259,9 +262,9 @@ TEST(PhysicalSubstructure, OverEmulatedBenchABenchRefusalHolds) {
   transfer::EmulatedBench* raw = bench.get();
   PhysicalSubstructure sub("r1", std::move(bench), SetupP0(), {});
   sub.Activate();
-  sub.Trial(0.001, {0, 0, 0.0});
+  TrialOne(sub, 0.001, {0, 0, 0.0});
   const double position = raw->actuator_position();
-  EXPECT_THROW(sub.Trial(0.003, {0, 1, 0.0}), transfer::SafetyStop);
+  EXPECT_THROW(TrialOne(sub, 0.003, {0, 1, 0.0}), transfer::SafetyStop);
   EXPECT_TRUE(raw->holding());
   EXPECT_EQ(raw->actuator_position(), position);
 }

@@ -29,8 +29,7 @@ const std::string kExample =
 class RodTwin final : public Substructure {
  public:
   int num_slots() const override { return 2; }
-  double Trial(double, const TrialContext&) override { throw Error("two slots"); }
-  void TrialSlots(std::span<const double> d, std::span<double> r, const TrialContext&) override {
+  void Trial(std::span<const double> d, std::span<double> r, const TrialContext&) override {
     const double bx[2] = {-0.25, -0.15}, by[2] = {0.0, -0.20};
     double len[2], nx[2], ny[2], dl[2];
     for (int k = 0; k < 2; ++k) {

@@ -9,10 +9,10 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/substructures/law_block.h"
-#include "hybridtest/substructures/multi_actuator_substructure.h"
+#include "hybridtest/substructures/physical_substructure.h"
 #include "hybridtest/substructures/rod_setup.h"
 #include "hybridtest/substructures/substructure_spec.h"
-#include "hybridtest/transfer/multi_emulated_bench.h"
+#include "hybridtest/transfer/emulated_bench.h"
 
 namespace hybridtest::substructures {
 namespace {
@@ -62,13 +62,13 @@ Eigen::MatrixXd BenchK() {
   return k;
 }
 
-std::unique_ptr<MultiActuatorSubstructure> MakeSpecimen(double max_increment = 0.005) {
+std::unique_ptr<PhysicalSubstructure> MakeSpecimen(double max_increment = 0.005) {
   transfer::SafetyLimits limits;
   limits.max_increment = max_increment;
-  return std::make_unique<MultiActuatorSubstructure>(
+  return std::make_unique<PhysicalSubstructure>(
       "blade1",
-      std::make_unique<transfer::MultiEmulatedBench>(
-          transfer::LoadMultiBenchConfig(kExample + "bench-2act.yaml")),
+      std::make_unique<transfer::EmulatedBench>(
+          transfer::LoadEmulatedBenchSpec(kExample + "bench-2act.yaml")),
       std::make_unique<RodSetup>(ExampleRods()), std::vector{limits, limits});
 }
 
@@ -91,7 +91,7 @@ TEST(RodSubstructure, EveryTrialIsTheRodsViewOfTheSpecimen) {
   long step = 0;
   for (const auto& d : Path()) {
     Eigen::VectorXd r(2);
-    sub->TrialSlots({d.data(), 2}, {r.data(), 2}, {step++, 0, 0.0});
+    sub->Trial({d.data(), 2}, {r.data(), 2}, {step++, 0, 0.0});
     sub->Commit();
     worst = std::max(worst, (r - OracleForces(d, BenchK())).cwiseAbs().maxCoeff());
     worst_linear = std::max(worst_linear, (r - t0.transpose() * BenchK() * t0 * d).cwiseAbs().maxCoeff());
@@ -128,15 +128,15 @@ TEST(RodSubstructure, PlanTwinSeesTheGeometry) {
   long step = 0;
   for (const auto& d : Path()) {
     Eigen::VectorXd r(2), rt(2);
-    sub->TrialSlots({d.data(), 2}, {r.data(), 2}, {step, 0, 0.0});
-    twin->TrialSlots({d.data(), 2}, {rt.data(), 2}, {step++, 0, 0.0});
+    sub->Trial({d.data(), 2}, {r.data(), 2}, {step, 0, 0.0});
+    twin->Trial({d.data(), 2}, {rt.data(), 2}, {step++, 0, 0.0});
     sub->Commit();
     twin->Commit();
     EXPECT_LT((r - rt).cwiseAbs().maxCoeff(), 1e-9);
   }
   Eigen::Matrix2d expected;
   expected << 7520.0, 2400.0, 2400.0, 1920.0;
-  EXPECT_LT((*twin->initial_stiffness_matrix() - expected).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((*twin->initial_stiffness() - expected).cwiseAbs().maxCoeff(), 1e-9);
 }
 
 SlotLimits Limits(double max_d_edge, double max_f_flap) {
@@ -152,11 +152,11 @@ TEST(RodSubstructure, SlotDisplacementBeyondItsLimitIsRefusedBeforeAnyActuatorMo
   sub->SetSlotLimits(Limits(0.01, 1e9));
   sub->Activate();
   Eigen::Vector2d d(0.002, 0.004), r;
-  sub->TrialSlots({d.data(), 2}, {r.data(), 2}, {0, 0, 0.0});
+  sub->Trial({d.data(), 2}, {r.data(), 2}, {0, 0, 0.0});
   const long moves = *sub->transfer().commands_received();
   d << 0.004, 0.0105;  // edge beyond 10 mm; each actuator's own step would pass
   try {
-    sub->TrialSlots({d.data(), 2}, {r.data(), 2}, {1, 0, 0.0});
+    sub->Trial({d.data(), 2}, {r.data(), 2}, {1, 0, 0.0});
     FAIL() << "no stop";
   } catch (const transfer::SafetyStop& e) {
     EXPECT_EQ(e.limit(), "slot_max_displacement");
@@ -166,7 +166,7 @@ TEST(RodSubstructure, SlotDisplacementBeyondItsLimitIsRefusedBeforeAnyActuatorMo
   EXPECT_EQ(*sub->transfer().commands_received(), moves);  // nothing was sent
   // A negative displacement beyond it is refused as well.
   d << 0.004, -0.011;
-  EXPECT_THROW(sub->TrialSlots({d.data(), 2}, {r.data(), 2}, {1, 1, 0.0}), transfer::SafetyStop);
+  EXPECT_THROW(sub->Trial({d.data(), 2}, {r.data(), 2}, {1, 1, 0.0}), transfer::SafetyStop);
   EXPECT_EQ(*sub->transfer().commands_received(), moves);
 }
 
@@ -175,17 +175,17 @@ TEST(RodSubstructure, SlotForceBeyondItsLimitHoldsEveryActuatorAndNamesTheSlot) 
   sub->SetSlotLimits(Limits(0.2, 100.0));
   sub->Activate();
   Eigen::Vector2d d(0.004, 0.0), r;  // r_flap ≈ 7520 · 0.004 = 30 N
-  sub->TrialSlots({d.data(), 2}, {r.data(), 2}, {0, 0, 0.0});
+  sub->Trial({d.data(), 2}, {r.data(), 2}, {0, 0, 0.0});
   EXPECT_LT(std::abs(r(0)), 100.0);
   d << 0.008, 0.003;  // r_flap ≈ 67 N
-  sub->TrialSlots({d.data(), 2}, {r.data(), 2}, {1, 0, 0.0});
+  sub->Trial({d.data(), 2}, {r.data(), 2}, {1, 0, 0.0});
   EXPECT_LT(std::abs(r(0)), 100.0);
   d << 0.0115, 0.004;  // r_flap ≈ 96 N
-  sub->TrialSlots({d.data(), 2}, {r.data(), 2}, {2, 0, 0.0});
+  sub->Trial({d.data(), 2}, {r.data(), 2}, {2, 0, 0.0});
   EXPECT_LT(std::abs(r(0)), 100.0);
   d << 0.015, 0.004;  // r_flap ≈ 122 N
   try {
-    sub->TrialSlots({d.data(), 2}, {r.data(), 2}, {3, 0, 0.0});
+    sub->Trial({d.data(), 2}, {r.data(), 2}, {3, 0, 0.0});
     FAIL() << "no stop";
   } catch (const transfer::SafetyStop& e) {
     EXPECT_EQ(e.limit(), "slot_max_force");
@@ -195,7 +195,7 @@ TEST(RodSubstructure, SlotForceBeyondItsLimitHoldsEveryActuatorAndNamesTheSlot) 
   // Every actuator holds: the bench refuses the next move.
   const long moves = *sub->transfer().commands_received();
   d << 0.015, 0.004;
-  EXPECT_ANY_THROW(sub->TrialSlots({d.data(), 2}, {r.data(), 2}, {4, 0, 0.0}));
+  EXPECT_ANY_THROW(sub->Trial({d.data(), 2}, {r.data(), 2}, {4, 0, 0.0}));
   EXPECT_EQ(*sub->transfer().commands_received(), moves);
 }
 

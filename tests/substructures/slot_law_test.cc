@@ -14,9 +14,12 @@
 #include "hybridtest/substructures/physical_substructure.h"
 #include "hybridtest/transfer/bench_config.h"
 #include "hybridtest/transfer/emulated_bench.h"
+#include "substructures/trial_one.h"
 
 namespace hybridtest::substructures {
 namespace {
+
+using testing::TrialOne;
 
 transfer::EmulatedBenchConfig IdealBoucWenBench() {
   transfer::EmulatedBenchConfig c = transfer::DefaultEmulatedBenchConfig();
@@ -55,7 +58,7 @@ TEST(SlotLaw, EqualsWhatThePhysicalSubstructureMeasuresThroughANonIdentitySetup)
   // Out past yield and back, twice (Bouc–Wen: the path matters).
   for (int k = 0; k <= 60; ++k) {
     const double d = 0.03 * std::sin(0.21 * k) * (1.0 + 0.01 * k);  // [m] slot displacement
-    const double measured = physical.Trial(d, {k, 0, 0.0});
+    const double measured = TrialOne(physical, d, {k, 0, 0.0});
     const double modelled = law->Trial(d);
     law->Commit();
     EXPECT_NEAR(modelled, measured, 1e-9 * std::max(1.0, std::abs(measured))) << "trial " << k;

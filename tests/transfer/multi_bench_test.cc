@@ -10,14 +10,14 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/constitutive/bouc_wen_biaxial.h"
-#include "hybridtest/transfer/multi_emulated_bench.h"
-#include "hybridtest/transfer/safety_gate_group.h"
+#include "hybridtest/transfer/emulated_bench.h"
+#include "hybridtest/transfer/safety_gate.h"
 
 namespace hybridtest::transfer {
 namespace {
 
 // An ideal bench of two actuators at p0 = 0 (mm on the wire) with `specimen` and bench limits.
-MultiBenchConfig Bench(const std::string& specimen, double force_soft_kN = 8.0) {
+EmulatedBenchSpec Bench(const std::string& specimen, double force_soft_kN = 8.0) {
   const std::string text = R"(
 bench:
   actuators: 2
@@ -34,7 +34,7 @@ bench:
   safety: {stroke_min_mm: -150, stroke_max_mm: 150, max_increment_mm: 50,
            force_soft_kN: )" + std::to_string(force_soft_kN) + R"(, force_hard_kN: 10, timeout_s: 5}
 )";
-  return ParseMultiBenchConfig(YAML::Load(text)["bench"], "bench");
+  return ParseEmulatedBenchSpec(YAML::Load(text)["bench"], "bench");
 }
 
 const char* kBoucWen =
@@ -52,8 +52,8 @@ std::array<Measurement, 2> Move(TransferSystem& bench, double a1_mm, double a2_m
 // An ideal bench measures the law along the actuators' path: each command's forces are the
 // law's after the straight path from the last position (the actuators arrive together only
 // when their moves take equally long; here one axis moves at a time, or both by equal steps).
-TEST(MultiEmulatedBench, BoucWenSpecimenIsMeasuredAsTheLaw) {
-  MultiEmulatedBench bench(Bench(kBoucWen));
+TEST(EmulatedBenchOfSeveral, BoucWenSpecimenIsMeasuredAsTheLaw) {
+  EmulatedBench bench(Bench(kBoucWen));
   bench.Activate();
   constitutive::BoucWenBiaxial::Parameters p;
   p.initial_stiffness = {5000, 3000};
@@ -87,12 +87,12 @@ TEST(MultiEmulatedBench, BoucWenSpecimenIsMeasuredAsTheLaw) {
   EXPECT_NE(bench.Describe().find("Bouc-Wen"), std::string::npos);
 }
 
-TEST(MultiEmulatedBench, SaveAndRestoreContinueIdentically) {
-  MultiEmulatedBench a(Bench(kBoucWen));
+TEST(EmulatedBenchOfSeveral, SaveAndRestoreContinueIdentically) {
+  EmulatedBench a(Bench(kBoucWen));
   a.Activate();
   for (int i = 1; i <= 30; ++i) Move(a, 0.3 * i, -0.2 * i);
   const nlohmann::json saved = a.SaveState();
-  MultiEmulatedBench b(Bench(kBoucWen));
+  EmulatedBench b(Bench(kBoucWen));
   b.Activate();
   b.RestoreState(saved);
   EXPECT_EQ(*b.commands_received(), 30);
@@ -106,7 +106,7 @@ TEST(MultiEmulatedBench, SaveAndRestoreContinueIdentically) {
     }
   }
   // A fresh bench without the state measures something else (the test can fail).
-  MultiEmulatedBench c(Bench(kBoucWen));
+  EmulatedBench c(Bench(kBoucWen));
   c.Activate();
   EXPECT_NE(Move(c, 8.5, -5.6)[0].force, Move(b, 8.5, -5.6)[0].force);
   EXPECT_THROW(c.RestoreState({{"kind", "emulated"}}), Error);
@@ -114,9 +114,9 @@ TEST(MultiEmulatedBench, SaveAndRestoreContinueIdentically) {
 
 // ReadAll reads where the actuators are and what the specimen carries there, without moving
 // and without touching the specimen's committed (hysteretic) state.
-TEST(MultiEmulatedBench, ReadAllReadsWithoutMovingOrDeforming) {
-  MultiEmulatedBench a(Bench(kBoucWen));
-  MultiEmulatedBench b(Bench(kBoucWen));
+TEST(EmulatedBenchOfSeveral, ReadAllReadsWithoutMovingOrDeforming) {
+  EmulatedBench a(Bench(kBoucWen));
+  EmulatedBench b(Bench(kBoucWen));
   a.Activate();
   b.Activate();
   std::array<Measurement, 2> last{};
@@ -151,11 +151,11 @@ SafetyLimits Limits() {
 // K = [[5000, 4500], [4500, 5000]] N/m: moving both actuators together loads each by
 // 9500 N/m, moving them against each other by 500 N/m. A diagonal prediction (5000 N/m) gets
 // both wrong.
-TEST(SafetyGateGroup, CoupledPredictionUsesTheOffDiagonalStiffness) {
+TEST(SafetyGateOfSeveral, CoupledPredictionUsesTheOffDiagonalStiffness) {
   Eigen::Matrix2d k;
   k << 5000, 4500, 4500, 5000;
   auto gate_for = [&](bool coupled) {
-    SafetyGateGroup gate({Limits(), Limits()});
+    SafetyGate gate({Limits(), Limits()});
     for (int i = 0; i < 2; ++i) {
       gate.monitor(i).SetStartPosition(0.0);
       gate.monitor(i).SetInitialStiffness(5000.0);
@@ -167,7 +167,7 @@ TEST(SafetyGateGroup, CoupledPredictionUsesTheOffDiagonalStiffness) {
   for (const bool coupled : {false, true}) {
     // Together: 12 mm each predicts 60 N (diagonal) or 114 N (coupled) against 100 N.
     {
-      MultiEmulatedBench bench(Bench(kCoupled, 1.0));
+      EmulatedBench bench(Bench(kCoupled, 1.0));
       bench.Activate();
       auto gate = gate_for(coupled);
       gate.Move(bench, {0.0, 0.0}, {0, 0}, {0.0, 0.0}, out);
@@ -189,7 +189,7 @@ TEST(SafetyGateGroup, CoupledPredictionUsesTheOffDiagonalStiffness) {
     }
     // Against each other: 25 mm predicts 125 N (diagonal) or 12.5 N (coupled).
     {
-      MultiEmulatedBench bench(Bench(kCoupled, 1.0));
+      EmulatedBench bench(Bench(kCoupled, 1.0));
       bench.Activate();
       auto gate = gate_for(coupled);
       gate.Move(bench, {0.0, 0.0}, {0, 0}, {0.0, 0.0}, out);
@@ -201,13 +201,13 @@ TEST(SafetyGateGroup, CoupledPredictionUsesTheOffDiagonalStiffness) {
       }
     }
   }
-  SafetyGateGroup gate({Limits(), Limits()});
+  SafetyGate gate({Limits(), Limits()});
   EXPECT_THROW(gate.SetStiffness(Eigen::Matrix3d::Identity()), ConfigError);
 }
 
 // The bench's own monitors predict with the specimen's stiffness matrix too.
-TEST(MultiEmulatedBench, OwnSafetyPredictsWithTheCoupledStiffness) {
-  MultiEmulatedBench bench(Bench(kCoupled, 0.1));  // force_soft 100 N
+TEST(EmulatedBenchOfSeveral, OwnSafetyPredictsWithTheCoupledStiffness) {
+  EmulatedBench bench(Bench(kCoupled, 0.1));  // force_soft 100 N
   bench.Activate();
   Move(bench, 0.0, 0.0);
   try {
@@ -216,10 +216,37 @@ TEST(MultiEmulatedBench, OwnSafetyPredictsWithTheCoupledStiffness) {
   } catch (const SafetyStop& e) {
     EXPECT_EQ(e.limit(), "force_soft");
   }
-  MultiEmulatedBench apart(Bench(kCoupled, 0.1));
+  EmulatedBench apart(Bench(kCoupled, 0.1));
   apart.Activate();
   Move(apart, 0.0, 0.0);
   EXPECT_NEAR(Move(apart, 25.0, -25.0)[0].force, 12.5, 1e-9);
+}
+
+TEST(EmulatedBenchSpec, AMissingBenchMappingIsAConfigErrorThatNamesIt) {
+  // A file without `bench:` (its top level as the loader reads it): an invalid node, on which
+  // yaml-cpp's IsMap() would throw its own InvalidNode.
+  const YAML::Node root = YAML::Load("benc: {actuators: 2}\n");
+  const YAML::Node& top = root;
+  try {
+    (void)ParseEmulatedBenchSpec(static_cast<const YAML::Node&>(top)["bench"], "b.yaml: bench");
+    ADD_FAILURE() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("b.yaml: bench"), std::string::npos) << e.what();
+  }
+}
+
+TEST(EmulatedBenchSpec, ASeedThatIsNotAnIntegerIsAConfigErrorThatNamesIt) {
+  for (const char* seed : {":1", "-1", "1.5", "[1, x]"}) {
+    const YAML::Node bench = YAML::Load(std::string("actuators: 2\nseed: ") + seed +
+                                        "\nspecimen: {type: linear, stiffness: [[5000, 0], [0, "
+                                        "3000]]}\np0_mm: [20, 30]\n");
+    try {
+      (void)ParseEmulatedBenchSpec(bench, "b.yaml: bench");
+      ADD_FAILURE() << seed;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("b.yaml: bench"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

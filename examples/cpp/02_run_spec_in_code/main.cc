@@ -14,7 +14,7 @@
 #include <hybridtest/constitutive/linear_spring.h>
 #include <hybridtest/hybridtest.h>
 #include <hybridtest/integrators/catalogue.h>
-#include <hybridtest/transfer/multi_emulated_bench.h>
+#include <hybridtest/transfer/emulated_bench.h>
 
 namespace hb = hybridtest;
 namespace rn = hybridtest::runner;
@@ -94,7 +94,7 @@ hb::transfer::EmulatedBenchConfig Actuator(double p0_mm, unsigned long seed, dou
 
 // The specimen: both slots on two actuators, actuator 1 in flap, actuator 2 at an angle.
 hb::substructures::SubstructureSpec Specimen() {
-  hb::transfer::MultiBenchConfig bench;
+  hb::transfer::EmulatedBenchSpec bench;
   bench.stiffness.resize(2, 2);
   bench.stiffness << 5000, 1200, 1200, 3000;  // in actuator coordinates [N/m]
   bench.specimen = std::make_shared<hb::constitutive::LinearCoupledLaw>(bench.stiffness);
@@ -102,7 +102,7 @@ hb::substructures::SubstructureSpec Specimen() {
 
   hb::substructures::PhysicalSpec physical;
   physical.transfer = {"emulated", [bench]() -> std::unique_ptr<hb::transfer::TransferSystem> {
-                         return std::make_unique<hb::transfer::MultiEmulatedBench>(bench);
+                         return std::make_unique<hb::transfer::EmulatedBench>(bench);
                        }};
   hb::substructures::LinearSetup setup;
   setup.p0 = Eigen::Vector2d(0.020, 0.030);                     // [m]

@@ -13,7 +13,6 @@
 #include "hybridtest/transfer/auth.h"
 #include "hybridtest/transfer/bench_client.h"
 #include "hybridtest/transfer/emulated_bench.h"
-#include "hybridtest/transfer/multi_emulated_bench.h"
 #include "hybridtest/transfer/modbus/modbus_config.h"
 #include "hybridtest/transfer/modbus/modbus_transfer.h"
 #include "hybridtest/transfer/numerical_loopback.h"
@@ -36,33 +35,22 @@ std::string ConfigRelative(const TransferReadContext& c, const YAML::Node& node,
 
 TransferSpec ReadEmulated(const TransferReadContext& c) {
   c.in.CheckKeys(c.node, c.kp, {"type", "config", "bench"});
-  transfer::EmulatedBenchConfig bench;
-  // A bench with `actuators:` (several actuators on one specimen).
-  std::optional<transfer::MultiBenchConfig> multi;
+  // One bench file or mapping, read once, of one actuator or of `actuators: n`.
+  transfer::EmulatedBenchSpec bench;
   if (c.node["config"]) {
     const std::string path = ConfigRelative(c, c.node["config"], "config", "a bench file");
-    if (transfer::IsMultiBenchFile(path)) {
-      multi = transfer::LoadMultiBenchConfig(path);
-    } else {
-      bench = transfer::LoadEmulatedBenchConfig(path);
-    }
+    bench = transfer::LoadEmulatedBenchSpec(path);
     c.NoteRead("bench", path);
-  } else if (c.node["bench"] && transfer::IsMultiBench(c.node["bench"])) {
-    multi = transfer::ParseMultiBenchConfig(c.node["bench"],
-                                            c.in.Where(c.node["bench"], c.kp + ".bench"));
   } else if (c.node["bench"]) {
-    bench = transfer::ParseEmulatedBenchConfig(c.node["bench"],
-                                               c.in.Where(c.node["bench"], c.kp + ".bench"));
+    bench = transfer::ParseEmulatedBenchSpec(c.node["bench"],
+                                             c.in.Where(c.node["bench"], c.kp + ".bench"));
   } else {
     throw ConfigError(fmt::format("{}: an emulated transfer needs `config: FILE` (a bench file) "
                                   "or an inline `bench:` mapping", c.in.Where(c.node, c.kp)));
   }
-  if (multi) {
-    return {"emulated", [multi = std::move(*multi)]() -> std::unique_ptr<transfer::TransferSystem> {
-              return std::make_unique<transfer::MultiEmulatedBench>(multi);
-            }};
-  }
-  return {"emulated", [bench = std::move(bench)] { return transfer::MakeEmulatedBench(bench); }};
+  return {"emulated", [bench = std::move(bench)]() -> std::unique_ptr<transfer::TransferSystem> {
+            return transfer::MakeEmulatedBench(bench);
+          }};
 }
 
 TransferSpec ReadLoopback(const TransferReadContext& c) {

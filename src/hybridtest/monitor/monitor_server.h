@@ -1,5 +1,6 @@
 #pragma once
-// MonitorServer: serves one run's monitor over HTTP (cpp-httplib) on its own threads.
+// MonitorServer: serves one run's monitor over HTTP (monitor/http_server.h, decision 0018) on
+// its own threads.
 //
 //   GET  /                 the page (page_assets.h); /monitor.js, /monitor.css, /uplot.*
 //   GET  /api/state        MonitorState::StateJson(): status, t, step, physical_evaluations,

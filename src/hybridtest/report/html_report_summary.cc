@@ -77,24 +77,40 @@ std::string ComparisonHeadline(const ComparisonTable& table, const RunLayout& la
 
 std::string LimitsUsed(const io::RunData& run, const RunLayout& layout, const PlotUnits& units) {
   std::string rows;
+  auto row = [&](const std::string& who, const LimitUse& use, const std::string& value) {
+    rows += fmt::format(
+        "<tr><td>{}</td><td>{}</td><td class=\"num\">{}</td><td class=\"num{}\">{:.3g} %</td>"
+        "<td class=\"num\">{}</td><td>{}</td></tr>\n",
+        E(who), E(use.limit), E(value), use.peak >= kLimitWarning ? " bad" : "", 100 * use.peak,
+        E(Short(use.peak_t)), E(use.measure));
+  };
+  std::vector<std::string> served;  // substructures of several slots, once each
   for (const PhysicalChannels& p : layout.physical) {
+    if (p.actuator >= 0 &&
+        std::find(served.begin(), served.end(), p.substructure) == served.end()) {
+      served.push_back(p.substructure);
+      for (const SlotLimitUse& s : CalcSlotLimitUse(run, layout, p.substructure)) {
+        const bool force = s.use.limit == "max_force";
+        row("slot " + s.slot + " (" + p.substructure + ")", s.use,
+            WithUnit(s.use.limit_value, force ? "N" : "m", units));
+      }
+    }
     for (const LimitUse& use : CalcLimitUse(run, p)) {
       const bool force = use.limit.rfind("force", 0) == 0;
-      const auto limits = FindSlotLimits(run, p.slot);
+      const auto limits = FindLimitsOf(run, p);
       const std::string value =
           use.limit == "stroke" && limits
               ? WithUnit(limits->stroke_min, "m", units) + " … " +
                     WithUnit(limits->stroke_max, "m", units)
               : WithUnit(use.limit_value, force ? "N" : "m", units);
-      rows += fmt::format(
-          "<tr><td>{}</td><td>{}</td><td class=\"num\">{}</td><td class=\"num{}\">{:.3g} %</td>"
-          "<td class=\"num\">{}</td><td>{}</td></tr>\n",
-          E(p.slot), E(use.limit), E(value), use.peak >= kLimitWarning ? " bad" : "",
-          100 * use.peak, E(Short(use.peak_t)), E(use.measure));
+      row(p.actuator >= 0 ? fmt::format("actuator {} of {}", p.actuator + 1, p.substructure)
+                          : p.slot,
+          use, value);
     }
   }
   if (rows.empty()) return "";
-  return "<h3>Safety limits used</h3>\n<table><tr><th>slot</th><th>limit</th><th>limit value</th>"
+  return "<h3>Safety limits used</h3>\n<table><tr><th>slot or actuator</th><th>limit</th>"
+         "<th>limit value</th>"
          "<th>peak use</th><th>at t [s]</th><th>measured as</th></tr>\n" +
          rows + "</table>\n";
 }

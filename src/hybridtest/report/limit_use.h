@@ -28,6 +28,12 @@ namespace hybridtest::report {
 // The limits of `slot`, or nothing when the sidecar records none (no config, not physical).
 std::optional<transfer::SafetyLimits> FindSlotLimits(const io::RunData& run,
                                                      const std::string& slot);
+// The limits of actuator `actuator` (0-based) of the physical substructure `substructure` (its
+// key in the config); −1: a substructure of one actuator (FindSlotLimits). A limit given as a
+// list holds one value per actuator; a scalar applies to every actuator (docs/safety.md).
+std::optional<transfer::SafetyLimits> FindActuatorLimits(const io::RunData& run,
+                                                         const std::string& substructure,
+                                                         int actuator);
 
 struct LimitUse {
   std::string limit;        // "stroke", "max_increment", "force_soft", "force_hard"
@@ -39,8 +45,28 @@ struct LimitUse {
   double peak_t = 0;        // when. Unit: [s]
 };
 
-// The four uses above for one physical substructure; empty when its limits are unknown or it
-// has no recorded command or force.
+// The limits of one actuator's channels: FindActuatorLimits for an actuator of several,
+// FindSlotLimits for a substructure of one actuator.
+std::optional<transfer::SafetyLimits> FindLimitsOf(const io::RunData& run,
+                                                   const PhysicalChannels& channels);
+
+// The four uses above for one actuator (PhysicalChannels: one actuator's channels, of a
+// substructure of one actuator or one of several); empty when its limits are unknown or it has
+// no recorded command or force.
 std::vector<LimitUse> CalcLimitUse(const io::RunData& run, const PhysicalChannels& slot);
+
+// The per-slot limits of a physical substructure that serves several slots (`safety.slots`:
+// max_displacement [m] and max_force [N], one value per slot in the order of `slots:`), and
+// their use over the journal's rows:
+//   max_displacement  |slot coordinate| / max_displacement (the slot's coordinate channel, when
+//                     the model names one for the slot; the slot's displacement is then that
+//                     coordinate)
+//   max_force         |r of the slot| / max_force (the slot's restoring-force channel)
+struct SlotLimitUse {
+  std::string slot;  // the model's slot, e.g. "r_flap"
+  LimitUse use;      // `limit` is "max_displacement" or "max_force"
+};
+std::vector<SlotLimitUse> CalcSlotLimitUse(const io::RunData& run, const RunLayout& layout,
+                                           const std::string& substructure);
 
 }  // namespace hybridtest::report

@@ -139,6 +139,14 @@ RunLayout DescribeRun(const io::RunData& run) {
   for (const nlohmann::json& s : meta["substructures"]) {
     const std::string slot = StringOr(s, "slot", "");
     layout.slot_coordinates[slot] = SlotCoordinate(s, slot, model, layout);
+    if (s.contains("slots") && s["slots"].is_array()) {
+      // A substructure that serves several slots: each slot's own coordinate, from the model.
+      for (const nlohmann::json& name : s["slots"]) {
+        if (!name.is_string()) continue;
+        const std::string served = name.get<std::string>();
+        layout.slot_coordinates[served] = SlotCoordinate(nlohmann::json(), served, model, layout);
+      }
+    }
     if (StringOr(s, "kind", "") != "physical") continue;
     PhysicalChannels p;
     p.slot = StringOr(s, "slot", "");
@@ -155,6 +163,8 @@ RunLayout DescribeRun(const io::RunData& run) {
       for (std::size_t k = 0; k < channels.size(); ++k) {
         PhysicalChannels a = p;
         a.slot = fmt::format("{}_a{}", p.slot, k + 1);
+        a.substructure = p.slot;
+        a.actuator = static_cast<int>(k);
         a.coordinate.clear();
         a.command = channel(channels[k], a.slot, "command");
         a.position = channel(channels[k], a.slot, "position");

@@ -37,6 +37,10 @@ struct PhysicalChannels {
   std::string position;
   std::string force;
   std::string lab_time;
+  // Several actuators: the substructure's key in the config ("blade1") and this actuator's
+  // index (0-based) among its actuators; one actuator: empty and −1 (`slot` is the key).
+  std::string substructure;
+  int actuator = -1;
 };
 
 struct RunLayout {

@@ -44,19 +44,15 @@ class Session::Seam final : public schemes::SubstructureSeam {
              Eigen::Ref<Eigen::VectorXd> r) override {
     for (SessionObserver* o : session_.observers_) o->BeforeTrial(at);
     auto& subs = session_.subs_;
+    auto& ds = session_.d_slots_;
+    auto& rs = session_.r_slots_;
     for (std::size_t s = 0; s < subs.size(); ++s) {
+      // The substructure's m slots, in its order: gathered, tried, scattered.
       const auto& slots = session_.slot_of_[s];
-      if (slots.size() == 1) {
-        const auto i = static_cast<Eigen::Index>(slots[0]);
-        r(i) = subs[s]->Trial(d(i), {at.step, at.stage, at.t});
-        continue;
-      }
-      auto& ds = session_.d_slots_;
-      auto& rs = session_.r_slots_;
       ds.resize(slots.size());
       rs.resize(slots.size());
       for (std::size_t k = 0; k < slots.size(); ++k) ds[k] = d(slots[k]);
-      subs[s]->TrialSlots(ds, rs, {at.step, at.stage, at.t});
+      subs[s]->Trial(ds, rs, {at.step, at.stage, at.t});
       for (std::size_t k = 0; k < slots.size(); ++k) r(slots[k]) = rs[k];
     }
     session_.PublishTrial(at, d, r);
@@ -182,7 +178,9 @@ void Session::UpdateStatistics(double t) {
   stats_.physical_evaluations = 0;
   for (const auto& s : subs_) {
     stats_.physical_evaluations += s->evaluations();
-    if (s->is_physical()) stats_.lab_time = std::max(stats_.lab_time, s->last_exchange().lab_time);
+    for (int k = 0; k < s->num_actuators(); ++k) {
+      stats_.lab_time = std::max(stats_.lab_time, s->actuator_exchange(k).lab_time);
+    }
   }
   stats_.slowdown = t > 0.0 && physical_count_ > 0 ? stats_.lab_time / t : 0.0;
   stats_.wall_slowdown = t > 0.0 ? stats_.wall_time / t : 0.0;

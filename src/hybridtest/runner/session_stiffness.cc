@@ -16,12 +16,11 @@ schemes::SlotInfo SlotInfoOf(const std::vector<std::unique_ptr<substructures::Su
   schemes::SlotInfo info{Eigen::VectorXd::Zero(m), Eigen::VectorXd::Zero(m), {}};
   for (std::size_t s = 0; s < subs.size(); ++s) {
     const auto& slots = slot_of[s];
+    const auto k0 = subs[s]->initial_stiffness();
     if (slots.size() == 1) {
-      info.k0(slots[0]) =
-          subs[s]->initial_stiffness().value_or(std::numeric_limits<double>::quiet_NaN());
+      info.k0(slots[0]) = k0 ? (*k0)(0, 0) : std::numeric_limits<double>::quiet_NaN();
     } else {
       // A coupled K0: the full matrix, the other slots on its diagonal.
-      const auto k0 = subs[s]->initial_stiffness_matrix();
       if (info.k0_matrix.size() == 0) info.k0_matrix = Eigen::MatrixXd::Zero(m, m);
       for (std::size_t i = 0; i < slots.size(); ++i) {
         for (std::size_t j = 0; j < slots.size(); ++j) {

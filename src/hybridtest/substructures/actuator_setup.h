@@ -24,6 +24,7 @@
 #include <string>
 
 #include "hybridtest/substructures/linear_setup.h"
+#include "hybridtest/substructures/setup_transform.h"
 
 namespace hybridtest::substructures {
 
@@ -49,7 +50,7 @@ class ActuatorSetup {
   // J(d) = ∂a/∂d (n × m) [m/m].
   virtual Eigen::MatrixXd CalcJacobian(const Eigen::Ref<const Eigen::VectorXd>& d) const = 0;
   // r = J(d)ᵀ f (m) [N] for the forces f (n) [N] measured at d.
-  void CalcSlotForces(const Eigen::Ref<const Eigen::VectorXd>& d,
+  virtual void CalcSlotForces(const Eigen::Ref<const Eigen::VectorXd>& d,
                       const Eigen::Ref<const Eigen::VectorXd>& f,
                       Eigen::Ref<Eigen::VectorXd> r) const;
   // Σ_k f_k ∂²a_k/∂d² (m × m) [N/m] at d with forces f (n) [N]; zero for the linear kind.
@@ -61,6 +62,68 @@ class ActuatorSetup {
   // One line for logs and the sidecar's description.
   virtual std::string Describe() const = 0;
   virtual std::unique_ptr<ActuatorSetup> Clone() const = 0;
+
+  // K0 = dr/dd at d = 0 (m × m) [N/m] of a specimen of stiffness K_a (n × n) [N/m] in actuator
+  // coordinates: T0ᵀ K_a T0.
+  virtual Eigen::MatrixXd SlotStiffness(const Eigen::MatrixXd& actuator_k) const;
+  // The inverse map, K_a = T0⁺ᵀ K0 T0⁺ (n × n) [N/m] with T0⁺ = (T0ᵀT0)⁻¹T0ᵀ (T0⁻ᵀ K0 T0⁻¹
+  // for a square T0): what the safety gate predicts forces with when K0 is given.
+  virtual Eigen::MatrixXd ActuatorStiffness(const Eigen::MatrixXd& k0) const;
+  // a = p0 + d and r = f with no load-cell zero (one actuator, one slot): the emulated
+  // specimen's law then is the slot's law as is (twin.h).
+  virtual bool is_identity() const { return false; }
+};
+
+// The one-actuator setup (setup_transform.h) behind the interface: n = m = 1,
+//   a = p0 + sign · scale · d          [m]
+//   r = force_sign · force_scale · f   [N]   (f after the load-cell zero)
+// in SetupTransform's own arithmetic (bit for bit the same as a one-actuator run always was).
+class ScalarSetup final : public ActuatorSetup {
+ public:
+  // Throws ConfigError as SetupTransform::Validate does.
+  explicit ScalarSetup(const SetupTransform& transform);
+
+  std::string kind() const override { return "linear"; }
+  int num_actuators() const override { return 1; }
+  int num_slots() const override { return 1; }
+  const Eigen::VectorXd& p0() const override { return p0_; }
+  const Eigen::VectorXd& load_cell_zero() const override { return zero_; }
+  const Eigen::MatrixXd& linearisation() const override { return t_; }
+  void CalcCommands(const Eigen::Ref<const Eigen::VectorXd>& d,
+                    Eigen::Ref<Eigen::VectorXd> a) const override {
+    a(0) = s_.CommandMetres(d(0));
+  }
+  Eigen::MatrixXd CalcJacobian(const Eigen::Ref<const Eigen::VectorXd>& /*d*/) const override {
+    return t_;
+  }
+  void CalcSlotForces(const Eigen::Ref<const Eigen::VectorXd>& /*d*/,
+                      const Eigen::Ref<const Eigen::VectorXd>& f,
+                      Eigen::Ref<Eigen::VectorXd> r) const override {
+    r(0) = s_.RestoringForce(f(0));
+  }
+  Eigen::MatrixXd CalcGeometricStiffness(const Eigen::Ref<const Eigen::VectorXd>& /*d*/,
+                                         const Eigen::Ref<const Eigen::VectorXd>& /*f*/) const override {
+    return Eigen::MatrixXd::Zero(1, 1);
+  }
+  // |sign · scale| = scale.
+  double CommandStepBound(int /*k*/) const override { return s_.scale; }
+  std::string Describe() const override;
+  std::unique_ptr<ActuatorSetup> Clone() const override {
+    return std::make_unique<ScalarSetup>(*this);
+  }
+  // K_a · sign · scale · force_sign · force_scale, and its inverse.
+  Eigen::MatrixXd SlotStiffness(const Eigen::MatrixXd& actuator_k) const override;
+  Eigen::MatrixXd ActuatorStiffness(const Eigen::MatrixXd& k0) const override;
+  bool is_identity() const override {
+    return s_.sign == 1.0 && s_.scale == 1.0 && s_.force_sign == 1.0 && s_.force_scale == 1.0 &&
+           s_.load_cell_zero == 0.0;
+  }
+  const SetupTransform& transform() const { return s_; }
+
+ private:
+  SetupTransform s_;
+  Eigen::VectorXd p0_, zero_;  // (1)
+  Eigen::MatrixXd t_;          // [sign · scale] (1 × 1)
 };
 
 // The linear setup behind the interface: a = p0 + T d, r = Tᵀ f, J = T.
@@ -93,6 +156,11 @@ class LinearActuatorSetup final : public ActuatorSetup {
     return std::make_unique<LinearActuatorSetup>(*this);
   }
   const LinearSetup& data() const { return setup_; }
+  // n = m = 1, T = [1], no load-cell zero.
+  bool is_identity() const override {
+    return num_actuators() == 1 && num_slots() == 1 && setup_.transform(0, 0) == 1.0 &&
+           setup_.load_cell_zero(0) == 0.0;
+  }
 
  private:
   LinearSetup setup_;

@@ -34,15 +34,8 @@ LawBlock::LawBlock(std::unique_ptr<constitutive::VectorRestoringForceLaw> law,
   f_.resize(t_.rows());
 }
 
-double LawBlock::Trial(double displacement, const TrialContext& context) {
-  if (num_slots() != 1) throw Error("LawBlock: a scalar trial of a block of several slots");
-  double r = 0.0;
-  TrialSlots({&displacement, 1}, {&r, 1}, context);
-  return r;
-}
-
-void LawBlock::TrialSlots(std::span<const double> d, std::span<double> r,
-                          const TrialContext& /*context*/) {
+void LawBlock::Trial(std::span<const double> d, std::span<double> r,
+                    const TrialContext& /*context*/) {
   const Eigen::Map<const Eigen::VectorXd> dv(d.data(), t_.cols());
   if (setup_) {
     setup_->CalcCommands(dv, u_);
@@ -65,12 +58,7 @@ std::string LawBlock::Describe() const {
                      law_->Describe());
 }
 
-std::optional<double> LawBlock::initial_stiffness() const {
-  if (num_slots() != 1) return std::nullopt;
-  return (*initial_stiffness_matrix())(0, 0);
-}
-
-std::optional<Eigen::MatrixXd> LawBlock::initial_stiffness_matrix() const {
+std::optional<Eigen::MatrixXd> LawBlock::initial_stiffness() const {
   return Eigen::MatrixXd(t_.transpose() * law_->initial_stiffness() * t_);
 }
 

@@ -34,14 +34,11 @@ class LawBlock final : public Substructure {
            std::shared_ptr<const ActuatorSetup> setup);
 
   int num_slots() const override { return static_cast<int>(t_.cols()); }
-  double Trial(double displacement, const TrialContext& context) override;
-  void TrialSlots(std::span<const double> d, std::span<double> r,
-                  const TrialContext& context) override;
+  void Trial(std::span<const double> d, std::span<double> r, const TrialContext& context) override;
   void Commit() override { law_->Commit(); }
   std::string Describe() const override;
-  std::optional<double> initial_stiffness() const override;
   // Tᵀ K0 T (m × m) [N/m], K0 the law's virgin tangent (T = T0 = J(0) through a setup).
-  std::optional<Eigen::MatrixXd> initial_stiffness_matrix() const override;
+  std::optional<Eigen::MatrixXd> initial_stiffness() const override;
   nlohmann::json SaveState() const override { return {{"law", law_->SaveState()}}; }
   void RestoreState(const nlohmann::json& state) override;
 

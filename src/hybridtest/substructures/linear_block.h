@@ -20,12 +20,8 @@ class LinearBlock final : public Substructure {
     }
   }
   int num_slots() const override { return static_cast<int>(k_.rows()); }
-  double Trial(double displacement, const TrialContext& /*context*/) override {
-    if (k_.rows() != 1) throw Error("LinearBlock: a scalar trial of a block of several slots");
-    return k_(0, 0) * displacement;
-  }
-  void TrialSlots(std::span<const double> d, std::span<double> r,
-                  const TrialContext& /*context*/) override {
+  void Trial(std::span<const double> d, std::span<double> r,
+             const TrialContext& /*context*/) override {
     const Eigen::Map<const Eigen::VectorXd> dv(d.data(), static_cast<Eigen::Index>(d.size()));
     Eigen::Map<Eigen::VectorXd>(r.data(), static_cast<Eigen::Index>(r.size())) = k_ * dv;
   }
@@ -33,11 +29,7 @@ class LinearBlock final : public Substructure {
   std::string Describe() const override {
     return fmt::format("linear block of {} slots", k_.rows());
   }
-  std::optional<double> initial_stiffness() const override {
-    if (k_.rows() == 1) return k_(0, 0);
-    return std::nullopt;
-  }
-  std::optional<Eigen::MatrixXd> initial_stiffness_matrix() const override { return k_; }
+  std::optional<Eigen::MatrixXd> initial_stiffness() const override { return k_; }
 
  private:
   Eigen::MatrixXd k_;

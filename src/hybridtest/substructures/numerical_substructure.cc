@@ -10,8 +10,9 @@ NumericalSubstructure::NumericalSubstructure(std::unique_ptr<constitutive::Resto
   if (!law_) throw Error("NumericalSubstructure: no restoring-force law given");
 }
 
-double NumericalSubstructure::Trial(double displacement, const TrialContext& /*context*/) {
-  return law_->Trial(displacement);
+void NumericalSubstructure::Trial(std::span<const double> d, std::span<double> r,
+                                  const TrialContext& /*context*/) {
+  r[0] = law_->Trial(d[0]);
 }
 
 std::string NumericalSubstructure::Describe() const { return "numerical: " + law_->Describe(); }

@@ -14,14 +14,16 @@ nlohmann::json MatrixJson(const Eigen::MatrixXd& m) {
 }
 
 void Substructure::MeasureRequestedStiffness(nlohmann::json& entry) {
-  if (num_slots() > 1) {
-    const auto k0 = initial_stiffness_matrix();
-    entry.update({{"k0", k0 ? MatrixJson(*k0) : nlohmann::json(nullptr)},
-                  {"source", k0 ? "law" : "unknown"}});
-  } else if (const auto k0 = initial_stiffness()) {
-    entry.update({{"k0", *k0}, {"source", is_physical() ? "configured" : "law"}});
-  } else {
+  const auto k0 = initial_stiffness();
+  if (!k0) {
     entry.update({{"k0", nullptr}, {"source", "unknown"}});
+    return;
+  }
+  const char* source = is_physical() ? "configured" : "law";
+  if (num_slots() > 1) {
+    entry.update({{"k0", MatrixJson(*k0)}, {"source", source}});
+  } else {
+    entry.update({{"k0", (*k0)(0, 0)}, {"source", source}});
   }
 }
 

@@ -1,15 +1,14 @@
 #pragma once
-// Substructure: the owner of a restoring force r^s of the model (OpenFresco's two phases).
-//   Trial(d)  a displacement in, the static restoring force out. Numerical: computed.
-//             Physical: the actuator moves (this is the one impure seam of a hybrid test).
-//   Commit()  makes the last trial permanent (the state it was taken at is committed).
-// A substructure knows nothing of Kane: it sees a displacement d [m] and returns r^s [N].
+// Substructure: the owner of restoring forces r^s of the model (OpenFresco's two phases).
+//   Trial(d, r)  displacements in, the static restoring forces out. Numerical: computed.
+//                Physical: the actuators move (this is the one impure seam of a hybrid test).
+//   Commit()     makes the last trial permanent (the state it was taken at is committed).
+// A substructure knows nothing of Kane: it sees displacements d [m] and returns r^s [N].
 //
-// A substructure is a block: it serves num_slots() slots (m) in the order its spec lists them,
-// and the seam calls TrialSlots(d, r, context) with m displacements and m forces. A
-// one-slot substructure implements the scalar Trial(d, context), which TrialSlots forwards to
-// (a distinct name, so that a one-slot class overriding Trial hides nothing). A physical
-// one moves num_actuators() actuators and reports one Exchange per actuator.
+// One width for every size: a substructure serves num_slots() slots (m ≥ 1) in the order its
+// spec lists them; the seam calls Trial(d, r, context) with m displacements and m forces; its
+// K0 is an m × m matrix; a physical one moves num_actuators() actuators (n) and reports one
+// Exchange per actuator (actuator_exchange(k)). One slot or one actuator is an ordinary size.
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
@@ -22,6 +21,8 @@
 #include "hybridtest/transfer/transfer_system.h"
 
 namespace hybridtest::substructures {
+
+class ActuatorSetup;
 
 // Where a trial happens, for messages and records.
 struct TrialContext {
@@ -44,32 +45,30 @@ class Substructure {
   virtual ~Substructure() = default;
   // Makes the substructure ready (a physical one activates its transfer system).
   virtual void Activate() {}
-  // r^s [N] at displacement d [m]. Throws TransferError or SafetyStop for a physical one.
-  virtual double Trial(double displacement, const TrialContext& context) = 0;
   // Slots served (m ≥ 1).
   virtual int num_slots() const { return 1; }
-  // r (m) [N] at the slot displacements d (m) [m]. Default: the scalar Trial of one slot.
-  virtual void TrialSlots(std::span<const double> d, std::span<double> r,
-                          const TrialContext& context) {
-    r[0] = Trial(d[0], context);
-  }
+  // r (m) [N] at the slot displacements d (m) [m]. Throws TransferError or SafetyStop for a
+  // physical one.
+  virtual void Trial(std::span<const double> d, std::span<double> r,
+                     const TrialContext& context) = 0;
   virtual void Commit() = 0;
   // Safe state after a failure: a physical one holds its actuator. Never throws.
   virtual void Hold() noexcept {}
   // Ends the test cleanly.
   virtual void Deactivate() {}
   virtual bool is_physical() const { return false; }
-  // The last exchange with the bench (physical substructures only).
-  virtual Exchange last_exchange() const { return {}; }
-  // Actuators moved (0 for a numerical substructure) and the last exchange of actuator k
-  // (0-based; default: last_exchange()).
+  // Actuators moved (n; 0 for a numerical substructure) and the last exchange of actuator k
+  // (0-based) with the bench.
   virtual int num_actuators() const { return is_physical() ? 1 : 0; }
-  virtual Exchange actuator_exchange(int /*k*/) const { return last_exchange(); }
+  virtual Exchange actuator_exchange(int /*k*/) const { return {}; }
   // The transfer system that moves this substructure's num_actuators() actuators (nullptr for a
   // numerical one): what the runner asks of it through the TransferSystem interface (can it
   // run paced, its delay, a probe, the commands it received), never its concrete type.
   virtual const transfer::TransferSystem* transfer_system() const { return nullptr; }
   virtual transfer::TransferSystem* transfer_system() { return nullptr; }
+  // The setup its actuators see the slots through (actuator_setup.h; nullptr for a numerical
+  // substructure or one that does not say): what `plan`'s numerical twin needs (twin.h).
+  virtual const ActuatorSetup* actuator_setup() const { return nullptr; }
   // The zero-force position p0 of actuator k (0-based) [m] and its safety limits (SI), as the
   // setup and the safety section give them, for the checks against what a bench announces
   // before anything moves (runner/pre_move_checks.h); nullopt where not known.
@@ -90,15 +89,9 @@ class Substructure {
   // Number of trials sent to a bench so far (physical substructures only).
   virtual long evaluations() const { return 0; }
   virtual std::string Describe() const = 0;
-  // The specimen's initial stiffness K0 (operator-splitting schemes use it), if known.
-  // Unit: [N/m] (or [N·m/rad] for a rotational slot).
-  virtual std::optional<double> initial_stiffness() const { return std::nullopt; }
-  // K0 as the m × m matrix dr/dd (a 1 × 1 matrix is initial_stiffness()), if known.
-  virtual std::optional<Eigen::MatrixXd> initial_stiffness_matrix() const {
-    const auto k0 = initial_stiffness();
-    if (!k0) return std::nullopt;
-    return Eigen::MatrixXd::Constant(1, 1, *k0);
-  }
+  // The specimen's initial stiffness K0 = dr/dd (m × m), if known (operator-splitting
+  // schemes use it). Unit: [N/m] (or [N·m/rad] for a rotational slot).
+  virtual std::optional<Eigen::MatrixXd> initial_stiffness() const { return std::nullopt; }
   // The largest change of the slot displacement between two trials that the safety limits
   // allow (+inf if none). Unit: [m] (or [rad]).
   virtual double max_displacement_increment() const {
@@ -114,12 +107,13 @@ class Substructure {
   // Before the test (after Activate(), before the first trial): measures K0 by the ramp the
   // config asks for, if it asks, and fills `entry` (the sidecar's initial_stiffness record of
   // this substructure: k0 and its source, and what the ramp saw). Default: K0 as known
-  // (initial_stiffness_matrix() for several slots), source "law", or null and "unknown".
+  // (a number for one slot, rows of numbers for several), source "law" ("configured" for a
+  // physical one), or null and "unknown".
   virtual void MeasureRequestedStiffness(nlohmann::json& entry);
 
   // Resume (runner/session_resume.cc), after RestoreState on an activated substructure: brings
   // every actuator back to its last committed command and checks position and force (see
-  // PhysicalSubstructure::ReimposeCommitted and MultiActuatorSubstructure::ReimposeCommitted),
+  // PhysicalSubstructure::ReimposeCommitted),
   // within force_tolerance [N] and position_tolerance [m] (≤ 0: the defaults);
   // `commands_at_stop`: commands the bench had received when the run stopped, if recorded.
   // `on_move(reimposition)` after every exchange. Returns one sidecar record per actuator,

@@ -1,6 +1,8 @@
 // See substructure_spec.h.
 #include "hybridtest/substructures/substructure_spec.h"
 
+#include "hybridtest/substructures/slot_law.h"
+
 #include <fmt/core.h>
 
 #include <algorithm>
@@ -9,8 +11,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/substructures/law_block.h"
 #include "hybridtest/substructures/linear_block.h"
-#include "hybridtest/transfer/multi_emulated_bench.h"
-#include "hybridtest/substructures/multi_actuator_substructure.h"
+#include "hybridtest/transfer/emulated_bench.h"
 #include "hybridtest/substructures/numerical_substructure.h"
 #include "hybridtest/substructures/physical_substructure.h"
 
@@ -32,30 +33,33 @@ std::unique_ptr<Substructure> SubstructureSpec::Build() const {
       throw ConfigError(fmt::format("slot {}: a physical substructure needs a transfer system",
                                     slot));
     }
-    if (physical->linear || physical->actuator_setup) {
-      std::unique_ptr<ActuatorSetup> setup =
-          physical->linear ? std::make_unique<LinearActuatorSetup>(*physical->linear)
-                           : physical->actuator_setup->Clone();
-      std::vector<transfer::SafetyLimits> limits = physical->actuator_limits;
-      if (limits.empty()) limits.assign(static_cast<std::size_t>(setup->num_actuators()),
-                                        physical->limits);
-      auto multi = std::make_unique<MultiActuatorSubstructure>(slot, physical->transfer.make(),
-                                                               std::move(setup), limits);
-      if (physical->slot_limits) {
-        SlotLimits slot_limits = *physical->slot_limits;
-        if (slot_limits.names.empty()) slot_limits.names = SlotNames();
-        multi->SetSlotLimits(std::move(slot_limits));
-      }
-      if (physical->initial_stiffness_matrix) {
-        multi->SetInitialStiffness(*physical->initial_stiffness_matrix);
-      }
-      if (physical->stiffness_ramp) multi->RequestStiffnessMeasurement(*physical->stiffness_ramp);
-      return multi;
+    // One class for every size: a linear setup of n actuators, another geometry, or the
+    // one-actuator setup of `setup: {p0, sign, scale, ...}`.
+    std::unique_ptr<ActuatorSetup> setup;
+    if (physical->linear) {
+      setup = std::make_unique<LinearActuatorSetup>(*physical->linear);
+    } else if (physical->actuator_setup) {
+      setup = physical->actuator_setup->Clone();
+    } else {
+      setup = std::make_unique<ScalarSetup>(physical->setup);
+    }
+    std::vector<transfer::SafetyLimits> limits = physical->actuator_limits;
+    if (limits.empty()) {
+      limits.assign(static_cast<std::size_t>(setup->num_actuators()), physical->limits);
     }
     auto built = std::make_unique<PhysicalSubstructure>(slot, physical->transfer.make(),
-                                                         physical->setup, physical->limits,
-                                                         physical->safety_stiffness);
-    if (physical->initial_stiffness) built->SetInitialStiffness(*physical->initial_stiffness);
+                                                         std::move(setup), limits);
+    if (physical->slot_limits) {
+      SlotLimits slot_limits = *physical->slot_limits;
+      if (slot_limits.names.empty()) slot_limits.names = SlotNames();
+      built->SetSlotLimits(std::move(slot_limits));
+    }
+    if (physical->safety_stiffness) built->SetSafetyStiffness(*physical->safety_stiffness);
+    if (physical->initial_stiffness_matrix) {
+      built->SetInitialStiffness(*physical->initial_stiffness_matrix);
+    } else if (physical->initial_stiffness) {
+      built->SetInitialStiffness(Eigen::MatrixXd::Constant(1, 1, *physical->initial_stiffness));
+    }
     if (physical->stiffness_ramp) built->RequestStiffnessMeasurement(*physical->stiffness_ramp);
     return built;
   }
@@ -104,13 +108,17 @@ std::vector<std::vector<int>> SlotIndices(const std::vector<SubstructureSpec>& s
 }
 
 std::optional<SubstructureSpec> EmulatedBlockTwin(const Substructure& s) {
-  const auto* multi = dynamic_cast<const MultiActuatorSubstructure*>(&s);
-  if (multi == nullptr) return std::nullopt;
-  const auto* bench = dynamic_cast<const transfer::MultiEmulatedBench*>(&multi->transfer());
-  if (bench == nullptr) return std::nullopt;
-  const auto& setup = multi->setup();
+  const ActuatorSetup* setup_of = s.actuator_setup();
+  if (setup_of == nullptr) return std::nullopt;
+  // A coupled bench (its `actuators:` form) of as many actuators as the setup.
+  const transfer::EmulatedBenchSpec* coupled = CoupledBench(s.transfer_system());
+  if (coupled == nullptr || coupled->num_actuators() != setup_of->num_actuators()) {
+    return std::nullopt;
+  }
+  const auto* bench = static_cast<const transfer::EmulatedBench*>(s.transfer_system());
+  const ActuatorSetup& setup = *setup_of;
   for (int k = 0; k < setup.num_actuators(); ++k) {
-    const auto& a = bench->config().actuators[static_cast<std::size_t>(k)];
+    const auto& a = coupled->actuators[static_cast<std::size_t>(k)];
     if (std::abs(setup.p0()(k) - a.p0) > 1e-12 || setup.load_cell_zero()(k) != a.offset) {
       return std::nullopt;
     }

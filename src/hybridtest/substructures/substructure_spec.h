@@ -6,9 +6,10 @@
 //
 //   numerical: a restoring-force law (a prototype, cloned by every Build());
 //   custom:    a factory of any Substructure (a program's own);
-//   physical:  a transfer system (a factory of the configured type), the setup transform, the
-//              safety limits and how K0 is known (given, measured by a ramp, or predicted from
-//              the safety section's specimen stiffness).
+//   physical:  a transfer system (a factory of the configured type), the setup (one actuator's
+//              SetupTransform, a linear setup of n actuators or another geometry), the safety
+//              limits and how K0 is known (given, measured by a ramp, or predicted from the
+//              safety section's specimen stiffness). Every size builds a PhysicalSubstructure.
 #include <functional>
 #include <memory>
 #include <optional>
@@ -105,7 +106,7 @@ std::vector<std::vector<int>> SlotIndices(const std::vector<SubstructureSpec>& s
                                           const std::vector<std::string>& model_slots);
 
 // The numerical twin of a substructure on an emulated bench of several actuators whose
-// specimen law and setup it can see (MultiActuatorSubstructure on a MultiEmulatedBench, the
+// specimen law and setup it can see (a PhysicalSubstructure on a coupled EmulatedBench, the
 // setup's p0 equal to the bench's, no load-cell zero): a spec with block_law and
 // block_transform = the setup's T (linear) or block_setup = the setup (any other geometry).
 // nullopt for anything else.

@@ -2,10 +2,11 @@
 // The numerical twin of a physical substructure on an emulated bench, for `plan`'s reference
 // run (runner/plan.h) — what the builders know of the concrete bench behind a substructure, so
 // that nothing above them casts:
-//   TwinLaw        one slot: the emulated specimen's law as a numerical law (through the setup
-//                  where it is not the identity), else a linear spring of K0;
-//   TwinStiffness  several actuators: T0ᵀ K T0 of the emulated bench's specimen (T0 = J(0)),
-//                  else the configured K0 matrix; nullopt for a one-actuator substructure;
+//   TwinLaw        one actuator, one slot: the emulated specimen's law as a numerical law
+//                  (through the setup where it is not the identity), else a linear spring of K0;
+//   TwinStiffness  several actuators or slots: T0ᵀ K T0 of the emulated bench's specimen
+//                  (T0 = J(0)), else the configured K0 matrix; nullopt for one actuator and one
+//                  slot on a one-actuator bench;
 //   ReseededTransfer  a transfer spec of a noisy emulated bench with another noise seed.
 // Each throws ConfigError naming the slot and what to give when no twin can be made.
 #include <memory>

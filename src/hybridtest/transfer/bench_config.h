@@ -1,5 +1,6 @@
 #pragma once
-// Configuration of the emulated test bench (EmulatedBench). Loaded from the `bench:` mapping of
+// Configuration of one actuator of the emulated test bench (EmulatedBench; EmulatedBenchSpec in
+// bench_spec.h holds one per actuator and the specimen). Loaded from the `bench:` mapping of
 // a YAML file. Config keys carry their unit in the name when it is not SI; the struct below is
 // SI throughout (conversion happens once, in the parser).
 //

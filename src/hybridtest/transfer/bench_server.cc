@@ -47,19 +47,20 @@ BenchServer::BenchServer(TransferSystem& bench, BenchServerOptions options)
     : bench_(bench),
       options_(std::move(options)),
       units_(bench.bench_units()),
-      gate_(options_.limits),
+      gate_(std::vector<SafetyLimits>(static_cast<std::size_t>(bench.num_actuators()),
+                                      options_.limits)),
       listener_(CheckOptions(options_), options_.port),
       handshakes_(options_.max_pending, options_.handshake_timeout) {
-  if (options_.start_position) gate_.monitor().SetStartPosition(*options_.start_position);
-  if (options_.initial_stiffness) gate_.monitor().SetInitialStiffness(*options_.initial_stiffness);
-  if (bench_.num_actuators() > 1) {
-    const auto n = static_cast<std::size_t>(bench_.num_actuators());
-    group_ = std::make_unique<SafetyGateGroup>(std::vector<SafetyLimits>(n, options_.limits));
-    for (std::size_t k = 0; k < n && k < options_.start_positions.size(); ++k) {
-      group_->monitor(static_cast<int>(k)).SetStartPosition(options_.start_positions[k]);
+  for (int k = 0; k < gate_.size(); ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    if (i < options_.start_positions.size()) {
+      gate_.monitor(k).SetStartPosition(options_.start_positions[i]);
+    } else if (options_.start_position) {
+      gate_.monitor(k).SetStartPosition(*options_.start_position);
     }
-    if (options_.actuator_stiffness) UseCoupledStiffness(*group_, *options_.actuator_stiffness);
+    if (options_.initial_stiffness) gate_.monitor(k).SetInitialStiffness(*options_.initial_stiffness);
   }
+  if (options_.actuator_stiffness) UseCoupledStiffness(gate_, *options_.actuator_stiffness);
 }
 
 std::string BenchServer::address() const { return listener_.address(); }
@@ -262,7 +263,7 @@ bool BenchServer::HandleFrame(Session& session, const Frame& frame) {
   try {
     switch (frame.type) {
       case MessageType::kCommand:
-        return group_ ? HandleCommands(session, frame) : HandleCommand(session, frame);
+        return HandleCommand(session, frame);
       case MessageType::kHeartbeat:
         DecodeEmpty(frame, MessageType::kHeartbeat);
         return Send(session, EncodeEmpty(MessageType::kHeartbeatAck, frame.sequence));
@@ -310,14 +311,23 @@ bool BenchServer::AnswerFailedMove(Session& session, const Frame& frame, long n)
 }
 
 bool BenchServer::HandleCommand(Session& session, const Frame& frame) {
-  const CommandMessage command = DecodeCommand(frame);
+  // One position per actuator (a bench of one actuator reads the one-position frame, with its
+  // own messages for a malformed payload).
+  const std::vector<double> commands =
+      gate_.size() == 1 ? std::vector<double>{DecodeCommand(frame).position} : DecodeCommands(frame);
   const long n = ++commands_received_;
   const auto fault = [&](FaultKind kind) { return HasFault(options_.faults, kind, n); };
   const auto safety = static_cast<int>(ErrorCode::kSafety);
+  if (static_cast<int>(commands.size()) != gate_.size()) {
+    SendError(session, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
+              fmt::format("COMMAND with {} positions for a bench of {} actuators; send one per "
+                          "actuator", commands.size(), gate_.size()));
+    return false;
+  }
 
   // Latched refusal: nothing moves until the client reconnects.
   if (session.refused) {
-    SendError(session, frame.sequence, safety, session.refused_limit, command.position, 0,
+    SendError(session, frame.sequence, safety, session.refused_limit, commands[0], 0,
               "the bench is holding after a safety refusal (" + session.refused_text +
                   "); reconnect to resume");
     return true;
@@ -331,25 +341,27 @@ bool BenchServer::HandleCommand(Session& session, const Frame& frame) {
     HoldBench(fmt::format("FAULT silence at command {}", n));
     return true;
   }
-  // Check, move, check: a SafetyStop from any of the three refuses and latches.
-  MeasurementMessage reply;
+  // Check, move, check: every position before any actuator moves; a SafetyStop from any of
+  // the three refuses and latches.
   try {
-    GatedMove move;
-    gate_.MoveBench(bench_, command.position, {n, 0}, move, [&] {
+    gate_.MoveBench(bench_, commands, {n, 0}, moves_, [&] {
       if (bench_held_) {
         bench_.Activate();
         bench_held_ = false;
       }
     });
-    reply.measurement = move.raw;
   } catch (const Error&) {
     return AnswerFailedMove(session, frame, n);
   }
   // Test faults on the answer.
-  ApplyMeasurementFaults(options_.faults, n, units_, reply.measurement);
+  measured_.clear();
+  for (const auto& m : moves_) {
+    measured_.push_back(m.raw);
+    ApplyMeasurementFaults(options_.faults, n, units_, measured_.back());
+  }
   const std::uint32_t sequence =
       fault(FaultKind::kStaleSeq) ? frame.sequence - 1 : frame.sequence;
-  std::vector<std::uint8_t> bytes = EncodeFrame(EncodeMeasurement(sequence, reply));
+  std::vector<std::uint8_t> bytes = EncodeFrame(EncodeMeasurements(sequence, measured_));
   const std::vector<std::uint8_t> clean = bytes;
   if (fault(FaultKind::kCorrupt)) bytes[kFrameHeaderSize] ^= 0xFF;
   if (fault(FaultKind::kDuplicate)) {
@@ -358,42 +370,6 @@ bool BenchServer::HandleCommand(Session& session, const Frame& frame) {
   }
   previous_measurement_ = clean;
   return SendAll(session.client.fd(), bytes, options_.send_timeout);
-}
-
-// A bench of several actuators: every position is checked by its actuator's monitor before
-// any actuator moves (SafetyGateGroup); a refusal latches like a one-actuator refusal. Test
-// faults are not injected here.
-bool BenchServer::HandleCommands(Session& session, const Frame& frame) {
-  const std::vector<double> commands = DecodeCommands(frame);
-  const long n = ++commands_received_;
-  const auto safety = static_cast<int>(ErrorCode::kSafety);
-  if (static_cast<int>(commands.size()) != bench_.num_actuators()) {
-    SendError(session, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
-              fmt::format("COMMAND with {} positions for a bench of {} actuators; send one per "
-                          "actuator", commands.size(), bench_.num_actuators()));
-    return false;
-  }
-  if (session.refused) {
-    SendError(session, frame.sequence, safety, session.refused_limit, commands[0], 0,
-              "the bench is holding after a safety refusal (" + session.refused_text +
-                  "); reconnect to resume");
-    return true;
-  }
-  std::vector<GatedMove> moves;
-  try {
-    group_->MoveBench(bench_, commands, {n, 0}, moves, [&] {
-      if (bench_held_) {
-        bench_.Activate();
-        bench_held_ = false;
-      }
-    });
-  } catch (const Error&) {
-    return AnswerFailedMove(session, frame, n);
-  }
-  std::vector<Measurement> measured;
-  for (const auto& m : moves) measured.push_back(m.raw);
-  return SendAll(session.client.fd(), EncodeFrame(EncodeMeasurements(frame.sequence, measured)),
-                 options_.send_timeout);
 }
 
 }  // namespace hybridtest::transfer

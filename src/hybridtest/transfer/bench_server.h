@@ -15,12 +15,12 @@
 //  - Every request of a session must carry the sequence number after the previous one's
 //    (HELLO's + 1, + 2, ...). A duplicate, stale or skipped number (a replayed COMMAND) is
 //    refused with ERROR(PROTOCOL) before it is looked at, never executed, and ends the session.
-//  - Every COMMAND is checked by a SafetyMonitor (SI limits; bench units are converted with
-//    the bench's BenchUnits) before the bench moves. A refused command is answered with
+//  - Every COMMAND (one position per actuator, n = bench.num_actuators()) is checked by the
+//    SafetyGate, one SafetyMonitor per actuator (SI limits; bench units are converted with the
+//    bench's BenchUnits), before any actuator moves. A refused command is answered with
 //    ERROR(SAFETY, limit, value, limit value), the bench holds, and every further COMMAND of
 //    that session is refused the same way (the refusal latches until the client reconnects).
-//    A bench of several actuators checks the whole command vector before any actuator moves,
-//    with the coupled force prediction when options.actuator_stiffness is given.
+//    With options.actuator_stiffness the forces are predicted coupled (safety_gate.h).
 //  - Every measurement is checked too (finite, |force| ≤ force_hard); a violation is
 //    answered with ERROR(SAFETY) and latches in the same way.
 //  - On a silent client (no frame for heartbeat_timeout), a malformed frame, an unexpected
@@ -47,7 +47,6 @@
 #include "hybridtest/transfer/frame.h"
 #include "hybridtest/transfer/safety.h"
 #include "hybridtest/transfer/safety_gate.h"
-#include "hybridtest/transfer/safety_gate_group.h"
 #include "hybridtest/transfer/socket.h"
 #include "hybridtest/transfer/transfer_system.h"
 
@@ -63,18 +62,18 @@ struct BenchServerOptions {
   std::size_t max_pending = 16;    // connections awaiting HELLO at once; the oldest is dropped
   double send_timeout = 2.0;       // longest wait to write one frame. Unit: [s].
   SafetyLimits limits;             // checked before every command. SI.
-  // A bench of several actuators: each actuator's position before the first command [m]
-  // (`limits` apply to every actuator).
+  // Actuator k's position before the first command, so that its increment is checked [m];
+  // actuators beyond the list start at `start_position` if given (`limits` apply to every
+  // actuator).
   std::vector<double> start_positions;
-  std::optional<double> start_position;  // actuator position before the first command, so
-                                         // that its increment is checked. Unit: [m].
-  std::optional<double> initial_stiffness;  // for the force prediction before two
-                                            // measurements exist. Unit: [N/m].
-  // A bench of several actuators: the specimen's stiffness in actuator coordinates (n × n),
-  // when known (a bench file's specimen, an `initial_stiffness` matrix). Every command vector
-  // is then checked with the coupled prediction f_last + K_a (a − x_last), so a move of one
-  // actuator loads the others (safety_gate_group.h); its diagonal is each actuator's own
-  // stiffness until every actuator has a measurement. Unit: [N/m].
+  std::optional<double> start_position;  // every actuator's start position. Unit: [m].
+  std::optional<double> initial_stiffness;  // every actuator's stiffness for the force
+                                            // prediction before two measurements. Unit: [N/m].
+  // The specimen's stiffness in actuator coordinates (n × n), when known (a bench file's
+  // specimen, an `initial_stiffness` matrix). Every command vector is then checked with the
+  // coupled prediction f_last + K_a (a − x_last), so a move of one actuator loads the others
+  // (safety_gate.h); its diagonal is each actuator's own stiffness until every actuator has a
+  // measurement. Unit: [N/m].
   std::optional<Eigen::MatrixXd> actuator_stiffness;
   std::vector<Fault> faults;       // TEST FACILITY ONLY (bench_faults.h); empty in real use
   std::function<void(const std::string&)> log;  // one line per event; may be empty
@@ -112,9 +111,8 @@ class BenchServer {
   // Handles one frame of an open session; returns false when the session must end.
   bool HandleFrame(Session& session, const Frame& frame);
   bool AnswerFailedMove(Session& session, const Frame& frame, long n);
+  // A COMMAND: one position per actuator.
   bool HandleCommand(Session& session, const Frame& frame);
-  // A COMMAND to a bench of several actuators.
-  bool HandleCommands(Session& session, const Frame& frame);
   void RefuseBusyClient();
   bool Send(Session& session, const Frame& frame);
   void SendError(Session& session, std::uint32_t sequence, int code, const std::string& limit,
@@ -125,8 +123,9 @@ class BenchServer {
   TransferSystem& bench_;
   BenchServerOptions options_;
   BenchUnits units_;
-  SafetyGate gate_;  // check → move → check of every command received
-  std::unique_ptr<SafetyGateGroup> group_;  // the same for a bench of several actuators
+  SafetyGate gate_;  // check → move → check of every command received (n actuators)
+  std::vector<GatedMove> moves_;       // (n) the last command's moves
+  std::vector<Measurement> measured_;  // (n) what the last answer carries
   Listener listener_;
   std::atomic<bool> stop_{false};
   std::atomic<long> commands_received_{0};

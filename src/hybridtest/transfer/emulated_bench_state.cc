@@ -68,25 +68,48 @@ void LabClock::Restore(double lab_time) {
 }
 
 nlohmann::json EmulatedBench::SaveState() const {
-  return {{"kind", "emulated"},
-          {"command_count", command_count_},
-          {"faults_fired_through", faults_fired_through_},
-          {"lab_time_s", clock_->lab_time()},
-          {"actuator", actuator_->SaveState()},
-          {"specimen", specimen_->SaveState()},
-          {"load_cell", load_cell_->SaveState()},
-          {"safety", safety_.SaveState()}};
+  if (num_actuators() == 1) {
+    return {{"kind", "emulated"},
+            {"command_count", command_count_},
+            {"faults_fired_through", faults_fired_through_},
+            {"lab_time_s", clock_->lab_time()},
+            {"actuator", actuators_[0]->SaveState()},
+            {"specimen", specimen_->SaveState()},
+            {"load_cell", load_cells_[0]->SaveState()},
+            {"safety", safety_[0].SaveState()}};
+  }
+  nlohmann::json actuators = nlohmann::json::array(), cells = nlohmann::json::array(),
+                 safety = nlohmann::json::array();
+  for (std::size_t k = 0; k < actuators_.size(); ++k) {
+    actuators.push_back(actuators_[k]->SaveState());
+    cells.push_back(load_cells_[k]->SaveState());
+    safety.push_back(safety_[k].SaveState());
+  }
+  return {{"kind", "multi_emulated"}, {"command_count", command_count_},
+          {"faults_fired_through", faults_fired_through_}, {"lab_time_s", clock_->lab_time()},
+          {"actuators", actuators}, {"load_cells", cells}, {"safety", safety},
+          {"specimen", specimen_->SaveState()}};
 }
 
 void EmulatedBench::RestoreState(const nlohmann::json& state) {
   try {
-    if (state.value("kind", "") != "emulated") {
-      throw Error("it is not an emulated bench's state");
+    const std::size_t n = actuators_.size();
+    if (n == 1 && state.value("kind", "") == "emulated") {  // the form of one actuator
+      actuators_[0]->RestoreState(state.at("actuator"));
+      load_cells_[0]->RestoreState(state.at("load_cell").get<std::string>());
+      safety_[0].RestoreState(state.at("safety"));
+    } else if (state.value("kind", "") == "multi_emulated" && state.at("actuators").size() == n &&
+               state.at("load_cells").size() == n && state.at("safety").size() == n) {
+      for (std::size_t k = 0; k < n; ++k) {
+        actuators_[k]->RestoreState(state.at("actuators")[k]);
+        load_cells_[k]->RestoreState(state.at("load_cells")[k].get<std::string>());
+        safety_[k].RestoreState(state.at("safety")[k]);
+      }
+    } else {
+      throw Error(fmt::format("it is not the state of an emulated bench with {} actuator{}", n,
+                              n == 1 ? "" : "s"));
     }
-    actuator_->RestoreState(state.at("actuator"));
     specimen_->RestoreState(state.at("specimen"));
-    load_cell_->RestoreState(state.at("load_cell").get<std::string>());
-    safety_.RestoreState(state.at("safety"));
     clock_->Restore(state.at("lab_time_s").get<double>());
     command_count_ = state.at("command_count").get<long>();
     faults_fired_through_ = state.value("faults_fired_through", 0L);
@@ -95,18 +118,35 @@ void EmulatedBench::RestoreState(const nlohmann::json& state) {
   }
 }
 
-std::optional<Measurement> EmulatedBench::Read() const {
-  const double position = actuator_->position();
-  // The specimen's force at the committed state: its law's trial from there (a copy, so the
-  // committed state is untouched).
+std::optional<std::vector<Measurement>> EmulatedBench::ReadAll() const {
+  const std::size_t n = actuators_.size();
+  std::vector<double> deformation(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    deformation[k] = actuators_[k]->position() - spec_.actuators[k].p0;
+  }
+  // The specimen's forces at the committed state: a trial of a copy of its law (the committed
+  // state is untouched).
   auto law = specimen_->Clone();
-  const double force = law->Trial(position - config_.p0) + config_.offset;
-  return Measurement{position / config_.units.metres_per_length_unit,
-                     force / config_.units.newtons_per_force_unit, clock_->lab_time()};
+  std::vector<double> force(n);
+  law->Trial(deformation, force);
+  std::vector<Measurement> out;
+  for (std::size_t k = 0; k < n; ++k) {
+    const EmulatedBenchConfig& a = spec_.actuators[k];
+    out.push_back(Measurement{actuators_[k]->position() / a.units.metres_per_length_unit,
+                              (force[k] + a.offset) / a.units.newtons_per_force_unit,
+                              clock_->lab_time(), 0});
+  }
+  return out;
+}
+
+std::optional<Measurement> EmulatedBench::Read() const {
+  if (num_actuators() != 1) return std::nullopt;
+  return (*ReadAll())[0];
 }
 
 BenchAnnouncement EmulatedBench::Announce() const {
-  return {config_.p0, config_.safety, "the emulated bench"};
+  if (num_actuators() != 1) return {};
+  return {spec_.actuators[0].p0, spec_.actuators[0].safety, "the emulated bench"};
 }
 
 std::optional<ProbeReading> EmulatedBench::Probe() {

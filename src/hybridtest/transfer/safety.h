@@ -71,7 +71,7 @@ class SafetyMonitor {
   // (from the last measurement and a secant stiffness estimate) inside force_soft.
   void CheckCommand(double command, long step, int stage);
   // The same with the force predicted by the caller [N] (NaN: nothing to predict), e.g. from
-  // a stiffness matrix that couples several actuators (SafetyGateGroup); `basis` says how it
+  // a stiffness matrix that couples several actuators (SafetyGate); `basis` says how it
   // was predicted, for the stop message ("": the monitor's own last force and stiffness).
   void CheckCommand(double command, long step, int stage, double predicted_force,
                     std::string_view basis);

@@ -1,37 +1,145 @@
 // See safety_gate.h.
 #include "hybridtest/transfer/safety_gate.h"
 
+#include <fmt/core.h>
+
+#include <cmath>
+#include <limits>
+
 namespace hybridtest::transfer {
 
-void SafetyGate::Move(TransferSystem& transfer, double command_m, MoveLabel label,
-                      double load_cell_zero, GatedMove& out,
-                      const std::function<void()>& before_execute) {
-  const BenchUnits units = transfer.bench_units();
-  Execute(transfer, units, command_m, command_m / units.metres_per_length_unit, label,
-          load_cell_zero, out, before_execute);
+SafetyGate::SafetyGate(const std::vector<SafetyLimits>& limits) {
+  if (limits.empty()) throw ConfigError("safety: a specimen needs the limits of at least one actuator");
+  for (const auto& l : limits) monitors_.emplace_back(l);
 }
 
-void SafetyGate::MoveBench(TransferSystem& transfer, double command_bench, MoveLabel label,
-                           GatedMove& out, const std::function<void()>& before_execute) {
-  const BenchUnits units = transfer.bench_units();
-  Execute(transfer, units, command_bench * units.metres_per_length_unit, command_bench, label, 0.0,
-          out, before_execute);
+void SafetyGate::SetStiffness(const Eigen::MatrixXd& k) {
+  if (k.rows() != size() || k.cols() != size() || !k.allFinite()) {
+    throw ConfigError(fmt::format("safety: a {} × {} stiffness for the force prediction of {} "
+                                  "actuators; expected a finite {} × {} matrix in N/m", k.rows(),
+                                  k.cols(), size(), size(), size()));
+  }
+  stiffness_ = k;
 }
 
-void SafetyGate::Execute(TransferSystem& transfer, const BenchUnits& units, double command_m,
-                         double command_bench, MoveLabel label, double load_cell_zero,
-                         GatedMove& out, const std::function<void()>& before_execute) {
-  out.executed = false;
-  out.command = command_m;
-  monitor_.CheckCommand(command_m, label.step, label.stage);
+void UseCoupledStiffness(SafetyGate& gate, const Eigen::MatrixXd& k) {
+  gate.SetStiffness(k);
+  for (int a = 0; a < gate.size(); ++a) gate.monitor(a).SetInitialStiffness(k(a, a));
+}
+
+Eigen::VectorXd PredictCoupledForces(const std::vector<SafetyMonitor>& monitors,
+                                     const Eigen::MatrixXd& stiffness,
+                                     std::span<const double> commands_m) {
+  const auto n = static_cast<Eigen::Index>(monitors.size());
+  Eigen::VectorXd f = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::quiet_NaN());
+  if (commands_m.size() != monitors.size() || stiffness.rows() != n || stiffness.cols() != n) {
+    return f;
+  }
+  Eigen::VectorXd move(n), last(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const auto& m = monitors[static_cast<std::size_t>(k)];
+    if (!m.has_measurement()) return f;
+    move(k) = commands_m[static_cast<std::size_t>(k)] - m.last_position();
+    last(k) = m.last_force();
+  }
+  return last + stiffness * move;
+}
+
+void CheckCommands(std::vector<SafetyMonitor>& monitors, const Eigen::MatrixXd* stiffness,
+                   std::span<const double> commands_m, long step, int stage) {
+  const std::size_t n = monitors.size();
+  // One actuator, each monitor on its own: a refused command leaves its monitor untouched, so
+  // no copy is needed.
+  if (n == 1 && stiffness == nullptr) {
+    monitors[0].CheckCommand(commands_m[0], step, stage);
+    return;
+  }
+  // Every command on a copy of its monitor: the monitors only learn the vector if all pass.
+  std::vector<SafetyMonitor> checked = monitors;
+  const Eigen::VectorXd predicted =
+      stiffness != nullptr ? PredictCoupledForces(monitors, *stiffness, commands_m)
+                           : Eigen::VectorXd::Constant(static_cast<Eigen::Index>(n),
+                                                       std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t k = 0; k < n; ++k) {
+    const double f = predicted(static_cast<Eigen::Index>(k));
+    if (std::isfinite(f)) {
+      checked[k].CheckCommand(commands_m[k], step, stage, f,
+                              "predicted with the coupled stiffness in actuator coordinates: "
+                              "f_last + K_a (a − x_last), every actuator's move counted");
+    } else {
+      checked[k].CheckCommand(commands_m[k], step, stage);
+    }
+  }
+  monitors = std::move(checked);
+}
+
+Eigen::VectorXd SafetyGate::PredictForces(const std::vector<double>& commands_m) const {
+  if (!stiffness_) {
+    return Eigen::VectorXd::Constant(size(), std::numeric_limits<double>::quiet_NaN());
+  }
+  return PredictCoupledForces(monitors_, *stiffness_, commands_m);
+}
+
+void SafetyGate::Move(TransferSystem& transfer, const std::vector<double>& commands_m,
+                      MoveLabel label, const std::vector<double>& load_cell_zero,
+                      std::vector<GatedMove>& out, const std::function<void()>& before_execute) {
+  const BenchUnits units = transfer.bench_units();
+  bench_commands_.resize(commands_m.size());
+  for (std::size_t k = 0; k < commands_m.size(); ++k) {
+    bench_commands_[k] = commands_m[k] / units.metres_per_length_unit;
+  }
+  Execute(transfer, commands_m, label, load_cell_zero, out, before_execute);
+}
+
+void SafetyGate::MoveBench(TransferSystem& transfer, std::span<const double> commands_bench,
+                           MoveLabel label, std::vector<GatedMove>& out,
+                           const std::function<void()>& before_execute) {
+  const BenchUnits units = transfer.bench_units();
+  bench_commands_.assign(commands_bench.begin(), commands_bench.end());
+  commands_m_.resize(commands_bench.size());
+  for (std::size_t k = 0; k < commands_m_.size(); ++k) {
+    commands_m_[k] = commands_bench[k] * units.metres_per_length_unit;
+  }
+  zeros_.assign(commands_m_.size(), 0.0);
+  Execute(transfer, commands_m_, label, zeros_, out, before_execute);
+}
+
+void SafetyGate::Execute(TransferSystem& transfer, std::span<const double> commands_m,
+                         MoveLabel label, std::span<const double> load_cell_zero,
+                         std::vector<GatedMove>& out,
+                         const std::function<void()>& before_execute) {
+  const std::size_t n = monitors_.size();
+  if (commands_m.size() != n || load_cell_zero.size() != n ||
+      transfer.num_actuators() != static_cast<int>(n)) {
+    throw Error(fmt::format("SafetyGate: {} monitors, {} commands, {} load-cell zeros and a "
+                            "transfer system of {} actuators: expected one of each per actuator",
+                            n, commands_m.size(), load_cell_zero.size(),
+                            transfer.num_actuators()));
+  }
+  out.resize(n);
+  for (auto& o : out) o.executed = false;
+  // 1. Every command before any actuator moves.
+  for (std::size_t k = 0; k < n; ++k) out[k].command = commands_m[k];
+  CheckCommands(monitors_, stiffness_ ? &*stiffness_ : nullptr, commands_m, label.step,
+                label.stage);
   if (before_execute) before_execute();
-  const Measurement m = transfer.Execute(command_bench);
-  out.raw = m;
-  out.position = m.position * units.metres_per_length_unit;
-  out.force = m.force * units.newtons_per_force_unit - load_cell_zero;
-  out.lab_time = m.lab_time;
-  out.executed = true;
-  monitor_.CheckMeasurement(command_m, out.position, out.force, label.step, label.stage);
+  // 2. All commands at once.
+  const BenchUnits units = transfer.bench_units();
+  measured_.resize(n);
+  transfer.Execute(bench_commands_, measured_);
+  // 3. Every measurement.
+  for (std::size_t k = 0; k < n; ++k) {
+    const Measurement& m = measured_[k];
+    out[k].raw = m;
+    out[k].position = m.position * units.metres_per_length_unit;
+    out[k].force = m.force * units.newtons_per_force_unit - load_cell_zero[k];
+    out[k].lab_time = m.lab_time;
+    out[k].executed = true;
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    monitors_[k].CheckMeasurement(commands_m[k], out[k].position, out[k].force, label.step,
+                                  label.stage);
+  }
 }
 
 }  // namespace hybridtest::transfer

@@ -6,7 +6,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/yaml_input.h"
-#include "hybridtest/transfer/multi_emulated_bench.h"
+#include "hybridtest/transfer/emulated_bench.h"
 #include "hybridtest/transfer/openfresco/setup_config.h"
 
 namespace hybridtest::transfer::openfresco {
@@ -15,9 +15,9 @@ namespace {
 const std::string kExample = HYBRIDTEST_SOURCE_DIR "/examples/06_blade_two_actuators/";
 
 ExpSetup Parse(const std::string& section) {
-  const MultiBenchConfig bench = LoadMultiBenchConfig(kExample + "bench-2act.yaml");
+  const EmulatedBenchSpec bench = LoadEmulatedBenchSpec(kExample + "bench-2act.yaml");
   const YamlInput in = YamlInput::FromText("openfresco: " + section, "b.yaml");
-  return ParseMultiSetup(in.root()["openfresco"], "b.yaml: openfresco", bench);
+  return ParseSetup(in.root()["openfresco"], "b.yaml: openfresco", bench);
 }
 
 std::string ErrorOf(const std::string& section) {
@@ -30,8 +30,8 @@ std::string ErrorOf(const std::string& section) {
 }
 
 TEST(OpenFrescoMultiSetupConfig, TheExampleFileGivesTheSetup) {
-  const MultiBenchConfig bench = LoadMultiBenchConfig(kExample + "bench-2act-openfresco.yaml");
-  const ExpSetup s = LoadMultiSetup(kExample + "bench-2act-openfresco.yaml", bench);
+  const EmulatedBenchSpec bench = LoadEmulatedBenchSpec(kExample + "bench-2act-openfresco.yaml");
+  const ExpSetup s = LoadSetup(kExample + "bench-2act-openfresco.yaml", bench);
   EXPECT_EQ(s.actuators, 2);
   EXPECT_EQ(s.dofs(), 2);
   EXPECT_EQ(s.transform, (std::vector<double>{1.0, 0.0, 0.6, 0.8}));

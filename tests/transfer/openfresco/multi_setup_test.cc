@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "hybridtest/transfer/multi_emulated_bench.h"
+#include "hybridtest/transfer/emulated_bench.h"
 #include "hybridtest/transfer/openfresco/server.h"
 #include "transfer/openfresco/raw_peer.h"
 #include "transfer/serving_thread.h"
@@ -24,8 +24,8 @@ const double kT[2][4] = {{0.6, -0.8, -0.6, 0.8}, {0.0, 1.0, 0.0, -1.0}};
 const double kK[2][2] = {{5.0, 1.2}, {1.2, 3.0}};
 
 struct Fixture {
-  MultiBenchConfig config = LoadMultiBenchConfig(kBench);
-  MultiEmulatedBench bench{config};
+  EmulatedBenchSpec config = LoadEmulatedBenchSpec(kBench);
+  EmulatedBench bench{config};
   Server server{bench, Setup(), Options()};
   transfer::testing::ServingThread<Server> serving{server};
 

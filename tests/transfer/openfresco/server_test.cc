@@ -67,16 +67,16 @@ class ServerThread {
 ExpSetup ContractSetup() {
   ExpSetup s;
   s.transform = {0.6, -0.8, -0.6, 0.8};
-  s.p0 = 0.020;
-  s.initial_stiffness = 7200.0;
+  s.p0s = {0.020};
+  s.stiffness_matrix = {7200.0};
   return s;
 }
 
 ExpSetup UnitSetup(double p0 = 0.0) {  // n = 1, T = [[1]], for the fake bench (5 N/mm)
   ExpSetup s;
   s.transform = {1.0};
-  s.p0 = p0;
-  s.initial_stiffness = 5000.0;
+  s.p0s = {p0};
+  s.stiffness_matrix = {5000.0};
   return s;
 }
 

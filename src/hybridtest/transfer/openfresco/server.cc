@@ -44,28 +44,32 @@ Server::Server(TransferSystem& bench, ExpSetup setup, BenchServerOptions options
       setup_(std::move(setup)),
       options_(CheckOptions(std::move(options))),
       bench_units_(bench.bench_units()),
-      gate_(options_.limits),
+      gate_(std::vector<SafetyLimits>(static_cast<std::size_t>(std::max(setup_.actuators, 1)),
+                                      options_.limits)),
       listener_(options_.host, options_.port),
       handshakes_(options_.max_pending, options_.handshake_timeout, OpeningSize) {
   ValidateSetup(setup_);
-  if (options_.start_position) gate_.monitor().SetStartPosition(*options_.start_position);
-  gate_.monitor().SetInitialStiffness(options_.initial_stiffness.value_or(setup_.initial_stiffness));
-  if (setup_.actuators > 1) {
-    ValidateMultiSetup(setup_);
-    if (bench_.num_actuators() != setup_.actuators) {
-      throw ConfigError(fmt::format("openfresco: the transform has {} rows, the bench moves {} "
-                                    "actuators", setup_.actuators, bench_.num_actuators()));
+  if (bench_.num_actuators() != setup_.actuators) {
+    throw ConfigError(fmt::format("openfresco: the transform has {} rows, the bench moves {} "
+                                  "actuators", setup_.actuators, bench_.num_actuators()));
+  }
+  for (int k = 0; k < gate_.size(); ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    if (i < options_.start_positions.size()) {
+      gate_.monitor(k).SetStartPosition(options_.start_positions[i]);
+    } else if (options_.start_position) {
+      gate_.monitor(k).SetStartPosition(*options_.start_position);
     }
-    const auto na = static_cast<std::size_t>(setup_.actuators);
-    group_ = std::make_unique<SafetyGateGroup>(std::vector<SafetyLimits>(na, options_.limits));
-    for (std::size_t k = 0; k < na && k < options_.start_positions.size(); ++k) {
-      group_->monitor(static_cast<int>(k)).SetStartPosition(options_.start_positions[k]);
-    }
-    // The coupled force prediction: the options' matrix, else the setup's K_a.
-    const Eigen::MatrixXd setup_k = Eigen::Map<const Eigen::Matrix<
-        double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-        setup_.stiffness_matrix.data(), setup_.actuators, setup_.actuators);
-    UseCoupledStiffness(*group_, options_.actuator_stiffness.value_or(setup_k));
+  }
+  const Eigen::MatrixXd setup_k =
+      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+          setup_.stiffness_matrix.data(), setup_.actuators, setup_.actuators);
+  if (gate_.size() == 1) {
+    // One actuator: its monitor predicts from its own secant, starting from K0.
+    gate_.monitor(0).SetInitialStiffness(options_.initial_stiffness.value_or(setup_k(0, 0)));
+  } else {
+    // Several: the coupled force prediction with the options' matrix, else the setup's K_a.
+    UseCoupledStiffness(gate_, options_.actuator_stiffness.value_or(setup_k));
   }
 }
 

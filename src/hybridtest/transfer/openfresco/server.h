@@ -13,10 +13,10 @@
 //   7  getDisp          → Tᵀ(T Tᵀ)⁻¹ x             8, 9  getVel, getAccel → the trial v, a
 //                                                        projected on T (zeros if not sent)
 //   10 getForce         → q = Tᵀ f                 11 getTime → lab time of the measurement [s]
-//   12, 13 getInitialStiff, getTangentStiff → Tᵀ K0 T (column-major)   14, 15 → zeros (n × n)
-// A setup of n_act actuators (T n_act × n; setup.h) answers the same with vectors: the bench
-// moves every actuator to p0 + T d, 7 gives Tᵀ(T Tᵀ)⁻¹ x, 10 q = Tᵀ f, 12 and 13 Tᵀ K_a T, and
-// the first n_act words of each DAQ block hold the actuators' values.
+//   12, 13 getInitialStiff, getTangentStiff → Tᵀ K_a T (column-major)  14, 15 → zeros (n × n)
+// with the n_act actuators of the setup (T n_act × n; setup.h; n_act = 1: one row t, K_a = K0):
+// the bench moves every actuator to p0 + T d, and the first n_act words of the disp and force
+// DAQ blocks hold the actuators' values.
 // Before the first trial of a session, getDisp/getForce/getDaqResponse report zeros.
 //
 // Safety — the rules of BenchServer (bench_server.h), with the same SafetyMonitor:
@@ -39,7 +39,8 @@
 //    measurement after; a refusal holds the bench and ends the session. With several
 //    actuators every command of a trial is checked before any actuator moves, the forces
 //    predicted coupled, f_last + K_a (a − x_last), with options.actuator_stiffness or else the
-//    setup's K_a (safety_gate_group.h). The OpenFresco
+//    setup's K_a (safety_gate.h); one actuator predicts from its own secant, starting from
+//    options.initial_stiffness or K0. The OpenFresco
 //    protocol has no error message, so the client learns of it by the closed connection.
 //  - a malformed opening, an unknown action, a non-finite trial value, a message not complete
 //    within heartbeat_timeout, a client silent for heartbeat_timeout, or a disconnect is
@@ -60,7 +61,6 @@
 #include "hybridtest/transfer/openfresco/wire.h"
 #include "hybridtest/transfer/safety.h"
 #include "hybridtest/transfer/safety_gate.h"
-#include "hybridtest/transfer/safety_gate_group.h"
 #include "hybridtest/transfer/socket.h"
 #include "hybridtest/transfer/transfer_system.h"
 
@@ -112,10 +112,10 @@ class Server {
   ExpSetup setup_;
   BenchServerOptions options_;
   BenchUnits bench_units_;
-  SafetyGate gate_;  // check → move → check of every command received
-  // A setup of several actuators (ExpSetup::actuators > 1): one monitor per actuator, every
-  // command of a trial checked before any actuator moves.
-  std::unique_ptr<SafetyGateGroup> group_;
+  // Check → move → check of every trial: one monitor per actuator of the setup, every command
+  // of a trial checked before any actuator moves.
+  SafetyGate gate_;
+  std::vector<GatedMove> moves_;  // (n_act) the last trial's moves
   Listener listener_;
   std::atomic<bool> stop_{false};
   std::atomic<long> sessions_{0};

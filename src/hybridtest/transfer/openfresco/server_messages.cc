@@ -33,30 +33,23 @@ bool Server::HandleMessage(Session& session, const std::vector<double>& message)
       return Reply(session, DaqResponse(session));
     case static_cast<int>(Action::kGetDisp):
       if (!session.measured) return Reply(session, std::vector<double>(n, 0.0));
-      return Reply(session, group_ ? ElementDisplacementOf(setup_, session.offsets)
-                                   : ElementDisplacement(setup_, session.offset));
+      return Reply(session, ElementDisplacement(setup_, session.offsets));
     case static_cast<int>(Action::kGetVel):
       return Reply(session, session.trial_vel.empty()
                                 ? std::vector<double>(n, 0.0)
-                                : group_ ? ProjectOnActuators(setup_, session.trial_vel)
-                                         : ProjectOnActuator(setup_, session.trial_vel));
+                                : ProjectOnActuators(setup_, session.trial_vel));
     case static_cast<int>(Action::kGetAccel):
       return Reply(session, session.trial_accel.empty()
                                 ? std::vector<double>(n, 0.0)
-                                : group_ ? ProjectOnActuators(setup_, session.trial_accel)
-                                         : ProjectOnActuator(setup_, session.trial_accel));
+                                : ProjectOnActuators(setup_, session.trial_accel));
     case static_cast<int>(Action::kGetForce):
-      if (group_) {
-        return Reply(session, session.measured ? ElementForcesOf(setup_, session.forces)
-                                               : std::vector<double>(n, 0.0));
-      }
-      return Reply(session, ElementForces(setup_, session.measured ? session.force : 0.0));
+      return Reply(session, session.measured ? ElementForces(setup_, session.forces)
+                                             : std::vector<double>(n, 0.0));
     case static_cast<int>(Action::kGetTime):
       return Reply(session, {session.lab_time});
     case static_cast<int>(Action::kGetInitialStiff):
     case static_cast<int>(Action::kGetTangentStiff):
-      return Reply(session, group_ ? ElementStiffnessOf(setup_)
-                                   : ElementStiffness(setup_, setup_.initial_stiffness));
+      return Reply(session, ElementStiffness(setup_));
     case static_cast<int>(Action::kGetDamp):
     case static_cast<int>(Action::kGetMass):
       return Reply(session, std::vector<double>(static_cast<std::size_t>(n) * n, 0.0));
@@ -106,10 +99,8 @@ bool Server::HandleTrial(Session& session, const std::vector<double>& message) {
   const std::vector<double> d = block(kDisp);
   session.trial_vel = size[kVel] == size[kDisp] ? block(kVel) : std::vector<double>();
   session.trial_accel = size[kAccel] == size[kDisp] ? block(kAccel) : std::vector<double>();
-  // Check, move, check, as BenchServer does; a refusal or a bench failure ends the session.
-  const double command = ActuatorCommand(setup_, d);  // [m]
-  const double m_per_unit = bench_units_.metres_per_length_unit;
-  const double n_per_unit = bench_units_.newtons_per_force_unit;
+  // Check, move, check, as BenchServer does: every actuator's command checked before any
+  // moves; a refusal or a bench failure ends the session.
   const auto resume = [&] {
     if (bench_held_) {
       bench_.Activate();
@@ -117,27 +108,16 @@ bool Server::HandleTrial(Session& session, const std::vector<double>& message) {
     }
   };
   try {
-    if (group_) {  // every actuator, every command checked before any moves
-      std::vector<GatedMove> moves;
-      group_->Move(bench_, ActuatorCommands(setup_, d), {count, 0},
-                   std::vector<double>(setup_.p0s.size(), 0.0), moves, resume);
-      session.offsets.clear();
-      session.forces.clear();
-      for (std::size_t k = 0; k < moves.size(); ++k) {
-        session.offsets.push_back(moves[k].position - setup_.p0s[k]);
-        session.forces.push_back(moves[k].force);
-      }
-      session.measured = true;
-      session.lab_time = moves[0].lab_time;
-      return true;
+    gate_.Move(bench_, ActuatorCommands(setup_, d), {count, 0},
+               std::vector<double>(setup_.p0s.size(), 0.0), moves_, resume);
+    session.offsets.clear();
+    session.forces.clear();
+    for (std::size_t k = 0; k < moves_.size(); ++k) {
+      session.offsets.push_back(moves_[k].position - setup_.p0s[k]);
+      session.forces.push_back(moves_[k].force);
     }
-    GatedMove move;
-    gate_.Move(bench_, command, {count, 0}, 0.0, move, resume);
-    const Measurement& m = move.raw;
     session.measured = true;
-    session.offset = m.position * m_per_unit - setup_.p0;
-    session.force = m.force * n_per_unit;
-    session.lab_time = m.lab_time;
+    session.lab_time = moves_[0].lab_time;
     return true;
   } catch (const SafetyStop& e) {
     Log(fmt::format("ERROR: safety refusal at trial {} ({}): {}", count, e.limit(), e.what()));
@@ -150,21 +130,21 @@ bool Server::HandleTrial(Session& session, const std::vector<double>& message) {
 }
 
 std::vector<double> Server::DaqResponse(const Session& session) const {
+  // Blocks disp | vel | accel | force | time: word i of the disp and force blocks holds
+  // actuator i's offset and force, word 0 of the time block the lab time; the rest is zero.
   const auto& size = session.header.size_daq;
-  const double first[5] = {
-      session.offset / setup_.wire_units.metres_per_length_unit, 0.0, 0.0,
-      session.force / setup_.wire_units.newtons_per_force_unit, session.lab_time};
   std::vector<double> out;
   for (int k = 0; k < 5; ++k) {
     for (int i = 0; i < size[k]; ++i) {
-      double v = i == 0 && session.measured ? first[k] : 0.0;
-      if (group_ && session.measured && k != 4) {  // several actuators: actuator i's value
-        const auto a = static_cast<std::size_t>(i);
+      const auto a = static_cast<std::size_t>(i);
+      double v = 0.0;
+      if (session.measured) {
         v = k == 0 && a < session.offsets.size()
                 ? session.offsets[a] / setup_.wire_units.metres_per_length_unit
             : k == 3 && a < session.forces.size()
                 ? session.forces[a] / setup_.wire_units.newtons_per_force_unit
-                : 0.0;
+            : k == 4 && i == 0 ? session.lab_time
+                               : 0.0;
       }
       out.push_back(v);
     }

@@ -17,9 +17,8 @@ struct Server::Session {
   std::vector<double> trial_vel;     // last trial velocities (wire units), n or empty
   std::vector<double> trial_accel;   // last trial accelerations (wire units), n or empty
   bool measured = false;             // a trial has been executed in this session
-  double offset = 0.0;               // measured position − p0. Unit: [m].
-  std::vector<double> offsets, forces;  // several actuators: per actuator. Units: [m], [N].
-  double force = 0.0;                // measured force. Unit: [N].
+  std::vector<double> offsets;       // (n_act) measured positions − p0. Unit: [m].
+  std::vector<double> forces;        // (n_act) measured forces. Unit: [N].
   double lab_time = 0.0;             // lab time of the measurement. Unit: [s].
 };
 

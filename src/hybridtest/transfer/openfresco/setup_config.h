@@ -6,8 +6,8 @@
 //   openfresco:
 //     units: {length: mm, force: N}     # units of the numbers on the wire: mm|m, N|kN
 //     transform: [[0.6, -0.8, -0.6, 0.8]]   # T (1 × n): command offset from p0 = T d
-//     initial_stiffness: 7200           # optional K0 [N/m]; default: the specimen law's
-//                                       # initial stiffness (bench.specimen)
+//     initial_stiffness: 7200           # optional K0 [N/m] (or [[7200]]); default: the
+//                                       # specimen law's initial stiffness (bench.specimen)
 //
 // p0 is the bench's own (bench.p0_mm).
 //
@@ -26,28 +26,19 @@
 #include <yaml-cpp/yaml.h>
 
 #include "hybridtest/transfer/bench_config.h"
+#include "hybridtest/transfer/bench_spec.h"
 #include "hybridtest/transfer/openfresco/setup.h"
-
-namespace hybridtest::transfer {
-struct MultiBenchConfig;
-}  // namespace hybridtest::transfer
 
 namespace hybridtest::transfer::openfresco {
 
-// Parses the `openfresco:` mapping itself; `where` is its key path for messages ("b.yaml:
-// openfresco"). p0 and the default K0 come from `bench`. Throws ConfigError naming the key.
-ExpSetup ParseSetup(const YAML::Node& node, std::string_view where,
-                    const EmulatedBenchConfig& bench);
+// Parses the `openfresco:` mapping itself for the n_act actuators of `bench` (one row of T per
+// actuator); `where` is its key path for messages ("b.yaml: openfresco"). p0 and the default
+// K_a come from `bench`. Throws ConfigError naming the key (a row count other than the bench's
+// actuators, rows of unequal length, dependent rows, a stiffness of the wrong size).
+ExpSetup ParseSetup(const YAML::Node& node, std::string_view where, const EmulatedBenchSpec& bench);
 
 // Reads the `openfresco:` section of the bench file at `path`. Throws ConfigError if the file
 // has none (naming the example to copy), has two, or the section is invalid.
-ExpSetup LoadSetup(const std::string& path, const EmulatedBenchConfig& bench);
-
-// The same for a bench of several actuators: T of n_act rows, p0 per actuator, K_a. Throws
-// ConfigError naming the key (a row count other than the bench's actuators, rows of unequal
-// length, dependent rows, a stiffness of the wrong size).
-ExpSetup ParseMultiSetup(const YAML::Node& node, std::string_view where,
-                         const MultiBenchConfig& bench);
-ExpSetup LoadMultiSetup(const std::string& path, const MultiBenchConfig& bench);
+ExpSetup LoadSetup(const std::string& path, const EmulatedBenchSpec& bench);
 
 }  // namespace hybridtest::transfer::openfresco

@@ -1,18 +1,29 @@
-// MultiActuatorSubstructure::ReimposeCommitted: a resume of a specimen on several actuators
-// starts from where every actuator IS (see multi_actuator_substructure.h and docs/safety.md,
-// "Resuming a run").
+// PhysicalSubstructure::ReimposeCommitted: a resume starts from where every actuator IS (see
+// physical_substructure.h and docs/safety.md, "Resuming a run").
 #include <fmt/core.h>
 
 #include <algorithm>
 #include <cmath>
 
 #include "hybridtest/common/error.h"
-#include "hybridtest/substructures/multi_actuator_substructure.h"
+#include "hybridtest/substructures/physical_substructure.h"
 #include "hybridtest/substructures/resume_rules.h"
 
 namespace hybridtest::substructures {
 
-MultiActuatorSubstructure::ResumeCheck MultiActuatorSubstructure::ReimposeCommitted(
+double PhysicalSubstructure::DefaultResumePositionTolerance(int k) const {
+  return substructures::DefaultResumePositionTolerance(gate_.monitor(k).limits());
+}
+
+double PhysicalSubstructure::DefaultResumeForceTolerance(double position_tolerance, int k) const {
+  // K_a,kk: the stiffness the gate predicts this actuator's force with, if known.
+  const auto i = static_cast<Eigen::Index>(k);
+  const double stiffness = actuator_k_ ? (*actuator_k_)(i, i) : safety_stiffness_.value_or(0.0);
+  return substructures::DefaultResumeForceTolerance(gate_.monitor(k).limits(), stiffness,
+                                                    position_tolerance);
+}
+
+PhysicalSubstructure::ResumeCheck PhysicalSubstructure::ReimposeCommitted(
     double force_tolerance, double position_tolerance, long step,
     const std::function<void(bool)>& on_move) {
   const std::size_t n = last_.size();
@@ -21,18 +32,16 @@ MultiActuatorSubstructure::ResumeCheck MultiActuatorSubstructure::ReimposeCommit
   std::vector<double> committed(n);
   for (std::size_t k = 0; k < n; ++k) {
     ResumeCheck::Actuator& a = check.actuators[k];
-    const transfer::SafetyLimits& limits = gate_.monitor(static_cast<int>(k)).limits();
     a.command = committed[k] = last_[k].command;
     a.committed_position = last_[k].position;
     a.committed_force = last_[k].force;
-    a.position_tolerance =
-        position_tolerance > 0.0 ? position_tolerance : DefaultResumePositionTolerance(limits);
-    const auto& ka = gate_.stiffness();
-    const auto i = static_cast<Eigen::Index>(k);
-    a.force_tolerance = force_tolerance > 0.0
-                            ? force_tolerance
-                            : DefaultResumeForceTolerance(limits, ka ? (*ka)(i, i) : 0.0,
-                                                          a.position_tolerance);
+    a.position_tolerance = position_tolerance > 0.0
+                               ? position_tolerance
+                               : DefaultResumePositionTolerance(static_cast<int>(k));
+    a.force_tolerance =
+        force_tolerance > 0.0
+            ? force_tolerance
+            : DefaultResumeForceTolerance(a.position_tolerance, static_cast<int>(k));
   }
   auto move = [&](const std::vector<double>& commands, bool reimposition) {
     MoveAll(commands, {step, -1});
@@ -89,17 +98,19 @@ MultiActuatorSubstructure::ResumeCheck MultiActuatorSubstructure::ReimposeCommit
   return check;
 }
 
-nlohmann::json MultiActuatorSubstructure::ReimposeForResume(const ResumeRequest& request) {
+nlohmann::json PhysicalSubstructure::ReimposeForResume(const ResumeRequest& request) {
   // Every actuator walked back from where it is and re-imposed together; every position and
   // force checked. One record per actuator, named like its channels.
+  if (request.commands_at_stop) transfer_->NoteCommandsBeforeResume(*request.commands_at_stop);
   const ResumeCheck check = ReimposeCommitted(request.force_tolerance,
                                               request.position_tolerance, request.step,
                                               request.on_move);
   nlohmann::json out = nlohmann::json::array();
-  for (std::size_t k = 0; k < check.actuators.size(); ++k) {
+  const std::size_t n = check.actuators.size();
+  for (std::size_t k = 0; k < n; ++k) {
     const auto& a = check.actuators[k];
-    nlohmann::json c = {{"slot", fmt::format("{}_a{}", request.name, k + 1)},
-                        {"actuator", k + 1},
+    const std::string slot = n == 1 ? request.name : fmt::format("{}_a{}", request.name, k + 1);
+    nlohmann::json c = {{"slot", slot},
                         {"command_m", a.command},
                         {"committed_force_N", a.committed_force},
                         {"ramp_moves", check.ramp_moves},
@@ -108,32 +119,12 @@ nlohmann::json MultiActuatorSubstructure::ReimposeForResume(const ResumeRequest&
                         {"tolerance_N", a.force_tolerance},
                         {"committed_position_m", a.committed_position},
                         {"position_tolerance_m", a.position_tolerance}};
+    if (n > 1) c["actuator"] = k + 1;
     c["read_position_m"] = a.read_position ? nlohmann::json(*a.read_position) : nullptr;
     c["read_force_N"] = a.read_force ? nlohmann::json(*a.read_force) : nullptr;
     out.push_back(c);
   }
   return out;
-}
-
-void MultiActuatorSubstructure::MeasureRequestedStiffness(nlohmann::json& entry) {
-  if (k0_ramp_) {
-    const StiffnessMeasurement m = MeasureInitialStiffness(*k0_ramp_);
-    nlohmann::json samples = nlohmann::json::array();
-    for (const auto& [x, f] : m.samples) {
-      samples.push_back({std::vector<double>(x.data(), x.data() + x.size()),
-                         std::vector<double>(f.data(), f.data() + f.size())});
-    }
-    entry.update({{"k0", MatrixJson(m.k0)}, {"source", "measured"},
-                  {"actuator_stiffness_N_per_m", MatrixJson(m.actuator_k)},
-                  {"amplitude_m", m.amplitude}, {"samples_x_m_f_N", samples}});
-  } else if (const auto k0 = initial_stiffness_matrix()) {
-    entry.update({{"k0", MatrixJson(*k0)}, {"source", "configured"}});
-  } else {
-    entry.update({{"k0", nullptr}, {"source", "unknown"}});
-  }
-  // The setup K0 is seen through: a measured K0 is T0ᵀ K_a T0 with T0 = J(0) [m/m].
-  entry["setup"] = {{"kind", setup_->kind()}, {"description", setup_->Describe()},
-                    {"T0", MatrixJson(setup_->linearisation())}};
 }
 
 }  // namespace hybridtest::substructures
