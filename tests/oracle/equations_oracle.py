@@ -12,6 +12,11 @@
     equations_oracle.py --binary B --cli
         Bad input exits with status 2 and a message naming the problem; --out and
         --overwrite guard an existing file.
+    equations_oracle.py --binary B --compiled CONFIG
+        `simulate CONFIG` with `compiled: true` added to its model section equals `simulate
+        CONFIG` within 1e-12 of each column's largest value (1e-12 m for q); `compile-model`
+        finds the library the run compiled in the cache ($HYBRIDTEST_CACHE_DIR, a temporary
+        directory here).
 """
 import argparse
 import json
@@ -180,6 +185,53 @@ def check_cli(binary):
     return 0
 
 
+def read_csv(path):
+    rows = [line.split(',') for line in pathlib.Path(path).read_text().splitlines()
+            if line and not line.startswith('#')]
+    return rows[0], [[float(x) for x in row] for row in rows[1:]]
+
+
+def check_compiled(binary, config):
+    import yaml
+    config = pathlib.Path(config).resolve()
+    with tempfile.TemporaryDirectory() as workdir:
+        work = pathlib.Path(workdir)
+        doc = yaml.safe_load(config.read_text())
+        if 'file' in doc['model']:
+            doc['model']['file'] = str((config.parent / doc['model']['file']).resolve())
+        doc.pop('output', None)
+        plain, compiled = work / 'plain.yaml', work / 'compiled.yaml'
+        plain.write_text(yaml.safe_dump(doc))
+        doc['model']['compiled'] = True
+        compiled.write_text(yaml.safe_dump(doc))
+        env_cache = str(work / 'cache')
+        import os
+        os.environ['HYBRIDTEST_CACHE_DIR'] = env_cache
+        run(binary, 'simulate', str(plain), '--out', str(work / 'plain.csv'))
+        run(binary, 'simulate', str(compiled), '--out', str(work / 'compiled.csv'))
+        libraries = list(pathlib.Path(env_cache).glob('*.so'))
+        if len(libraries) != 1:
+            sys.exit(f'FAIL: expected one compiled library in the cache, found {libraries}')
+        p = run(binary, 'compile-model', str(compiled))
+        if str(libraries[0]) not in p.stdout or 'found in the cache' not in p.stdout:
+            sys.exit(f'FAIL: compile-model did not find {libraries[0]} in the cache:\n{p.stdout}')
+        head_a, a = read_csv(work / 'compiled.csv')
+        head_b, b = read_csv(work / 'plain.csv')
+    if head_a != head_b or len(a) != len(b) or len(b) < 2:
+        sys.exit(f'FAIL: the runs differ in shape: {len(a)} and {len(b)} rows')
+    worst = 0.0
+    for c, name in enumerate(head_b):
+        scale = max([1.0] + [abs(row[c]) for row in b])
+        diff = max(abs(ra[c] - rb[c]) for ra, rb in zip(a, b))
+        worst = max(worst, diff / scale)
+        if diff > TOLERANCE * scale:
+            sys.exit(f'FAIL: column {name}: compiled and numeric runs differ by {diff:.3g} '
+                     f'(tolerance {TOLERANCE} x {scale})')
+    print(f'{config.name}: simulate with the compiled model equals the numeric engine over '
+          f'{len(b)} rows (largest relative difference {worst:.2e})')
+    return 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('--binary', required=True)
@@ -188,7 +240,10 @@ def main():
     ap.add_argument('--seed', type=int, default=1)
     ap.add_argument('--latex', action='store_true')
     ap.add_argument('--cli', action='store_true')
+    ap.add_argument('--compiled', metavar='CONFIG')
     a = ap.parse_args()
+    if a.compiled:
+        return check_compiled(a.binary, a.compiled)
     if a.latex:
         return check_latex(a.binary)
     if a.cli:

@@ -45,13 +45,10 @@ std::vector<std::vector<GiNaC::ex>> Columns(const multibody::Matrix3X<Symbolic>&
   return columns;
 }
 
-}  // namespace
-
-Equations DeriveEquations(const multibody::Model& model) {
+// The engine on Symbolic at symbolic (t, x, r): fills `data` and eq's symbols (t, q, u, z, r,
+// udot), named as the model names its quantities.
+void RunEngine(const multibody::Model& model, Data<Symbolic>& data, Equations& eq) {
   const int n = model.num_coordinates();
-  Equations eq;
-  Data<Symbolic> data(model);
-  // Symbols, named as the model names its quantities.
   std::vector<std::string> names;
   for (const auto& c : model.coordinates()) names.push_back(c.name);
   for (const auto& s : model.speeds()) names.push_back(s.name);
@@ -72,20 +69,63 @@ Equations DeriveEquations(const multibody::Model& model) {
   VectorX<Symbolic> udot;
   eq.udot = Variables(names, udot);
 
-  // The engine, on Symbolic.
   multibody::CalcKinematics<Symbolic>(model, data, t, x);
   multibody::CalcMassMatrixPairwise<Symbolic>(model, data);
   multibody::CalcForcing<Symbolic>(model, data, r);
+}
+
+LoadArgs<Symbolic> Arguments(const Data<Symbolic>& data, bool with_r) {
+  const auto n = static_cast<std::size_t>(data.n);
+  return LoadArgs<Symbolic>{
+      data.t, std::span<const Symbolic>(data.q.data(), n),
+      std::span<const Symbolic>(data.u.data(), n),
+      with_r ? std::span<const Symbolic>(data.r.data(), data.r.size())
+             : std::span<const Symbolic>(),
+      std::span<const Symbolic>(data.time_values.data(), data.time_values.size()),
+      std::span<const Symbolic>(data.z.data(), data.z.size())};
+}
+
+std::vector<GiNaC::ex> ExtraStateRates(const multibody::Model& model, const Data<Symbolic>& data) {
+  std::vector<GiNaC::ex> zdot;
+  const LoadArgs<Symbolic> zargs = Arguments(data, false);
+  for (const auto& state : model.extra_states()) {
+    zdot.push_back(state.rate.get<Symbolic>()(zargs).ex());
+  }
+  return zdot;
+}
+
+}  // namespace
+
+RhsExpressions DeriveRhs(const multibody::Model& model) {
+  const int n = model.num_coordinates();
+  Data<Symbolic> data(model);
+  Equations symbols;
+  RunEngine(model, data, symbols);
+  RhsExpressions rhs;
+  rhs.t = symbols.t;
+  rhs.x = symbols.q;
+  rhs.x.insert(rhs.x.end(), symbols.u.begin(), symbols.u.end());
+  rhs.x.insert(rhs.x.end(), symbols.z.begin(), symbols.z.end());
+  rhs.r = symbols.r;
+  for (int k = 0; k < n; ++k) {
+    for (int j = 0; j < n; ++j) rhs.M.push_back(data.M(j, k).ex());
+    rhs.g.push_back(data.g(k).ex());
+    rhs.qdot.push_back(data.qdot(k).ex());
+  }
+  rhs.zdot = ExtraStateRates(model, data);
+  return rhs;
+}
+
+Equations DeriveEquations(const multibody::Model& model) {
+  const int n = model.num_coordinates();
+  Equations eq;
+  Data<Symbolic> data(model);
+  RunEngine(model, data, eq);
 
   // Fr: the applied loads alone, projected as CalcForcing projects them.
   std::vector<Vector3<Symbolic>> force(model.points().size(), Vector3<Symbolic>::Zero());
   std::vector<Vector3<Symbolic>> torque(model.frames().size(), Vector3<Symbolic>::Zero());
-  const LoadArgs<Symbolic> args{
-      data.t, std::span<const Symbolic>(data.q.data(), n),
-      std::span<const Symbolic>(data.u.data(), n),
-      std::span<const Symbolic>(data.r.data(), data.r.size()),
-      std::span<const Symbolic>(data.time_values.data(), data.time_values.size()),
-      std::span<const Symbolic>(data.z.data(), data.z.size())};
+  const LoadArgs<Symbolic> args = Arguments(data, true);
   for (const LoadSpec& load : model.loads()) {
     const Vector3<Symbolic> value = load.function.get<Symbolic>()(args);
     const Vector3<Symbolic> in_N =
@@ -117,12 +157,7 @@ Equations DeriveEquations(const multibody::Model& model) {
     eq.Fr_star[j] = Simplify(s);
   }
   for (int k = 0; k < n; ++k) eq.qdot.push_back(Simplify(data.qdot(k).ex()));
-  if (model.num_extra_states() > 0) {
-    const LoadArgs<Symbolic> zargs{args.t, args.q, args.u, {}, args.time_values, args.z};
-    for (const auto& state : model.extra_states()) {
-      eq.zdot.push_back(Simplify(state.rate.get<Symbolic>()(zargs).ex()));
-    }
-  }
+  for (const GiNaC::ex& rate : ExtraStateRates(model, data)) eq.zdot.push_back(Simplify(rate));
 
   // Partial velocities and partial angular velocities (frame 0 and point 0 are N and O).
   for (std::size_t f = 1; f < model.frames().size(); ++f) {

@@ -49,4 +49,18 @@ struct Equations {
 // Throws ModelError (e.g. a model-file expression that branches on a value, such as `if`).
 Equations DeriveEquations(const multibody::Model& model);
 
+// The engine's M, g, q̇ and ż as the engine computes them, not simplified (code generation,
+// codegen.h): the same floats in the same expressions, so that compiled code reproduces the
+// numeric engine to rounding.
+struct RhsExpressions {
+  GiNaC::ex t;                // time [s]
+  std::vector<GiNaC::ex> x;   // (2n + nz) the state symbols [q; u; z]
+  std::vector<GiNaC::ex> r;   // (num_slots) restoring forces
+  std::vector<GiNaC::ex> M;   // (n × n) column-major
+  std::vector<GiNaC::ex> g;   // (n)
+  std::vector<GiNaC::ex> qdot;  // (n)
+  std::vector<GiNaC::ex> zdot;  // (nz)
+};
+RhsExpressions DeriveRhs(const multibody::Model& model);
+
 }  // namespace hybridtest::symbolic

@@ -3,6 +3,8 @@
 
 #include <fmt/core.h>
 
+#include <set>
+
 #include "hybridtest/symbolic/print_expression.h"
 
 namespace hybridtest::symbolic {
@@ -12,8 +14,9 @@ namespace {
 constexpr const char* kConvention =
     "M(q, t) u̇ = f(q, u, t, r): SymPy's convention (KanesMethod: mass_matrix · u̇ = forcing), "
     "M symmetric positive definite, f = Fr + (Fr* without its u̇ terms). Vectors are in "
-    "components of the Newtonian frame N. Model parameters appear as their values in SI (the "
-    "table lists them).";
+    "components of the Newtonian frame N. Model parameters appear as symbols where the engine's "
+    "number is a product of their powers (checked by rebuilding the model), otherwise as "
+    "numbers in SI (the table lists their values).";
 
 struct Symbol {
   std::string name;  // as the model names it
@@ -50,6 +53,17 @@ NameMap Names(const std::vector<Symbol>& symbols, Dialect d) {
   return names;
 }
 
+// The symbols' names and the parameters' (a parameter named like a symbol keeps the symbol's).
+NameMap Names(const std::vector<Symbol>& symbols, const DocumentInfo& info, Dialect d) {
+  NameMap names = Names(symbols, d);
+  for (const auto& p : info.parameters) {
+    if (names.count(p.name) > 0) continue;
+    names[p.name] = d == Dialect::kLatex ? LatexName(p.name)
+                    : d == Dialect::kSympy ? PythonName(p.name) : p.name;
+  }
+  return names;
+}
+
 std::string Vector3Text(const std::vector<GiNaC::ex>& v, Dialect d, const NameMap& names) {
   const std::string a = PrintExpression(v[0], d, names), b = PrintExpression(v[1], d, names),
                     c = PrintExpression(v[2], d, names);
@@ -79,7 +93,7 @@ std::string LatexBroken(const GiNaC::ex& e, const NameMap& names) {
 
 std::string Markdown(const multibody::Model& model, const Equations& eq, const DocumentInfo& info) {
   const auto symbols = Symbols(model);
-  const NameMap names = Names(symbols, Dialect::kPlain);
+  const NameMap names = Names(symbols, info, Dialect::kPlain);
   auto P = [&](const GiNaC::ex& e) { return "`" + PrintExpression(e, Dialect::kPlain, names) + "`"; };
   const int n = model.num_coordinates();
   std::string s = fmt::format("# Equations of motion: {}\n\n{}. Derived by hybridtest's Kane "
@@ -137,7 +151,7 @@ std::string Markdown(const multibody::Model& model, const Equations& eq, const D
 
 std::string Latex(const multibody::Model& model, const Equations& eq, const DocumentInfo& info) {
   const auto symbols = Symbols(model);
-  const NameMap names = Names(symbols, Dialect::kLatex);
+  const NameMap names = Names(symbols, info, Dialect::kLatex);
   auto L = [&](const GiNaC::ex& e) { return PrintExpression(e, Dialect::kLatex, names); };
   auto text = [](std::string s) {  // plain text for LaTeX
     std::string out;
@@ -150,7 +164,8 @@ std::string Latex(const multibody::Model& model, const Equations& eq, const Docu
   s += fmt::format("\\section*{{Equations of motion: {}}}\n{}. Derived by hybridtest's Kane "
                    "engine from \\texttt{{{}}}. Convention: $M(q, t)\\,\\dot u = f(q, u, t, r)$ "
                    "(SymPy's), $M$ symmetric positive definite; vectors in components of the "
-                   "Newtonian frame $N$; parameters appear as their values in SI.\n\n",
+                   "Newtonian frame $N$; parameters appear as symbols where the engine's number is a "
+                   "product of their powers, otherwise as their values in SI.\n\n",
                    text(info.model_name), text(info.description), text(info.source));
   s += "\\subsection*{Kinematical equations}\n\\begin{align*}\n";
   for (int k = 0; k < n; ++k) {
@@ -196,7 +211,9 @@ std::string Latex(const multibody::Model& model, const Equations& eq, const Docu
 
 std::string Sympy(const multibody::Model& model, const Equations& eq, const DocumentInfo& info) {
   const auto symbols = Symbols(model);
-  const NameMap names = Names(symbols, Dialect::kSympy);
+  const NameMap names = Names(symbols, info, Dialect::kSympy);
+  std::set<std::string> symbol_names;
+  for (const Symbol& sym : symbols) symbol_names.insert(sym.name);
   auto Y = [&](const GiNaC::ex& e) { return PrintExpression(e, Dialect::kSympy, names); };
   auto list = [&](const std::vector<GiNaC::ex>& v) {
     std::string s = "[";
@@ -209,6 +226,11 @@ std::string Sympy(const multibody::Model& model, const Equations& eq, const Docu
   for (const Symbol& sym : symbols) {
     s += fmt::format("{} = sp.Symbol('{}', real=True)  # {} [{}]\n", names.at(sym.name),
                      sym.name, sym.kind, sym.unit);
+  }
+  for (const auto& p : info.parameters) {
+    if (symbol_names.count(p.name) > 0) continue;
+    s += fmt::format("{} = sp.Symbol('{}', real=True)  # parameter [{}]\n", names.at(p.name),
+                     p.name, p.unit);
   }
   s += fmt::format("\nq = {}\nu = {}\nudot = {}\nr = {}\nz = {}\n", list(eq.q), list(eq.u),
                    list(eq.udot), list(eq.r), list(eq.z));
@@ -223,9 +245,11 @@ std::string Sympy(const multibody::Model& model, const Equations& eq, const Docu
     s += "M_paper = sp.diag(sp.eye(len(q)), -M)  # the paper's M_p x' + g_p = 0 (Eq. 18)\n"
          "g_paper = sp.Matrix.vstack(-qdot, f)\n";
   }
-  s += "\n# The model's parameters (their values are already in M and f).\nparameters = {\n";
+  s += "\n# The model's parameters and their values in SI: M.subs(parameters) is numeric in "
+       "everything but t, q, u, r, z.\nparameters = {\n";
   for (const auto& p : info.parameters) {
-    s += fmt::format("    sp.Symbol('{}', real=True): {},\n", p.name, p.value);
+    if (symbol_names.count(p.name) > 0) continue;  // named like a symbol: printed as its value
+    s += fmt::format("    {}: {},\n", names.at(p.name), p.value);
   }
   s += "}\n";
   return s;
