@@ -17,6 +17,14 @@
 //                                  when python3 with sympy is found (bench/CMakeLists.txt).
 //                                  Its q̈ is checked against the engine's on every state first.
 //   RotorRhs/EngineOverSympyC      the engine ÷ the generated C, alternating blocks as above.
+//   RotorRhs/Compiled              CalcStateDerivative<double> with the rotor's compiled
+//                                  right-hand side attached (`compiled: true`; the C of
+//                                  `hybridtest equations --format c`, built with the system C
+//                                  compiler into the cache of compiled models on first use)
+//   RotorRhs/CompiledOverClosedForm, CompiledOverEngine, CompiledOverSympyC
+//                                  the compiled model ÷ the closed form, ÷ the numeric engine
+//                                  and ÷ SymPy's C, alternating blocks as above (counters
+//                                  engine_ns: the compiled model's time per call).
 //
 // Every benchmark cycles through the same kStates random states (t, x, r), so nothing is
 // constant-folded, and passes the result through benchmark::DoNotOptimize.
@@ -32,6 +40,7 @@
 
 #include "hybridtest/models/catalogue.h"
 #include "hybridtest/multibody/kane.h"
+#include "hybridtest/symbolic/compiled_model.h"
 #include "rotor_closed_form.h"
 
 #ifdef HYBRIDTEST_SYMPY_C
@@ -80,8 +89,17 @@ const multibody::Model& RotorModel() {
   return built.model;
 }
 
-void BM_KaneEngine(benchmark::State& state) {
-  const multibody::Model& model = RotorModel();
+// The rotor with its compiled right-hand side attached (symbolic/compiled_model.h).
+const multibody::Model& CompiledRotorModel() {
+  static const multibody::Model model = [] {
+    multibody::Model m = RotorModel();
+    m.AttachCompiledRhs(symbolic::CompileModel(m, "rotor"));
+    return m;
+  }();
+  return model;
+}
+
+void TimeEngine(benchmark::State& state, const multibody::Model& model) {
   multibody::Data<double> data(model);
   Eigen::VectorXd xdot(8);
   const auto& in = Inputs();
@@ -93,7 +111,10 @@ void BM_KaneEngine(benchmark::State& state) {
     benchmark::ClobberMemory();
   }
 }
+void BM_KaneEngine(benchmark::State& state) { TimeEngine(state, RotorModel()); }
 BENCHMARK(BM_KaneEngine)->Name("RotorRhs/KaneEngine");
+void BM_Compiled(benchmark::State& state) { TimeEngine(state, CompiledRotorModel()); }
+BENCHMARK(BM_Compiled)->Name("RotorRhs/Compiled");
 
 void BM_ClosedForm(benchmark::State& state) {
   const RotorParameters p;
@@ -148,14 +169,15 @@ void BM_KaneEngineAutoDiff(benchmark::State& state) {
 }
 BENCHMARK(BM_KaneEngineAutoDiff)->Name("RotorRhs/KaneEngineAutoDiff");
 
-// The engine and a reference timed in alternating blocks of 256 calls on the same states, so
-// that both see the same machine load; counters engine_ns, <reference>_ns and their ratio.
-// `reference(s)` evaluates the reference's ẋ at s.
+// The engine (on `model`: RotorModel() or CompiledRotorModel()) and a reference timed in
+// alternating blocks of 256 calls on the same states, so that both see the same machine load;
+// counters engine_ns, <reference>_ns and their ratio. `reference(s)` evaluates the
+// reference's ẋ at s.
 template <class Reference>
-void EngineAgainst(benchmark::State& state, const char* reference_name, Reference&& reference) {
+void EngineAgainst(benchmark::State& state, const char* reference_name, Reference&& reference,
+                   const multibody::Model& model = RotorModel()) {
   constexpr int kBlock = 256;
   using Clock = std::chrono::steady_clock;
-  const multibody::Model& model = RotorModel();
   multibody::Data<double> data(model);
   Eigen::VectorXd xdot(8);
   const auto& in = Inputs();
@@ -196,6 +218,26 @@ void BM_EngineOverClosedForm(benchmark::State& state) {
   });
 }
 BENCHMARK(BM_EngineOverClosedForm)->Name("RotorRhs/EngineOverClosedForm");
+
+void BM_CompiledOverClosedForm(benchmark::State& state) {
+  const RotorParameters p;
+  RotorState xdot;
+  EngineAgainst(state, "closed_form", [&](const RhsInput& s) {
+    CalcRotorRhs(p, s.t, s.x_fixed, s.r_fixed, xdot);
+    benchmark::DoNotOptimize(xdot.data());
+  }, CompiledRotorModel());
+}
+BENCHMARK(BM_CompiledOverClosedForm)->Name("RotorRhs/CompiledOverClosedForm");
+
+void BM_CompiledOverEngine(benchmark::State& state) {
+  multibody::Data<double> data(RotorModel());
+  Eigen::VectorXd xdot(8);
+  EngineAgainst(state, "numeric_engine", [&](const RhsInput& s) {
+    multibody::CalcStateDerivative<double>(RotorModel(), data, s.t, s.x, s.r, xdot);
+    benchmark::DoNotOptimize(xdot.data());
+  }, CompiledRotorModel());
+}
+BENCHMARK(BM_CompiledOverEngine)->Name("RotorRhs/CompiledOverEngine");
 
 #ifdef HYBRIDTEST_SYMPY_C
 // The generated function's parameter vector (its order is the script's).
@@ -253,6 +295,17 @@ void BM_EngineOverSympyC(benchmark::State& state) {
   });
 }
 BENCHMARK(BM_EngineOverSympyC)->Name("RotorRhs/EngineOverSympyC");
+
+void BM_CompiledOverSympyC(benchmark::State& state) {
+  if (!SympyAgrees(state)) return;
+  const auto par = SympyParameters();
+  double y[8];
+  EngineAgainst(state, "sympy_c", [&](const RhsInput& s) {
+    hybridtest_rotor_sympy_rhs(par.data(), s.t, s.x.data(), s.r.data(), y);
+    benchmark::DoNotOptimize(y);
+  }, CompiledRotorModel());
+}
+BENCHMARK(BM_CompiledOverSympyC)->Name("RotorRhs/CompiledOverSympyC");
 #endif  // HYBRIDTEST_SYMPY_C
 
 }  // namespace

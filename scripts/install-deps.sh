@@ -15,6 +15,7 @@ app_packages=(
   libhdf5-dev hdf5-tools
   libmodbus-dev libcpp-httplib-dev   # cpp-httplib: the HTTP client of the monitor's tests
   libzip-dev libpugixml-dev          # FMUs: unpacking them, reading modelDescription.xml
+  libginac-dev                       # the Symbolic scalar (`equations`)
   gnuplot-nox
 )
 test_packages=(
@@ -26,6 +27,7 @@ test_packages=(
   libopenmpi-dev openmpi-bin                               # campaigns on a cluster (MPI)
   chromium                                                 # the monitor's page test
   nodejs                                                   # the monitor page's axis test (node)
+  texlive-latex-base                                       # pdflatex: `equations --format latex` test
 )
 
 app_only=0

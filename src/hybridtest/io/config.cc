@@ -10,6 +10,7 @@
 #include "hybridtest/integrators/catalogue.h"
 #include "hybridtest/modelfile/model_file.h"
 #include "hybridtest/multibody/jet.h"
+#include "hybridtest/symbolic/compiled_model.h"
 
 namespace hybridtest::io {
 
@@ -33,10 +34,22 @@ YAML::Node ApplyOverrides(const YamlInput& in, const YAML::Node& node,
   return overrides;
 }
 
+// `model: {..., compiled: true}`: the model's right-hand side compiled to machine code, from
+// the cache or built now, checked against the engine and attached (symbolic/compiled_model.h,
+// docs/equations.md). `compiled: false` or no key: the numeric engine.
+void AttachCompiledIfAsked(const YamlInput& in, const YAML::Node& node, models::BuiltModel& built) {
+  if (!node["compiled"]) return;
+  const std::string value = in.String(node["compiled"], "model.compiled", "true or false");
+  if (value != "true" && value != "false") {
+    in.ThrowValue(node["compiled"], "model.compiled", "true or false");
+  }
+  if (value == "true") built.model.AttachCompiledRhs(symbolic::CompileModel(built.model, built.name));
+}
+
 // `model: {file: PATH, parameters: {...}}`: a model file, PATH relative to the run config.
 models::BuiltModel ParseModelFileSection(const YamlInput& in, const YAML::Node& node,
                                          std::vector<RunInput>* files) {
-  in.CheckKeys(node, "model", {"file", "parameters"});
+  in.CheckKeys(node, "model", {"file", "parameters", "compiled"});
   const std::string file = in.String(node["file"], "model.file", "the path of a model file");
   std::filesystem::path path(file);
   if (path.is_relative() && !in.path().empty()) {
@@ -53,6 +66,7 @@ models::BuiltModel ParseModelFileSection(const YamlInput& in, const YAML::Node& 
   ApplyOverrides(in, node, parameters);
   std::vector<std::string> tables;
   models::BuiltModel built = modelfile::BuildModelFile(model_file, parameters, &tables);
+  AttachCompiledIfAsked(in, node, built);
   if (files != nullptr) {
     files->push_back({"model", model_path});
     for (std::string& table : tables) files->push_back({"table", std::move(table)});
@@ -67,7 +81,7 @@ models::BuiltModel ParseModel(const YamlInput& in, const YAML::Node& node, int* 
     if (blades_out != nullptr) *blades_out = 0;
     return ParseModelFileSection(in, node, files);
   }
-  in.CheckKeys(node, "model", {"name", "file", "blades", "parameters"});
+  in.CheckKeys(node, "model", {"name", "file", "blades", "parameters", "compiled"});
   const std::string name =
       in.String(node["name"], "model.name", "a model name: rotor, double_pendulum or spinning_top");
   int blades = 0;
@@ -92,7 +106,9 @@ models::BuiltModel ParseModel(const YamlInput& in, const YAML::Node& node, int* 
   const YAML::Node overrides = ApplyOverrides(in, node, parameters);
   if (blades_out != nullptr) *blades_out = blades;
   try {
-    return models::BuildModel(name, blades, parameters);
+    models::BuiltModel built = models::BuildModel(name, blades, parameters);
+    AttachCompiledIfAsked(in, node, built);
+    return built;
   } catch (const ConfigError& e) {
     // A value the model rejects: point at the overrides (or the model section).
     const YAML::Node& at = overrides.IsDefined() ? overrides : node;

@@ -21,6 +21,7 @@ namespace hybridtest::modelfile {
 void SymbolTable::Add(Symbol symbol) { symbols_.push_back(std::move(symbol)); }
 
 void SymbolTable::AddTable(std::string name, Table table) {
+  table.name = name;
   tables_->push_back(std::move(table));
   Add({std::move(name), Op::kTable, static_cast<int>(tables_->size()) - 1, 0.0});
 }

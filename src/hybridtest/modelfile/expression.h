@@ -55,6 +55,7 @@ struct Mirror;
 // A 1-D table y(x) from a model file: piecewise-linear between the points (x strictly
 // increasing, at least two), constant beyond the ends (the end values, slope 0).
 struct Table {
+  std::string name;  // as the file names it (a printed equation shows name(x))
   std::vector<double> x, y;
   // 2-D tables: z(x, y) on the grid x × y, row-major (z[i · |y| + j] at x_i, y_j), bilinear in
   // each cell, clamped to the grid beyond its edges. Empty for a 1-D table y(x).

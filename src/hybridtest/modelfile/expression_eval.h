@@ -6,9 +6,11 @@
 #include <span>
 #include <type_traits>
 
+#include "hybridtest/common/error.h"
 #include "hybridtest/modelfile/expression.h"
 #include "hybridtest/multibody/jet.h"
 #include "hybridtest/multibody/scalar.h"
+#include "hybridtest/multibody/symbolic.h"
 
 namespace hybridtest::modelfile {
 
@@ -40,6 +42,13 @@ S MirrorVelocity(const Mirror& m, bool angular, int id, int frame, int component
 namespace eval_detail {
 inline double Value(double x) { return x; }
 inline double Value(const multibody::AutoDiff& x) { return x.value(); }
+// Symbolic (printing the equations, decision 0019) has no value to branch on.
+[[noreturn]] inline double Value(const multibody::Symbolic&) {
+  throw ModelError("this model file cannot be printed symbolically: an expression branches on a "
+                   "value (min, max, a comparison, if, a 2-D table, or abs, sign, atan2 or a "
+                   "table inside a kinematic expression); `equations` prints smooth models and "
+                   "1-D tables, abs, sign and atan2 in loads");
+}
 template <typename T>
 double Value(const multibody::Jet<T>& x) { return Value(x.v); }
 
@@ -53,6 +62,10 @@ inline double Atan(double x) { return std::atan(x); }
 inline double Asin(double x) { return std::asin(x); }
 inline double Acos(double x) { return std::acos(x); }
 inline double Tanh(double x) { return std::tanh(x); }
+inline multibody::Symbolic Atan(const multibody::Symbolic& x) { return atan(x); }
+inline multibody::Symbolic Asin(const multibody::Symbolic& x) { return asin(x); }
+inline multibody::Symbolic Acos(const multibody::Symbolic& x) { return acos(x); }
+inline multibody::Symbolic Tanh(const multibody::Symbolic& x) { return tanh(x); }
 inline multibody::AutoDiff Atan(const multibody::AutoDiff& x) {
   const double v = x.value();
   return ChainAD(x, std::atan(v), 1.0 / (1.0 + v * v));
@@ -115,6 +128,21 @@ template <typename S>
 S Eval(const Node* nodes, const EvalData& d, int i, const Variables<S>& v) {
   using std::cos; using std::exp; using std::log; using std::sin; using std::sqrt; using std::tan;
   const Node& n = nodes[i];
+  if constexpr (std::is_same_v<S, multibody::Symbolic>) {
+    // The non-smooth functions as functions of the expression (their values are unknown).
+    switch (n.op) {
+      case Op::kAbs: return abs(Eval(nodes, d, n.a, v));
+      case Op::kSign: return sign(Eval(nodes, d, n.a, v));
+      case Op::kAtan2: return atan2(Eval(nodes, d, n.a, v), Eval(nodes, d, n.b, v));
+      case Op::kTable:
+        return multibody::ApplyFunction(d.tables[n.index].name, Eval(nodes, d, n.a, v));
+      case Op::kVelocity: case Op::kAngularVelocity:
+        throw ModelError("this model file cannot be printed symbolically: a load uses velocity() "
+                         "or angular_velocity(), which `equations` does not print yet; write the "
+                         "velocity with the coordinates and speeds instead");
+      default: break;
+    }
+  }
   switch (n.op) {
     case Op::kConst: return S(n.value);
     case Op::kTime: return v.t;

@@ -62,5 +62,6 @@ Data<T>::Data(const Model& model) : n(model.num_coordinates()) {
 
 template struct Data<double>;
 template struct Data<AutoDiff>;
+template struct Data<Symbolic>;
 
 }  // namespace hybridtest::multibody

@@ -69,5 +69,6 @@ struct Data {
 
 extern template struct Data<double>;
 extern template struct Data<AutoDiff>;
+extern template struct Data<Symbolic>;
 
 }  // namespace hybridtest::multibody

@@ -92,6 +92,7 @@ Matrix3<T> RotationAboutAxis(const Eigen::Vector3d& axis, const T& angle) {
   template Matrix3<T> RotationAboutAxis<T>(const Eigen::Vector3d&, const T&);
 HYBRIDTEST_INSTANTIATE(double)
 HYBRIDTEST_INSTANTIATE(AutoDiff)
+HYBRIDTEST_INSTANTIATE(Symbolic)
 #undef HYBRIDTEST_INSTANTIATE
 
 }  // namespace hybridtest::multibody::internal

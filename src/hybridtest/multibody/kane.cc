@@ -36,6 +36,7 @@ namespace {
   }
 }
 void AddGroupedMassTerms(const Model&, Data<AutoDiff>&) {}
+void AddGroupedMassTerms(const Model&, Data<Symbolic>&) {}
 
 // The generalized forces' sums, speed by speed in a register (projection_terms()).
 [[gnu::noinline]] void ProjectGrouped(const Model& model, Data<double>& data) {
@@ -50,6 +51,7 @@ void AddGroupedMassTerms(const Model&, Data<AutoDiff>&) {}
   }
 }
 void ProjectGrouped(const Model&, Data<AutoDiff>&) {}
+void ProjectGrouped(const Model&, Data<Symbolic>&) {}
 
 }  // namespace
 
@@ -222,6 +224,32 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
 }
 
 
+namespace {
+// A compiled right-hand side (symbolic_compiled.h): M, g, q̇ and ż from the generated code,
+// then the engine's own factorisation and solve.
+void CalcStateDerivativeCompiled(const Model& model, Data<double>& data, double t,
+                                 const Eigen::Ref<const VectorX<double>>& x,
+                                 const Eigen::Ref<const VectorX<double>>& r,
+                                 Eigen::Ref<VectorX<double>> xdot) {
+  const int n = data.n;
+  data.t = t;
+  data.q = x.head(n);
+  data.u = x.segment(n, n);
+  data.z = x.tail(model.num_extra_states());
+  data.r = r;
+  model.compiled_rhs()->function(t, x.data(), r.data(), data.M.data(), data.g.data(),
+                                 data.qdot.data(), data.zdot.data());
+  if (!internal::FactorMassMatrix(model, data)) {
+    throw ModelError(fmt::format("the mass matrix (compiled, {}) is not positive definite at "
+                                 "t = {} s", model.compiled_rhs()->path, t));
+  }
+  internal::SolveFactoredMassMatrix(model, data);
+  internal::CopyN(data.qdot.data(), n, xdot.data());
+  internal::CopyN(data.udot.data(), n, xdot.data() + n);
+  xdot.tail(model.num_extra_states()) = data.zdot;
+}
+}  // namespace
+
 template <typename T>
 void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
                          const Eigen::Ref<const VectorX<T>>& x,
@@ -230,6 +258,12 @@ void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
   if (xdot.size() != model.num_states()) {
     throw ModelError(fmt::format("ẋ has {} entries; expected 2n + nz = {}", xdot.size(),
                                  model.num_states()));
+  }
+  if constexpr (std::is_same_v<T, double>) {
+    if (model.compiled_rhs() != nullptr) {
+      CalcStateDerivativeCompiled(model, data, t, x, r, xdot);
+      return;
+    }
   }
   CalcKinematics(model, data, t, x);
   CalcMassMatrix(model, data);
@@ -268,5 +302,9 @@ void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
 HYBRIDTEST_INSTANTIATE(double)
 HYBRIDTEST_INSTANTIATE(AutoDiff)
 #undef HYBRIDTEST_INSTANTIATE
+// Symbolic (printing, decision 0019): the general paths only; no factorisation or solve.
+template void CalcMassMatrixPairwise<Symbolic>(const Model&, Data<Symbolic>&);
+template void CalcForcing<Symbolic>(const Model&, Data<Symbolic>&,
+                                    const Eigen::Ref<const VectorX<Symbolic>>&);
 
 }  // namespace hybridtest::multibody

@@ -8,7 +8,8 @@
 // the engine gets exact first and second time derivatives and ∂φ/∂q.
 //
 // Loads (forces and torques) are generic lambdas of (t, q, u, r) returning a 3-vector in a
-// chosen frame; the engine calls them with T = double or T = AutoDiff. Model parameters are
+// chosen frame; the engine calls them with T = double, T = AutoDiff, or T = Symbolic (to print
+// the equations, decision 0019). Model parameters are
 // captured by the lambdas (a model is rebuilt when a parameter changes).
 #include <functional>
 #include <span>
@@ -17,6 +18,7 @@
 
 #include "hybridtest/multibody/jet.h"
 #include "hybridtest/multibody/scalar.h"
+#include "hybridtest/multibody/symbolic.h"
 
 namespace hybridtest::multibody {
 
@@ -51,20 +53,25 @@ class MultiScalarFunction {
  public:
   MultiScalarFunction() = default;
   template <class F>
-  explicit MultiScalarFunction(const F& f) : for_double_(f), for_autodiff_(f) {}
+  explicit MultiScalarFunction(const F& f)
+      : for_double_(f), for_autodiff_(f), for_symbolic_(f) {}
   explicit operator bool() const { return static_cast<bool>(for_double_); }
   template <typename T>
   const std::function<Signature<T>>& get() const {
     if constexpr (std::is_same_v<T, double>) {
       return for_double_;
-    } else {
+    } else if constexpr (std::is_same_v<T, AutoDiff>) {
       return for_autodiff_;
+    } else {
+      static_assert(std::is_same_v<T, Symbolic>, "the engine's scalars: double, AutoDiff, Symbolic");
+      return for_symbolic_;
     }
   }
 
  private:
   std::function<Signature<double>> for_double_;
   std::function<Signature<AutoDiff>> for_autodiff_;
+  std::function<Signature<Symbolic>> for_symbolic_;  // printing only (decision 0019)
 };
 
 template <typename T> using ScalarSignature = Jet<T>(const KinematicArgs<T>&);

@@ -387,6 +387,7 @@ void CalcSlotDisplacements(const Model& model, Data<T>& data, const T& t,
                                          Eigen::Ref<VectorX<T>>);
 HYBRIDTEST_INSTANTIATE(double)
 HYBRIDTEST_INSTANTIATE(AutoDiff)
+HYBRIDTEST_INSTANTIATE(Symbolic)
 #undef HYBRIDTEST_INSTANTIATE
 
 }  // namespace hybridtest::multibody

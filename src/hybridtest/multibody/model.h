@@ -25,11 +25,13 @@
 #include <Eigen/Geometry>
 
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "hybridtest/multibody/constant_mass.h"
 #include "hybridtest/multibody/kinematic_field.h"
+#include "hybridtest/multibody/symbolic_compiled.h"
 
 namespace hybridtest::multibody {
 
@@ -384,6 +386,11 @@ class Model {
   // with n ≤ 6; otherwise `entry` is empty). See constant_mass.h.
   const ConstantMassPlan& constant_mass() const { return constant_mass_; }
   const SparseFactorPlan& sparse_factor_plan() const { return sparse_factor_plan_; }
+  // The model's right-hand side compiled to machine code, or null (symbolic_compiled.h):
+  // CalcStateDerivative<double> then calls it in place of the kinematics, M and g. Attach only
+  // one that symbolic::LoadCompiledModel has checked against this model; null detaches.
+  const CompiledRhs* compiled_rhs() const { return compiled_rhs_.get(); }
+  void AttachCompiledRhs(std::shared_ptr<const CompiledRhs> rhs) { compiled_rhs_ = std::move(rhs); }
 
  private:
   friend class ModelBuilder;
@@ -403,6 +410,7 @@ class Model {
   bool tree_mass_matrix_ = false;
   TreeMassPlan tree_mass_plan_;
   std::string tree_mass_matrix_reason_;
+  std::shared_ptr<const CompiledRhs> compiled_rhs_;
   std::vector<char> factor_pattern_;
   SparseFactorPlan sparse_factor_plan_;
   ConstantMassPlan constant_mass_;

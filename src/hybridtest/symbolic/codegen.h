@@ -1,0 +1,35 @@
+#pragma once
+// C code for a model's right-hand side (issue 36 item 3, decision 0019): one self-contained C
+// function, `void NAME(double t, const double* x, const double* r, double* M, double* g,
+// double* qdot, double* zdot)` (multibody::CompiledRhsFunction), that computes what the
+// engine computes (DeriveRhs: M column-major, g, q̇, ż), straight-line, with every common
+// subexpression computed once.
+//
+// Common subexpressions: GiNaC shares subtrees but does not expose that sharing for code, and
+// has no CSE of its own. WriteC numbers values: it walks each output's expression tree,
+// and every distinct non-leaf subexpression (distinct by GiNaC's structural comparison, so two
+// equal subtrees built apart are one value) becomes one `const double tK`, emitted once, before
+// its first use. The compiler then allocates registers and merges sin/cos of one angle.
+//
+// Refuses (ModelError, naming it) what C cannot compute: a model file's table (an uninterpreted
+// function) or any function outside C's <math.h>.
+#include <string>
+
+#include "hybridtest/multibody/model.h"
+#include "hybridtest/symbolic/equations.h"
+
+namespace hybridtest::symbolic {
+
+struct CCode {
+  std::string source;      // the whole translation unit (includes <math.h> only)
+  int temporaries = 0;     // common subexpressions (tK)
+  int operations = 0;      // arithmetic operations and calls, after elimination
+};
+
+// `function_name` must be a C identifier. The source also defines `int NAME_n`, `NAME_nz`,
+// `NAME_slots` (the sizes it was generated for) and `const char NAME_model[]` (the model's name
+// and summary), which the loader checks.
+CCode WriteC(const multibody::Model& model, const RhsExpressions& rhs, const std::string& model_name,
+             const std::string& function_name);
+
+}  // namespace hybridtest::symbolic

@@ -1,0 +1,174 @@
+// The engine's equations as expressions. See equations.h.
+#include "hybridtest/symbolic/equations.h"
+
+#include "hybridtest/multibody/kane.h"
+#include "hybridtest/symbolic/simplify.h"
+
+namespace hybridtest::symbolic {
+
+using multibody::Data;
+using multibody::LoadArgs;
+using multibody::LoadSpec;
+using multibody::Symbolic;
+using multibody::Vector3;
+using multibody::VectorX;
+
+namespace {
+
+std::vector<GiNaC::ex> Variables(const std::vector<std::string>& names, VectorX<Symbolic>& out) {
+  std::vector<GiNaC::ex> symbols;
+  out.resize(static_cast<Eigen::Index>(names.size()));
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    out(static_cast<Eigen::Index>(k)) = Symbolic::Variable(names[k]);
+    symbols.push_back(out(static_cast<Eigen::Index>(k)).ex());
+  }
+  return symbols;
+}
+
+GiNaC::ex Dot(const Symbolic* a, const Symbolic* b) {
+  return a[0].ex() * b[0].ex() + a[1].ex() * b[1].ex() + a[2].ex() * b[2].ex();
+}
+
+// The partials of one point or frame (3 × n), simplified; empty if all zero.
+std::vector<std::vector<GiNaC::ex>> Columns(const multibody::Matrix3X<Symbolic>& V) {
+  std::vector<std::vector<GiNaC::ex>> columns;
+  bool any = false;
+  for (Eigen::Index j = 0; j < V.cols(); ++j) {
+    std::vector<GiNaC::ex> col;
+    for (int c = 0; c < 3; ++c) {
+      col.push_back(Simplify(V(c, j).ex()));
+      any = any || !col.back().is_zero();
+    }
+    columns.push_back(col);
+  }
+  if (!any) columns.clear();
+  return columns;
+}
+
+// The engine on Symbolic at symbolic (t, x, r): fills `data` and eq's symbols (t, q, u, z, r,
+// udot), named as the model names its quantities.
+void RunEngine(const multibody::Model& model, Data<Symbolic>& data, Equations& eq) {
+  const int n = model.num_coordinates();
+  std::vector<std::string> names;
+  for (const auto& c : model.coordinates()) names.push_back(c.name);
+  for (const auto& s : model.speeds()) names.push_back(s.name);
+  for (const auto& z : model.extra_states()) names.push_back(z.info.name);
+  VectorX<Symbolic> x;
+  const std::vector<GiNaC::ex> xs = Variables(names, x);
+  eq.q.assign(xs.begin(), xs.begin() + n);
+  eq.u.assign(xs.begin() + n, xs.begin() + 2 * n);
+  eq.z.assign(xs.begin() + 2 * n, xs.end());
+  names.clear();
+  for (const auto& s : model.slots()) names.push_back(s.info.name);
+  VectorX<Symbolic> r;
+  eq.r = Variables(names, r);
+  const Symbolic t = Symbolic::Variable("t");
+  eq.t = t.ex();
+  names.clear();
+  for (const auto& s : model.speeds()) names.push_back(s.name + "_dot");
+  VectorX<Symbolic> udot;
+  eq.udot = Variables(names, udot);
+
+  multibody::CalcKinematics<Symbolic>(model, data, t, x);
+  multibody::CalcMassMatrixPairwise<Symbolic>(model, data);
+  multibody::CalcForcing<Symbolic>(model, data, r);
+}
+
+LoadArgs<Symbolic> Arguments(const Data<Symbolic>& data, bool with_r) {
+  const auto n = static_cast<std::size_t>(data.n);
+  return LoadArgs<Symbolic>{
+      data.t, std::span<const Symbolic>(data.q.data(), n),
+      std::span<const Symbolic>(data.u.data(), n),
+      with_r ? std::span<const Symbolic>(data.r.data(), data.r.size())
+             : std::span<const Symbolic>(),
+      std::span<const Symbolic>(data.time_values.data(), data.time_values.size()),
+      std::span<const Symbolic>(data.z.data(), data.z.size())};
+}
+
+std::vector<GiNaC::ex> ExtraStateRates(const multibody::Model& model, const Data<Symbolic>& data) {
+  std::vector<GiNaC::ex> zdot;
+  const LoadArgs<Symbolic> zargs = Arguments(data, false);
+  for (const auto& state : model.extra_states()) {
+    zdot.push_back(state.rate.get<Symbolic>()(zargs).ex());
+  }
+  return zdot;
+}
+
+}  // namespace
+
+RhsExpressions DeriveRhs(const multibody::Model& model) {
+  const int n = model.num_coordinates();
+  Data<Symbolic> data(model);
+  Equations symbols;
+  RunEngine(model, data, symbols);
+  RhsExpressions rhs;
+  rhs.t = symbols.t;
+  rhs.x = symbols.q;
+  rhs.x.insert(rhs.x.end(), symbols.u.begin(), symbols.u.end());
+  rhs.x.insert(rhs.x.end(), symbols.z.begin(), symbols.z.end());
+  rhs.r = symbols.r;
+  for (int k = 0; k < n; ++k) {
+    for (int j = 0; j < n; ++j) rhs.M.push_back(data.M(j, k).ex());
+    rhs.g.push_back(data.g(k).ex());
+    rhs.qdot.push_back(data.qdot(k).ex());
+  }
+  rhs.zdot = ExtraStateRates(model, data);
+  return rhs;
+}
+
+Equations DeriveEquations(const multibody::Model& model) {
+  const int n = model.num_coordinates();
+  Equations eq;
+  Data<Symbolic> data(model);
+  RunEngine(model, data, eq);
+
+  // Fr: the applied loads alone, projected as CalcForcing projects them.
+  std::vector<Vector3<Symbolic>> force(model.points().size(), Vector3<Symbolic>::Zero());
+  std::vector<Vector3<Symbolic>> torque(model.frames().size(), Vector3<Symbolic>::Zero());
+  const LoadArgs<Symbolic> args = Arguments(data, true);
+  for (const LoadSpec& load : model.loads()) {
+    const Vector3<Symbolic> value = load.function.get<Symbolic>()(args);
+    const Vector3<Symbolic> in_N =
+        load.expressed_in == 0 ? value : Vector3<Symbolic>(data.R_NF[load.expressed_in] * value);
+    auto& sum = (load.kind == LoadSpec::Kind::kForce ? force : torque)[load.target];
+    sum = Vector3<Symbolic>(sum + in_N);
+  }
+  eq.Fr.assign(n, 0);
+  for (int j = 0; j < n; ++j) {
+    GiNaC::ex s = 0;
+    for (std::size_t p = 0; p < force.size(); ++p) {
+      s += Dot(data.v_partial[p].data() + 3 * j, force[p].data());
+    }
+    for (std::size_t f = 0; f < torque.size(); ++f) {
+      s += Dot(data.w_partial[f].data() + 3 * j, torque[f].data());
+    }
+    eq.Fr[j] = Simplify(s);
+  }
+
+  // M, f, Fr*.
+  eq.M.assign(n, std::vector<GiNaC::ex>(n, 0));
+  eq.f.assign(n, 0);
+  eq.Fr_star.assign(n, 0);
+  for (int j = 0; j < n; ++j) {
+    for (int k = 0; k < n; ++k) eq.M[j][k] = Simplify(data.M(j, k).ex());
+    eq.f[j] = Simplify(data.g(j).ex());
+    GiNaC::ex s = eq.f[j] - eq.Fr[j];
+    for (int k = 0; k < n; ++k) s -= eq.M[j][k] * eq.udot[k];
+    eq.Fr_star[j] = Simplify(s);
+  }
+  for (int k = 0; k < n; ++k) eq.qdot.push_back(Simplify(data.qdot(k).ex()));
+  for (const GiNaC::ex& rate : ExtraStateRates(model, data)) eq.zdot.push_back(Simplify(rate));
+
+  // Partial velocities and partial angular velocities (frame 0 and point 0 are N and O).
+  for (std::size_t f = 1; f < model.frames().size(); ++f) {
+    auto cols = Columns(data.w_partial[f]);
+    if (!cols.empty()) eq.frame_partials.push_back({model.frames()[f].name, std::move(cols)});
+  }
+  for (std::size_t p = 1; p < model.points().size(); ++p) {
+    auto cols = Columns(data.v_partial[p]);
+    if (!cols.empty()) eq.point_partials.push_back({model.points()[p].name, std::move(cols)});
+  }
+  return eq;
+}
+
+}  // namespace hybridtest::symbolic

@@ -1,0 +1,42 @@
+#pragma once
+// The model's parameters as symbols in its printed equations (issue 36 item 2, decision 0019,
+// "Parameters").
+//
+// The Model holds doubles (masses, inertias, the numbers its load lambdas captured), computed
+// from the parameters when it is built, so the engine on Symbolic yields numbers where the
+// model has parameters. SymbolizeParameters recovers them by rebuilding the model: each term
+// of each simplified expression is c·(a product of q, u, t, r, z and functions of them); for
+// every parameter p_i ≠ 0 the model is rebuilt with p_i scaled by kScale, and a term whose
+// coefficient scales by kScale^e_i (e_i a whole or half number, the term otherwise unchanged)
+// is c = k · Π p_i^e_i. A last rebuild with every parameter scaled at once checks each such
+// monomial; k, if a small rational (denominator ≤ 1000, to 1e-12), is printed exactly.
+//
+// A coefficient that is a sum of parameter products (the rotor's hub inertia I_g + 3 m_b l_b²
+// becomes one number when the expression is expanded) or a parameter inside a function (an
+// angle offset in cos(q + φ)) stays a number; the `parameters` list and dict give the values.
+// Costs one derivation per non-zero parameter, plus two.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "hybridtest/models/parameters.h"
+#include "hybridtest/multibody/model.h"
+#include "hybridtest/symbolic/equations.h"
+
+namespace hybridtest::symbolic {
+
+inline constexpr double kScale = 1.5;
+
+struct SymbolizeReport {
+  int symbolic_terms = 0;  // terms whose coefficient became a product of parameters
+  int numeric_terms = 0;   // terms whose coefficient depends on parameters but stays a number
+};
+
+// Rewrites eq in place. `build` rebuilds the model from a parameter set (the same builder that
+// made the model eq came from). Parameter symbols are named as the parameters; a parameter
+// named like a coordinate, speed, slot, extra state or t stays a number.
+SymbolizeReport SymbolizeParameters(
+    Equations& eq, const models::ParameterSet& parameters,
+    const std::function<multibody::Model(const models::ParameterSet&)>& build);
+
+}  // namespace hybridtest::symbolic

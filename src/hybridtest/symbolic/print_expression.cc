@@ -1,0 +1,261 @@
+// Expressions as Markdown text, LaTeX or SymPy. See print_expression.h.
+#include "hybridtest/symbolic/print_expression.h"
+
+#include <fmt/core.h>
+
+#include <cctype>
+#include <set>
+#include <sstream>
+#include <vector>
+
+namespace hybridtest::symbolic {
+
+namespace {
+
+// Binding strength of what an expression prints as: a sum binds weakest.
+enum Precedence { kSum = 1, kProduct = 2, kPower = 3, kAtom = 4 };
+
+struct Printed {
+  std::string text;
+  int precedence;
+};
+
+class Printer {
+ public:
+  Printer(Dialect d, const NameMap& names) : d_(d), names_(names) {}
+
+  std::string Wrap(const Printed& p, int needed) const {
+    if (p.precedence >= needed) return p.text;
+    return d_ == Dialect::kLatex ? "\\left(" + p.text + "\\right)" : "(" + p.text + ")";
+  }
+
+  Printed Number(const GiNaC::numeric& n) const {
+    if (n.is_integer()) {
+      std::ostringstream os;
+      os << n;
+      return {os.str(), n.is_negative() ? kSum : kAtom};
+    }
+    if (n.is_rational()) {
+      std::ostringstream num, den;
+      num << n.numer();
+      den << n.denom();
+      switch (d_) {
+        case Dialect::kLatex:
+          return {fmt::format("\\frac{{{}}}{{{}}}", num.str(), den.str()), n.is_negative() ? kSum : kAtom};
+        case Dialect::kSympy:
+          return {fmt::format("sp.Rational({}, {})", num.str(), den.str()), kAtom};
+        default:
+          return {num.str() + "/" + den.str(), kSum};
+      }
+    }
+    std::string s = fmt::format("{}", n.to_double());
+    if (d_ == Dialect::kLatex) {
+      const auto e = s.find('e');
+      if (e != std::string::npos) {
+        const std::string exponent = s.substr(e + 1);
+        s = fmt::format("{} \\cdot 10^{{{}}}", s.substr(0, e),
+                        exponent[0] == '+' ? exponent.substr(1) : exponent);
+      }
+    }
+    return {s, n.is_negative() ? kSum : kAtom};
+  }
+
+  Printed Symbol(const GiNaC::symbol& s) const {
+    const auto it = names_.find(s.get_name());
+    return {it != names_.end() ? it->second : s.get_name(), kAtom};
+  }
+
+  Printed Function(const GiNaC::ex& e) const {
+    const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
+    std::vector<std::string> args;
+    for (std::size_t i = 0; i < e.nops(); ++i) args.push_back(Print(e.op(i)).text);
+    std::string joined;
+    for (std::size_t i = 0; i < args.size(); ++i) joined += (i ? ", " : "") + args[i];
+    static const std::set<std::string> kKnown = {"sin", "cos", "tan", "exp", "log", "atan",
+                                                 "asin", "acos", "tanh", "atan2"};
+    switch (d_) {
+      case Dialect::kSympy:
+        if (kKnown.count(name)) return {fmt::format("sp.{}({})", name, joined), kAtom};
+        if (name == "abs") return {fmt::format("sp.Abs({})", joined), kAtom};
+        if (name == "csgn") return {fmt::format("sp.sign({})", joined), kAtom};
+        return {fmt::format("sp.Function('{}')({})", name, joined), kAtom};
+      case Dialect::kLatex:
+        if (name == "abs") return {fmt::format("\\left|{}\\right|", joined), kAtom};
+        if (name == "sin" || name == "cos" || name == "tan" || name == "exp" || name == "log" ||
+            name == "tanh") {
+          return {fmt::format("\\{}{{\\left({}\\right)}}", name, joined), kAtom};
+        }
+        return {fmt::format("\\operatorname{{{}}}{{\\left({}\\right)}}",
+                            name == "csgn" ? "sgn" : name, joined), kAtom};
+      default:
+        return {fmt::format("{}({})", name == "csgn" ? "sign" : name, joined), kAtom};
+    }
+  }
+
+  Printed Power(const GiNaC::ex& base, const GiNaC::ex& exponent) const {
+    const Printed b = Print(base);
+    if (exponent.is_equal(GiNaC::numeric(1, 2))) {
+      switch (d_) {
+        case Dialect::kLatex: return {"\\sqrt{" + b.text + "}", kAtom};
+        case Dialect::kSympy: return {"sp.sqrt(" + b.text + ")", kAtom};
+        default: return {"sqrt(" + b.text + ")", kAtom};
+      }
+    }
+    const Printed x = Print(exponent);
+    switch (d_) {
+      case Dialect::kLatex: return {Wrap(b, kAtom) + "^{" + x.text + "}", kPower};
+      case Dialect::kSympy: return {Wrap(b, kAtom) + "**" + Wrap(x, kAtom), kPower};
+      default: return {Wrap(b, kAtom) + "^" + Wrap(x, kAtom), kPower};
+    }
+  }
+
+  // A product: numeric coefficient, numerator factors, denominator factors.
+  Printed Product(const GiNaC::ex& e) const {
+    GiNaC::numeric coefficient = 1;
+    std::vector<GiNaC::ex> top, bottom;
+    for (std::size_t i = 0; i < e.nops(); ++i) {
+      const GiNaC::ex f = e.op(i);
+      if (GiNaC::is_a<GiNaC::numeric>(f)) {
+        coefficient *= GiNaC::ex_to<GiNaC::numeric>(f);
+      } else if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::numeric>(f.op(1)) &&
+                 GiNaC::ex_to<GiNaC::numeric>(f.op(1)).is_negative()) {
+        bottom.push_back(GiNaC::pow(f.op(0), -f.op(1)));
+      } else {
+        top.push_back(f);
+      }
+    }
+    const bool negative = coefficient.is_negative();
+    if (negative) coefficient = -coefficient;
+    if (coefficient.is_rational() && !coefficient.is_integer()) {
+      if (!coefficient.numer().is_equal(1) || top.empty()) top.insert(top.begin(), coefficient.numer());
+      bottom.insert(bottom.begin(), coefficient.denom());
+    } else if (!coefficient.is_equal(1) || top.empty()) {
+      top.insert(top.begin(), coefficient);
+    }
+    const std::string times = d_ == Dialect::kLatex ? " " : "*";
+    auto join = [&](const std::vector<GiNaC::ex>& factors, int needed) {
+      std::string s;
+      for (std::size_t i = 0; i < factors.size(); ++i) {
+        s += (i ? times : "") + Wrap(Print(factors[i]), needed);
+      }
+      return s;
+    };
+    std::string text;
+    if (bottom.empty()) {
+      text = join(top, kProduct);
+    } else if (d_ == Dialect::kLatex) {
+      text = "\\frac{" + join(top, kProduct) + "}{" + join(bottom, kProduct) + "}";
+    } else {
+      const std::string den = join(bottom, kPower);
+      text = join(top, kProduct) + "/" + (bottom.size() > 1 ? "(" + den + ")" : den);
+    }
+    return {negative ? "-" + text : text, negative ? kSum : kProduct};
+  }
+
+  Printed Sum(const GiNaC::ex& e) const {
+    std::string text;
+    for (std::size_t i = 0; i < e.nops(); ++i) {
+      const GiNaC::ex term = e.op(i);
+      const Printed p = Print(term);
+      if (i == 0) {
+        text = p.text;
+      } else if (!p.text.empty() && p.text[0] == '-') {
+        text += " - " + p.text.substr(1);
+      } else {
+        text += " + " + p.text;
+      }
+    }
+    return {text, kSum};
+  }
+
+  Printed Print(const GiNaC::ex& e) const {
+    if (GiNaC::is_a<GiNaC::numeric>(e)) return Number(GiNaC::ex_to<GiNaC::numeric>(e));
+    if (GiNaC::is_a<GiNaC::symbol>(e)) return Symbol(GiNaC::ex_to<GiNaC::symbol>(e));
+    if (GiNaC::is_a<GiNaC::add>(e)) return Sum(e);
+    if (GiNaC::is_a<GiNaC::mul>(e)) return Product(e);
+    if (GiNaC::is_a<GiNaC::power>(e)) {
+      if (GiNaC::is_a<GiNaC::numeric>(e.op(1)) &&
+          GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_negative()) {
+        return Product(GiNaC::ex(GiNaC::mul(1, e)).eval());
+      }
+      return Power(e.op(0), e.op(1));
+    }
+    if (GiNaC::is_a<GiNaC::function>(e)) return Function(e);
+    if (GiNaC::is_a<GiNaC::constant>(e)) {
+      std::ostringstream os;
+      os << e;
+      const std::string s = os.str();
+      if (s == "Pi") return {d_ == Dialect::kSympy ? "sp.pi" : d_ == Dialect::kLatex ? "\\pi" : "pi", kAtom};
+      return {s, kAtom};
+    }
+    std::ostringstream os;
+    os << e;
+    return {os.str(), kAtom};
+  }
+
+ private:
+  Dialect d_;
+  const NameMap& names_;
+};
+
+}  // namespace
+
+std::string PrintExpression(const GiNaC::ex& e, Dialect dialect, const NameMap& names) {
+  return Printer(dialect, names).Print(e).text;
+}
+
+std::string LatexName(const std::string& name) {
+  static const std::set<std::string> kGreek = {
+      "alpha", "beta", "gamma", "delta", "epsilon", "zeta", "eta", "theta", "iota", "kappa",
+      "lambda", "mu", "nu", "xi", "pi", "rho", "sigma", "tau", "phi", "chi", "psi", "omega",
+      "Gamma", "Delta", "Theta", "Lambda", "Xi", "Pi", "Sigma", "Phi", "Psi", "Omega"};
+  std::string base = name;
+  bool dot = false;
+  if (base.size() > 4 && base.substr(base.size() - 4) == "_dot") {
+    dot = true;
+    base = base.substr(0, base.size() - 4);
+  }
+  std::string sub;
+  const auto underscore = base.find('_');
+  if (underscore != std::string::npos) {
+    sub = base.substr(underscore + 1);
+    base = base.substr(0, underscore);
+  } else {
+    std::size_t digits = base.size();
+    while (digits > 1 && std::isdigit(static_cast<unsigned char>(base[digits - 1]))) --digits;
+    sub = base.substr(digits);
+    base = base.substr(0, digits);
+  }
+  auto escape = [&](std::string s) {
+    if (kGreek.count(s)) return "\\" + s;
+    std::string out;
+    for (char c : s) {
+      if (c == '_' || c == '#' || c == '%' || c == '&') {
+        out += std::string("\\") + c;
+      } else {
+        out += c;
+      }
+    }
+    return s.size() > 1 ? "\\mathrm{" + out + "}" : out;
+  };
+  std::string text = escape(base);
+  if (dot) text = "\\dot{" + text + "}";
+  if (!sub.empty()) text += "_{" + escape(sub) + "}";
+  return text;
+}
+
+std::string PythonName(const std::string& name) {
+  static const std::set<std::string> kReserved = {
+      "sp", "sympy", "q", "u", "r", "t", "z", "M", "f", "Fr", "Fr_star", "udot", "qdot",
+      "parameters", "False", "None", "True", "and", "as", "assert", "async", "await", "break",
+      "class", "continue", "def", "del", "elif", "else", "except", "finally", "for", "from",
+      "global", "if", "import", "in", "is", "lambda", "nonlocal", "not", "or", "pass", "raise",
+      "return", "try", "while", "with", "yield"};
+  std::string s;
+  for (char c : name) s += std::isalnum(static_cast<unsigned char>(c)) || c == '_' ? c : '_';
+  if (s.empty() || std::isdigit(static_cast<unsigned char>(s[0]))) s = "_" + s;
+  while (kReserved.count(s)) s += "_";
+  return s;
+}
+
+}  // namespace hybridtest::symbolic

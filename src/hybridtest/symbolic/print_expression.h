@@ -1,0 +1,32 @@
+#pragma once
+// One expression as text, in one of three dialects (decision 0019):
+//   kPlain  — for Markdown: a·b, x^2, sin(q1), 1/2, numbers as the shortest decimal that reads
+//             back to the same double;
+//   kLatex  — for LaTeX math mode: \sin{\left(q_{1} \right)}, \frac{a}{b}, \dot{u}_{1};
+//   kSympy  — a Python expression over `sp` (import sympy as sp) and the module's symbol
+//             variables: sp.sin(q1), x**2, sp.Rational(1, 2).
+// Symbols print through a name map (symbol name → text); a symbol missing from it prints its
+// own name. GiNaC's own printers are not used: they print doubles with 17 significant digits
+// and know neither SymPy's function names nor the model's display names.
+#include <ginac/ginac.h>
+
+#include <map>
+#include <string>
+
+namespace hybridtest::symbolic {
+
+enum class Dialect { kPlain, kLatex, kSympy };
+
+using NameMap = std::map<std::string, std::string>;
+
+std::string PrintExpression(const GiNaC::ex& e, Dialect dialect, const NameMap& names);
+
+// A name as LaTeX: Greek letters get their macro, a trailing number or `_x` part becomes a
+// subscript, `_dot` an over-dot ("theta2" → "\theta_{2}", "u1_dot" → "\dot{u}_{1}").
+std::string LatexName(const std::string& name);
+
+// A valid Python identifier for `name`, distinct from the module's own names (sp, q, u, r, t,
+// M, f, parameters, ...): other characters become '_', a clash gets a trailing '_'.
+std::string PythonName(const std::string& name);
+
+}  // namespace hybridtest::symbolic

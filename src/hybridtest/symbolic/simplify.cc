@@ -1,0 +1,80 @@
+// Simplification for printing. See simplify.h.
+#include "hybridtest/symbolic/simplify.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hybridtest::symbolic {
+
+namespace {
+
+constexpr double kDyadicScale = 1024.0;  // exact fractions with denominators up to 2^10
+constexpr double kChop = 1e-13;          // relative size of a rounding term
+
+// A float that is (within `tolerance`, relative) a dyadic fraction k/1024, as that exact
+// rational; otherwise the float itself.
+GiNaC::ex ExactIfDyadic(const GiNaC::numeric& n, double tolerance) {
+  if (!n.is_real() || n.is_rational()) return n;
+  const double x = n.to_double();
+  const double scaled = x * kDyadicScale;
+  const double k = std::round(scaled);
+  if (std::abs(k) > 9.0e15) return n;
+  if (std::abs(scaled - k) <= tolerance * std::max(1.0, std::abs(scaled))) {
+    return GiNaC::numeric(static_cast<long>(k), static_cast<long>(kDyadicScale));
+  }
+  return n;
+}
+
+struct Exactify : GiNaC::map_function {
+  double tolerance;
+  explicit Exactify(double tol) : tolerance(tol) {}
+  GiNaC::ex operator()(const GiNaC::ex& e) override {
+    if (GiNaC::is_a<GiNaC::numeric>(e)) return ExactIfDyadic(GiNaC::ex_to<GiNaC::numeric>(e), tolerance);
+    return e.map(*this);
+  }
+};
+
+// The numeric factor of a term of a sum (1 for a term without one).
+double Coefficient(const GiNaC::ex& term) {
+  if (GiNaC::is_a<GiNaC::numeric>(term)) return std::abs(GiNaC::ex_to<GiNaC::numeric>(term).to_double());
+  if (GiNaC::is_a<GiNaC::mul>(term)) {
+    double c = 1.0;
+    for (std::size_t i = 0; i < term.nops(); ++i) {
+      if (GiNaC::is_a<GiNaC::numeric>(term.op(i))) {
+        c *= std::abs(GiNaC::ex_to<GiNaC::numeric>(term.op(i)).to_double());
+      }
+    }
+    return c;
+  }
+  return 1.0;
+}
+
+// Drops rounding terms from a sum (recursively inside function arguments).
+struct Chop : GiNaC::map_function {
+  GiNaC::ex operator()(const GiNaC::ex& e) override {
+    if (!GiNaC::is_a<GiNaC::add>(e)) return e.map(*this);
+    double largest = 0.0;
+    for (std::size_t i = 0; i < e.nops(); ++i) largest = std::max(largest, Coefficient(e.op(i)));
+    GiNaC::ex sum = 0;
+    for (std::size_t i = 0; i < e.nops(); ++i) {
+      if (Coefficient(e.op(i)) >= kChop * largest) sum += e.op(i).map(*this);
+    }
+    return sum;
+  }
+};
+
+}  // namespace
+
+GiNaC::ex Simplify(const GiNaC::ex& e) {
+  Exactify exact(0.0);
+  GiNaC::ex s = exact(e).expand();
+  const GiNaC::ex x = GiNaC::wild(0);
+  s = s.subs(GiNaC::pow(GiNaC::sin(x), 2) == 1 - GiNaC::pow(GiNaC::cos(x), 2),
+             GiNaC::subs_options::algebraic)
+          .expand();
+  Chop chop;
+  Exactify snap(kChop);
+  return snap(chop(s)).expand();
+}
+
+}  // namespace hybridtest::symbolic

@@ -1,0 +1,20 @@
+#pragma once
+// Simplification of the engine's symbolic results for printing (decision 0019).
+//
+// The engine's arithmetic leaves floating-point numbers (a model's parameters are doubles,
+// decision 0019) and unsimplified trigonometry (a rotation matrix times its transpose). Simplify:
+//   1. replaces floats that are exact dyadic fractions (0.5, 2.0, −1.0) by exact rationals;
+//   2. expands;
+//   3. applies sin(x)² = 1 − cos(x)² (on every power ≥ 2) and expands again, so that a sum that
+//      is constant by the Pythagorean identity collapses;
+//   4. drops the terms of a sum whose numeric coefficient is below 1e-13 times the sum's
+//      largest (the rounding left by step 3 on float coefficients such as cos²ψ + sin²ψ − 1),
+//      and snaps floats within 1e-13 (relative) of a dyadic fraction to it.
+// The result equals the input up to those roundings (≤ 1e-13 relative per coefficient).
+#include <ginac/ginac.h>
+
+namespace hybridtest::symbolic {
+
+GiNaC::ex Simplify(const GiNaC::ex& e);
+
+}  // namespace hybridtest::symbolic

@@ -1,0 +1,256 @@
+#!/usr/bin/python3
+"""Contract tests of `hybridtest equations` (issue 36; docs/equations.md).
+
+    equations_oracle.py --binary B --model rotor|MODEL.yaml [--states 25] [--seed 1]
+        The `sympy` output, executed, equals SymPy's KanesMethod M and forcing at random
+        states: the rotor against oracle_models.derive_rotor (paper Table 1 values), a model
+        file against check-model's independent SymPy reader (check_model_sympy.py). Entry a
+        passes against b if |a - b| <= 1e-12 * max(1, max|B|) (B: the oracle's whole array).
+    equations_oracle.py --binary B --latex
+        The rotor's `latex` output compiles with pdflatex (exit 77, skipped, if pdflatex is
+        absent: scripts/install-deps.sh installs texlive-latex-base).
+    equations_oracle.py --binary B --cli
+        Bad input exits with status 2 and a message naming the problem; --out and
+        --overwrite guard an existing file.
+    equations_oracle.py --binary B --compiled CONFIG
+        `simulate CONFIG` with `compiled: true` added to its model section equals `simulate
+        CONFIG` within 1e-12 of each column's largest value (1e-12 m for q); `compile-model`
+        finds the library the run compiled in the cache ($HYBRIDTEST_CACHE_DIR, a temporary
+        directory here).
+"""
+import argparse
+import json
+import math
+import pathlib
+import random
+import runpy
+import shutil
+import subprocess
+import sys
+import tempfile
+
+import sympy as sp
+
+HERE = pathlib.Path(__file__).resolve().parent
+ROOT = HERE.parent.parent
+sys.path.insert(0, str(HERE))
+
+TOLERANCE = 1e-12
+
+
+def run(binary, *args, check=True):
+    p = subprocess.run([binary, *args], capture_output=True, text=True)
+    if check and p.returncode != 0:
+        sys.exit(f'FAIL: {binary} {" ".join(args)} exited {p.returncode}:\n{p.stderr}')
+    return p
+
+
+def load_module(binary, model, workdir):
+    out = pathlib.Path(workdir) / 'equations.py'
+    run(binary, 'equations', model, '--format', 'sympy', '--out', str(out))
+    mod = runpy.run_path(str(out))
+    for name in ('q', 'u', 'r', 't', 'M', 'f', 'parameters'):
+        if name not in mod:
+            sys.exit(f'FAIL: the sympy module of {model} does not define `{name}`')
+    n = len(mod['q'])
+    if not isinstance(mod['M'], sp.MatrixBase) or mod['M'].shape != (n, n):
+        sys.exit(f'FAIL: M is not a {n} x {n} sympy.Matrix')
+    if not isinstance(mod['f'], sp.MatrixBase) or mod['f'].shape != (n, 1):
+        sys.exit(f'FAIL: f is not a {n} x 1 sympy.Matrix')
+    if not isinstance(mod['parameters'], dict) or not mod['parameters']:
+        sys.exit('FAIL: `parameters` is not a non-empty dict')
+    return mod
+
+
+def random_states(mod, count, seed):
+    rng = random.Random(seed)
+    n, ns, nz = len(mod['q']), len(mod['r']), len(mod.get('z', []))
+    states = []
+    for i in range(count):
+        scale = [0.1, 5.0, 50.0][i % 3]
+        states.append({
+            't': 0.0 if i == 0 else rng.uniform(0.0, 5.0),
+            'q': [rng.uniform(-1.1, 1.1) for _ in range(n)],
+            'u': [rng.uniform(-scale, scale) for _ in range(n)],
+            'r': [rng.uniform(-2000.0, 2000.0) for _ in range(ns)],
+            'z': [rng.uniform(-1.0, 1.0) for _ in range(nz)],
+        })
+    return states
+
+
+def ours(mod, states):
+    args = [mod['t'], *mod['q'], *mod['u'], *mod['r'], *mod.get('z', [])]
+    fM = sp.lambdify(args, mod['M'].tolist(), 'math')
+    ff = sp.lambdify(args, list(mod['f']), 'math')
+    out = []
+    for s in states:
+        a = [s['t'], *s['q'], *s['u'], *s['r'], *s['z']]
+        out.append((fM(*a), ff(*a)))
+    return out
+
+
+def oracle_rotor(states):
+    import oracle_models  # noqa: E402  (tests/oracle, SymPy's KanesMethod)
+    model = oracle_models.derive_rotor(3)
+    p = model.resolve({})
+    out = []
+    for s in states:
+        m, f, _ = model.evaluate(s['t'], s['q'], s['u'], s['r'], p)
+        out.append((m.tolist(), f.tolist()))
+    return out
+
+
+def oracle_model_file(path, states, workdir):
+    reader = ROOT / 'apps' / 'hybridtest' / 'check_model_sympy.py'
+    sfile = pathlib.Path(workdir) / 'states.json'
+    sfile.write_text(json.dumps(states))
+    p = subprocess.run([sys.executable, str(reader), path, str(sfile)], capture_output=True,
+                       text=True)
+    if p.returncode != 0:
+        sys.exit(f'FAIL: check_model_sympy.py {path}:\n{p.stderr}')
+    data = json.loads(p.stdout)
+    return list(zip(data['M'], data['g']))
+
+
+def compare(name, a, b, state, what):
+    flat_b = [x for row in b for x in (row if isinstance(row, list) else [row])]
+    flat_a = [x for row in a for x in (row if isinstance(row, list) else [row])]
+    scale = max([1.0] + [abs(x) for x in flat_b])
+    worst = 0.0
+    for i, (x, y) in enumerate(zip(flat_a, flat_b)):
+        err = abs(float(x) - float(y))
+        worst = max(worst, err / scale)
+        if not math.isfinite(float(x)) or err > TOLERANCE * scale:
+            sys.exit(f'FAIL: {name}: {what} entry {i} at state {state}: equations {x}, '
+                     f'KanesMethod {y} (tolerance {TOLERANCE} x {scale})')
+    return worst
+
+
+def check_model(binary, model, count, seed):
+    with tempfile.TemporaryDirectory() as workdir:
+        mod = load_module(binary, model, workdir)
+        states = random_states(mod, count, seed)
+        mine = ours(mod, states)
+        if model == 'rotor':
+            theirs = oracle_rotor(states)
+        else:
+            theirs = oracle_model_file(model, states, workdir)
+    worst = 0.0
+    for i, ((Ma, fa), (Mb, fb)) in enumerate(zip(mine, theirs)):
+        worst = max(worst, compare(model, Ma, Mb, states[i], 'M'))
+        worst = max(worst, compare(model, fa, fb, states[i], 'f'))
+    print(f'{model}: M and f equal KanesMethod at {count} states '
+          f'(largest relative difference {worst:.2e})')
+
+
+def check_latex(binary):
+    pdflatex = shutil.which('pdflatex')
+    if pdflatex is None:
+        print('SKIP: pdflatex is absent (scripts/install-deps.sh installs texlive-latex-base)')
+        return 77
+    with tempfile.TemporaryDirectory() as workdir:
+        tex = pathlib.Path(workdir) / 'rotor.tex'
+        run(binary, 'equations', 'rotor', '--format', 'latex', '--paper-form', '--out', str(tex))
+        p = subprocess.run([pdflatex, '-interaction=nonstopmode', '-halt-on-error', tex.name],
+                           cwd=workdir, capture_output=True, text=True)
+        pdf = pathlib.Path(workdir) / 'rotor.pdf'
+        if p.returncode != 0 or not pdf.exists() or pdf.stat().st_size == 0:
+            sys.exit(f'FAIL: pdflatex rotor.tex exited {p.returncode}:\n{p.stdout[-3000:]}')
+    print('rotor: latex output compiles with pdflatex')
+    return 0
+
+
+def check_cli(binary):
+    def expect2(args, words):
+        p = run(binary, *args, check=False)
+        if p.returncode != 2 or not all(w in p.stderr for w in words):
+            sys.exit(f'FAIL: {" ".join(args)}: expected exit 2 and a message with {words}, got '
+                     f'{p.returncode}:\n{p.stderr}')
+    with tempfile.TemporaryDirectory() as workdir:
+        out = pathlib.Path(workdir) / 'eq.md'
+        expect2(['equations', 'rotor', '--format', 'html'], ['--format html', 'markdown'])
+        expect2(['equations', str(pathlib.Path(workdir) / 'missing.yaml')], ['no such file'])
+        bad = pathlib.Path(workdir) / 'bad.yaml'
+        bad.write_text('coordinates: [unclosed\n')
+        expect2(['equations', str(bad)], ['bad.yaml'])
+        run(binary, 'equations', 'rotor', '--out', str(out))
+        first = out.read_text()
+        if 'M[1,1]' not in first or 'Fr' not in first:
+            sys.exit('FAIL: the markdown output has no M[1,1] or Fr section')
+        expect2(['equations', 'rotor', '--out', str(out)], ['exists', '--overwrite'])
+        run(binary, 'equations', 'rotor', '--out', str(out), '--overwrite')
+        model = ROOT / 'examples' / 'models' / 'rotor.yaml'
+        expect2(['equations', str(model), '--out', str(model)], ['--out'])
+    print('equations: bad input exits 2 with a clear message; --out is guarded')
+    return 0
+
+
+def read_csv(path):
+    rows = [line.split(',') for line in pathlib.Path(path).read_text().splitlines()
+            if line and not line.startswith('#')]
+    return rows[0], [[float(x) for x in row] for row in rows[1:]]
+
+
+def check_compiled(binary, config):
+    import yaml
+    config = pathlib.Path(config).resolve()
+    with tempfile.TemporaryDirectory() as workdir:
+        work = pathlib.Path(workdir)
+        doc = yaml.safe_load(config.read_text())
+        if 'file' in doc['model']:
+            doc['model']['file'] = str((config.parent / doc['model']['file']).resolve())
+        doc.pop('output', None)
+        plain, compiled = work / 'plain.yaml', work / 'compiled.yaml'
+        plain.write_text(yaml.safe_dump(doc))
+        doc['model']['compiled'] = True
+        compiled.write_text(yaml.safe_dump(doc))
+        env_cache = str(work / 'cache')
+        import os
+        os.environ['HYBRIDTEST_CACHE_DIR'] = env_cache
+        run(binary, 'simulate', str(plain), '--out', str(work / 'plain.csv'))
+        run(binary, 'simulate', str(compiled), '--out', str(work / 'compiled.csv'))
+        libraries = list(pathlib.Path(env_cache).glob('*.so'))
+        if len(libraries) != 1:
+            sys.exit(f'FAIL: expected one compiled library in the cache, found {libraries}')
+        p = run(binary, 'compile-model', str(compiled))
+        if str(libraries[0]) not in p.stdout or 'found in the cache' not in p.stdout:
+            sys.exit(f'FAIL: compile-model did not find {libraries[0]} in the cache:\n{p.stdout}')
+        head_a, a = read_csv(work / 'compiled.csv')
+        head_b, b = read_csv(work / 'plain.csv')
+    if head_a != head_b or len(a) != len(b) or len(b) < 2:
+        sys.exit(f'FAIL: the runs differ in shape: {len(a)} and {len(b)} rows')
+    worst = 0.0
+    for c, name in enumerate(head_b):
+        scale = max([1.0] + [abs(row[c]) for row in b])
+        diff = max(abs(ra[c] - rb[c]) for ra, rb in zip(a, b))
+        worst = max(worst, diff / scale)
+        if diff > TOLERANCE * scale:
+            sys.exit(f'FAIL: column {name}: compiled and numeric runs differ by {diff:.3g} '
+                     f'(tolerance {TOLERANCE} x {scale})')
+    print(f'{config.name}: simulate with the compiled model equals the numeric engine over '
+          f'{len(b)} rows (largest relative difference {worst:.2e})')
+    return 0
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap.add_argument('--binary', required=True)
+    ap.add_argument('--model')
+    ap.add_argument('--states', type=int, default=25)
+    ap.add_argument('--seed', type=int, default=1)
+    ap.add_argument('--latex', action='store_true')
+    ap.add_argument('--cli', action='store_true')
+    ap.add_argument('--compiled', metavar='CONFIG')
+    a = ap.parse_args()
+    if a.compiled:
+        return check_compiled(a.binary, a.compiled)
+    if a.latex:
+        return check_latex(a.binary)
+    if a.cli:
+        return check_cli(a.binary)
+    check_model(a.binary, a.model, a.states, a.seed)
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

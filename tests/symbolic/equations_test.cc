@@ -1,0 +1,168 @@
+// The engine on the Symbolic scalar (decision 0019): its M and f, evaluated at random states,
+// equal the double engine's; the rotor's M has the paper's Eq. (19) structure; the printers'
+// dialects and names.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <random>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/modelfile/model_file.h"
+#include "hybridtest/models/catalogue.h"
+#include "hybridtest/multibody/kane.h"
+#include "hybridtest/symbolic/equations.h"
+#include "hybridtest/symbolic/print_expression.h"
+#include "hybridtest/symbolic/simplify.h"
+
+namespace hybridtest::symbolic {
+namespace {
+
+double Evaluate(const GiNaC::ex& e, const GiNaC::exmap& at) {
+  const GiNaC::ex v = GiNaC::evalf(e.subs(at));
+  EXPECT_TRUE(GiNaC::is_a<GiNaC::numeric>(v)) << "not a number after substitution: " << v;
+  return GiNaC::ex_to<GiNaC::numeric>(v).to_double();
+}
+
+// M and f from DeriveEquations at `trials` random states against CalcMassMatrix/CalcForcing.
+void ExpectSymbolicEqualsNumeric(const multibody::Model& model, int trials) {
+  const Equations eq = DeriveEquations(model);
+  const int n = model.num_coordinates();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> coordinate(-1.1, 1.1), speed(-5.0, 5.0),
+      force(-2000.0, 2000.0), time(0.0, 5.0);
+  multibody::Data<double> data(model);
+  for (int trial = 0; trial < trials; ++trial) {
+    GiNaC::exmap at;
+    Eigen::VectorXd x(model.num_states());
+    Eigen::VectorXd r(model.num_slots());
+    for (int k = 0; k < n; ++k) {
+      x(k) = coordinate(rng);
+      x(n + k) = speed(rng);
+      at[eq.q[k]] = x(k);
+      at[eq.u[k]] = x(n + k);
+    }
+    for (int k = 0; k < model.num_extra_states(); ++k) {
+      x(2 * n + k) = coordinate(rng);
+      at[eq.z[k]] = x(2 * n + k);
+    }
+    for (int s = 0; s < model.num_slots(); ++s) {
+      r(s) = force(rng);
+      at[eq.r[s]] = r(s);
+    }
+    const double t = time(rng);
+    at[eq.t] = t;
+    multibody::CalcKinematics<double>(model, data, t, x);
+    multibody::CalcMassMatrix<double>(model, data);
+    multibody::CalcForcing<double>(model, data, r);
+    const double scale_M = std::max(1.0, data.M.cwiseAbs().maxCoeff());
+    const double scale_g = std::max(1.0, data.g.cwiseAbs().maxCoeff());
+    for (int j = 0; j < n; ++j) {
+      for (int k = 0; k < n; ++k) {
+        EXPECT_NEAR(Evaluate(eq.M[j][k], at), data.M(j, k), 1e-12 * scale_M) << j << "," << k;
+      }
+      EXPECT_NEAR(Evaluate(eq.f[j], at), data.g(j), 1e-12 * scale_g) << j;
+      // Fr + Fr* = 0 at u̇ = M⁻¹ f (Kane's equations).
+    }
+    const Eigen::VectorXd udot = data.M.ldlt().solve(data.g);
+    for (int k = 0; k < n; ++k) at[eq.udot[k]] = udot(k);
+    for (int j = 0; j < n; ++j) {
+      EXPECT_NEAR(Evaluate(eq.Fr[j] + eq.Fr_star[j], at), 0.0, 1e-9 * scale_g) << j;
+    }
+  }
+}
+
+TEST(SymbolicEngine, BuiltInModelsEqualTheDoubleEngine) {
+  for (const std::string& name : models::ModelNames()) {
+    SCOPED_TRACE(name);
+    const auto built = models::BuildModel(name, 3, models::DefaultParameters(name, 3));
+    ExpectSymbolicEqualsNumeric(built.model, 10);
+  }
+}
+
+TEST(SymbolicEngine, ExampleModelFilesEqualTheDoubleEngine) {
+  for (const char* stem : {"cart_pendulum", "double_pendulum", "rotor", "spinning_top",
+                           "wind_turbine"}) {
+    SCOPED_TRACE(stem);
+    const auto file = modelfile::LoadModelFile(std::string(HYBRIDTEST_SOURCE_DIR) +
+                                               "/examples/models/" + stem + ".yaml");
+    ExpectSymbolicEqualsNumeric(modelfile::BuildModelFile(file, file.parameters).model, 5);
+  }
+}
+
+TEST(SymbolicEngine, RotorMassMatrixHasThePapersArrowStructure) {
+  const auto built = models::BuildModel("rotor", 3, models::DefaultParameters("rotor", 3));
+  const Equations eq = DeriveEquations(built.model);
+  const double m_b = 1.96, l_b = 0.5, I_g = 0.1;
+  // Eq. (19), lower block negated: diag m_b, arrow m_b l_b, hub I_g + Σ m_b (l_b² + q_i²).
+  for (int i = 0; i < 3; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_TRUE((eq.M[i][k] - (i == k ? m_b : 0.0)).is_zero()) << eq.M[i][k];
+    }
+    EXPECT_NEAR(GiNaC::ex_to<GiNaC::numeric>(eq.M[i][3]).to_double(), m_b * l_b, 1e-15);
+  }
+  GiNaC::ex hub = I_g;
+  for (int i = 0; i < 3; ++i) hub += m_b * (l_b * l_b + GiNaC::pow(eq.q[i], 2));
+  // Equal up to the rounding of the float coefficients (1e-16 relative).
+  const GiNaC::ex difference = eq.M[3][3] - hub;
+  for (const double q : {-1.0, 0.3, 2.0}) {
+    const GiNaC::exmap at = {{eq.q[0], q}, {eq.q[1], 0.5 * q}, {eq.q[2], -q}};
+    EXPECT_NEAR(Evaluate(difference, at), 0.0, 1e-12) << eq.M[3][3];
+  }
+  // The hub row of f: no restoring force (the tip's and the root's cancel, Eq. 10).
+  for (int i = 0; i < 3; ++i) EXPECT_FALSE(eq.f[3].has(eq.r[i])) << eq.f[3];
+  // The blade rows: −r_i, −ζ_b m_b u_i and the centrifugal m_b q_i u_4².
+  EXPECT_TRUE(eq.f[0].has(eq.r[0]));
+  const GiNaC::ex centrifugal = eq.f[0].expand().coeff(eq.u[3], 2);  // m_b q_1
+  EXPECT_NEAR(Evaluate(centrifugal, {{eq.q[0], 1.0}}), m_b, 1e-12) << eq.f[0];
+  EXPECT_NEAR(Evaluate(centrifugal, {{eq.q[0], 0.0}}), 0.0, 1e-12) << eq.f[0];
+}
+
+TEST(SymbolicEngine, ModelFileWithABranchThrowsANamedError) {
+  const std::string path = testing::TempDir() + "/branch.yaml";
+  std::ofstream(path) << "name: branch\nparameters:\n  k: {value: 1.0, unit: N/m}\ncoordinates:\n  - {name: x, unit: m}\n"
+                         "points:\n  - {name: P, from: O, frame: N, position: [x, 0, 0]}\n"
+                         "particles:\n  - {name: p, point: P, mass: 1}\n"
+                         "forces:\n  - {name: f, point: P, expressed_in: N, value: "
+                         "[\"if(x > 0, -k * x, 0)\", 0, 0]}\n";
+  const auto file = modelfile::LoadModelFile(path);
+  const auto built = modelfile::BuildModelFile(file, file.parameters);
+  try {
+    DeriveEquations(built.model);
+    FAIL() << "expected a ModelError";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("branches on a value"), std::string::npos) << e.what();
+  }
+}
+
+TEST(PrintExpression, DialectsAndNames) {
+  const GiNaC::realsymbol x("x"), theta("theta2");
+  const GiNaC::ex e = GiNaC::pow(x, 2) / 2 - 1.5 * GiNaC::sin(theta);
+  const NameMap plain;
+  EXPECT_EQ(PrintExpression(GiNaC::pow(x, 2), Dialect::kSympy, plain), "x**2");
+  EXPECT_EQ(PrintExpression(GiNaC::numeric(1, 2) * x, Dialect::kSympy, plain), "x/2");
+  EXPECT_EQ(PrintExpression(GiNaC::numeric(1, 2), Dialect::kSympy, plain), "sp.Rational(1, 2)");
+  EXPECT_EQ(PrintExpression(GiNaC::sin(x), Dialect::kSympy, plain), "sp.sin(x)");
+  EXPECT_EQ(PrintExpression(GiNaC::numeric(1, 2) * x, Dialect::kLatex, plain), "\\frac{x}{2}");
+  EXPECT_EQ(PrintExpression(-x, Dialect::kPlain, plain), "-x");
+  const NameMap latex = {{"theta2", LatexName("theta2")}};
+  EXPECT_NE(PrintExpression(e, Dialect::kLatex, latex).find("\\sin{\\left(\\theta_{2}\\right)}"),
+            std::string::npos);
+  EXPECT_EQ(LatexName("u1_dot"), "\\dot{u}_{1}");
+  EXPECT_EQ(LatexName("m_b"), "m_{b}");
+  EXPECT_EQ(PythonName("lambda"), "lambda_");
+  EXPECT_EQ(PythonName("blade1.m_b"), "blade1_m_b");
+  EXPECT_EQ(PythonName("M"), "M_");
+}
+
+TEST(Simplify, PythagorasAndRoundingCollapse) {
+  const GiNaC::realsymbol q("q");
+  const double c = std::cos(2.0943951023931953), s = std::sin(2.0943951023931953);
+  // (c cos q − s sin q)² + (s cos q + c sin q)² = 1 up to the rounding of c² + s².
+  const GiNaC::ex a = c * GiNaC::cos(q) - s * GiNaC::sin(q);
+  const GiNaC::ex b = s * GiNaC::cos(q) + c * GiNaC::sin(q);
+  EXPECT_TRUE((Simplify(a * a + b * b) - 1).is_zero()) << Simplify(a * a + b * b);
+  EXPECT_TRUE((Simplify(GiNaC::ex(2.0) * q) - 2 * q).is_zero());
+}
+
+}  // namespace
+}  // namespace hybridtest::symbolic
