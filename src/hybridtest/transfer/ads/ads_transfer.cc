@@ -129,17 +129,16 @@ void AdsTransfer::CheckSymbol(Role role) {
 void AdsTransfer::Connect() {
   link_.Connect(options_.connect_timeout);
   handles_.clear();
-  // 1. The PLC must run its program.
-  const StateResponse state = link_.ReadState(options_.response_timeout);
-  if (state.ads_state != kStateRun) {
-    link_.Close();
-    throw TransferError(fmt::format(
-        "{} is in {} (ADS state {}), not RUN: nothing was moved. Start the PLC (TwinCAT: "
-        "activate the configuration in Run mode, then Login and Start the PLC program)",
-        Subject(), AdsStateName(state.ads_state), state.ads_state));
-  }
-  // 2. Every symbol exists with the profile's type and size; 3. a handle for each.
   try {
+    // 1. The PLC must run its program.
+    const StateResponse state = link_.ReadState(options_.response_timeout);
+    if (state.ads_state != kStateRun) {
+      throw TransferError(fmt::format(
+          "{} is in {} (ADS state {}), not RUN: nothing was moved. Start the PLC (TwinCAT: "
+          "activate the configuration in Run mode, then Login and Start the PLC program)",
+          Subject(), AdsStateName(state.ads_state), state.ads_state));
+    }
+    // 2. Every symbol exists with the profile's type and size; 3. a handle for each.
     for (std::size_t r = 0; r < kNumRoles; ++r) CheckSymbol(static_cast<Role>(r));
     for (std::size_t r = 0; r < kNumRoles; ++r) {
       const std::string& name = options_.profile.symbols[r];

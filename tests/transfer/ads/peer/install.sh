@@ -4,4 +4,4 @@
 set -eu
 cd "$(dirname "$0")"
 if [ -f node_modules/ads-client/package.json ]; then exit 0; fi
-exec npm install --no-audit --no-fund --loglevel=error
+exec npm ci --no-audit --no-fund --loglevel=error
