@@ -7,24 +7,18 @@
 #include <sys/socket.h>
 
 namespace hybridtest::transfer::ads {
-namespace {
-
-// The IPv4 address of the connection's local end as an AmsNetId "a.b.c.d.1.1" (an IPv6
-// connection: 127.0.0.1.1.1, which a route must then name explicitly).
-AmsNetId LocalNetId(int fd) {
+AmsNetId EndpointNetId(int fd, bool peer) {
   sockaddr_storage address{};
   socklen_t size = sizeof(address);
+  auto* any = reinterpret_cast<sockaddr*>(&address);
   AmsNetId id{{127, 0, 0, 1, 1, 1}};
-  if (::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &size) == 0 &&
+  if ((peer ? ::getpeername(fd, any, &size) : ::getsockname(fd, any, &size)) == 0 &&
       address.ss_family == AF_INET) {
-    const auto* v4 = reinterpret_cast<const sockaddr_in*>(&address);
-    const std::uint32_t ip = ntohl(v4->sin_addr.s_addr);
-    for (int i = 0; i < 4; ++i) id.bytes[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(ip >> (24 - 8 * i));
+    const std::uint32_t ip = ntohl(reinterpret_cast<const sockaddr_in*>(&address)->sin_addr.s_addr);
+    for (std::size_t i = 0; i < 4; ++i) id.bytes[i] = static_cast<std::uint8_t>(ip >> (24 - 8 * i));
   }
   return id;
 }
-
-}  // namespace
 
 ReadStatus ReadAmsMessage(int fd, double timeout, Prefix& prefix, std::vector<std::uint8_t>& body) {
   std::vector<std::uint8_t> head(kPrefixSize);
@@ -37,7 +31,7 @@ ReadStatus ReadAmsMessage(int fd, double timeout, Prefix& prefix, std::vector<st
 
 void AdsLink::Connect(double timeout) {
   socket_ = ConnectTcp(endpoint_.host, endpoint_.tcp_port, timeout);
-  source_ = {endpoint_.local_net_id.value_or(LocalNetId(socket_.fd())), endpoint_.local_port};
+  source_ = {endpoint_.local_net_id.value_or(EndpointNetId(socket_.fd(), false)), endpoint_.local_port};
   answered_ = false;
 }
 
@@ -125,18 +119,28 @@ void AdsLink::CheckResult(std::uint32_t result, const std::string& what) const {
   }
 }
 
+template <class Decode>
+auto AdsLink::Decoded(Decode decode, const std::string& what) -> decltype(decode()) {
+  try {
+    return decode();
+  } catch (const AdsError&) {
+    throw;
+  } catch (const TransferError& e) {
+    Fail(fmt::format("{}: garbled answer to {}: {}", Describe(), what, e.what()));
+  }
+}
+
 std::vector<std::uint8_t> AdsLink::ReadWrite(std::uint32_t group, std::uint32_t offset,
                                              std::uint32_t read_length,
                                              std::span<const std::uint8_t> data, double timeout,
                                              const std::string& what) {
-  const std::vector<std::uint8_t> payload = Request(
-      Command::kReadWrite, ReadWriteRequest(group, offset, read_length, data), timeout, what);
-  DataResponse r;
-  try {
-    r = DecodeDataResponse(payload);
-  } catch (const TransferError& e) {
-    Fail(fmt::format("{}: garbled answer to {}: {}", Describe(), what, e.what()));
-  }
+  return ReadWrite(ReadWriteRequest(group, offset, read_length, data), timeout, what);
+}
+
+std::vector<std::uint8_t> AdsLink::ReadWrite(std::span<const std::uint8_t> request, double timeout,
+                                             const std::string& what) {
+  const std::vector<std::uint8_t> payload = Request(Command::kReadWrite, request, timeout, what);
+  DataResponse r = Decoded([&] { return DecodeDataResponse(payload); }, what);
   CheckResult(r.result, what);
   return std::move(r.data);
 }
@@ -145,18 +149,12 @@ void AdsLink::Write(std::uint32_t group, std::uint32_t offset, std::span<const s
                     double timeout, const std::string& what) {
   const std::vector<std::uint8_t> payload =
       Request(Command::kWrite, WriteRequest(group, offset, data), timeout, what);
-  if (payload.size() < 4) Fail(fmt::format("{}: garbled answer to {}", Describe(), what));
-  CheckResult(DecodeResultResponse(payload), what);
+  CheckResult(Decoded([&] { return DecodeResultResponse(payload); }, what), what);
 }
 
 StateResponse AdsLink::ReadState(double timeout) {
   const std::vector<std::uint8_t> payload = Request(Command::kReadState, {}, timeout, "ReadState");
-  StateResponse r;
-  try {
-    r = DecodeStateResponse(payload);
-  } catch (const TransferError& e) {
-    Fail(fmt::format("{}: garbled answer to ReadState: {}", Describe(), e.what()));
-  }
+  const StateResponse r = Decoded([&] { return DecodeStateResponse(payload); }, "ReadState");
   CheckResult(r.result, "ReadState");
   return r;
 }
@@ -164,46 +162,23 @@ StateResponse AdsLink::ReadState(double timeout) {
 DeviceInfo AdsLink::ReadDeviceInfo(double timeout) {
   const std::vector<std::uint8_t> payload =
       Request(Command::kReadDeviceInfo, {}, timeout, "ReadDeviceInfo");
-  DeviceInfo r;
-  try {
-    r = DecodeDeviceInfo(payload);
-  } catch (const TransferError& e) {
-    Fail(fmt::format("{}: garbled answer to ReadDeviceInfo: {}", Describe(), e.what()));
-  }
+  DeviceInfo r = Decoded([&] { return DecodeDeviceInfo(payload); }, "ReadDeviceInfo");
   CheckResult(r.result, "ReadDeviceInfo");
   return r;
 }
 
 std::vector<DataResponse> AdsLink::SumRead(std::span<const SubRequest> items, double timeout,
                                            const std::string& what) {
-  const std::vector<std::uint8_t> data =
-      Request(Command::kReadWrite, SumReadRequest(items), timeout, what);
   std::vector<std::uint32_t> lengths;
   for (const SubRequest& s : items) lengths.push_back(s.length);
-  try {
-    const DataResponse r = DecodeDataResponse(data);
-    CheckResult(r.result, what);
-    return DecodeSumReadAnswer(r.data, lengths);
-  } catch (const AdsError&) {
-    throw;
-  } catch (const TransferError& e) {
-    Fail(fmt::format("{}: garbled answer to {}: {}", Describe(), what, e.what()));
-  }
+  const std::vector<std::uint8_t> data = ReadWrite(SumReadRequest(items), timeout, what);
+  return Decoded([&] { return DecodeSumReadAnswer(data, lengths); }, what);
 }
 
 std::vector<std::uint32_t> AdsLink::SumWrite(std::span<const SubRequest> items, double timeout,
                                              const std::string& what) {
-  const std::vector<std::uint8_t> data =
-      Request(Command::kReadWrite, SumWriteRequest(items), timeout, what);
-  try {
-    const DataResponse r = DecodeDataResponse(data);
-    CheckResult(r.result, what);
-    return DecodeSumWriteAnswer(r.data, items.size());
-  } catch (const AdsError&) {
-    throw;
-  } catch (const TransferError& e) {
-    Fail(fmt::format("{}: garbled answer to {}: {}", Describe(), what, e.what()));
-  }
+  const std::vector<std::uint8_t> data = ReadWrite(SumWriteRequest(items), timeout, what);
+  return Decoded([&] { return DecodeSumWriteAnswer(data, items.size()); }, what);
 }
 
 }  // namespace hybridtest::transfer::ads

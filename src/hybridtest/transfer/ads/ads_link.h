@@ -37,6 +37,10 @@ struct AdsEndpoint {
   std::uint16_t local_port = 32905;  // the AMS port hybridtest's requests come from
 };
 
+// The IPv4 address of a connection's local end (peer: its remote end) as the AmsNetId
+// "a.b.c.d.1.1", TwinCAT's usual name for a computer; 127.0.0.1.1.1 for an IPv6 connection.
+AmsNetId EndpointNetId(int fd, bool peer);
+
 // Reads one AMS/TCP message (prefix and what follows) within `timeout` [s]. Returns kTimeout
 // or kClosed without throwing; throws TransferError for a prefix announcing too much.
 ReadStatus ReadAmsMessage(int fd, double timeout, Prefix& prefix, std::vector<std::uint8_t>& body);
@@ -79,6 +83,12 @@ class AdsLink {
  private:
   [[noreturn]] void Fail(const std::string& message);
   void CheckResult(std::uint32_t result, const std::string& what) const;
+  // A ReadWrite of the payload `request` (already encoded): its checked read data.
+  std::vector<std::uint8_t> ReadWrite(std::span<const std::uint8_t> request, double timeout,
+                                      const std::string& what);
+  // decode(), a garbled answer (TransferError) closing the link; an AdsError passes.
+  template <class Decode>
+  auto Decoded(Decode decode, const std::string& what) -> decltype(decode());
 
   AdsEndpoint endpoint_;
   AmsAddress source_;

@@ -2,11 +2,8 @@
 // is in ads_server_cycle.cc.
 #include "hybridtest/transfer/ads/ads_server.h"
 
-#include <arpa/inet.h>
 #include <fmt/core.h>
-#include <netinet/in.h>
 #include <poll.h>
-#include <sys/socket.h>
 
 #include <algorithm>
 #include <chrono>
@@ -30,19 +27,6 @@ const std::string& CheckedHost(const AdsServerOptions& o) {
         "192.168.0.5.1.1)", o.host));
   }
   return o.host;
-}
-
-// The peer's IPv4 address as an AmsNetId "a.b.c.d.1.1" (127.0.0.1.1.1 for anything else).
-AmsNetId PeerNetId(int fd) {
-  sockaddr_storage address{};
-  socklen_t size = sizeof(address);
-  AmsNetId id{{127, 0, 0, 1, 1, 1}};
-  if (::getpeername(fd, reinterpret_cast<sockaddr*>(&address), &size) == 0 &&
-      address.ss_family == AF_INET) {
-    const std::uint32_t ip = ntohl(reinterpret_cast<const sockaddr_in*>(&address)->sin_addr.s_addr);
-    for (std::size_t i = 0; i < 4; ++i) id.bytes[i] = static_cast<std::uint8_t>(ip >> (24 - 8 * i));
-  }
-  return id;
 }
 
 }  // namespace
@@ -190,8 +174,8 @@ bool AdsServer::HandleMessage(Client& client) {
   bool close = false;
   if (prefix.reserved == kTcpPortConnect) {
     // A client without a router asks for an AMS address: its IPv4 address and a port.
-    std::vector<std::uint8_t> data(PeerNetId(client.socket.fd()).bytes.begin(),
-                                   PeerNetId(client.socket.fd()).bytes.end());
+    const AmsNetId id = EndpointNetId(client.socket.fd(), true);
+    std::vector<std::uint8_t> data(id.bytes.begin(), id.bytes.end());
     PutU16(data, static_cast<std::uint16_t>(32904 + client.id));
     answer = EncodeRouterMessage(kTcpPortConnect, data);
   } else if (prefix.reserved == kTcpAmsCommand) {

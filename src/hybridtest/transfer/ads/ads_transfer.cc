@@ -16,6 +16,17 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// What the exception being handled says.
+std::string WhatFailed() {
+  try {
+    throw;
+  } catch (const std::exception& e) {
+    return e.what();
+  } catch (...) {
+    return "an unknown error";
+  }
+}
+
 // The roles read by every poll, in the order of a Readout.
 constexpr Role kOutputs[] = {kPosition, kForce, kAck, kEnabled, kFault, kHolding};
 
@@ -323,12 +334,12 @@ std::optional<std::vector<Measurement>> AdsTransfer::ReadAll() const {
     }
     read_failure_.clear();
     return out;
-  } catch (const std::exception& e) {
-    try {
-      read_failure_ = e.what();
-    } catch (...) {
-    }
   } catch (...) {
+    try {
+      read_failure_ = WhatFailed();
+    } catch (...) {  // no memory for the message: Execute refuses on the one below
+      read_failure_.clear();
+    }
   }
   if (read_failure_.empty()) read_failure_ = "the position could not be read";
   return std::nullopt;

@@ -47,18 +47,15 @@ namespace hybridtest::transfer::ads {
 struct AdsOptions {
   AdsEndpoint endpoint;
   AdsProfile profile = DefaultProfile();
-  double connect_timeout = 5.0;   // longest wait for the TCP connection. Unit: [s].
-  double response_timeout = 1.0;  // longest wait for the answer to one request. Unit: [s].
-  double ack_timeout = 5.0;       // longest wait for the ack of one command. Unit: [s].
-  double hold_timeout = 0.5;      // longest wait for the answer to Hold()'s write. Unit: [s].
-  double poll_interval = 0.0;     // pause between two reads while waiting. Unit: [s].
-  // First exchange: largest |position − command| and |force| (bench units). Unset: 1 mm, 1 MN.
-  std::optional<double> position_tolerance;
-  std::optional<double> force_plausible;
-  // The PLC's in-position window and the following error (bench length unit); unset: 0.05 mm
-  // and four windows (as modbus_transfer.h). following_errors: one per actuator, or empty.
-  std::optional<double> settle_tolerance;
-  std::optional<double> following_error;
+  // The bounds of every wait [s]: the TCP connection, one answer, one command's ack, the
+  // answer to Hold()'s write; and the pause between two reads while waiting for the ack.
+  double connect_timeout = 5.0, response_timeout = 1.0, ack_timeout = 5.0, hold_timeout = 0.5;
+  double poll_interval = 0.0;
+  // Bench units. First exchange: the largest |position − command| and |force| (unset: 1 mm,
+  // 1 MN). The PLC's in-position window and the following error, one for all or one per
+  // actuator (unset: 0.05 mm and four windows; safety_settled_reading.h).
+  std::optional<double> position_tolerance, force_plausible;
+  std::optional<double> settle_tolerance, following_error;
   std::vector<double> following_errors;
 };
 
