@@ -48,8 +48,9 @@ fi
 if ((docs)); then
   packages+=(chromium-headless-shell)
 fi
-# npm fetches uPlot for the monitor's page at build time (docs/monitor.md); a node install that
-# brings its own npm is enough.
+# npm fetches uPlot for the monitor's page at build time (docs/monitor.md), and ads-client, the
+# independent ADS client the tests run against the TwinCAT PLC emulator (tests/transfer/ads/peer/;
+# Debian's npm brings nodejs); a node install that brings its own npm is enough.
 if ((app_only == 0)) && ! command -v npm >/dev/null; then
   packages+=(npm)
 fi

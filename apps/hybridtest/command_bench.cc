@@ -3,7 +3,9 @@
 //
 //   hybridtest bench [--config FILE] [--listen HOST:PORT] [--token-file FILE]
 //                    [--heartbeat-timeout S] [--inject KIND@N]...
-//                    [--protocol hybridtest|openfresco]
+//                    [--protocol hybridtest|openfresco|ads]
+//   hybridtest bench --protocol ads [--config FILE] [--listen HOST:PORT] [--route NETID]...
+//                    [--ams-net-id NETID] [--plc-state run|stop] [--inject KIND@N]...
 //   hybridtest bench --real-time CONFIG [--tick S] [--listen HOST:PORT] ...
 //
 // --real-time serves the emulated real-time plant (rt_plant) of the run config's first
@@ -15,6 +17,12 @@
 // --protocol openfresco serves OpenFresco's generic TCP protocol instead (OpenSees's
 // `expElement genericClient`; docs/openfresco.md), with the config's `openfresco:` setup (one
 // row of its transform per actuator for a bench file with `actuators:`).
+//
+// --protocol ads serves the bench as a TwinCAT PLC emulator over ADS (docs/ads.md): the
+// profile's GVL_Hybrid variables by symbol name on AMS/TCP (default 127.0.0.1:48898), AMS
+// port 851, only for the AmsNetIds given with --route (any on loopback without one);
+// --plc-state stop rehearses a PLC that is not running; --inject takes the ADS emulator's
+// test faults (fault, silence, close, ads_error, holding; transfer/ads/ads_server.h).
 //
 // The token comes from --token-file or the environment (HYBRIDTEST_BENCH_TOKEN), never from
 // the command line, which every user of the machine can read in /proc/PID/cmdline.
@@ -36,6 +44,7 @@
 #include "hybridtest/common/clock.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/run_spec_yaml.h"
+#include "hybridtest/transfer/ads/ads_server.h"
 #include "hybridtest/transfer/delay_compensator.h"
 #include "hybridtest/transfer/rt_plant.h"
 #include "hybridtest/transfer/auth.h"
@@ -59,15 +68,21 @@ struct BenchArgs {
   std::string protocol = "hybridtest";
   std::string real_time;  // a run config whose first physical slot's rt_plant is served
   double tick = 0.001;    // [s] the client's tick (the plant's hold between commands)
+  bool listen_given = false;       // --listen was given (ads: default port 48898)
+  std::vector<std::string> routes;  // ads: AmsNetIds served
+  std::string ams_net_id = "127.0.0.1.1.1";  // ads: the emulated PLC's AmsNetId
+  std::string plc_state = "run";             // ads: what ReadState shows
 };
 
 // The server the signal handlers stop. Stop() only stores an atomic flag.
 transfer::BenchServer* g_server = nullptr;
 transfer::openfresco::Server* g_openfresco_server = nullptr;
+transfer::ads::AdsServer* g_ads_server = nullptr;
 
 extern "C" void StopOnSignal(int /*signal*/) {
   if (g_server != nullptr) g_server->Stop();
   if (g_openfresco_server != nullptr) g_openfresco_server->Stop();
+  if (g_ads_server != nullptr) g_ads_server->Stop();
 }
 
 // Serves until SIGINT or SIGTERM: `registered` (one of the pointers above) names `server` to
@@ -113,6 +128,38 @@ void ServeOpenFresco(const BenchArgs& args, const transfer::EmulatedBenchSpec& s
   }
   std::fflush(stdout);
   ServeUntilSignal(server, g_openfresco_server);
+}
+
+// --protocol ads: the bench as a TwinCAT PLC emulator (transfer/ads/ads_server.h).
+void ServeAds(const BenchArgs& args, const transfer::EmulatedBenchSpec& spec) {
+  using namespace transfer;
+  const HostPort listen =
+      ParseHostPort(args.listen_given ? args.listen : "127.0.0.1:48898", "--listen");
+  ads::AdsServerOptions o;
+  o.host = listen.host;
+  o.port = listen.port;
+  const auto net_id = [](const std::string& text, const char* where) {
+    const auto id = ads::ParseAmsNetId(text);
+    if (!id) {
+      throw ConfigError(fmt::format("{} {}: expected an AmsNetId, six numbers 0..255 joined by "
+                                    "dots (e.g. 192.168.0.5.1.1)", where, text));
+    }
+    return *id;
+  };
+  o.address.net_id = net_id(args.ams_net_id, "--ams-net-id");
+  for (const std::string& r : args.routes) o.routes.push_back(net_id(r, "--route"));
+  o.ads_state = args.plc_state == "run" ? ads::kStateRun : ads::kStateStop;
+  for (const std::string& f : args.inject) o.faults.push_back(ads::ParseAdsFault(f, "--inject"));
+  ads::UseBenchSafety(o, spec);
+  o.log = [](const std::string& line) { std::fprintf(stderr, "hybridtest bench: %s\n", line.c_str()); };
+  std::unique_ptr<TransferSystem> bench = MakeEmulatedBench(spec);
+  ads::AdsServer server(*bench, o);
+  std::printf("hybridtest bench: listening on %s (ADS, TwinCAT PLC emulator: %s; PLC in %s; %s%s)\n",
+              server.address().c_str(), server.DescribeRoutes().c_str(),
+              args.plc_state == "run" ? "RUN" : "STOP", bench->Describe().c_str(),
+              args.inject.empty() ? "" : "; TEST FAULTS INJECTED");
+  std::fflush(stdout);
+  ServeUntilSignal(server, g_ads_server);
 }
 
 // --real-time CONFIG: the first physical slot's rt_plant, paced on this process's clock.
@@ -161,6 +208,7 @@ void RunBench(const BenchArgs& args) {
   const EmulatedBenchSpec spec = args.config.empty()
                                      ? OneActuatorSpec(DefaultEmulatedBenchConfig())
                                      : LoadEmulatedBenchSpec(args.config);
+  if (args.protocol == "ads") return ServeAds(args, spec);
   if (spec.coupled_safety && !args.inject.empty()) {
     throw ConfigError(fmt::format("{}: a bench with `actuators:` serves without --inject; "
                                   "remove --inject", args.config));
@@ -215,7 +263,7 @@ void AddBenchCommand(CLI::App& root) {
   cmd->add_option("--config", args->config,
                   "YAML file with a `bench:` mapping (default: the seed paper's cantilever)")
       ->check(RegularInputFile());
-  cmd->add_option("--listen", args->listen,
+  CLI::Option* listen = cmd->add_option("--listen", args->listen,
                   "HOST:PORT to listen on; port 0 picks a free port (default 127.0.0.1:7471). "
                   "A non-loopback host requires a token (--token-file or HYBRIDTEST_BENCH_TOKEN)");
   cmd->add_option("--token-file", args->token_file,
@@ -233,8 +281,18 @@ void AddBenchCommand(CLI::App& root) {
   cmd->add_option("--protocol", args->protocol,
                   "hybridtest (bench protocol v1, default) or openfresco (OpenFresco's generic "
                   "TCP protocol, for OpenSees genericClient elements; needs --config with an "
-                  "`openfresco:` section; docs/openfresco.md)")
-      ->check(CLI::IsMember({"hybridtest", "openfresco"}));
+                  "`openfresco:` section; docs/openfresco.md) or ads (a TwinCAT PLC emulator "
+                  "over ADS; docs/ads.md)")
+      ->check(CLI::IsMember({"hybridtest", "openfresco", "ads"}));
+  cmd->add_option("--route", args->routes,
+                  "--protocol ads: an AmsNetId the emulated PLC serves (repeat for several); "
+                  "required off loopback, where a TwinCAT PLC serves only routed clients");
+  cmd->add_option("--ams-net-id", args->ams_net_id,
+                  "--protocol ads: the emulated PLC's AmsNetId (default 127.0.0.1.1.1)");
+  cmd->add_option("--plc-state", args->plc_state,
+                  "--protocol ads: the PLC state ReadState shows (run, or stop to rehearse a "
+                  "PLC that is not running)")
+      ->check(CLI::IsMember({"run", "stop"}));
   cmd->add_option("--real-time", args->real_time,
                   "serve the emulated real-time plant (rt_plant) of this run config's first "
                   "physical slot on the server's own clock (docs/real-time.md)")
@@ -243,7 +301,10 @@ void AddBenchCommand(CLI::App& root) {
                                         "(default 0.001; 1e-5 to 1, the tick range of a "
                                         "real-time run)")
       ->check(FiniteRange(1e-5, 1.0));
-  cmd->callback([args] { RunBench(*args); });
+  cmd->callback([args, listen] {
+    args->listen_given = listen->count() > 0;
+    RunBench(*args);
+  });
 }
 
 const CommandRegistration kReg{"bench", &AddBenchCommand};

@@ -10,6 +10,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/constitutive/parse_law.h"
 #include "hybridtest/io/rt_plant_reader.h"
+#include "hybridtest/transfer/ads/ads_config.h"
 #include "hybridtest/transfer/auth.h"
 #include "hybridtest/transfer/bench_client.h"
 #include "hybridtest/transfer/emulated_bench.h"
@@ -116,6 +117,12 @@ TransferSpec ReadModbus(const TransferReadContext& c) {
   return {"modbus", [modbus] { return std::make_unique<transfer::modbus::ModbusTransfer>(modbus); }};
 }
 
+TransferSpec ReadAds(const TransferReadContext& c) {
+  auto ads = transfer::ads::ParseAdsOptions(c.in, c.node, c.kp, c.bench_address, c.reply_timeout,
+                                            c.limits);
+  return {"ads", [ads] { return std::make_unique<transfer::ads::AdsTransfer>(ads); }};
+}
+
 TransferSpec ReadOpenFresco(const TransferReadContext& c) {
   auto client = transfer::openfresco::ParseClientOptions(c.in, c.node, c.kp, c.bench_address,
                                                          c.reply_timeout);
@@ -129,6 +136,7 @@ std::map<std::string, TransferReader>& Readers() {
                                                        {"loopback", ReadLoopback},
                                                        {"remote", ReadRemote},
                                                        {"modbus", ReadModbus},
+                                                       {"ads", ReadAds},
                                                        {"openfresco", ReadOpenFresco},
                                                        {"rt_plant", ReadRtPlant},
                                                        {"compensated", ReadCompensated}};

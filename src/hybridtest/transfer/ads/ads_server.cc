@@ -1,0 +1,280 @@
+// See ads_server.h: connections, routes and the ADS services. The PLC program (the cycle)
+// is in ads_server_cycle.cc.
+#include "hybridtest/transfer/ads/ads_server.h"
+
+#include <fmt/core.h>
+#include <poll.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/transfer/ads/ads_link.h"
+
+namespace hybridtest::transfer::ads {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// A message that has begun must be complete within this time. Unit: [s].
+constexpr double kMessageTimeout = 2.0;
+
+const std::string& CheckedHost(const AdsServerOptions& o) {
+  if (o.routes.empty() && !IsLoopbackHost(o.host)) {
+    throw ConfigError(fmt::format(
+        "--listen {}: an ADS server off loopback serves only the AmsNetIds it is told to route, "
+        "as a TwinCAT router does: give --route NETID (one per client, e.g. --route "
+        "192.168.0.5.1.1)", o.host));
+  }
+  return o.host;
+}
+
+}  // namespace
+
+AdsFault ParseAdsFault(const std::string& text, const std::string& where) {
+  static const std::pair<const char*, AdsFault::Kind> kKinds[] = {
+      {"fault", AdsFault::Kind::kFault},       {"silence", AdsFault::Kind::kSilence},
+      {"close", AdsFault::Kind::kClose},       {"ads_error", AdsFault::Kind::kAdsError},
+      {"holding", AdsFault::Kind::kHolding}};
+  const auto at = text.find('@');
+  const std::string kind = text.substr(0, at);
+  for (const auto& [name, k] : kKinds) {
+    if (kind != name || at == std::string::npos) continue;
+    try {
+      std::size_t used = 0;
+      const long n = std::stol(text.substr(at + 1), &used);
+      if (n >= 1 && used == text.size() - at - 1) return {k, n};
+    } catch (const std::exception&) {
+    }
+  }
+  throw ConfigError(fmt::format("{} {}: expected KIND@N with N ≥ 1 the command number and KIND "
+                                "one of fault, silence, close, ads_error, holding", where, text));
+}
+
+void UseBenchSafety(AdsServerOptions& o, const EmulatedBenchSpec& spec) {
+  o.limits = spec.actuators[0].safety;
+  o.start_positions.clear();
+  for (const auto& a : spec.actuators) o.start_positions.push_back(a.initial_position);
+  if (spec.coupled_safety) {
+    o.actuator_stiffness = spec.stiffness;
+  } else {
+    o.initial_stiffness = spec.stiffness(0, 0);
+  }
+}
+
+AdsServer::AdsServer(TransferSystem& bench, AdsServerOptions options)
+    : bench_(bench),
+      options_(std::move(options)),
+      listener_(CheckedHost(options_), options_.port),
+      image_([&] {
+        AdsProfile p = options_.profile;
+        p.actuators = bench.num_actuators();
+        p.units = bench.bench_units();
+        return p;
+      }()),
+      gate_(std::vector<SafetyLimits>(static_cast<std::size_t>(bench.num_actuators()),
+                                      options_.limits)) {
+  options_.profile.actuators = bench.num_actuators();
+  options_.profile.units = bench.bench_units();
+  for (int k = 0; k < gate_.size(); ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    if (i < options_.start_positions.size()) gate_.monitor(k).SetStartPosition(options_.start_positions[i]);
+    if (options_.initial_stiffness) gate_.monitor(k).SetInitialStiffness(*options_.initial_stiffness);
+  }
+  if (options_.actuator_stiffness) UseCoupledStiffness(gate_, *options_.actuator_stiffness);
+}
+
+AdsServer::~AdsServer() = default;
+
+std::string AdsServer::DescribeRoutes() const {
+  std::string routes;
+  for (const AmsNetId& r : options_.routes) routes += (routes.empty() ? "" : ", ") + FormatAmsNetId(r);
+  return fmt::format("AmsNetId {}, AMS port {}, routes: {}", FormatAmsNetId(options_.address.net_id),
+                     options_.address.port, routes.empty() ? "any (loopback)" : routes);
+}
+
+void AdsServer::Log(const std::string& line) const {
+  if (options_.log) options_.log(line);
+}
+
+void AdsServer::Serve() {
+  bench_.Activate();
+  bench_active_ = true;
+  // The PLC publishes where the actuators are before the first command.
+  const double metres = bench_.bench_units().metres_per_length_unit;
+  std::vector<double> position(static_cast<std::size_t>(bench_.num_actuators()), 0.0);
+  std::vector<double> force(position.size(), 0.0);
+  if (auto now = bench_.ReadAll()) {
+    for (std::size_t k = 0; k < position.size(); ++k) {
+      position[k] = (*now)[k].position;
+      force[k] = (*now)[k].force;
+    }
+  } else {
+    for (std::size_t k = 0; k < position.size() && k < options_.start_positions.size(); ++k) {
+      position[k] = options_.start_positions[k] / metres;
+    }
+  }
+  image_.SetReals(kPosition, position);
+  image_.SetReals(kForce, force);
+  image_.SetReals(kCommand, position);
+  while (!stop_.load()) {
+    std::vector<pollfd> fds{{listener_.fd(), POLLIN, 0}};
+    for (const Client& c : clients_) fds.push_back({c.socket.fd(), POLLIN, 0});
+    if (::poll(fds.data(), fds.size(), 100) < 0) continue;  // EINTR: look at stop_ again
+    if (fds[0].revents & POLLIN) {
+      if (Socket s = listener_.Accept(0.0); s.is_open()) {
+        clients_.push_back({std::move(s), next_client_++, Clock::now()});
+        Log(fmt::format("client {} connected", clients_.back().id));
+      }
+    }
+    for (std::size_t i = 1; i < fds.size(); ++i) {
+      Client& c = clients_[i - 1];
+      if (fds[i].revents != 0 && c.socket.is_open() && !HandleMessage(c)) continue;
+      const double idle = std::chrono::duration<double>(Clock::now() - c.last_seen).count();
+      if (c.socket.is_open() && idle > options_.idle_timeout) {
+        Drop(c, fmt::format("silent for {} s", options_.idle_timeout));
+      }
+    }
+    std::erase_if(clients_, [](const Client& c) { return !c.socket.is_open(); });
+  }
+  for (Client& c : clients_) Drop(c, "the server stops");
+  clients_.clear();
+  bench_.Deactivate();
+}
+
+void AdsServer::Drop(Client& client, const std::string& why) {
+  image_.ReleaseAll(client.id);
+  client.socket.Close();
+  Log(fmt::format("client {} dropped: {}", client.id, why));
+  if (client.id == owner_) {
+    owner_ = 0;
+    image_.SetBool(kHold, true);
+    image_.SetBool(kHolding, true);
+    last_hold_ = true;
+    HoldBench("the client that drove the PLC went away; bHold set, as a PLC's watchdog would");
+  }
+}
+
+bool AdsServer::HandleMessage(Client& client) {
+  Prefix prefix;
+  std::vector<std::uint8_t> body;
+  ReadStatus status;
+  try {
+    status = ReadAmsMessage(client.socket.fd(), kMessageTimeout, prefix, body);
+  } catch (const TransferError& e) {
+    Drop(client, e.what());
+    return false;
+  }
+  if (status != ReadStatus::kFrame) {
+    Drop(client, status == ReadStatus::kClosed ? "connection closed" : "incomplete message");
+    return false;
+  }
+  client.last_seen = Clock::now();
+  std::vector<std::uint8_t> answer;
+  bool close = false;
+  if (prefix.reserved == kTcpPortConnect) {
+    // A client without a router asks for an AMS address: its IPv4 address and a port.
+    const AmsNetId id = EndpointNetId(client.socket.fd(), true);
+    std::vector<std::uint8_t> data(id.bytes.begin(), id.bytes.end());
+    PutU16(data, static_cast<std::uint16_t>(32904 + client.id));
+    answer = EncodeRouterMessage(kTcpPortConnect, data);
+  } else if (prefix.reserved == kTcpAmsCommand) {
+    try {
+      answer = Answer(client, DecodePacket(body), close);
+    } catch (const TransferError& e) {
+      Drop(client, fmt::format("garbled AMS packet: {}", e.what()));
+      return false;
+    }
+  } else if (prefix.reserved == kTcpPortClose) {
+    Drop(client, "the client closed its AMS port");  // a router drops the connection then
+    return false;
+  } else {
+    return true;  // other router messages need no answer
+  }
+  if (!answer.empty() && !SendAll(client.socket.fd(), answer, kMessageTimeout)) close = true;
+  if (close) {
+    Drop(client, "closed by the PLC");
+    return false;
+  }
+  return true;
+}
+
+std::vector<std::uint8_t> AdsServer::Answer(Client& client, const AmsPacket& request,
+                                            bool& close) {
+  const AmsHeader& h = request.header;
+  if (!options_.routes.empty() &&
+      std::find(options_.routes.begin(), options_.routes.end(), h.source.net_id) ==
+          options_.routes.end()) {
+    Log(fmt::format("refused AmsNetId {}: no route (give --route {} to serve it)",
+                    FormatAmsNetId(h.source.net_id), FormatAmsNetId(h.source.net_id)));
+    close = true;
+    return {};
+  }
+  AmsPacket answer;
+  answer.header = h;
+  answer.header.target = h.source;
+  answer.header.source = h.target;
+  answer.header.state_flags = kFlagResponse;
+  if (h.target.net_id != options_.address.net_id) {
+    answer.header.error = kErrTargetMachineNotFound;
+    return EncodePacket(answer);
+  }
+  if (h.target.port != options_.address.port) {
+    answer.header.error = kErrTargetPortNotFound;
+    return EncodePacket(answer);
+  }
+  try {
+    switch (h.command) {
+      case Command::kReadDeviceInfo:
+        answer.data = EncodeDeviceInfo({0, 3, 1, 4024, "Plc30 App"});
+        break;
+      case Command::kReadState:
+        answer.data = EncodeStateResponse({0, options_.ads_state, 0});
+        break;
+      case Command::kRead: {
+        const IndexRequest r = DecodeReadRequest(request.data);
+        const DataResponse d = image_.Read(r.group, r.offset, r.read_length);
+        answer.data = EncodeDataResponse(d.result, d.data);
+        break;
+      }
+      case Command::kWrite: {
+        const IndexRequest r = DecodeWriteRequest(request.data);
+        std::uint32_t result = image_.Write(r.group, r.offset, r.data, client.id);
+        if (result == 0 && r.group != kGroupReleaseHandle) result = Cycle(client, close);
+        answer.data = EncodeResultResponse(result);
+        break;
+      }
+      case Command::kReadWrite:
+        answer.data = AnswerReadWrite(client, DecodeReadWriteRequest(request.data), close);
+        break;
+      default:
+        answer.data = EncodeResultResponse(kErrServiceNotSupported);
+    }
+  } catch (const TransferError& e) {
+    Log(fmt::format("client {}: {}", client.id, e.what()));
+    answer.data = EncodeResultResponse(kErrInvalidSize);
+  }
+  return EncodePacket(answer);
+}
+
+std::vector<std::uint8_t> AdsServer::AnswerReadWrite(Client& client, const IndexRequest& r,
+                                                     bool& close) {
+  if (r.group == kGroupSumRead) {
+    const std::vector<SubRequest> items = DecodeSumRead(r.offset, r.data);
+    std::vector<DataResponse> answers;
+    for (const SubRequest& s : items) answers.push_back(image_.Read(s.group, s.offset, s.length));
+    return EncodeDataResponse(0, EncodeSumReadAnswer(answers, items));
+  }
+  if (r.group == kGroupSumWrite) {
+    const std::vector<SubRequest> items = DecodeSumWrite(r.offset, r.data);
+    std::vector<std::uint32_t> results;
+    for (const SubRequest& s : items) results.push_back(image_.Write(s.group, s.offset, s.data, client.id));
+    const std::uint32_t cycle = Cycle(client, close);
+    if (cycle != 0) return EncodeResultResponse(cycle);
+    return EncodeDataResponse(0, EncodeSumWriteAnswer(results));
+  }
+  const DataResponse d = image_.ReadWrite(r.group, r.offset, r.read_length, r.data, client.id);
+  return EncodeDataResponse(d.result, d.data);
+}
+
+}  // namespace hybridtest::transfer::ads

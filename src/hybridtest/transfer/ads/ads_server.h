@@ -1,0 +1,144 @@
+#pragma once
+// AdsServer: a TwinCAT PLC emulator serving one TransferSystem (the emulated bench, one or
+// several actuators) over ADS: AMS/TCP on port 48898, the PLC runtime at AMS port 851, the
+// profile's variables by symbol name (ads_plc_image.h). `hybridtest bench --protocol ads`
+// runs it, so that the `ads` transfer (and any ADS client: the npm package ads-client in the
+// test suite) can rehearse against it before a real PLC.
+//
+// Services: ReadDeviceInfo, ReadState (RUN, or the state it is told to show), Read, Write,
+// ReadWrite with the index groups of PlcImage and the sum commands 0xF080 (read) and 0xF081
+// (write); the AMS/TCP port-connect message of a client without a router (it is given
+// "its IPv4 address.1.1" and a port). Anything else: ADS error 0x701. A request addressed to
+// another AmsNetId is answered with error 0x7 (target machine not found), to another AMS port
+// with 0x6 (target port not found).
+//
+// Routes: as a TwinCAT router, it serves only source AmsNetIds in `routes`; a packet from any
+// other is logged and its connection closed without an answer (what an unrouted client of a
+// real PLC sees). On loopback an empty list serves every client; on any other address the
+// list is required.
+//
+// The PLC program it runs after every write (one "cycle"; in a sum write after all of it):
+//   - bEnabled = bEnable and not bFault; bHolding = bHold or bFault; a rising bHold, a fault
+//     or a falling bEnabled puts the bench on Hold();
+//   - when nCommandSeq differs from the last one seen, and the PLC is enabled and not holding:
+//     every command of fCommand is checked (SafetyGate: stroke, increment, predicted force,
+//     coupled with several actuators) and the bench moves all actuators at once; then
+//     fPosition, fForce and nAckSeq = nCommandSeq. A refused command or a bench error sets
+//     bFault (and holds); a command while not enabled or holding is ignored (no ack);
+//   - a fault is cleared by a rising edge of bEnable.
+// The client that last wrote bEnable or a command owns the drive: when its connection ends
+// (closed, reset, or silent for idle_timeout) the PLC holds (bHold and bHolding TRUE), as a
+// PLC's watchdog would. Any number of clients may be connected at once; one thread serves
+// them in turn, every read bounded.
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "hybridtest/transfer/ads/ads_codec.h"
+#include "hybridtest/transfer/ads/ads_plc_image.h"
+#include "hybridtest/transfer/bench_spec.h"
+#include "hybridtest/transfer/safety.h"
+#include "hybridtest/transfer/safety_gate.h"
+#include "hybridtest/transfer/socket.h"
+#include "hybridtest/transfer/transfer_system.h"
+
+namespace hybridtest::transfer::ads {
+
+// TEST FACILITY ONLY: what the emulator does at the N-th command it receives (N from 1).
+struct AdsFault {
+  enum class Kind {
+    kFault,     // sets bFault instead of acknowledging command N
+    kSilence,   // never acknowledges command N or any later one
+    kClose,     // closes the connection that wrote command N (the PLC holds)
+    kAdsError,  // answers the write of command N with ADS error 0x708 (device busy)
+    kHolding,   // acknowledges command N, then reports bHolding as if an operator held
+  };
+  Kind kind = Kind::kFault;
+  long command = 1;
+};
+// "fault@N", "silence@N", "close@N", "ads_error@N", "holding@N". Throws ConfigError naming
+// `where` and the kinds.
+AdsFault ParseAdsFault(const std::string& text, const std::string& where);
+
+struct AdsServerOptions {
+  std::string host = "127.0.0.1";  // address to bind; off loopback `routes` is required
+  std::uint16_t port = kAdsTcpPort;  // 0 picks a free port (see port())
+  AmsAddress address{{{127, 0, 0, 1, 1, 1}}, kPlcPort};  // the PLC's AmsNetId and AMS port
+  std::vector<AmsNetId> routes;    // AmsNetIds served; empty on loopback: all
+  AdsProfile profile = DefaultProfile();  // symbol names and units (actuators: the bench's)
+  std::uint16_t ads_state = kStateRun;    // what ReadState shows (kStateStop to rehearse)
+  double idle_timeout = 30.0;      // a client silent this long is dropped. Unit: [s].
+  SafetyLimits limits;             // checked before every command. SI.
+  std::vector<double> start_positions;        // [m] per actuator, for the increment check
+  std::optional<double> initial_stiffness;    // [N/m] one actuator's first force prediction
+  std::optional<Eigen::MatrixXd> actuator_stiffness;  // [N/m] (n × n) coupled prediction
+  std::vector<AdsFault> faults;    // TEST FACILITY ONLY
+  std::function<void(const std::string&)> log;  // one line per event; may be empty
+};
+
+// Sets the safety of `o` (limits, start positions, the stiffness of the force prediction)
+// from an emulated bench's spec, as `hybridtest bench` does for every protocol.
+void UseBenchSafety(AdsServerOptions& o, const EmulatedBenchSpec& spec);
+
+class AdsServer {
+ public:
+  // Binds and listens. Throws ConfigError for a non-loopback host without routes, a profile
+  // whose units differ from the bench's or inconsistent limits; TransferError if the address
+  // cannot be bound. `bench` must outlive the server.
+  AdsServer(TransferSystem& bench, AdsServerOptions options);
+  AdsServer(const AdsServer&) = delete;
+  AdsServer& operator=(const AdsServer&) = delete;
+  ~AdsServer();
+
+  std::uint16_t port() const { return listener_.port(); }
+  std::string address() const { return listener_.address(); }
+  // "AmsNetId 127.0.0.1.1.1, AMS port 851, routes: any (loopback)".
+  std::string DescribeRoutes() const;
+
+  // Activates the bench and serves until Stop(). Throws what the bench's Activate() throws.
+  void Serve();
+  void Stop() noexcept { stop_.store(true); }
+
+  long commands_received() const { return commands_received_; }
+
+ private:
+  struct Client {
+    Socket socket;
+    int id = 0;
+    std::chrono::steady_clock::time_point last_seen = std::chrono::steady_clock::now();
+  };
+  // Handles one message of client i; false when its connection must end.
+  bool HandleMessage(Client& client);
+  std::vector<std::uint8_t> Answer(Client& client, const AmsPacket& request, bool& close);
+  std::vector<std::uint8_t> AnswerReadWrite(Client& client, const IndexRequest& r, bool& close);
+  // The PLC program after a write by `client` (see above); `close` set when a test fault
+  // closes its connection. Returns 0, or the ADS error of a test fault for the write.
+  std::uint32_t Cycle(Client& client, bool& close);
+  // Checks and executes the commands of sequence `sequence` (command number n).
+  void Execute(std::uint32_t sequence, long n);
+  void HoldBench(const std::string& why);
+  void Drop(Client& client, const std::string& why);
+  void Log(const std::string& line) const;
+
+  TransferSystem& bench_;
+  AdsServerOptions options_;
+  Listener listener_;
+  PlcImage image_;
+  SafetyGate gate_;
+  std::vector<Client> clients_;
+  int next_client_ = 1;
+  int owner_ = 0;             // the client that owns the drive (0: none)
+  bool bench_active_ = false;
+  bool last_enable_ = false, last_hold_ = false;
+  std::uint32_t last_sequence_ = 0;
+  bool silenced_ = false;     // a silence fault fired
+  long commands_received_ = 0;
+  std::atomic<bool> stop_{false};
+};
+
+}  // namespace hybridtest::transfer::ads

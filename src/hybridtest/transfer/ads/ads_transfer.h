@@ -1,0 +1,122 @@
+#pragma once
+// AdsTransfer: a TransferSystem that drives a Beckhoff TwinCAT PLC over ADS (AMS/TCP, port
+// 48898), reading and writing the profile's variables by symbol name (ads_profile.h;
+// docs/ads.md). n ≥ 1 actuators, one code path.
+//
+// Before anything moves (Connect, on the first Activate() or Probe()):
+//   1. ReadState: the PLC must be in RUN (a PLC in STOP or CONFIG is refused, the state named);
+//   2. for every symbol of the profile, its entry (0xF009 symbol info by name): a symbol the
+//      PLC does not know (ADS error 0x710) or whose type or size differs from the profile's
+//      is refused, naming the symbol, both types and the fix;
+//   3. a handle per symbol (0xF003), used for every later access (0xF005), released at the
+//      end (0xF006).
+//
+// One Execute(commands), two round trips when the PLC has settled by the first read:
+//   1. one sum write (0xF081): the command array, then nCommandSeq = previous + 1 (mod 2^32);
+//   2. sum reads (0xF080) of position, force, nAckSeq, bEnabled, bFault and bHolding, every
+//      `poll_interval` until nAckSeq equals the sequence, at most `ack_timeout` in total.
+// The semantics are the Modbus profile's (modbus_transfer.h): bFault, a dropped bEnabled or
+// bHolding on any read, an unexpected ack, an ack timeout or an ADS error code (named, 0x700
+// and up) sets bHold (every actuator holds: the PLC has one hold) and throws TransferError; a
+// timeout or a dropped connection closes the link (the PLC must hold when its client goes)
+// and throws TransferError. The first exchange is checked for plausibility, every exchange
+// for following error and stale acknowledgement (safety_settled_reading.h; SafetyStop after
+// setting bHold).
+//
+// ReadAll() reads position and force once without writing (no move); it never throws, and
+// when it cannot read, or the PLC shows a fault, no enable or holding, it returns nullopt and
+// the next Execute() refuses to move until the next Activate() (resume must see the actuator).
+// Activate() checks for a fault, writes bHold = FALSE and bEnable = TRUE (one sum write) and
+// waits until bEnabled and not bHolding. Hold() writes bHold = TRUE within hold_timeout and
+// never throws. Deactivate() writes bHold = TRUE, bEnable = FALSE, releases the handles and
+// closes. Probe() connects (the checks above) and reads once: nothing moves.
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "hybridtest/transfer/ads/ads_link.h"
+#include "hybridtest/transfer/ads/ads_profile.h"
+#include "hybridtest/transfer/safety_settled_reading.h"
+#include "hybridtest/transfer/transfer_system.h"
+
+namespace hybridtest::transfer::ads {
+
+struct AdsOptions {
+  AdsEndpoint endpoint;
+  AdsProfile profile = DefaultProfile();
+  // The bounds of every wait [s]: the TCP connection, one answer, one command's ack, the
+  // answer to Hold()'s write; and the pause between two reads while waiting for the ack.
+  double connect_timeout = 5.0, response_timeout = 1.0, ack_timeout = 5.0, hold_timeout = 0.5;
+  double poll_interval = 0.0;
+  // Bench units. First exchange: the largest |position − command| and |force| (unset: 1 mm,
+  // 1 MN). The PLC's in-position window and the following error, one for all or one per
+  // actuator (unset: 0.05 mm and four windows; safety_settled_reading.h).
+  std::optional<double> position_tolerance, force_plausible;
+  std::optional<double> settle_tolerance, following_error;
+  std::vector<double> following_errors;
+};
+
+class AdsTransfer final : public TransferSystem {
+ public:
+  // Does not connect. Throws ConfigError for bad timeouts, tolerances or profile.
+  explicit AdsTransfer(AdsOptions options);
+  ~AdsTransfer() override;
+  AdsTransfer(const AdsTransfer&) = delete;
+  AdsTransfer& operator=(const AdsTransfer&) = delete;
+
+  void Activate() override;
+  // one width: goes when main drops Execute(double)
+  Measurement Execute(double command) override;
+  void Execute(std::span<const double> commands, std::span<Measurement> out) override;
+  int num_actuators() const override { return options_.profile.actuators; }
+  void Hold() noexcept override;
+  void Deactivate() override;
+  BenchUnits bench_units() const override { return options_.profile.units; }
+  std::string Describe() const override;
+  std::optional<std::vector<Measurement>> ReadAll() const override;
+  std::optional<ProbeReading> Probe() override;
+
+  const AdsOptions& options() const { return options_; }
+  bool is_connected() const { return link_.is_open(); }
+  long requests() const { return link_.requests(); }  // ADS requests sent (a measure of polling)
+
+ private:
+  // One sum read of the PLC's outputs.
+  struct Readout {
+    std::vector<double> position, force;  // n each, bench units
+    std::uint32_t ack = 0;
+    bool enabled = false, fault = false, holding = false;
+  };
+
+  // Connects and checks state and symbols, then takes the handles (steps 1–3 above).
+  void Connect();
+  void CheckSymbol(Role role);
+  void ReleaseHandles() noexcept;
+  // The write of `roles` with `values` in one sum write; AdsError names the symbol refused.
+  void WriteSymbols(std::span<const Role> roles, std::span<const std::vector<std::uint8_t>> values,
+                    double timeout, const std::string& what);
+  Readout ReadOutputs(const std::string& what) const;
+  std::string Describe(const Readout& r) const;
+  std::string Subject() const;  // "the PLC at … (AmsNetId …)"
+  // Sets bHold (best effort) and throws TransferError `message`.
+  [[noreturn]] void HoldAndFail(const std::string& message);
+  // Throws for bFault (before or during a move: `during`).
+  void CheckFault(const Readout& r, const std::string& during);
+  double WallSinceActivate() const;
+
+  AdsOptions options_;
+  mutable AdsLink link_;
+  std::vector<std::uint32_t> handles_;  // by Role, once connected
+  bool active_ = false;
+  bool first_exchange_ = true;
+  SettledReadingCheck settled_;
+  std::uint32_t last_ack_ = 0;
+  std::chrono::steady_clock::time_point activated_at_{};
+  bool clock_started_ = false;
+  mutable std::string read_failure_;
+};
+
+}  // namespace hybridtest::transfer::ads
