@@ -80,7 +80,9 @@ TEST(AdsTransfer, ReadAllAndProbeSeeThePlcWithoutMovingIt) {
   const auto reading = probe.Probe();
   ASSERT_TRUE(reading.has_value());
   EXPECT_EQ(reading->problem, "");
-  EXPECT_DOUBLE_EQ(reading->measurement.position, 20.0);
+  ASSERT_EQ(reading->measurements.size(), 2u);
+  EXPECT_DOUBLE_EQ(reading->measurements[0].position, 20.0);
+  EXPECT_DOUBLE_EQ(reading->measurements[1].position, 30.0);
   EXPECT_NE(reading->status.find("not enabled"), std::string::npos) << reading->status;
   AdsTransfer ads(plc.Client(2));
   ads.Activate();

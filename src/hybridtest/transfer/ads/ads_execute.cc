@@ -23,12 +23,6 @@ std::string List(std::span<const double> values) {
 
 }  // namespace
 
-Measurement AdsTransfer::Execute(double command) {
-  Measurement out;
-  Execute({&command, 1}, {&out, 1});
-  return out;
-}
-
 void AdsTransfer::Execute(std::span<const double> commands, std::span<Measurement> out) {
   const AdsProfile& p = options_.profile;
   const auto n = static_cast<std::size_t>(p.actuators);
@@ -141,7 +135,9 @@ std::optional<ProbeReading> AdsTransfer::Probe() {
   const AdsProfile& p = options_.profile;
   const Readout r = ReadOutputs("the probe, before anything moves");
   ProbeReading reading;
-  reading.measurement = Measurement{r.position[0], r.force[0], 0.0};
+  for (std::size_t k = 0; k < r.position.size(); ++k) {
+    reading.measurements.push_back(Measurement{r.position[k], r.force[k], 0.0});
+  }
   reading.status = fmt::format("PLC in RUN, every symbol of the profile present; {}, {}, {}",
                                r.fault ? "FAULT" : "no fault",
                                r.enabled ? "enabled" : "not enabled",

@@ -68,8 +68,6 @@ class AdsTransfer final : public TransferSystem {
   AdsTransfer& operator=(const AdsTransfer&) = delete;
 
   void Activate() override;
-  // one width: goes when main drops Execute(double)
-  Measurement Execute(double command) override;
   void Execute(std::span<const double> commands, std::span<Measurement> out) override;
   int num_actuators() const override { return options_.profile.actuators; }
   void Hold() noexcept override;
