@@ -50,8 +50,9 @@ Rebuild BuiltInBuilder(const std::string& name, int blades) {
 }
 
 // A model file (it has `coordinates:`), a run config, or a built-in model's name; *rebuild
-// rebuilds it from other parameter values.
-models::BuiltModel LoadModel(const EquationsOptions& opt, std::string* source, Rebuild* rebuild) {
+// rebuilds it from other parameter values, starting from *declared (empty: the resolved ones).
+models::BuiltModel LoadModel(const EquationsOptions& opt, std::string* source, Rebuild* rebuild,
+                             models::ParameterSet* declared) {
   *source = opt.model;
   std::error_code ec;
   if (!std::filesystem::exists(opt.model, ec)) {
@@ -59,7 +60,10 @@ models::BuiltModel LoadModel(const EquationsOptions& opt, std::string* source, R
       if (name == opt.model) {
         *source = "built-in model " + name;
         *rebuild = BuiltInBuilder(name, opt.blades);
-        return models::BuildModel(name, opt.blades, models::DefaultParameters(name, opt.blades));
+        // The defaults as declared (per-blade values unset), so that the symbols are the
+        // shared ones (m_b, not blade1.m_b) where the model uses one value for every blade.
+        *declared = models::DefaultParameters(name, opt.blades);
+        return models::BuildModel(name, opt.blades, *declared);
       }
     }
     std::string known;
@@ -103,14 +107,17 @@ symbolic::Format ParseFormat(const std::string& format) {
 std::string Document(const EquationsOptions& opt) {
   std::string source;
   Rebuild rebuild;
-  const models::BuiltModel built = LoadModel(opt, &source, &rebuild);
+  models::ParameterSet declared;
+  const models::BuiltModel built = LoadModel(opt, &source, &rebuild, &declared);
   if (opt.format == "c") {
     return symbolic::WriteC(built.model, symbolic::DeriveRhs(built.model), built.name,
                             symbolic::kCompiledFunction).source;
   }
   const symbolic::Format format = ParseFormat(opt.format);
   symbolic::Equations eq = symbolic::DeriveEquations(built.model);
-  if (!opt.numeric_parameters) symbolic::SymbolizeParameters(eq, built.parameters, rebuild);
+  if (!opt.numeric_parameters) {
+    symbolic::SymbolizeParameters(eq, declared.all().empty() ? built.parameters : declared, rebuild);
+  }
   symbolic::DocumentInfo info;
   info.model_name = built.name;
   info.description = built.description;
@@ -166,7 +173,8 @@ void AddEquationsCommand(CLI::App& root) {
 void RunCompileModel(const EquationsOptions& opt) {
   std::string source;
   Rebuild rebuild;
-  const models::BuiltModel built = LoadModel(opt, &source, &rebuild);
+  models::ParameterSet declared;
+  const models::BuiltModel built = LoadModel(opt, &source, &rebuild, &declared);
   symbolic::CompileReport report;
   symbolic::CompileModel(built.model, built.name, &report);
   fmt::print("{}\n  {} ({} common subexpressions, {} operations)\n  checked against the numeric "

@@ -80,8 +80,13 @@ def random_states(mod, count, seed):
 
 def ours(mod, states):
     args = [mod['t'], *mod['q'], *mod['u'], *mod['r'], *mod.get('z', [])]
-    fM = sp.lambdify(args, mod['M'].tolist(), 'math')
-    ff = sp.lambdify(args, list(mod['f']), 'math')
+    # The parameters are symbols (where the engine's number is their product): their values.
+    M, f = mod['M'].subs(mod['parameters']), mod['f'].subs(mod['parameters'])
+    free = (M.free_symbols | f.free_symbols) - set(args)
+    if free:
+        sys.exit(f'FAIL: M or f has symbols that are neither state nor parameters: {free}')
+    fM = sp.lambdify(args, M.tolist(), 'math')
+    ff = sp.lambdify(args, list(f), 'math')
     out = []
     for s in states:
         a = [s['t'], *s['q'], *s['u'], *s['r'], *s['z']]
