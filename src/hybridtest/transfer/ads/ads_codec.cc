@@ -1,4 +1,5 @@
-// See ads_codec.h.
+// See ads_codec.h: framing, headers and the payloads of the commands. The sum commands,
+// symbol entries and handle answers are in ads_codec_symbols.cc.
 #include "hybridtest/transfer/ads/ads_codec.h"
 
 #include <fmt/core.h>
@@ -10,19 +11,6 @@
 
 namespace hybridtest::transfer::ads {
 namespace {
-
-[[noreturn]] void Short(const char* what, std::size_t need, std::size_t have) {
-  throw TransferError(fmt::format("garbled ADS {}: {} bytes, expected at least {}", what, have,
-                                  need));
-}
-
-void Need(std::span<const std::uint8_t> in, std::size_t need, const char* what) {
-  if (in.size() < need) Short(what, need, in.size());
-}
-
-void PutBytes(std::vector<std::uint8_t>& out, std::span<const std::uint8_t> bytes) {
-  out.insert(out.end(), bytes.begin(), bytes.end());
-}
 
 void PutAddress(std::vector<std::uint8_t>& out, const AmsAddress& a) {
   PutBytes(out, a.net_id.bytes);
@@ -36,35 +24,18 @@ AmsAddress GetAddress(std::span<const std::uint8_t> in, std::size_t at) {
   return a;
 }
 
-// The sub-request headers (12 bytes each) at the start of a sum request's data.
-std::vector<SubRequest> SubHeaders(std::uint32_t count, std::span<const std::uint8_t> data) {
-  if (count > data.size() / 12) Short("sum command", std::size_t{count} * 12, data.size());
-  std::vector<SubRequest> items(count);
-  for (std::size_t i = 0; i < count; ++i) {
-    items[i].group = GetU32(data, 12 * i);
-    items[i].offset = GetU32(data, 12 * i + 4);
-    items[i].length = GetU32(data, 12 * i + 8);
-  }
-  return items;
-}
-
-std::vector<std::uint8_t> SumRequest(std::span<const SubRequest> items, bool write) {
-  std::vector<std::uint8_t> headers;
-  std::uint32_t read_length = 0;
-  for (const SubRequest& s : items) {
-    PutU32(headers, s.group);
-    PutU32(headers, s.offset);
-    PutU32(headers, s.length);
-    read_length += 4 + (write ? 0 : s.length);
-  }
-  if (write) {
-    for (const SubRequest& s : items) PutBytes(headers, s.data);
-  }
-  return ReadWriteRequest(write ? kGroupSumWrite : kGroupSumRead,
-                          static_cast<std::uint32_t>(items.size()), read_length, headers);
-}
-
 }  // namespace
+
+void NeedBytes(std::span<const std::uint8_t> in, std::size_t need, const char* what) {
+  if (in.size() < need) {
+    throw TransferError(fmt::format("garbled ADS {}: {} bytes, expected at least {}", what,
+                                    in.size(), need));
+  }
+}
+
+void PutBytes(std::vector<std::uint8_t>& out, std::span<const std::uint8_t> bytes) {
+  out.insert(out.end(), bytes.begin(), bytes.end());
+}
 
 std::string AdsErrorName(std::uint32_t code) {
   static const std::pair<std::uint32_t, const char*> kNames[] = {
@@ -145,12 +116,12 @@ void PutU32(std::vector<std::uint8_t>& out, std::uint32_t value) {
 }
 
 std::uint16_t GetU16(std::span<const std::uint8_t> in, std::size_t at) {
-  Need(in, at + 2, "field");
+  NeedBytes(in, at + 2, "field");
   return static_cast<std::uint16_t>(in[at] | in[at + 1] << 8);
 }
 
 std::uint32_t GetU32(std::span<const std::uint8_t> in, std::size_t at) {
-  Need(in, at + 4, "field");
+  NeedBytes(in, at + 4, "field");
   return std::uint32_t{in[at]} | std::uint32_t{in[at + 1]} << 8 | std::uint32_t{in[at + 2]} << 16 |
          std::uint32_t{in[at + 3]} << 24;
 }
@@ -181,7 +152,7 @@ std::vector<std::uint8_t> EncodeRouterMessage(std::uint16_t reserved,
 }
 
 Prefix DecodePrefix(std::span<const std::uint8_t> six_bytes) {
-  Need(six_bytes, kPrefixSize, "AMS/TCP prefix");
+  NeedBytes(six_bytes, kPrefixSize, "AMS/TCP prefix");
   Prefix p{GetU16(six_bytes, 0), GetU32(six_bytes, 2)};
   if (p.length > kMaxPacket) {
     throw TransferError(fmt::format("garbled AMS/TCP prefix: a packet of {} bytes announced, "
@@ -191,7 +162,7 @@ Prefix DecodePrefix(std::span<const std::uint8_t> six_bytes) {
 }
 
 AmsPacket DecodePacket(std::span<const std::uint8_t> body) {
-  Need(body, kHeaderSize, "AMS header");
+  NeedBytes(body, kHeaderSize, "AMS header");
   AmsPacket p;
   p.header.target = GetAddress(body, 0);
   p.header.source = GetAddress(body, 8);
@@ -232,22 +203,22 @@ std::vector<std::uint8_t> ReadWriteRequest(std::uint32_t group, std::uint32_t of
 }
 
 IndexRequest DecodeReadRequest(std::span<const std::uint8_t> payload) {
-  Need(payload, 12, "Read request");
+  NeedBytes(payload, 12, "Read request");
   return {GetU32(payload, 0), GetU32(payload, 4), GetU32(payload, 8), {}};
 }
 
 IndexRequest DecodeWriteRequest(std::span<const std::uint8_t> payload) {
-  Need(payload, 12, "Write request");
+  NeedBytes(payload, 12, "Write request");
   const std::uint32_t length = GetU32(payload, 8);
-  Need(payload, 12 + std::size_t{length}, "Write request");
+  NeedBytes(payload, 12 + std::size_t{length}, "Write request");
   return {GetU32(payload, 0), GetU32(payload, 4), 0,
           {payload.begin() + 12, payload.begin() + 12 + length}};
 }
 
 IndexRequest DecodeReadWriteRequest(std::span<const std::uint8_t> payload) {
-  Need(payload, 16, "ReadWrite request");
+  NeedBytes(payload, 16, "ReadWrite request");
   const std::uint32_t length = GetU32(payload, 12);
-  Need(payload, 16 + std::size_t{length}, "ReadWrite request");
+  NeedBytes(payload, 16 + std::size_t{length}, "ReadWrite request");
   return {GetU32(payload, 0), GetU32(payload, 4), GetU32(payload, 8),
           {payload.begin() + 16, payload.begin() + 16 + length}};
 }
@@ -268,11 +239,11 @@ std::vector<std::uint8_t> EncodeResultResponse(std::uint32_t result) {
 }
 
 DataResponse DecodeDataResponse(std::span<const std::uint8_t> payload) {
-  Need(payload, 4, "response");
+  NeedBytes(payload, 4, "response");
   DataResponse r{GetU32(payload, 0), {}};
   if (r.result != 0 && payload.size() < 8) return r;  // an error answer may stop at its result
   const std::uint32_t length = GetU32(payload, 4);
-  Need(payload, 8 + std::size_t{length}, "response data");
+  NeedBytes(payload, 8 + std::size_t{length}, "response data");
   r.data.assign(payload.begin() + 8, payload.begin() + 8 + length);
   return r;
 }
@@ -313,166 +284,12 @@ DeviceInfo DecodeDeviceInfo(std::span<const std::uint8_t> payload) {
   DeviceInfo info;
   info.result = GetU32(payload, 0);
   if (info.result != 0) return info;
-  Need(payload, 24, "ReadDeviceInfo response");
+  NeedBytes(payload, 24, "ReadDeviceInfo response");
   info.major = payload[4];
   info.minor = payload[5];
   info.build = GetU16(payload, 6);
   info.name = DataName(payload.subspan(8, 16));
   return info;
-}
-
-std::vector<std::uint8_t> SumReadRequest(std::span<const SubRequest> items) {
-  return SumRequest(items, false);
-}
-
-std::vector<std::uint8_t> SumWriteRequest(std::span<const SubRequest> items) {
-  return SumRequest(items, true);
-}
-
-std::vector<SubRequest> DecodeSumRead(std::uint32_t count, std::span<const std::uint8_t> data) {
-  return SubHeaders(count, data);
-}
-
-std::vector<SubRequest> DecodeSumWrite(std::uint32_t count, std::span<const std::uint8_t> data) {
-  std::vector<SubRequest> items = SubHeaders(count, data);
-  std::size_t at = std::size_t{count} * 12;
-  for (SubRequest& s : items) {
-    Need(data, at + s.length, "sum write data");
-    s.data.assign(data.begin() + static_cast<std::ptrdiff_t>(at),
-                  data.begin() + static_cast<std::ptrdiff_t>(at + s.length));
-    at += s.length;
-  }
-  return items;
-}
-
-std::vector<std::uint8_t> EncodeSumReadAnswer(std::span<const DataResponse> answers,
-                                              std::span<const SubRequest> items) {
-  std::vector<std::uint8_t> out;
-  for (const DataResponse& a : answers) PutU32(out, a.result);
-  for (std::size_t i = 0; i < answers.size(); ++i) {
-    std::vector<std::uint8_t> data = answers[i].data;
-    data.resize(items[i].length);  // a failed sub-request keeps its place, zero-filled
-    PutBytes(out, data);
-  }
-  return out;
-}
-
-std::vector<std::uint8_t> EncodeSumWriteAnswer(std::span<const std::uint32_t> results) {
-  std::vector<std::uint8_t> out;
-  for (std::uint32_t r : results) PutU32(out, r);
-  return out;
-}
-
-std::vector<DataResponse> DecodeSumReadAnswer(std::span<const std::uint8_t> data,
-                                              std::span<const std::uint32_t> lengths) {
-  std::size_t need = 4 * lengths.size();
-  for (std::uint32_t l : lengths) need += l;
-  Need(data, need, "sum read answer");
-  std::vector<DataResponse> out(lengths.size());
-  std::size_t at = 4 * lengths.size();
-  for (std::size_t i = 0; i < lengths.size(); ++i) {
-    out[i].result = GetU32(data, 4 * i);
-    out[i].data.assign(data.begin() + static_cast<std::ptrdiff_t>(at),
-                       data.begin() + static_cast<std::ptrdiff_t>(at + lengths[i]));
-    at += lengths[i];
-  }
-  return out;
-}
-
-std::vector<std::uint32_t> DecodeSumWriteAnswer(std::span<const std::uint8_t> data,
-                                                std::size_t count) {
-  Need(data, 4 * count, "sum write answer");
-  std::vector<std::uint32_t> out(count);
-  for (std::size_t i = 0; i < count; ++i) out[i] = GetU32(data, 4 * i);
-  return out;
-}
-
-std::vector<std::uint8_t> EncodeSymbolInfo(const SymbolInfo& s) {
-  std::vector<std::uint8_t> body;
-  for (std::uint32_t v : {s.group, s.offset, s.size, s.data_type}) PutU32(body, v);
-  PutU16(body, s.flags);
-  PutU16(body, static_cast<std::uint16_t>(s.array.size()));
-  for (const std::string* text : {&s.name, &s.type, &s.comment}) {
-    PutU16(body, static_cast<std::uint16_t>(text->size()));
-  }
-  for (const std::string* text : {&s.name, &s.type, &s.comment}) {
-    PutBytes(body, NameData(*text));
-  }
-  for (const auto& [start, length] : s.array) {
-    PutU32(body, static_cast<std::uint32_t>(start));
-    PutU32(body, length);
-  }
-  std::vector<std::uint8_t> out;
-  PutU32(out, static_cast<std::uint32_t>(4 + body.size()));
-  PutBytes(out, body);
-  return out;
-}
-
-SymbolInfo DecodeSymbolInfo(std::span<const std::uint8_t> data) {
-  Need(data, 34, "symbol entry");
-  SymbolInfo s;
-  s.group = GetU32(data, 4);
-  s.offset = GetU32(data, 8);
-  s.size = GetU32(data, 12);
-  s.data_type = GetU32(data, 16);
-  s.flags = GetU16(data, 20);
-  const std::uint16_t dims = GetU16(data, 22);
-  std::size_t at = 30;
-  for (std::size_t i = 0; i < 3; ++i) {
-    const std::size_t length = GetU16(data, 24 + 2 * i);
-    Need(data, at + length + 1, "symbol entry's strings");
-    std::string text(data.begin() + static_cast<std::ptrdiff_t>(at),
-                     data.begin() + static_cast<std::ptrdiff_t>(at + length));
-    (i == 0 ? s.name : i == 1 ? s.type : s.comment) = std::move(text);
-    at += length + 1;
-  }
-  for (std::size_t i = 0; i < dims; ++i) {
-    s.array.emplace_back(static_cast<std::int32_t>(GetU32(data, at)), GetU32(data, at + 4));
-    at += 8;
-  }
-  return s;
-}
-
-std::vector<std::uint8_t> NameData(const std::string& name) {
-  std::vector<std::uint8_t> out(name.begin(), name.end());
-  out.push_back(0);
-  return out;
-}
-
-std::string DataName(std::span<const std::uint8_t> data) {
-  const auto end = std::find(data.begin(), data.end(), std::uint8_t{0});
-  return std::string(data.begin(), end);
-}
-
-std::vector<std::uint8_t> EncodeHandleAnswer(const HandleAnswer& a, std::uint32_t read_length) {
-  std::vector<std::uint8_t> out;
-  PutU32(out, a.handle);
-  if (read_length <= 4) return out;
-  PutU32(out, a.size.value_or(0));
-  PutU32(out, 0);  // type decoration
-  PutU16(out, static_cast<std::uint16_t>(a.type.size()));
-  PutBytes(out, NameData(a.type));
-  return out;
-}
-
-HandleAnswer DecodeHandleAnswer(std::span<const std::uint8_t> data) {
-  HandleAnswer a{GetU32(data, 0), std::nullopt, {}};
-  if (data.size() < 14) return a;
-  a.size = GetU32(data, 4);
-  const std::size_t length = GetU16(data, 12);
-  Need(data, 14 + length, "handle answer's type name");
-  a.type.assign(data.begin() + 14, data.begin() + 14 + static_cast<std::ptrdiff_t>(length));
-  return a;
-}
-
-std::string NormaliseTypeName(const std::string& type) {
-  std::string out;
-  for (char c : type) {
-    if (!std::isspace(static_cast<unsigned char>(c))) {
-      out.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(c))));
-    }
-  }
-  return out;
 }
 
 }  // namespace hybridtest::transfer::ads

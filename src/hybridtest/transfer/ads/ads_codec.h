@@ -150,8 +150,11 @@ AmsPacket DecodePacket(std::span<const std::uint8_t> body);
 // Little-endian helpers over a byte vector.
 void PutU16(std::vector<std::uint8_t>& out, std::uint16_t value);
 void PutU32(std::vector<std::uint8_t>& out, std::uint32_t value);
+void PutBytes(std::vector<std::uint8_t>& out, std::span<const std::uint8_t> bytes);
 std::uint16_t GetU16(std::span<const std::uint8_t> in, std::size_t at);  // throws if short
 std::uint32_t GetU32(std::span<const std::uint8_t> in, std::size_t at);
+// Throws TransferError "garbled ADS <what>" unless `in` holds at least `need` bytes.
+void NeedBytes(std::span<const std::uint8_t> in, std::size_t need, const char* what);
 
 std::vector<std::uint8_t> ReadRequest(std::uint32_t group, std::uint32_t offset,
                                       std::uint32_t length);
