@@ -176,7 +176,7 @@ TEST(FunctionsTest, DerivativesAreExactOnAutoDiffAndJets) {
 
 SymbolTable WithTable() {
   SymbolTable s = Symbols();
-  s.AddTable("Cp", Table{{0.0, 1.0, 3.0}, {0.0, 2.0, 1.0}, {}});
+  s.AddTable("Cp", Table{"Cp", {0.0, 1.0, 3.0}, {0.0, 2.0, 1.0}, {}});
   return s;
 }
 
@@ -224,7 +224,7 @@ TEST(TableTest, InterpolatesLinearlyAndIsConstantBeyondTheEnds) {
 TEST(TableTest, TwoDimensionalTablesAreBilinearAndClamped) {
   SymbolTable s = Symbols();
   // z = x + 10 y + x y on the grid: bilinear reproduces it exactly inside.
-  Table t{{0.0, 1.0, 3.0}, {0.0, 2.0}, {}};
+  Table t{"t", {0.0, 1.0, 3.0}, {0.0, 2.0}, {}};
   for (double x : t.x)
     for (double y : t.y) t.z.push_back(x + 10 * y + x * y);
   s.AddTable("Ct", t);
