@@ -1,6 +1,6 @@
 // The `ads` transfer end to end against `hybridtest bench --protocol ads` (the TwinCAT PLC
 // emulator in its own process):
-//   - the contract: the paper's test over ADS on the ideal bench (examples/07_ads/rotor.yaml)
+//   - the contract: the paper's test over ADS on the ideal bench (examples/rotor/ads.yaml)
 //     equals the numerical run (examples/rotor/numerical.yaml) within 1e-9 over 10 s (20,001
 //     exchanges), and the two-actuator blade tip (examples/07_ads/blade-2act.yaml) equals its
 //     numerical twin (examples/06_blade_two_actuators/dummy.yaml) within 1e-9, SI;
@@ -62,7 +62,8 @@ double LargestDifference(const std::vector<std::vector<double>>& a,
 
 TEST(AdsRun, ContractOneActuatorOverAdsEqualsTheNumericalRunWithin1e9) {
   BenchProcess plc({"--protocol", "ads", "--config", kIdeal});
-  const auto ads = CommittedStates(kAds + "rotor.yaml", fmt::format("127.0.0.1:{}", plc.port()));
+  const auto ads = CommittedStates(kSource + "/examples/rotor/ads.yaml",
+                                   fmt::format("127.0.0.1:{}", plc.port()));
   const auto numerical = CommittedStates(kSource + "/examples/rotor/numerical.yaml");
   ASSERT_EQ(ads.size(), 10001u);  // 10 s at 1 ms: 20,001 exchanges with Heun
   const double worst = LargestDifference(ads, numerical);
@@ -92,7 +93,7 @@ struct StoppedRun {
 };
 StoppedRun RunWithFault(const std::string& fault, const std::string& name) {
   const fs::path dir = ResumeTestDir("ads-" + name);
-  std::ifstream in(kAds + "rotor.yaml");
+  std::ifstream in(kSource + "/examples/rotor/ads.yaml");
   std::stringstream text;
   text << in.rdbuf();
   std::string yaml = text.str();
