@@ -126,11 +126,20 @@ class Printer {
     }
     const bool negative = coefficient.is_negative();
     if (negative) coefficient = -coefficient;
+    // A factor in front (not vector::insert at begin(): GCC 12 warns -Wnull-dereference
+    // inside GiNaC's ptr there).
+    const auto prepend = [](std::vector<GiNaC::ex>& factors, const GiNaC::ex& first) {
+      std::vector<GiNaC::ex> out;
+      out.reserve(factors.size() + 1);
+      out.push_back(first);
+      for (const GiNaC::ex& f : factors) out.push_back(f);
+      factors.swap(out);
+    };
     if (coefficient.is_rational() && !coefficient.is_integer()) {
-      if (!coefficient.numer().is_equal(1) || top.empty()) top.insert(top.begin(), coefficient.numer());
-      bottom.insert(bottom.begin(), coefficient.denom());
+      if (!coefficient.numer().is_equal(1) || top.empty()) prepend(top, coefficient.numer());
+      prepend(bottom, coefficient.denom());
     } else if (!coefficient.is_equal(1) || top.empty()) {
-      top.insert(top.begin(), coefficient);
+      prepend(top, coefficient);
     }
     const std::string times = d_ == Dialect::kLatex ? " " : "*";
     auto join = [&](const std::vector<GiNaC::ex>& factors, int needed) {

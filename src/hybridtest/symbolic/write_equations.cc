@@ -94,7 +94,9 @@ std::string LatexBroken(const GiNaC::ex& e, const NameMap& names) {
 std::string Markdown(const multibody::Model& model, const Equations& eq, const DocumentInfo& info) {
   const auto symbols = Symbols(model);
   const NameMap names = Names(symbols, info, Dialect::kPlain);
-  auto P = [&](const GiNaC::ex& e) { return "`" + PrintExpression(e, Dialect::kPlain, names) + "`"; };
+  auto P = [&](const GiNaC::ex& e) {
+    return fmt::format("`{}`", PrintExpression(e, Dialect::kPlain, names));
+  };
   const int n = model.num_coordinates();
   std::string s = fmt::format("# Equations of motion: {}\n\n{}. Derived by hybridtest's Kane "
                               "engine (the code that computes them numerically) from `{}`.\n\n"
