@@ -28,6 +28,8 @@ cmake --build --preset fuzz -j "${HYBRIDTEST_JOBS:-$(nproc)}" \
   --target "${targets[@]/#/fuzz_}"
 
 status=0
+# A third-party library's one-time allocation at start-up is not a finding (fuzz/lsan.supp).
+export LSAN_OPTIONS="suppressions=$root/fuzz/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
 for t in "${targets[@]}"; do
   mkdir -p "build/fuzz/corpus/$t" "build/fuzz/findings/$t"
   echo "hybridtest fuzz: $t for ${seconds} s"
