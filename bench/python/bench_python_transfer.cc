@@ -62,7 +62,8 @@ class Spring:
     def deactivate(self): pass
 )", scope);
     python = std::make_unique<PyTransfer>(
-        std::make_shared<SharedObject>(scope["Spring"](kStiffness, kP0)), "r1");
+        std::make_shared<SharedObject>(scope["Spring"](kStiffness, kP0)), "r1",
+        std::vector<hybridtest::transfer::SafetyLimits>{hybridtest::transfer::SafetyLimits{}});
   }
   hybridtest::transfer::NumericalLoopback cpp(
       std::make_unique<hybridtest::constitutive::LinearSpring>(kStiffness), kP0);

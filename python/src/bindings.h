@@ -3,6 +3,7 @@
 // quantity crossing into Python is SI, as inside the library; arrays are float64 numpy arrays.
 #include <pybind11/pybind11.h>
 
+#include <exception>
 #include <string>
 
 namespace hybridtest::python {
@@ -24,5 +25,10 @@ void BindTiming(py::module_& m);
 // "ValueError: message" for the Python exception being handled (GIL held), for the message of
 // the hybridtest::Error that carries it into C++.
 std::string DescribePythonError(const py::error_already_set& e);
+
+// Sets the Python error for a C++ exception of hybridtest's hierarchy (errors.cc); false for
+// any other exception (nothing set). SetPythonError sets one for any exception.
+bool TranslateError(std::exception_ptr p);
+void SetPythonError(std::exception_ptr p);
 
 }  // namespace hybridtest::python

@@ -87,25 +87,42 @@ void BindErrors(py::module_& m) {
   g_safety_stop = NewClass(m, "SafetyStop", g_error,
                            "A safety limit stopped the run: limit, value, limit_value, step, "
                            "stage and the recent exchanges (history, SI).");
-  // Most derived first.
   py::register_exception_translator([](std::exception_ptr p) {
-    if (!p) return;
-    try {
-      std::rethrow_exception(p);
-    } catch (const transfer::SafetyStop& e) {
-      RaiseSafetyStop(e);
-    } catch (const ConfigError& e) {
-      PyErr_SetString(g_config_error, e.what());
-    } catch (const ModelError& e) {
-      PyErr_SetString(g_model_error, e.what());
-    } catch (const TransferError& e) {
-      PyErr_SetString(g_transfer_error, e.what());
-    } catch (const IoError& e) {
-      PyErr_SetString(g_io_error, e.what());
-    } catch (const Error& e) {
-      PyErr_SetString(g_error, e.what());
-    }
+    if (p) TranslateError(p);  // anything else goes on to pybind11's own translators
   });
+}
+
+bool TranslateError(std::exception_ptr p) {
+  // Most derived first.
+  try {
+    std::rethrow_exception(p);
+  } catch (const transfer::SafetyStop& e) {
+    RaiseSafetyStop(e);
+  } catch (const ConfigError& e) {
+    PyErr_SetString(g_config_error, e.what());
+  } catch (const ModelError& e) {
+    PyErr_SetString(g_model_error, e.what());
+  } catch (const TransferError& e) {
+    PyErr_SetString(g_transfer_error, e.what());
+  } catch (const IoError& e) {
+    PyErr_SetString(g_io_error, e.what());
+  } catch (const Error& e) {
+    PyErr_SetString(g_error, e.what());
+  } catch (...) {
+    return false;
+  }
+  return true;
+}
+
+void SetPythonError(std::exception_ptr p) {
+  if (TranslateError(p)) return;
+  try {
+    std::rethrow_exception(p);
+  } catch (const std::exception& e) {
+    PyErr_SetString(PyExc_RuntimeError, e.what());
+  } catch (...) {
+    PyErr_SetString(PyExc_RuntimeError, "unknown C++ exception");
+  }
 }
 
 }  // namespace hybridtest::python

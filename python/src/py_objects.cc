@@ -3,6 +3,9 @@
 
 #include <fmt/core.h>
 
+#include <pybind11/numpy.h>
+
+#include <algorithm>
 #include <cmath>
 
 #include "bindings.h"
@@ -48,23 +51,47 @@ transfer::BenchUnits ReadUnits(const py::object& driver, const std::string& wher
   return units;
 }
 
-// The driver's attribute `name`, a positive length in its unit, or nullopt without one.
-std::optional<double> ReadLength(const py::object& driver, const char* name,
-                                 const std::string& where, const std::string& unit,
-                                 const char* meaning) {
-  if (!py::hasattr(driver, name)) return std::nullopt;
+// The driver's attribute `name` in its length unit, one value per actuator: a number (for
+// every actuator) or a sequence of n numbers; empty without the attribute. `positive`: each
+// must be > 0, else finite.
+std::vector<double> ReadLengths(const py::object& driver, const char* name,
+                                const std::string& where, const std::string& unit, std::size_t n,
+                                bool positive, const char* meaning) {
+  if (!py::hasattr(driver, name)) return {};
   const py::object given = driver.attr(name);
-  double value = std::nan("");
+  std::vector<double> values;
   try {
-    value = given.cast<double>();
+    if (py::isinstance<py::sequence>(given) && !py::isinstance<py::str>(given)) {
+      for (const py::handle item : py::reinterpret_borrow<py::sequence>(given)) {
+        values.push_back(item.cast<double>());
+      }
+    } else {
+      values.assign(n, given.cast<double>());
+    }
   } catch (const py::cast_error&) {
+    values.clear();
   }
-  if (!(value > 0.0) || !std::isfinite(value)) {
-    throw ConfigError(fmt::format("{}: {} = {}: expected a positive number, {} in {} (the "
-                                  "driver's length unit)", where, name,
-                                  std::string(py::repr(given)), meaning, unit));
+  const bool fit = values.size() == n &&
+                   std::all_of(values.begin(), values.end(), [positive](double v) {
+                     return std::isfinite(v) && (!positive || v > 0.0);
+                   });
+  if (!fit) {
+    const std::string each = n == 1 ? "" : fmt::format(" (or a list of {}, one per actuator)", n);
+    throw ConfigError(fmt::format("{}: {} = {}: expected a {} number{}, {} in {} (the driver's "
+                                  "length unit)", where, name, std::string(py::repr(given)),
+                                  positive ? "positive" : "finite", each, meaning, unit));
   }
-  return value;
+  return values;
+}
+
+// "0.0213", or "[0.02, 0.0312]" for several.
+std::string FormatLengths(std::span<const double> values) {
+  if (values.size() == 1) return fmt::format("{:.6g}", values[0]);
+  std::string out = "[";
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    out += fmt::format("{}{:.6g}", k > 0 ? ", " : "", values[k]);
+  }
+  return out + "]";
 }
 
 const InCallback* g_callback = nullptr;                        // GIL held
@@ -75,16 +102,16 @@ std::optional<py::error_already_set>* g_kept = nullptr;        // GIL held; neve
 const InCallback* CurrentCallback() { return g_callback; }
 
 InCallback::InCallback(const char* method, const std::string& slot, const std::string& unit,
-                       std::optional<double> command)
-    : method_(method), slot_(slot), unit_(unit), command_(command), previous_(g_callback) {
+                       std::span<const double> commands)
+    : method_(method), slot_(slot), unit_(unit), commands_(commands), previous_(g_callback) {
   g_callback = this;
 }
 
 InCallback::~InCallback() { g_callback = previous_; }
 
 std::string InCallback::Call() const {
-  return command_ ? fmt::format("{}({} {})", method_, *command_, unit_)
-                  : fmt::format("{}()", method_);
+  return commands_.empty() ? fmt::format("{}()", method_)
+                           : fmt::format("{}({} {})", method_, FormatLengths(commands_), unit_);
 }
 
 std::string InCallback::Describe() const {
@@ -118,8 +145,13 @@ SharedObject::~SharedObject() {
   object_ = py::object();
 }
 
-PyTransfer::PyTransfer(SharedPy driver, std::string slot, transfer::SafetyLimits limits)
-    : driver_(std::move(driver)), slot_(std::move(slot)), timeout_(limits.timeout) {
+PyTransfer::PyTransfer(SharedPy driver, std::string slot,
+                       std::vector<transfer::SafetyLimits> limits, DriverCauseSlot cause)
+    : driver_(std::move(driver)), slot_(std::move(slot)), n_(limits.size()),
+      cause_(std::move(cause)) {
+  if (limits.empty()) throw Error("PyTransfer: no actuator limits given");
+  timeout_ = limits[0].timeout;
+  for (const auto& l : limits) timeout_ = std::max(timeout_, l.timeout);  // the slowest
   py::gil_scoped_acquire gil;
   const py::object& d = driver_->get();
   const std::string where = fmt::format("transfers[\"{}\"] ({})", slot_, TypeName(d));
@@ -130,58 +162,83 @@ PyTransfer::PyTransfer(SharedPy driver, std::string slot, transfer::SafetyLimits
                                     "missing", where, method));
     }
   }
-  units_ = ReadUnits(d, where);
-  if (py::hasattr(d, "p0")) {
-    const py::object given = d.attr("p0");
-    double p0 = 0.0;
+  // A driver that says how many actuators it moves must move the specimen's.
+  if (py::hasattr(d, "actuators")) {
+    const py::object given = d.attr("actuators");
+    long declared = -1;
     try {
-      p0 = given.cast<double>();
+      declared = given.cast<long>();
     } catch (const py::cast_error&) {
-      p0 = std::nan("");
     }
-    if (!std::isfinite(p0)) {
-      throw ConfigError(fmt::format("{}: p0 = {}: expected a finite number, the actuator's "
-                                    "zero-force position in {}", where,
-                                    std::string(py::repr(given)), units_.length_name));
+    if (declared != static_cast<long>(n_)) {
+      throw ConfigError(fmt::format(
+          "{}: actuators = {}, but substructure {} is set up on {} actuator{} "
+          "(substructures.{}.setup): give the specimen a driver of {} (execute then receives "
+          "{}), or set up the substructure for the driver's actuators",
+          where, std::string(py::repr(given)), slot_, n_, n_ == 1 ? "" : "s", slot_, n_,
+          n_ == 1 ? "one command, a float" : fmt::format("an array of {} commands", n_)));
     }
-    p0_ = p0 * units_.metres_per_length_unit;
   }
-  // The settled-reply check, in the driver's length unit.
+  units_ = ReadUnits(d, where);
   const double metres = units_.metres_per_length_unit;
-  const double settle = ReadLength(d, "settle_tolerance", where, units_.length_name,
-                                   "the bench's settling (in-position) window")
-                            .value_or(transfer::InBenchUnit(transfer::kDefaultSettleTolerance,
-                                                            metres));
-  const std::optional<double> following =
-      ReadLength(d, "following_error", where, units_.length_name,
-                 "the largest |command − position| of a settled reply");
-  if (following && *following * metres > limits.stroke_max - limits.stroke_min) {
-    throw ConfigError(fmt::format("{}: following_error = {} {} is longer than the whole stroke "
-                                  "({} m to {} m), so it could never stop anything: give it in "
-                                  "{} (the driver's length unit)", where, *following,
-                                  units_.length_name, limits.stroke_min, limits.stroke_max,
-                                  units_.length_name));
+  const std::string& unit = units_.length_name;
+  p0_ = ReadLengths(d, "p0", where, unit, n_, false, "the actuator's zero-force position");
+  for (double& p : p0_) p *= metres;
+  // The settled-reply check, in the driver's length unit.
+  const std::vector<double> settle = ReadLengths(d, "settle_tolerance", where, unit, n_, true,
+                                                 "the bench's settling (in-position) window");
+  const std::vector<double> following =
+      ReadLengths(d, "following_error", where, unit, n_, true,
+                  "the largest |command − position| of a settled reply");
+  std::vector<transfer::SettledReadingCheck::Limits> replies(n_);
+  for (std::size_t k = 0; k < n_; ++k) {
+    const transfer::SafetyLimits& l = limits[k];
+    const std::string actuator = n_ == 1 ? "" : fmt::format(" (actuator {})", k + 1);
+    if (!following.empty() && following[k] * metres > l.stroke_max - l.stroke_min) {
+      throw ConfigError(fmt::format("{}: following_error{} = {} {} is longer than the whole "
+                                    "stroke ({} m to {} m), so it could never stop anything: "
+                                    "give it in {} (the driver's length unit)", where, actuator,
+                                    following[k], unit, l.stroke_min, l.stroke_max, unit));
+    }
+    replies[k].settle_tolerance =
+        settle.empty() ? transfer::InBenchUnit(transfer::kDefaultSettleTolerance, metres)
+                       : settle[k];
+    replies[k].following_error =
+        following.empty() ? transfer::DefaultFollowingError(
+                                replies[k].settle_tolerance,
+                                transfer::InBenchUnit(l.max_increment, metres))
+                          : following[k];
   }
-  transfer::SettledReadingCheck::Limits reply;
-  reply.settle_tolerance = settle;
-  reply.following_error = following.value_or(transfer::DefaultFollowingError(
-      settle, transfer::InBenchUnit(limits.max_increment, metres)));
-  settled_ = transfer::SettledReadingCheck({reply});
+  settled_ = transfer::SettledReadingCheck(std::move(replies));
+  positions_.resize(n_);
+  forces_.resize(n_);
   // How a failed check names this driver (built once: Execute stays cheap).
-  reply_source_.unit = units_.length_name;
+  reply_source_.unit = unit;
   reply_source_.metres_per_unit = metres;
-  reply_source_.answered = [this](std::size_t) {
-    return fmt::format("The Python transfer system of slot {} answered execute({} {})", slot_,
-                       command_now_, units_.length_name);
+  reply_source_.answered = [this](std::size_t k) {
+    return fmt::format("The Python transfer system of slot {}{} answered execute({} {})", slot_,
+                       n_ == 1 ? "" : fmt::format(" (actuator {})", k + 1),
+                       FormatLengths(commands_now_), units_.length_name);
   };
-  reply_source_.detail = [this](std::size_t) {
-    return fmt::format(" (force {} {})", force_now_, units_.force_name);
+  reply_source_.detail = [this](std::size_t k) {
+    return fmt::format(" (force {:.6g} {})", forces_[k], units_.force_name);
   };
   reply_source_.after = "the run holds (hold() is called)";
   reply_source_.following_key = "the driver's attribute following_error";
   reply_source_.settle_key = "the driver's attribute settle_tolerance";
-  description_ = fmt::format("Python transfer system {} ({}, {})", TypeName(d),
-                             units_.length_name, units_.force_name);
+  description_ = fmt::format("Python transfer system {} ({}, {}{})", TypeName(d), unit,
+                             units_.force_name,
+                             n_ == 1 ? "" : fmt::format(", {} actuators", n_));
+}
+
+void PyTransfer::KeepCause(const py::error_already_set& e) {
+  if (!cause_) return;
+  const py::object value = e.value();
+  // Where in the driver it was raised (the value alone may not carry it yet).
+  PyObject* traceback = PyException_GetTraceback(value.ptr());  // a new reference, or null
+  if (traceback == nullptr && e.trace()) PyException_SetTraceback(value.ptr(), e.trace().ptr());
+  Py_XDECREF(traceback);
+  cause_->exception = std::make_shared<SharedObject>(value);
 }
 
 void PyTransfer::Call(const char* method, const std::string& what) {
@@ -193,13 +250,14 @@ void PyTransfer::Call(const char* method, const std::string& what) {
     const std::string described = InterruptOrDescribe(
         e, fmt::format("the Python transfer system's {} of slot {}", what, slot_),
         "the bench holds; every committed step is kept");
+    KeepCause(e);
     throw TransferError(fmt::format("the Python transfer system's {} raised {}", what, described));
   }
 }
 
 transfer::BenchAnnouncement PyTransfer::Announce() const {
   transfer::BenchAnnouncement a;
-  a.p0 = p0_;
+  for (double p0 : p0_) a.actuators.push_back({p0, std::nullopt});
   a.source = fmt::format("the Python transfer system of {}", slot_);
   return a;
 }
@@ -210,44 +268,80 @@ void PyTransfer::Activate() {
   activated_ = std::chrono::steady_clock::now();
 }
 
-void PyTransfer::Execute(std::span<const double> commands,
-                         std::span<transfer::Measurement> out) {
-  transfer::RequireOneActuator(commands, out, description_);
-  out[0] = Move(commands[0]);
-}
-
-transfer::Measurement PyTransfer::Move(double command) {
-  py::gil_scoped_acquire gil;
-  transfer::Measurement m;
-  std::string problem;
-  bool lab_time_given = false;
-  InCallback inside("execute", slot_, units_.length_name, command);
-  const auto started = std::chrono::steady_clock::now();
-  try {
-    const py::object reply = driver_->get().attr("execute")(command);
-    if (!py::isinstance<py::sequence>(reply) || py::isinstance<py::str>(reply)) {
-      throw py::cast_error("got " + std::string(py::repr(reply)));
-    }
-    const py::tuple values = py::tuple(reply);
-    if (values.size() != 2 && values.size() != 3) {
-      problem = fmt::format("returned {} values; expected (position, force[, lab_time])",
-                            values.size());
-    } else {
-      m.position = values[0].cast<double>();
-      m.force = values[1].cast<double>();
-      if (values.size() == 3) {
-        m.lab_time = values[2].cast<double>();
-        lab_time_given = true;
+bool PyTransfer::ReadReply(const py::object& reply, std::span<transfer::Measurement> out,
+                           std::string& problem) const {
+  if (!py::isinstance<py::sequence>(reply) || py::isinstance<py::str>(reply)) {
+    throw py::cast_error("got " + std::string(py::repr(reply)));
+  }
+  const py::tuple values = py::tuple(reply);
+  const char* shape = n_ == 1 ? "(position, force[, lab_time])"
+                              : "(positions, forces[, lab_time]) with n values in each list";
+  if (values.size() != 2 && values.size() != 3) {
+    problem = fmt::format("returned {} values; expected {}", values.size(), shape);
+    return false;
+  }
+  if (n_ == 1) {
+    out[0].position = values[0].cast<double>();
+    out[0].force = values[1].cast<double>();
+  } else {
+    const char* names[] = {"positions", "forces"};
+    for (std::size_t i = 0; i < 2; ++i) {
+      const py::handle list = values[i];
+      if (!py::isinstance<py::sequence>(list) || py::isinstance<py::str>(list)) {
+        problem = fmt::format("returned {} {} for its {}; expected a list or array of {} numbers, "
+                              "one per actuator", names[i], std::string(py::repr(list)),
+                              names[i], n_);
+        return false;
+      }
+      const auto items = py::reinterpret_borrow<py::sequence>(list);
+      if (items.size() != n_) {
+        problem = fmt::format("returned {} {}; expected {}, one per actuator", items.size(),
+                              names[i], n_);
+        return false;
+      }
+      for (std::size_t k = 0; k < n_; ++k) {
+        const double v = items[k].cast<double>();
+        (i == 0 ? out[k].position : out[k].force) = v;
       }
     }
+  }
+  if (values.size() == 3) {
+    const double lab_time = values[2].cast<double>();
+    for (auto& m : out) m.lab_time = lab_time;
+  }
+  return values.size() == 3;
+}
+
+void PyTransfer::Execute(std::span<const double> commands,
+                         std::span<transfer::Measurement> out) {
+  if (commands.size() != n_ || out.size() != n_) {
+    throw TransferError(fmt::format("{}: {} commands for {} actuators", description_,
+                                    commands.size(), n_));
+  }
+  py::gil_scoped_acquire gil;
+  std::string problem;
+  bool lab_time_given = false;
+  InCallback inside("execute", slot_, units_.length_name, commands);
+  for (auto& m : out) m = {};
+  const auto started = std::chrono::steady_clock::now();
+  try {
+    // One actuator: a float; several: a fresh array the driver may keep or change.
+    const py::object argument =
+        n_ == 1 ? py::object(py::float_(commands[0]))
+                : py::object(py::array_t<double>(static_cast<py::ssize_t>(n_), commands.data()));
+    const py::object reply = driver_->get().attr("execute")(argument);
+    lab_time_given = ReadReply(reply, out, problem);
   } catch (py::error_already_set& e) {
     // Ctrl-C while the driver runs is not a transfer failure: the run holds after this step.
     problem = "raised " + InterruptOrDescribe(
         e, fmt::format("the Python transfer system's {} of slot {}", inside.Call(), slot_),
         "the bench holds; every committed step is kept");
+    KeepCause(e);
   } catch (const py::cast_error& e) {
-    problem = fmt::format("returned something that is not (position, force[, lab_time]) "
-                          "numbers ({})", e.what());
+    problem = fmt::format("returned something that is not {} numbers ({})",
+                          n_ == 1 ? "(position, force[, lab_time])"
+                                  : "(positions, forces[, lab_time])",
+                          e.what());
   }
   const double took =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
@@ -264,20 +358,26 @@ transfer::Measurement PyTransfer::Move(double command) {
         "out why the bench answers that slowly; if a move really takes that long, raise the "
         "timeout", inside.Call(), took, timeout_, slot_));
   }
-  if (!std::isfinite(m.position) || !std::isfinite(m.force) || !std::isfinite(m.lab_time)) {
-    throw TransferError(fmt::format("the Python transfer system's execute({} {}) returned a "
-                                    "value that is not finite (position {}, force {})", command,
-                                    units_.length_name, m.position, m.force));
+  for (std::size_t k = 0; k < n_; ++k) {
+    const transfer::Measurement& m = out[k];
+    if (!std::isfinite(m.position) || !std::isfinite(m.force) || !std::isfinite(m.lab_time)) {
+      throw TransferError(fmt::format("the Python transfer system's {} returned a value that is "
+                                      "not finite{} (position {} {}, force {} {})", inside.Call(),
+                                      n_ == 1 ? "" : fmt::format(" for actuator {}", k + 1),
+                                      m.position, units_.length_name, m.force,
+                                      units_.force_name));
+    }
+    positions_[k] = m.position;
+    forces_[k] = m.force;
   }
   // The same check as a Modbus controller's ack: where it was sent, and not a stale reply.
-  command_now_ = command;
-  force_now_ = m.force;
-  settled_.Check({&command, 1}, {&m.position, 1}, reply_source_);
+  commands_now_ = commands;
+  settled_.Check(commands, positions_, reply_source_);
   if (!lab_time_given) {
-    m.lab_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - activated_)
-                     .count();
+    const double lab_time =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - activated_).count();
+    for (auto& m : out) m.lab_time = lab_time;
   }
-  return m;
 }
 
 void PyTransfer::Hold() noexcept {

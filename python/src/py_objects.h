@@ -5,7 +5,13 @@
 //               activate(), execute(command) -> (position, force[, lab_time]), hold() and
 //               deactivate(); it speaks SI (m, N) unless it has `units = ("mm", "kN")`
 //               (length m | mm, force N | kN). Without a lab_time [s], the wall time since
-//               activate() is recorded. The PhysicalSubstructure around it applies the setup
+//               activate() is recorded.
+//               A specimen on n > 1 actuators: execute(commands) receives a numpy array of
+//               n commands (a fresh copy, actuator order) and returns (positions, forces[,
+//               lab_time]), two sequences of n numbers; `p0`, `settle_tolerance` and
+//               `following_error` may then be lists of n (a number applies to every one).
+//               A driver with an attribute `actuators` is refused, before anything is
+//               activated, unless it equals the specimen's number of actuators. The PhysicalSubstructure around it applies the setup
 //               transform, the safety gate, the journal, the run state and resume exactly as
 //               for a C++ transfer system. An exception raised by the Python code (or a reply
 //               that is not two or three numbers) becomes a TransferError naming the slot and
@@ -26,8 +32,6 @@
 //               A driver that knows its actuator's zero-force position has `p0` (its length
 //               unit): the run then refuses a setup.p0 that disagrees, before anything moves
 //               (runner/pre_move_checks.h).
-//               Several actuators (decision 0015): execute will receive an array of commands
-//               and return arrays; the scalar Execute here is where that change goes.
 //   PyLaw       a Python callable r = law(d) [m] -> [N] as a constitutive::RestoringForceLaw
 //               (a numerical substructure). Optional attributes: commit() (a path-dependent
 //               law), initial_stiffness [N/m] (else a central difference at d = 0).
@@ -38,7 +42,9 @@
 #include <chrono>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "hybridtest/constitutive/restoring_force_law.h"
 #include "hybridtest/transfer/safety.h"
@@ -55,18 +61,18 @@ namespace py = pybind11;
 class InCallback {  // sets CurrentCallback() for its scope (GIL held)
  public:
   InCallback(const char* method, const std::string& slot, const std::string& unit,
-             std::optional<double> command = std::nullopt);
+             std::span<const double> commands = {});
   ~InCallback();
   InCallback(const InCallback&) = delete;
   InCallback& operator=(const InCallback&) = delete;
-  std::string Call() const;      // "execute(0.0213 m)", "hold()"
+  std::string Call() const;      // "execute(21.3 mm)", "execute([20, 31.2] mm)", "hold()"
   std::string Describe() const;  // "the bench driver's execute(0.0213 m) of slot r1"
 
  private:
   const char* method_;
   const std::string& slot_;
   const std::string& unit_;
-  std::optional<double> command_;
+  std::span<const double> commands_;  // (bench units) empty: not execute()
   const InCallback* previous_;
 };
 const InCallback* CurrentCallback();
@@ -101,18 +107,28 @@ class SharedObject {
 };
 using SharedPy = std::shared_ptr<SharedObject>;
 
+// The exception a session's bench driver raised last (the exception object, with its
+// traceback), so that the TransferError the run stops with carries it as __cause__. One per
+// session, shared with its drivers; read and written with the GIL held.
+struct DriverCause {
+  SharedPy exception;  // nullptr: none
+};
+using DriverCauseSlot = std::shared_ptr<DriverCause>;
+
 class PyTransfer final : public transfer::TransferSystem {
  public:
-  // Reads `units`, `p0`, `settle_tolerance` and `following_error` (GIL held). `limits` are the
-  // slot's (SI): safety.timeout bounds every execute(), max_increment caps the default
-  // following error. Throws ConfigError for units it does not know, a missing method or a bad
-  // attribute.
-  PyTransfer(SharedPy driver, std::string slot, transfer::SafetyLimits limits = {});
+  // Reads `units`, `p0`, `settle_tolerance` and `following_error` (GIL held). `limits` are
+  // each actuator's (SI; one per actuator: their number is the driver's): safety.timeout
+  // bounds every execute(), max_increment caps the default following error. Throws ConfigError
+  // for units it does not know, a missing method or a bad attribute.
+  // `cause` (may be null) keeps the exception a driver call raises.
+  PyTransfer(SharedPy driver, std::string slot, std::vector<transfer::SafetyLimits> limits,
+             DriverCauseSlot cause = nullptr);
   PyTransfer(const PyTransfer&) = delete;  // reply_source_ refers to this object
   PyTransfer& operator=(const PyTransfer&) = delete;
   void Activate() override;
-  // One actuator: the driver's execute(command) with the command in its length unit.
-  int num_actuators() const override { return 1; }
+  // The driver's execute(command) with the command(s) in its length unit.
+  int num_actuators() const override { return static_cast<int>(n_); }
   void Execute(std::span<const double> commands, std::span<transfer::Measurement> out) override;
   void Hold() noexcept override;
   void Deactivate() override;
@@ -122,17 +138,24 @@ class PyTransfer final : public transfer::TransferSystem {
 
  private:
   void Call(const char* method, const std::string& what);
-  transfer::Measurement Move(double command);
+  // The driver's reply to execute(): n positions and forces, and the lab time if given. Throws
+  // py::cast_error or sets `problem` (GIL held).
+  bool ReadReply(const py::object& reply, std::span<transfer::Measurement> out,
+                 std::string& problem) const;
+  void KeepCause(const py::error_already_set& e);  // GIL held
   SharedPy driver_;
   std::string slot_;
+  std::size_t n_;  // actuators
+  DriverCauseSlot cause_;
   std::string description_;
   transfer::BenchUnits units_;
-  std::optional<double> p0_;  // the driver's `p0` [m]
-  double timeout_;            // the slot's safety.timeout [s]
+  std::vector<double> p0_;    // the driver's `p0`, one per actuator (empty: none) [m]
+  double timeout_;            // the slot's safety.timeout [s] (the shortest of the actuators')
   transfer::SettledReadingCheck settled_;  // following error and stale reply (bench units)
   transfer::SettledReadingCheck::Source reply_source_;  // how its messages name this driver
-  double command_now_ = 0.0;  // the command being checked (bench units)
-  double force_now_ = 0.0;    // its reply's force (bench units)
+  std::span<const double> commands_now_;  // the commands being checked (bench units)
+  std::vector<double> positions_;         // scratch: the reply's positions (bench units)
+  std::vector<double> forces_;            // its reply's forces (bench units)
   std::chrono::steady_clock::time_point activated_;
 };
 

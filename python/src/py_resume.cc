@@ -32,7 +32,7 @@ void PySession::StartResume(const SessionArguments& args) {
       plan, request, r.set, "python: hybridtest.resume(...)", std::nullopt,
       [&](io::RunSpec& spec) {
         RefuseRealTime(spec, "resume()");
-        Substitute(spec, args.transfers, args.laws);
+        Substitute(spec, args.transfers, args.laws, cause_);
       });
   // The front door, as `hybridtest resume`'s: output guards, disk budget, the files the
   // compile read against the run's record.

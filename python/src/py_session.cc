@@ -65,7 +65,8 @@ int SlotIndex(const io::RunSpec& spec, const std::string& slot, const char* argu
 }  // namespace
 
 // See py_session.h.
-void Substitute(io::RunSpec& spec, const py::dict& transfers, const py::dict& laws) {
+void Substitute(io::RunSpec& spec, const py::dict& transfers, const py::dict& laws,
+                const DriverCauseSlot& cause) {
   for (const auto& [key, value] : transfers) {
     const std::string slot = py::str(key);
     auto& sub = spec.substructures[static_cast<std::size_t>(SlotIndex(spec, slot, "transfers"))];
@@ -76,21 +77,12 @@ void Substitute(io::RunSpec& spec, const py::dict& transfers, const py::dict& la
           "safety)", slot, slot, slot));
     }
     auto driver = std::make_shared<SharedObject>(py::reinterpret_borrow<py::object>(value));
-    const transfer::SafetyLimits limits = sub.physical->limits;
+    // One limit set per actuator: a specimen on n actuators gets a driver of n (execute
+    // receives an array of n commands).
+    const std::vector<transfer::SafetyLimits> limits = sub.ActuatorLimits();
     PyTransfer check(driver, slot, limits);  // the methods and units, before anything is built
-    // A Python transfer system moves one actuator: a specimen on several is refused here,
-    // before anything is built or activated (never after activate() enabled the bench).
-    if (sub.num_actuators() != check.num_actuators()) {
-      throw ConfigError(fmt::format(
-          "transfers[\"{}\"]: {} moves {} actuator, but substructure {} is set up on {} "
-          "actuators (substructures.{}.setup); a Python transfer system serves a specimen on "
-          "one actuator: give it a one-actuator slot, or run this specimen on a configured "
-          "transfer system (emulated, remote, modbus, openfresco)",
-          slot, check.Describe(), check.num_actuators(), sub.slot, sub.num_actuators(),
-          sub.slot));
-    }
-    sub.physical->transfer = {"python", [driver, slot, limits] {
-                                return std::make_unique<PyTransfer>(driver, slot, limits);
+    sub.physical->transfer = {"python", [driver, slot, limits, cause] {
+                                return std::make_unique<PyTransfer>(driver, slot, limits, cause);
                               }};
   }
   for (const auto& [key, value] : laws) {
@@ -101,7 +93,14 @@ void Substitute(io::RunSpec& spec, const py::dict& transfers, const py::dict& la
   }
 }
 
-PyObserver::PyObserver(py::object observer) {
+PyObserver::PyObserver(py::object observer, const std::vector<std::string>& actuators)
+    : actuators_(static_cast<py::ssize_t>(actuators.size())) {
+  for (std::size_t k = 0; k < actuators.size(); ++k) actuators_[k] = py::str(actuators[k]);
+  py::list fields;
+  for (const char* name : {"command", "position", "force", "lab_time"}) {
+    fields.append(py::make_tuple(name, "f8"));
+  }
+  exchange_type_ = py::module_::import("numpy").attr("dtype")(fields);
   on_commit_ = Method(observer, "on_commit");
   on_trial_ = Method(observer, "on_trial");
   on_stop_ = Method(observer, "on_stop");
@@ -137,18 +136,20 @@ void PyObserver::OnTrial(const runner::TrialEvent& e) {
   c["t"] = e.at.t;
   c["d"] = View(e.d);
   c["r"] = View(e.r);
-  // (physical slots × 4): command [m], position [m], force [N], lab time [s]
-  py::array_t<double> ex({static_cast<py::ssize_t>(e.exchanges.size()), py::ssize_t{4}});
-  auto w = ex.mutable_unchecked<2>();
+  // One record per actuator, named in `actuators`: command [m], position [m], force [N], lab
+  // time [s] (fields of a numpy structured array).
+  const std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(e.exchanges.size())};
+  const py::array ex(py::dtype::from_args(exchange_type_), shape);
+  auto* w = static_cast<double*>(ex.request().ptr);
   for (std::size_t i = 0; i < e.exchanges.size(); ++i) {
     const auto& x = e.exchanges[i];
-    const auto k = static_cast<py::ssize_t>(i);
-    w(k, 0) = x.command;
-    w(k, 1) = x.position;
-    w(k, 2) = x.force;
-    w(k, 3) = x.lab_time;
+    w[4 * i + 0] = x.command;
+    w[4 * i + 1] = x.position;
+    w[4 * i + 2] = x.force;
+    w[4 * i + 3] = x.lab_time;
   }
   c["exchanges"] = ex;
+  c["actuators"] = actuators_;
   CallObserver(on_trial_, "on_trial", py::module_::import("types").attr("SimpleNamespace")(**c));
 }
 
@@ -195,7 +196,7 @@ PySession::PySession(const SessionArguments& args) {
   }
   io::RunSpec spec = io::CompileRunSpec(cfg, options);
   RefuseRealTime(spec, "Session()");
-  Substitute(spec, args.transfers, args.laws);
+  Substitute(spec, args.transfers, args.laws, cause_);
   spec.output.command = args.command;
   spec.output.files = args.out.has_value();
   if (args.out) spec.output.csv_path = *args.out;
@@ -249,7 +250,11 @@ void PySession::AddObserver(py::object observer) {
   if (initialized_) {
     throw ConfigError("add_observer(): add observers before initialize(), step() or run()");
   }
-  observers_.push_back(std::make_unique<PyObserver>(std::move(observer)));
+  std::vector<std::string> actuators;
+  for (const auto& sub : session().spec().substructures) {
+    for (const std::string& name : sub.ActuatorNames()) actuators.push_back(name);
+  }
+  observers_.push_back(std::make_unique<PyObserver>(std::move(observer), actuators));
   session().AddObserver(*observers_.back());
 }
 
@@ -305,7 +310,15 @@ std::string PySession::Run() {
 }
 
 void PySession::RaiseError() const {
-  if (const std::exception_ptr e = session().error()) std::rethrow_exception(e);
+  const std::exception_ptr e = session().error();
+  if (!e) return;
+  if (!cause_->exception) std::rethrow_exception(e);
+  // The driver's own exception as the cause of the error it stopped the run with (its
+  // traceback shows where in the driver it was raised).
+  SetPythonError(e);
+  py::error_already_set raised;
+  PyException_SetCause(raised.value().ptr(), cause_->exception->get().inc_ref().ptr());
+  throw raised;
 }
 
 }  // namespace hybridtest::python

@@ -44,13 +44,17 @@ class Recorder final : public runner::SessionObserver {
 // read-only views into the run's buffers, valid during the call only (copy to keep them).
 class PyObserver final : public runner::SessionObserver {
  public:
-  explicit PyObserver(py::object observer);  // GIL held
+  // `actuators`: the names of the trial exchanges, in the run's actuator order (the journal's
+  // channel groups).
+  PyObserver(py::object observer, const std::vector<std::string>& actuators);  // GIL held
   void OnCommit(const runner::CommitEvent& e) override;
   void OnTrial(const runner::TrialEvent& e) override;
   void OnStop(const runner::StopEvent& e) override;
 
  private:
   SharedPy on_commit_, on_trial_, on_stop_;
+  py::tuple actuators_;       // the exchanges' names
+  py::object exchange_type_;  // numpy dtype of one exchange (command, position, force, lab_time)
 };
 
 // A resume of a run written to files (hybridtest.resume; `hybridtest resume` on the command
@@ -74,7 +78,9 @@ struct SessionArguments {
 };
 
 // Python transfer systems and laws in place of the spec's slots. Throws ConfigError.
-void Substitute(io::RunSpec& spec, const py::dict& transfers, const py::dict& laws);
+// A driver's exception is kept in `cause` (see DriverCause).
+void Substitute(io::RunSpec& spec, const py::dict& transfers, const py::dict& laws,
+                const DriverCauseSlot& cause);
 
 // Refuses a run with a `real_time:` block: the paced loop and its delay-stability check are the
 // command line's (`hybridtest run`); from Python the run would go unpaced and unchecked.
@@ -112,6 +118,7 @@ class PySession {
   std::vector<std::unique_ptr<PyObserver>> observers_;
   std::vector<io::Channel> channels_;
   std::vector<std::string> notes_;
+  DriverCauseSlot cause_ = std::make_shared<DriverCause>();  // what a bench driver raised
   bool initialized_ = false;
 };
 

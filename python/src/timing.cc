@@ -35,7 +35,7 @@ void BindTiming(py::module_& m) {
   m.def(
       "time_transfer",
       [](py::object driver, long n, double stiffness, double p0) {
-        PyTransfer python(std::make_shared<SharedObject>(driver), "timing");
+        PyTransfer python(std::make_shared<SharedObject>(driver), "timing", {transfer::SafetyLimits{}});
         transfer::NumericalLoopback cpp(
             std::make_unique<constitutive::LinearSpring>(stiffness), p0);
         double t_python = 0.0, t_cpp = 0.0;

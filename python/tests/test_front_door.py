@@ -34,8 +34,9 @@ class Recording:
         self.calls.append("deactivate")
 
 
-def test_a_driver_for_a_specimen_on_two_actuators_is_refused_before_the_bench_is_enabled():
+def test_a_one_actuator_driver_on_a_specimen_of_two_is_refused_before_the_bench_is_enabled():
     bench = Recording()
+    bench.actuators = 1  # says so: refused before activate(), not at the first reply
     with pytest.raises(ht.ConfigError, match=r"blade1 is set up on 2 actuators"):
         ht.run(BLADE, transfers={"blade1": bench})
     assert bench.calls == []

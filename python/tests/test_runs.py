@@ -173,7 +173,8 @@ def test_observers_see_every_committed_row_as_views():
     assert len(rows) == result.num_rows == 1001 and stops == ["finished"]
     np.testing.assert_array_equal(np.array([r[4] for r in rows]), result.values)
     np.testing.assert_array_equal(rows[-1][2], result.values[-1, 1:9])
-    assert len(trials) == 2 * 1000 + 1 and trials[0].shape == (1, 4)
+    assert len(trials) == 2 * 1000 + 1 and trials[0].shape == (1,)
+    assert trials[0]["command"][0] == 0.02 and trials[0]["force"][0] == 144.0
 
 
 def test_an_observer_exception_stops_the_run():

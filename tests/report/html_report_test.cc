@@ -3,9 +3,14 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+#include <tuple>
+
 
 #include "hybridtest/report/html_report_text.h"
 #include "report/plot_test_runs.h"
+#include "support/run_command.h"
 
 namespace hybridtest::report {
 namespace {
@@ -109,6 +114,52 @@ TEST(ReportCommand, WritesTheFileItPrints) {
   ASSERT_EQ(std::system(command.c_str()), 0);
   EXPECT_EQ(Slurp(dir / "out.txt"), DefaultReportPath(csv) + "\n");
   EXPECT_GT(Slurp(DefaultReportPath(csv)).size(), 20000u);
+}
+
+// `report --equations`: the equations of the model the run read, and only while its files are
+// unchanged.
+TEST(ReportCommand, IncludesTheRunsEquationsWhileItsFilesAreUnchanged) {
+  const ScratchDir dir("html-equations");
+  const std::string config = dir / "rotor.yaml";
+  {
+    std::ofstream out(config);
+    out << "model: {name: rotor, blades: 3}\nintegrator: {tableau: heun, dt: 0.001}\n"
+           "duration: 0.01\n";
+  }
+  const std::string csv = dir / "run.csv";
+  const std::string bin = HYBRIDTEST_BINARY;
+  auto [status, output] = hybridtest::testing::RunCommand(fmt::format("'{}' simulate '{}' --out '{}'", bin,
+                                                          config, csv));
+  ASSERT_EQ(status, 0) << output;
+  const std::string html = dir / "report.html";
+  std::tie(status, output) = hybridtest::testing::RunCommand(
+      fmt::format("'{}' report '{}' --equations --out '{}'", bin, csv, html), 300);
+  ASSERT_EQ(status, 0) << output;
+  const std::string report = Slurp(html);
+  ASSERT_NE(report.find("<section id=\"equations\"><h2>Equations of motion</h2>"),
+            std::string::npos);
+  const std::string equations = report.substr(report.find("<section id=\"equations\">"));
+  // The rotor's parameters as symbols (m_b, l_b) and its four coordinates' equations.
+  EXPECT_NE(equations.find("m_b"), std::string::npos);
+  EXPECT_NE(equations.find("l_b"), std::string::npos);
+  EXPECT_NE(equations.find("q4"), std::string::npos);
+  // Without --equations: no such section.
+  std::tie(status, output) = hybridtest::testing::RunCommand(
+      fmt::format("'{}' report '{}' --out '{}'", bin, csv, dir / "plain.html"), 120);
+  ASSERT_EQ(status, 0) << output;
+  EXPECT_EQ(Slurp(dir / "plain.html").find("id=\"equations\""), std::string::npos);
+  // The config changed after the run: refused, naming it, and nothing is written.
+  {
+    std::ofstream out(config, std::ios::app);
+    out << "# changed\n";
+  }
+  std::tie(status, output) = hybridtest::testing::RunCommand(
+      fmt::format("'{}' report '{}' --equations --out '{}'", bin, csv, dir / "late.html"), 120);
+  EXPECT_EQ(status, 2) << output;
+  EXPECT_NE(output.find("rotor.yaml (config file): changed since the run started"),
+            std::string::npos) << output;
+  EXPECT_NE(output.find("hybridtest equations CONFIG"), std::string::npos) << output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "late.html"));
 }
 
 }  // namespace

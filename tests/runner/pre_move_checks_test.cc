@@ -12,6 +12,7 @@
 #include <string>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/common/yaml_input.h"
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/runner/session.h"
 #include "hybridtest/transfer/transfer_system.h"
@@ -40,7 +41,7 @@ class CountingSpring final : public transfer::TransferSystem {
   void Deactivate() override {}
   transfer::BenchUnits bench_units() const override { return {}; }
   std::string Describe() const override { return "counting spring"; }
-  transfer::BenchAnnouncement Announce() const override { return {p0_, std::nullopt, "the spring"}; }
+  transfer::BenchAnnouncement Announce() const override { return {{{p0_, std::nullopt}}, "the spring"}; }
 
  private:
   std::shared_ptr<Calls> calls_;
@@ -103,6 +104,42 @@ TEST(SessionPreMoveChecks, AP0ThatDisagreesWithTheBenchIsRefusedBeforeTheBenchIs
   EXPECT_EQ(agreeing.Run().status, SessionStatus::kFinished);
   EXPECT_EQ(calls->activate, 1);
   EXPECT_GT(calls->execute, 0);
+}
+
+// The two-actuator blade of example 06 on its emulated bench (p0_mm: [20, 30]), with
+// actuator 2's setup.p0 `p0_2` [m] and actuator 2's stroke_max `stroke_2` [m].
+io::RunSpec BladeSpec(const std::string& p0_2, const std::string& stroke_2) {
+  const std::string dir = std::string(HYBRIDTEST_SOURCE_DIR) + "/examples/06_blade_two_actuators/";
+  io::RunSpec spec = io::CompileRunSpec(io::ParseSimulationConfig(YamlInput::FromText(
+      "model: {file: " + dir + "blade_tip.yaml}\n"
+      "integrator: {tableau: heun, dt: 0.001}\n"
+      "duration: 0.01\n"
+      "substructures:\n  blade1:\n    type: physical\n    slots: [r_flap, r_edge]\n"
+      "    transfer: {type: emulated, config: " + dir + "bench-2act.yaml}\n"
+      "    setup: {p0: [0.02, " + p0_2 + "], transform: [[1.0, 0.0], [0.6, 0.8]]}\n"
+      "    safety: {stroke_min: -0.10, stroke_max: [0.10, " + stroke_2 + "],\n"
+      "             max_increment: 0.002, force_soft: 2000, force_hard: 3000, timeout: 5}\n",
+      "blade_test.yaml")));
+  spec.output.files = false;
+  return spec;
+}
+
+TEST(SessionPreMoveChecks, EachActuatorOfABenchOfTwoIsChecked) {
+  // Actuator 2 set up 5 mm from where the bench's specimen is at rest.
+  std::string message = RefusalOf(BladeSpec("0.035", "0.10"));
+  EXPECT_NE(message.find("substructures.blade1.setup.p0[2] = 0.035 m, but the emulated bench "
+                         "announces p0 = 0.03 m (p0_mm: 30) for actuator 2"),
+            std::string::npos) << message;
+  EXPECT_NE(message.find("Set substructures.blade1.setup.p0[2]: 0.03"), std::string::npos)
+      << message;
+  // Actuator 2's stroke beyond the bench's 150 mm.
+  message = RefusalOf(BladeSpec("0.03", "0.2"));
+  EXPECT_NE(message.find("substructures.blade1.safety[2].stroke_max = 0.2 m is beyond the limit "
+                         "the emulated bench for actuator 2 announces"),
+            std::string::npos) << message;
+  // As the example sets it up, it runs.
+  Session agreeing(BladeSpec("0.03", "0.10"));
+  EXPECT_EQ(agreeing.Run().status, SessionStatus::kFinished);
 }
 
 TEST(SessionPreMoveChecks, ACallerMayOptOut) {

@@ -108,7 +108,7 @@ std::string RecordedConfigPath(const nlohmann::json& inputs, const std::string& 
 }
 
 void CheckRunInputs(const nlohmann::json& recorded, const RunSpec& spec,
-                    const std::string& csv_path) {
+                    const std::string& csv_path, std::string_view rule, std::string_view fix) {
   const std::vector<RunInput>& now = spec.source.files;
   std::vector<std::string> problems;
   if (!recorded.is_array() || recorded.size() != now.size()) {
@@ -148,9 +148,8 @@ void CheckRunInputs(const nlohmann::json& recorded, const RunSpec& spec,
   std::string list;
   for (const auto& p : problems) list += "\n  " + p;
   throw ConfigError(fmt::format(
-      "{}: resume continues a run only with the files it started with (found from the run's "
-      "directory, not the current one), and these differ:{}\nRestore those files, or start a "
-      "new run with hybridtest run --out NEW.csv", csv_path, list));
+      "{}: {} (found from the run's directory, not the current one), and these differ:{}\n{}",
+      csv_path, rule, list, fix));
 }
 
 }  // namespace hybridtest::io

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "hybridtest/io/run_input.h"
@@ -43,8 +44,12 @@ std::string RecordedConfigPath(const nlohmann::json& inputs, const std::string& 
 
 // Throws ConfigError (exit 2) naming every file the resumed run `spec` read (its compile's
 // source.files) that differs from the record: missing, changed (both digests), or not the same
-// list of files.
+// list of files. `rule` and `fix` word the message for another reader than resume.
 void CheckRunInputs(const nlohmann::json& recorded, const RunSpec& spec,
-                    const std::string& csv_path);
+                    const std::string& csv_path,
+                    std::string_view rule = "resume continues a run only with the files it "
+                                            "started with",
+                    std::string_view fix = "Restore those files, or start a new run with "
+                                           "hybridtest run --out NEW.csv");
 
 }  // namespace hybridtest::io

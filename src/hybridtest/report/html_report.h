@@ -11,6 +11,7 @@
 //   - configuration: command, config path, software version, substructures (slot, kind,
 //     coordinate, description), the K0 table, further statistics, the config file verbatim;
 //   - model parameters: name, value, unit, description;
+//   - the equations of motion, when given (options.equations; `report --equations`);
 //   - resumes (when the run was resumed);
 //   - channels: name, unit, description.
 // Numbers are rounded to what they mean (html_report_text.h).
@@ -27,6 +28,10 @@ struct HtmlReportOptions {
   double transient = -1;   // for the comparison; < 0: DefaultTransient(run). Unit: [s]
   GnuplotOptions gnuplot;  // png is forced on, svg off (figures are embedded as PNG)
   PlotUnits units;         // display units of figures and summary values (SI by default)
+  // The run's equations of motion as text (`hybridtest equations --format markdown`, which
+  // the report layer does not derive itself), and where they came from; empty: no section.
+  std::string equations;
+  std::string equations_source;
 };
 
 // The report as one HTML document.

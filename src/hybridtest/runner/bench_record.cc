@@ -16,14 +16,20 @@ nlohmann::json Record(const transfer::TransferSystem& bench, nlohmann::json slot
   const transfer::BenchAnnouncement a = bench.Announce();
   nlohmann::json announced = nlohmann::json::object();
   if (!a.source.empty()) announced["source"] = a.source;
-  if (a.p0) announced["p0_m"] = *a.p0;
-  if (a.limits) {
-    announced["limits"] = {{"stroke_min_m", a.limits->stroke_min},
-                           {"stroke_max_m", a.limits->stroke_max},
-                           {"max_increment_m", a.limits->max_increment},
-                           {"force_soft_n", a.limits->force_soft},
-                           {"force_hard_n", a.limits->force_hard}};
+  nlohmann::json actuators = nlohmann::json::array();
+  for (const transfer::ActuatorAnnouncement& k : a.actuators) {
+    nlohmann::json actuator = nlohmann::json::object();
+    if (k.p0) actuator["p0_m"] = *k.p0;
+    if (k.limits) {
+      actuator["limits"] = {{"stroke_min_m", k.limits->stroke_min},
+                            {"stroke_max_m", k.limits->stroke_max},
+                            {"max_increment_m", k.limits->max_increment},
+                            {"force_soft_n", k.limits->force_soft},
+                            {"force_hard_n", k.limits->force_hard}};
+    }
+    actuators.push_back(std::move(actuator));
   }
+  if (!a.actuators.empty()) announced["actuators"] = std::move(actuators);
   if (!announced.empty()) entry["announced"] = std::move(announced);
   return entry;
 }

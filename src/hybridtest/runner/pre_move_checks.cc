@@ -5,6 +5,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <limits>
@@ -122,31 +123,44 @@ std::string P0SlipHint(double runner, double bench) {
 void CheckPhysicalSlotsBeforeMoving(
     const io::RunSpec& spec, const std::vector<std::unique_ptr<substructures::Substructure>>& subs) {
   for (std::size_t s = 0; s < subs.size() && s < spec.substructures.size(); ++s) {
-    // A bench announces one actuator's p0 and limits (the slot map's one-actuator blocks).
+    // Each actuator the bench tells about: its p0 and limits against the setup's.
     const substructures::Substructure& sub = *subs[s];
     const transfer::TransferSystem* t = sub.transfer_system();
-    const auto p0 = sub.actuator_p0(0);
-    const auto actuator_limits = sub.actuator_limits(0);
-    if (t == nullptr || sub.num_actuators() != 1 || !p0 || !actuator_limits) continue;
-    const std::string where = "substructures." + spec.substructures[s].slot;
+    if (t == nullptr) continue;
     const transfer::BenchAnnouncement announced = t->Announce();
-    const transfer::SafetyLimits& limits = *actuator_limits;
-    if (announced.p0) {
-      const double runner = *p0, bench = *announced.p0;
-      const double tolerance = kP0Tolerance * limits.max_increment;
-      if (std::abs(runner - bench) > tolerance) {
-        throw ConfigError(fmt::format(
-            "{}.setup.p0 = {} m, but {} announces p0 = {} m (p0_mm: {}), its zero-force "
-            "position{}: {} m apart (more than {} m, a tenth of safety.max_increment), the test "
-            "would start with a jump or a loaded specimen. Nothing was sent to the bench. Set "
-            "{}.setup.p0: {} (the bench's p0_mm / 1000), or correct the bench's p0_mm",
-            where, runner, announced.source, bench, bench * 1e3, P0SlipHint(runner, bench),
-            std::abs(runner - bench), tolerance, where, bench));
+    const int n = std::min(sub.num_actuators(), static_cast<int>(announced.actuators.size()));
+    for (int k = 0; k < n; ++k) {
+      const auto p0 = sub.actuator_p0(k);
+      const auto actuator_limits = sub.actuator_limits(k);
+      if (!p0 || !actuator_limits) continue;
+      const transfer::ActuatorAnnouncement& bench_actuator =
+          announced.actuators[static_cast<std::size_t>(k)];
+      const std::string where = "substructures." + spec.substructures[s].slot;
+      // "setup.p0" for one actuator; "setup.p0[2]" (1-based, as in the config's list) else.
+      const std::string index = sub.num_actuators() == 1 ? "" : fmt::format("[{}]", k + 1);
+      const std::string actuator =
+          sub.num_actuators() == 1 ? "" : fmt::format(" for actuator {}", k + 1);
+      const transfer::SafetyLimits& limits = *actuator_limits;
+      if (bench_actuator.p0) {
+        const double runner = *p0, bench = *bench_actuator.p0;
+        const double tolerance = kP0Tolerance * limits.max_increment;
+        if (std::abs(runner - bench) > tolerance) {
+          throw ConfigError(fmt::format(
+              "{}.setup.p0{} = {} m, but {} announces p0 = {} m (p0_mm: {}){}, its zero-force "
+              "position{}: {} m apart (more than {} m, a tenth of safety.max_increment), the "
+              "test would start with a jump or a loaded specimen. Nothing was sent to the "
+              "bench. Set {}.setup.p0{}: {} (the bench's p0_mm / 1000), or correct the "
+              "bench's p0_mm",
+              where, index, runner, announced.source, bench, bench * 1e3, actuator,
+              P0SlipHint(runner, bench), std::abs(runner - bench), tolerance, where, index,
+              bench));
+        }
       }
-    }
-    if (announced.limits) {
-      transfer::CheckLimitsAgainstBench(limits, *announced.limits, where + ".safety",
-                                        announced.source);
+      if (bench_actuator.limits) {
+        transfer::CheckLimitsAgainstBench(limits, *bench_actuator.limits,
+                                          where + ".safety" + index,
+                                          announced.source + actuator);
+      }
     }
   }
 }

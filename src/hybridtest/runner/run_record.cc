@@ -9,16 +9,6 @@
 namespace hybridtest::runner {
 namespace {
 
-// One channel group per actuator: `<name>_a<k>_...` for a substructure of several actuators,
-// `<name>_...` for one.
-std::vector<std::string> ActuatorNames(const substructures::SubstructureSpec& spec) {
-  const int n = spec.num_actuators();
-  if (n == 1) return {spec.slot};
-  std::vector<std::string> names;
-  for (int k = 1; k <= n; ++k) names.push_back(fmt::format("{}_a{}", spec.slot, k));
-  return names;
-}
-
 void AddPhysicalChannels(const std::string& slot, std::vector<io::Channel>& channels) {
   channels.push_back({slot + "_command", "m", "actuator command (absolute position) for " + slot});
   channels.push_back({slot + "_position", "m", "measured actuator position for " + slot});
@@ -47,7 +37,7 @@ std::vector<io::Channel> JournalChannels(const io::RunSpec& spec) {
   for (const auto& s : model.slots()) channels.push_back({s.info.name, s.info.unit, s.info.description});
   for (const auto& sub : spec.substructures) {
     if (!sub.is_physical()) continue;
-    for (const auto& name : ActuatorNames(sub)) AddPhysicalChannels(name, channels);
+    for (const auto& name : sub.ActuatorNames()) AddPhysicalChannels(name, channels);
   }
   return channels;
 }
@@ -58,7 +48,7 @@ std::vector<io::Channel> StageChannels(const io::RunSpec& spec) {
                                     {"t", "s", "model time of the stage"}};
   for (const auto& sub : spec.substructures) {
     if (!sub.is_physical()) continue;
-    for (const auto& slot : ActuatorNames(sub)) {
+    for (const auto& slot : sub.ActuatorNames()) {
       AddPhysicalChannels(slot, channels);
       channels.push_back({slot + "_force_reversals", "-",
                           "reversals of the specimen force within the move (emulated bench) "
@@ -121,7 +111,7 @@ io::JournalMetadata JournalMetadataFor(const io::RunSpec& spec,
                             {"kind", subs[s]->is_physical() ? "physical" : "numerical"},
                             {"description", subs[s]->Describe()}};
     if (!sub.slots.empty()) entry["slots"] = sub.slots;
-    const auto names = ActuatorNames(sub);
+    const auto names = sub.ActuatorNames();
     if (subs[s]->is_physical() && names.size() == 1) {
       entry["channels"] = {{"command", slot + "_command"}, {"position", slot + "_position"},
                            {"force", slot + "_force"}, {"lab_time", slot + "_lab_time"}};

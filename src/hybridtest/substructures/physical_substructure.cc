@@ -158,16 +158,23 @@ void PhysicalSubstructure::Trial(std::span<const double> d, std::span<double> r,
     MoveAll(commands_, {ctx.step, ctx.stage});
   } catch (const TransferError& e) {
     // Name where in the test the bench was lost; every actuator holds at its last command.
-    std::string held;
+    // In m, and in the bench's length unit where that is another (the driver's messages are).
+    const transfer::BenchUnits units = transfer_->bench_units();
+    std::string held, held_in_bench;
     for (int k = 0; k < num_actuators(); ++k) {
       const auto& monitor = gate_.monitor(k);
-      held += fmt::format("{}{}", k > 0 ? ", " : "",
-                          monitor.has_safe_command() ? monitor.last_safe_command()
-                                                     : setup_->p0()(k));
+      const double at = monitor.has_safe_command() ? monitor.last_safe_command() : setup_->p0()(k);
+      held += fmt::format("{}{:.9g}", k > 0 ? ", " : "", at);
+      held_in_bench += fmt::format("{}{:.9g}", k > 0 ? ", " : "",
+                                   at / units.metres_per_length_unit);
     }
+    const std::string in_bench_unit =
+        units.metres_per_length_unit == 1.0
+            ? std::string()
+            : fmt::format(" = {} {}", held_in_bench, units.length_name);
     throw TransferError(fmt::format("{}: {} (step {}, stage {}, t = {} s; every actuator holds "
-                                    "at its last safe command: {} m)", name_, e.what(), ctx.step,
-                                    ctx.stage, ctx.t, held));
+                                    "at its last safe command: {} m{})", name_, e.what(),
+                                    ctx.step, ctx.stage, ctx.t, held, in_bench_unit));
   }
   for (int k = 0; k < f_.size(); ++k) f_(k) = last_[static_cast<std::size_t>(k)].force;
   setup_->CalcSlotForces(dv, f_, Eigen::Map<Eigen::VectorXd>(r.data(),

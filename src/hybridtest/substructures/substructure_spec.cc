@@ -17,6 +17,21 @@
 
 namespace hybridtest::substructures {
 
+std::vector<std::string> SubstructureSpec::ActuatorNames() const {
+  const int n = num_actuators();
+  if (n == 1) return {slot};
+  std::vector<std::string> names;
+  for (int k = 1; k <= n; ++k) names.push_back(fmt::format("{}_a{}", slot, k));
+  return names;
+}
+
+std::vector<transfer::SafetyLimits> SubstructureSpec::ActuatorLimits() const {
+  if (!physical) return {};
+  if (!physical->actuator_limits.empty()) return physical->actuator_limits;
+  return std::vector<transfer::SafetyLimits>(static_cast<std::size_t>(num_actuators()),
+                                             physical->limits);
+}
+
 std::unique_ptr<Substructure> SubstructureSpec::Build() const {
   if (custom) {
     auto built = custom();
@@ -43,10 +58,7 @@ std::unique_ptr<Substructure> SubstructureSpec::Build() const {
     } else {
       setup = std::make_unique<ScalarSetup>(physical->setup);
     }
-    std::vector<transfer::SafetyLimits> limits = physical->actuator_limits;
-    if (limits.empty()) {
-      limits.assign(static_cast<std::size_t>(setup->num_actuators()), physical->limits);
-    }
+    const std::vector<transfer::SafetyLimits> limits = ActuatorLimits();
     auto built = std::make_unique<PhysicalSubstructure>(slot, physical->transfer.make(),
                                                          std::move(setup), limits);
     if (physical->slot_limits) {

@@ -95,6 +95,11 @@ struct SubstructureSpec {
     if (physical && physical->actuator_setup) return physical->actuator_setup->num_actuators();
     return 1;
   }
+  // The names of its actuators' journal channels, in actuator order: the slot's name for one
+  // actuator, "<name>_a1", "<name>_a2", ... for several; empty if numerical.
+  std::vector<std::string> ActuatorNames() const;
+  // Each actuator's safety limits (SI), in actuator order; empty if not `physical`.
+  std::vector<transfer::SafetyLimits> ActuatorLimits() const;
   // A fresh substructure. Throws ConfigError if the spec is empty or inconsistent, and what
   // the transfer factory throws.
   std::unique_ptr<Substructure> Build() const;

@@ -137,7 +137,9 @@ void BenchClient::Activate() {
 
 BenchAnnouncement BenchClient::Announce() const {
   if (!welcome_) return {};
-  return {std::nullopt, welcome_->limits, "the bench at " + Endpoint()};
+  // WELCOME carries one set of limits, its first actuator's: announced for a bench of one.
+  if (num_actuators() != 1) return {{}, "the bench at " + Endpoint()};
+  return {{{std::nullopt, welcome_->limits}}, "the bench at " + Endpoint()};
 }
 
 void BenchClient::Execute(std::span<const double> commands, std::span<Measurement> out) {

@@ -149,8 +149,9 @@ std::optional<std::vector<Measurement>> EmulatedBench::ReadAll() const {
 }
 
 BenchAnnouncement EmulatedBench::Announce() const {
-  if (num_actuators() != 1) return {};
-  return {spec_.actuators[0].p0, spec_.actuators[0].safety, "the emulated bench"};
+  BenchAnnouncement a{{}, "the emulated bench"};
+  for (const auto& actuator : spec_.actuators) a.actuators.push_back({actuator.p0, actuator.safety});
+  return a;
 }
 
 std::optional<ProbeReading> EmulatedBench::Probe() {

@@ -70,7 +70,7 @@ std::string RtPlant::Describe() const {
 
 BenchAnnouncement RtPlant::Announce() const {
   BenchAnnouncement a;
-  a.p0 = config_.p0;
+  a.actuators = {{config_.p0, std::nullopt}};
   a.source = "rt_plant";
   return a;
 }

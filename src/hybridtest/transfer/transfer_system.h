@@ -38,13 +38,20 @@ struct Measurement {
   long force_reversals = 0;
 };
 
-// What a bench tells about itself before anything moves, where it knows it: the actuator
+// What a bench tells about one of its actuators before anything moves, where it knows it.
+struct ActuatorAnnouncement {
+  std::optional<double> p0;            // zero-force actuator position. Unit: [m].
+  std::optional<SafetyLimits> limits;  // the bench's own limits, SI (timeout not compared)
+};
+
+// What a bench tells about itself before anything moves, where it knows it: each actuator's
 // position of zero specimen force and its own safety limits, SI. The runner checks its setup
 // against these before the first command (docs/safety.md, "Before anything moves").
 struct BenchAnnouncement {
-  std::optional<double> p0;            // zero-force actuator position. Unit: [m].
-  std::optional<SafetyLimits> limits;  // the bench's own limits, SI (timeout not compared)
-  std::string source;                  // who announced it, for messages
+  // In the transfer system's actuator order; empty, or fewer than num_actuators(): the bench
+  // tells nothing about the rest.
+  std::vector<ActuatorAnnouncement> actuators;
+  std::string source;  // who announced it, for messages
 };
 
 // One look at the bench without moving it (no command written, no drive enabled).
