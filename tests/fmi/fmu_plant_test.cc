@@ -1,0 +1,125 @@
+// An FMU as the plant of an emulated bench (fmi/fmu_plant.h): the spring FMU of examples/fmi/
+// in place of the built-in emulated bench. The transfer system itself (forces, hold, sizes,
+// its state), the run of examples/fmi/rotor-spring-plant.yaml against the same test on the
+// built-in ideal emulated bench (the binary), `plan` over it, and its refusals (exit 2, naming
+// the FMU file and the variable).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "hybridtest/common/error.h"
+#include "hybridtest/fmi/fmu_plant.h"
+#include "integration/child_process.h"
+#include "integration/resume_support.h"
+#include "support/temp_dir.h"
+
+namespace hybridtest::testing {
+namespace {
+
+const std::string kSpring = std::string(HYBRIDTEST_EXAMPLE_FMU_DIR) + "/spring.fmu";
+
+std::string Slurp(const fs::path& path) {
+  std::ifstream in(path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void Replace(std::string& text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  ASSERT_NE(at, std::string::npos) << from;
+  text.replace(at, from.size(), to);
+}
+
+substructures::TransferSpec Plant(const std::string& yaml) {
+  const YamlInput in = YamlInput::FromText(yaml, "test.yaml");
+  return fmi::ParseFmuPlant(in, in.root(), "transfer", nullptr);
+}
+
+TEST(FmuPlant, ExecutesTheSpringHoldsAndKeepsItsTime) {
+  auto transfer = Plant("{type: fmu, fmu: " + kSpring +
+                        ", command: x, force: F, parameters: {k: 5000}, move_time: 0.01}")
+                      .make();
+  ASSERT_EQ(transfer->num_actuators(), 1);
+  EXPECT_THROW(transfer::ExecuteOne(*transfer, 0.01), TransferError);  // not active yet
+  transfer->Activate();
+  const transfer::Measurement m = transfer::ExecuteOne(*transfer, 0.012);
+  EXPECT_DOUBLE_EQ(m.force, 5000 * 0.012);
+  EXPECT_DOUBLE_EQ(m.position, 0.012);  // no position output: the command
+  EXPECT_NEAR(m.lab_time, 0.01, 1e-12);
+  const auto state = transfer->SaveState();
+  EXPECT_NEAR(transfer::ExecuteOne(*transfer, -0.002).lab_time, 0.02, 1e-12);
+  transfer->Hold();
+  EXPECT_THROW(transfer::ExecuteOne(*transfer, 0.0), TransferError);  // held: nothing moves
+  std::vector<double> two{0.0, 0.0};
+  std::vector<transfer::Measurement> out(2);
+  transfer->Activate();
+  EXPECT_THROW(transfer->Execute(two, out), TransferError);  // two commands for one actuator
+  auto restored = Plant("{type: fmu, fmu: " + kSpring + ", command: x, force: F}").make();
+  restored->RestoreState(state);
+  restored->Activate();
+  EXPECT_NEAR(transfer::ExecuteOne(*restored, 0.0).lab_time, 0.01 + 0.1, 1e-9);
+}
+
+// examples/fmi/rotor-spring-plant.yaml (2 s) and the same test on the built-in emulated bench
+// of examples/rotor/bench-ideal.yaml (p0 0): the same journal, q and r, within 1e-9.
+TEST(FmuPlant, RunEqualsTheBuiltInEmulatedBench) {
+  const fs::path dir = ResumeTestDir("fmu_plant");
+  std::string text = Slurp(fs::path(kSource) / "examples/fmi/rotor-spring-plant.yaml");
+  Replace(text, "../../build/release/examples/fmi/spring.fmu", kSpring);
+  Replace(text, "duration: 10.0", "duration: 2.0");
+  test_support::WriteText(dir / "fmu.yaml", text);
+  std::string bench = Slurp(fs::path(kSource) / "examples/rotor/bench-ideal.yaml");
+  Replace(bench, "p0_mm: 20", "p0_mm: 0");
+  test_support::WriteText(dir / "ideal.yaml", bench);
+  const auto at = text.find("      type: fmu");
+  const auto end = text.find("    setup:");
+  text.replace(at, end - at, "      type: emulated\n      config: ideal.yaml\n");
+  test_support::WriteText(dir / "emulated.yaml", text);
+  RunToEnd(RunArgs((dir / "fmu.yaml").string(), dir / "fmu.csv"), dir / "fmu.log");
+  RunToEnd(RunArgs((dir / "emulated.yaml").string(), dir / "emulated.csv"), dir / "emulated.log");
+  const auto a = ReadLines(dir / "fmu.csv");
+  const auto b = ReadLines(dir / "emulated.csv");
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_EQ(a.size(), 2002u);
+  double largest = 0.0, largest_force = 0.0, moved = 0.0;
+  for (std::size_t i = 1; i < a.size(); ++i) {
+    const auto x = SplitCsv(a[i]), y = SplitCsv(b[i]);
+    for (int c = 1; c <= 4; ++c) largest = std::max(largest, std::abs(std::stod(x[c]) - std::stod(y[c])));
+    largest_force = std::max(largest_force, std::abs(std::stod(x[9]) - std::stod(y[9])));
+    moved = std::max(moved, std::abs(std::stod(x[1])));
+  }
+  EXPECT_LE(largest, 1e-9) << "q [m or rad]";
+  EXPECT_LE(largest_force, 1e-6) << "r1 [N]";
+  EXPECT_GT(moved, 1e-4);
+  EXPECT_NE(Slurp(dir / "fmu.meta.json").find("spring.fmu"), std::string::npos)
+      << "the FMU is a recorded run input";
+}
+
+TEST(FmuPlant, RefusalsExitTwoNamingTheFmuAndTheVariable) {
+  const fs::path dir = ResumeTestDir("fmu_plant_refusals");
+  const std::string base = Slurp(fs::path(kSource) / "examples/fmi/rotor-spring-plant.yaml");
+  struct Case {
+    std::string from, to, expected;
+  };
+  for (const Case& c : std::vector<Case>{
+           {"command: x ", "command: u ", "no variable 'u'"},
+           {"force: F ", "force: x ", "variable 'x' has causality input"},
+           {"command: x ", "command: x\n      position: F ", "variable 'F'"}}) {
+    std::string text = base;
+    Replace(text, "../../build/release/examples/fmi/spring.fmu", kSpring);
+    Replace(text, c.from, c.to);
+    test_support::WriteText(dir / "bad.yaml", text);
+    Child child(HybridtestArgv({"run", (dir / "bad.yaml").string(), "--out",
+                                (dir / "bad.csv").string(), "--quiet"}),
+                dir / "bad.log");
+    EXPECT_EQ(child.WaitExit(60.0), 2) << child.output();
+    EXPECT_NE(child.output().find(kSpring), std::string::npos) << child.output();
+    EXPECT_NE(child.output().find(c.expected), std::string::npos) << child.output();
+  }
+}
+
+}  // namespace
+}  // namespace hybridtest::testing
