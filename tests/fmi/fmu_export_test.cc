@@ -32,8 +32,10 @@ struct Exported {
   }
 };
 
-Exported Export(const fs::path& dir, int version) {
+Exported Export(const fs::path& dir, int version,
+               const std::vector<std::pair<std::string, double>>& parameters = {}) {
   Exported e;
+  fs::create_directories(dir);
   e.fmu = dir / ("rotor" + std::to_string(version) + ".fmu");
   RunToEnd({"export-fmu", kSource + "/examples/rotor/dummy.yaml", "--out", e.fmu.string(),
             "--fmi-version", std::to_string(version)},
@@ -43,7 +45,9 @@ Exported Export(const fs::path& dir, int version) {
   e.md = fmi::ParseModelDescription(fmi::ReadMember(e.fmu.string(), "modelDescription.xml"),
                                     e.fmu.string());
   e.instance = fmi::LoadFmu(unpacked.string(), e.md, e.fmu.string(), "rotor", fmi::StderrLog());
-  e.instance->Initialize(0.0, {});
+  std::vector<fmi::FmuInstance::Value> values;
+  for (const auto& [name, value] : parameters) values.push_back({e.md.Find(name), value});
+  e.instance->Initialize(0.0, values);
   return e;
 }
 
@@ -97,6 +101,19 @@ TEST_P(FmuExport, LinearBladeFedBackReproducesSimulateAndEveryVariableHasAUnit) 
   EXPECT_EQ(k_b->unit, "N/m");
   EXPECT_EQ(e.md.UnitOf(*e.md.Find("q4"))->rad, 1);
   EXPECT_TRUE(e.md.can_get_and_set_state);
+}
+
+// The model's parameters are the FMU's: without wind and gravity the rotor stays at rest.
+TEST_P(FmuExport, ParametersReachTheModel) {
+  const fs::path dir = ResumeTestDir("fmu_export_parameters_" + std::to_string(GetParam()));
+  Exported e = Export(dir, GetParam(), {{"f_w", 0.0}, {"g", 0.0}});
+  const std::vector<unsigned> q_vr{e.vr("q1"), e.vr("q2"), e.vr("q3"), e.vr("q4")};
+  std::vector<double> q;
+  for (int n = 0; n < 500; ++n) q = Step(e, n * 0.001, q_vr);
+  EXPECT_EQ(q, std::vector<double>(4, 0.0));
+  Exported moving = Export(dir / "default", GetParam());
+  for (int n = 0; n < 500; ++n) q = Step(moving, n * 0.001, q_vr);
+  EXPECT_GT(std::abs(q[0]), 1e-6);
 }
 
 TEST_P(FmuExport, GetSetAndSerializedStateContinueExactlyAndBadStepsAreRefused) {

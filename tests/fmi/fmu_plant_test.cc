@@ -98,6 +98,39 @@ TEST(FmuPlant, RunEqualsTheBuiltInEmulatedBench) {
       << "the FMU is a recorded run input";
 }
 
+// A real-time rehearsal (decision 0015) on the virtual clock: the FMU plant advances to the
+// clock at every tick; the spring's force is k times the command on every committed row.
+TEST(FmuPlant, PacedRunOnTheVirtualClock) {
+  const fs::path dir = ResumeTestDir("fmu_plant_paced");
+  std::string text = Slurp(fs::path(kSource) / "examples/real-time/rotor.yaml");
+  const auto at = text.find("      type: rt_plant");
+  const auto end = text.find("    setup:");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, end - at, "      type: fmu\n      fmu: " + kSpring +
+                                 "\n      command: x\n      force: F\n"
+                                 "      parameters: {k: 7200}\n");
+  Replace(text, "duration: 10.0", "duration: 0.5");
+  test_support::WriteText(dir / "paced.yaml", text);
+  RunToEnd({"run", (dir / "paced.yaml").string(), "--clock", "virtual", "--out",
+            (dir / "paced.csv").string(), "--quiet"},
+           dir / "paced.log");
+  const auto lines = ReadLines(dir / "paced.csv");
+  ASSERT_EQ(lines.size(), 502u);
+  const auto header = SplitCsv(lines[0]);
+  const auto column = [&](const std::string& name) {
+    return std::find(header.begin(), header.end(), name) - header.begin();
+  };
+  const auto command = column("r1_command"), force = column("r1_force");
+  ASSERT_LT(force, static_cast<long>(header.size()));
+  double moved = 0.0;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const auto row = SplitCsv(lines[i]);
+    EXPECT_NEAR(std::stod(row[force]), 7200 * std::stod(row[command]), 1e-9) << "row " << i;
+    moved = std::max(moved, std::abs(std::stod(row[command])));
+  }
+  EXPECT_GT(moved, 1e-3);
+}
+
 TEST(FmuPlant, RefusalsExitTwoNamingTheFmuAndTheVariable) {
   const fs::path dir = ResumeTestDir("fmu_plant_refusals");
   const std::string base = Slurp(fs::path(kSource) / "examples/fmi/rotor-spring-plant.yaml");

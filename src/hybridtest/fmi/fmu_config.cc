@@ -157,6 +157,13 @@ substructures::SubstructureSpec ParseFmuSubstructure(const YamlInput& in, const 
                                                      const std::vector<std::string>& slots,
                                                      const std::string& kp,
                                                      std::string* fmu_file) {
+  if (node["velocity"]) {
+    throw ConfigError(fmt::format(
+        "{}: velocity inputs are not passed to an FMU substructure: hybridtest tries a "
+        "substructure with its slot displacements only (the one seam, decision 0021; a stage's "
+        "velocity is not a trial's input); remove `velocity:` and differentiate the "
+        "displacement inside the FMU", in.Where(node["velocity"], kp + ".velocity")));
+  }
   in.CheckKeys(node, kp, {"type", "slots", "fmu", "displacement", "force", "parameters",
                           "initial_stiffness"});
   auto b = std::make_shared<FmuBinding>();
@@ -180,6 +187,19 @@ substructures::SubstructureSpec ParseFmuSubstructure(const YamlInput& in, const 
     b->in_offset.push_back(units.in_offset);
     b->out_factor.push_back(units.out_factor);
     b->out_offset.push_back(units.out_offset);
+  }
+  // An input left unbound keeps its start value; one that is a velocity would silently stay 0.
+  for (const auto& v : md.variables) {
+    const UnitDefinition* u = v.causality == "input" ? md.UnitOf(v) : nullptr;
+    const bool bound = std::find(b->inputs.begin(), b->inputs.end(), &v) != b->inputs.end();
+    if (u != nullptr && u->has_base_unit && !bound && u->s == -1 && u->kg == 0 &&
+        ((u->m == 1 && u->rad == 0) || (u->m == 0 && u->rad == 1))) {
+      throw ConfigError(fmt::format(
+          "{}: {}: the FMU declares input '{}' in {}, a velocity, which hybridtest cannot give "
+          "(a substructure is tried with displacements only, decision 0021): export the FMU "
+          "with the displacement as its only kinematic input and differentiate it inside",
+          where, b->fmu, v.name, v.unit));
+    }
   }
   b->parameters = ReadParameters(in, node["parameters"], kp + ".parameters", b->fmu, md);
   b->initial_stiffness = ReadStiffness(in, node["initial_stiffness"], kp + ".initial_stiffness", m);
