@@ -63,6 +63,25 @@ TEST(FmuPlant, ExecutesTheSpringHoldsAndKeepsItsTime) {
   EXPECT_NEAR(transfer::ExecuteOne(*restored, 0.0).lab_time, 0.01 + 0.1, 1e-9);
 }
 
+// n actuators on the one seam: the coupled springs of tests/fmi/ as a two-actuator plant,
+// f = K a, every command set before the one step.
+TEST(FmuPlant, TwoActuatorsOnTheOneSeam) {
+  auto transfer = Plant("{type: fmu, fmu: " + std::string(HYBRIDTEST_TEST_FMU_DIR) +
+                        "/coupled_spring.fmu, command: [x1, x2], force: [F1, F2], "
+                        "parameters: {k11: 1000, k12: 200, k21: 300, k22: 2000}}")
+                      .make();
+  ASSERT_EQ(transfer->num_actuators(), 2);
+  transfer->Activate();
+  const std::vector<double> a{0.01, -0.02};
+  std::vector<transfer::Measurement> out(2);
+  transfer->Execute(a, out);
+  EXPECT_DOUBLE_EQ(out[0].force, 1000 * 0.01 + 200 * -0.02);
+  EXPECT_DOUBLE_EQ(out[1].force, 300 * 0.01 + 2000 * -0.02);
+  EXPECT_DOUBLE_EQ(out[1].position, -0.02);
+  std::vector<transfer::Measurement> one(1);
+  EXPECT_THROW(transfer->Execute(std::vector<double>{0.0}, one), TransferError);
+}
+
 // examples/fmi/rotor-spring-plant.yaml (2 s) and the same test on the built-in emulated bench
 // of examples/rotor/bench-ideal.yaml (p0 0): the same journal, q and r, within 1e-9.
 TEST(FmuPlant, RunEqualsTheBuiltInEmulatedBench) {
