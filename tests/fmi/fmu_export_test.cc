@@ -15,6 +15,7 @@
 #include "hybridtest/fmi/model_description.h"
 #include "integration/child_process.h"
 #include "integration/resume_support.h"
+#include "support/temp_dir.h"
 
 namespace hybridtest::testing {
 namespace {
@@ -142,6 +143,37 @@ TEST_P(FmuExport, GetSetAndSerializedStateContinueExactlyAndBadStepsAreRefused) 
   } catch (const hybridtest::TransferError& error) {
     EXPECT_NE(std::string(error.what()).find("whole number"), std::string::npos) << error.what();
   }
+}
+
+// What export-fmu refuses, with exit 2 and the reason: an FMI version other than 2 or 3, an
+// output that is its own config, an adaptive scheme (an FMU steps at a fixed step).
+TEST(FmuExportRefusal, ExitsTwoNamingTheReason) {
+  const fs::path dir = ResumeTestDir("fmu_export_refusal");
+  const std::string config = (dir / "dummy.yaml").string();
+  fs::copy_file(kSource + "/examples/rotor/dummy.yaml", config);
+  const std::string before = ReadLines(config).at(0);
+  test_support::WriteText(dir / "adaptive.yaml",
+                          "model: {name: rotor, blades: 3}\nintegrator: {scheme: mr-os, dt: 0.01, "
+                          "substep: 0.001, adaptive: {tolerance: 1e-6}}\nduration: 1\n"
+                          "substructures:\n  r1: {type: numerical, law: {type: linear, "
+                          "stiffness: 7200}}\n");
+  struct Case {
+    std::vector<std::string> args;
+    std::string expected;
+  };
+  for (const Case& c : std::vector<Case>{
+           {{config, "--out", (dir / "x.fmu").string(), "--fmi-version", "4"}, "--fmi-version 4"},
+           {{config, "--out", config}, "--out"},
+           {{(dir / "adaptive.yaml").string(), "--out", (dir / "a.fmu").string()}, "adaptive"}}) {
+    std::vector<std::string> args{"export-fmu"};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    Child child(HybridtestArgv(args), dir / "refusal.log");
+    EXPECT_EQ(child.WaitExit(60.0), 2) << child.output();
+    EXPECT_NE(child.output().find(c.expected), std::string::npos) << child.output();
+  }
+  EXPECT_EQ(ReadLines(config).at(0), before);  // the config survived
+  EXPECT_FALSE(fs::exists(dir / "x.fmu"));
+  EXPECT_FALSE(fs::exists(dir / "a.fmu"));
 }
 
 INSTANTIATE_TEST_SUITE_P(Versions, FmuExport, ::testing::Values(2, 3),
