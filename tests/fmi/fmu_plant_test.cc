@@ -118,6 +118,20 @@ TEST(FmuPlant, RunEqualsTheBuiltInEmulatedBench) {
       << "the FMU is a recorded run input";
 }
 
+// `plan` takes the FMU plant as an emulated bench (no steel): its candidates run on it.
+TEST(FmuPlant, PlanRunsItsCandidatesOnThePlant) {
+  const fs::path dir = ResumeTestDir("fmu_plant_plan");
+  std::string text = Slurp(fs::path(kSource) / "examples/fmi/rotor-spring-plant.yaml");
+  Replace(text, "../../build/release/examples/fmi/spring.fmu", kSpring);
+  Replace(text, "duration: 10.0", "duration: 1.0");
+  test_support::WriteText(dir / "plan.yaml", text);
+  Child child(HybridtestArgv({"plan", (dir / "plan.yaml").string()}), dir / "plan.log");
+  ASSERT_EQ(child.WaitExit(120.0), 0) << child.output();
+  EXPECT_NE(child.output().find("as configured (runge-kutta heun, dt 0.001 s)            2001"),
+            std::string::npos) << child.output();
+  EXPECT_NE(child.output().find("recommended"), std::string::npos) << child.output();
+}
+
 // A real-time rehearsal (decision 0015) on the virtual clock: the FMU plant advances to the
 // clock at every tick; the spring's force is k times the command on every committed row.
 TEST(FmuPlant, PacedRunOnTheVirtualClock) {
