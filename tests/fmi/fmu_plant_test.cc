@@ -12,6 +12,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/fmi/fmu_plant.h"
+#include "fmi/fmi_test_support.h"
 #include "integration/child_process.h"
 #include "integration/resume_support.h"
 #include "support/temp_dir.h"
@@ -81,6 +82,22 @@ TEST(FmuPlant, TwoActuatorsOnTheOneSeam) {
   EXPECT_DOUBLE_EQ(out[1].position, -0.02);
   std::vector<transfer::Measurement> one(1);
   EXPECT_THROW(transfer->Execute(std::vector<double>{0.0}, one), TransferError);
+}
+
+// A position output: the Maxwell FMU of tests/fmi/ with its dashpot displacement y made an
+// output, read as the measured position (y follows the command x with c/k = 6.9 ms).
+TEST(FmuPlant, PositionOutputIsTheMeasuredPosition) {
+  const std::string fmu = fmi::test::EditedFmu(
+      "maxwell", R"(name="y" valueReference="5" causality="local")",
+      R"(name="y" valueReference="5" causality="output")", "maxwell_y.fmu");
+  auto transfer = Plant("{type: fmu, fmu: " + fmu + ", command: x, position: y, force: F, "
+                        "parameters: {k: 7200, c: 50}, move_time: 0.01, step: 0.001}")
+                      .make();
+  transfer->Activate();
+  const transfer::Measurement m = transfer::ExecuteOne(*transfer, 0.01);
+  const double y = 0.01 * (1.0 - std::exp(-7200 * 0.01 / 50));  // exact over the 10 steps
+  EXPECT_NEAR(m.position, y, 1e-12);
+  EXPECT_NEAR(m.force, 7200 * (0.01 - y), 1e-9);
 }
 
 // examples/fmi/rotor-spring-plant.yaml (2 s) and the same test on the built-in emulated bench
