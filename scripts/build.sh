@@ -2,9 +2,9 @@
 # Installs the dependencies if needed, then configures and builds the optimised tree
 # (build/release). Incremental: a second call only rebuilds what changed.
 #   scripts/build.sh          everything: the hybridtest binary, the test suite, the benchmarks
-#   scripts/build.sh --app    only the hybridtest binary and what it links (the main job); a
-#                             fresh tree is configured without tests and benchmarks, so their
-#                             packages are not needed either
+#   scripts/build.sh --app    only the hybridtest binary and what it links (the main job), and
+#                             the example FMUs (examples/fmi/); a fresh tree is configured
+#                             without tests and benchmarks, so their packages are not needed
 #   scripts/build.sh --python only the Python package (build/release/python/hybridtest)
 #   --print                   print the commands instead of running them
 set -euo pipefail
@@ -30,7 +30,7 @@ if ((app_only)); then
   if [[ ! -f build/release/build.ninja ]]; then
     run cmake --preset release -DHYBRIDTEST_BUILD_TESTS=OFF -DHYBRIDTEST_BUILD_BENCH=OFF
   fi
-  run cmake --build --preset release -j "${HYBRIDTEST_JOBS:-$(nproc)}" --target hybridtest
+  run cmake --build --preset release -j "${HYBRIDTEST_JOBS:-$(nproc)}" --target hybridtest hybridtest_example_fmus
   exit 0
 fi
 if ((python_only)); then

@@ -4,7 +4,9 @@
 //   Law          the built-in linear spring (NumericalSubstructure), the reference;
 //   FmuStateless the spring FMU of tests/fmi/ (no state: set, get; a fmi2DoStep per commit);
 //   FmuStateful  the Maxwell FMU (fmi2SetFMUstate + fmi2DoStep per trial, fmi2GetFMUstate
-//                per commit).
+//                per commit);
+//   FmuBoucWen   the Bouc-Wen FMU of examples/fmi/ (stateful as above; its fmi2DoStep takes
+//                16 RK4 substeps of the hysteretic displacement).
 // Read the ratio of the times per iteration (ns) of each FMU line to the Law line.
 #include <benchmark/benchmark.h>
 
@@ -20,8 +22,9 @@
 namespace hybridtest::bench {
 namespace {
 
-std::unique_ptr<substructures::Substructure> Fmu(const std::string& id, const std::string& params) {
-  const std::string yaml = "{type: fmu, fmu: " + std::string(HYBRIDTEST_TEST_FMU_DIR) + "/" + id +
+std::unique_ptr<substructures::Substructure> Fmu(const std::string& id, const std::string& params,
+                                                 const std::string& dir = HYBRIDTEST_TEST_FMU_DIR) {
+  const std::string yaml = "{type: fmu, fmu: " + dir + "/" + id +
                            ".fmu, displacement: x, force: F, parameters: " + params + "}";
   const YamlInput in = YamlInput::FromText(yaml, "bench.yaml");
   return fmi::ParseFmuSubstructure(in, in.root(), "r1", {"r1"}, "substructures.r1", nullptr)
@@ -59,9 +62,15 @@ void FmuStateful(benchmark::State& state) {
   Steps(state, *s);
 }
 
+void FmuBoucWen(benchmark::State& state) {
+  auto s = Fmu("bouc_wen", "{k: 7200, alpha: 0.5, x_y: 0.002, n: 2}", HYBRIDTEST_EXAMPLE_FMU_DIR);
+  Steps(state, *s);
+}
+
 BENCHMARK(Law);
 BENCHMARK(FmuStateless);
 BENCHMARK(FmuStateful);
+BENCHMARK(FmuBoucWen);
 
 }  // namespace
 }  // namespace hybridtest::bench

@@ -103,6 +103,27 @@ TEST(FmuRefusal, WrongVersionOrPlatformModelExchangeAndNotAnFmu) {
   EXPECT_HAS(Refusal(Yaml((dir / "absent.fmu").string())), "no FMU file at");
 }
 
+// Velocities are not passed (decision 0021): a `velocity:` key, or an unbound FMU input that is
+// a velocity (which would silently stay at its start value), is refused, naming it.
+TEST(FmuRefusal, VelocityInputsAreRefusedClearly) {
+  EXPECT_HAS(Refusal(Yaml(TestFmu("spring"), ", velocity: v")),
+             "velocity inputs are not passed to an FMU substructure");
+  std::string xml = ReadMember(TestFmu("spring"), "modelDescription.xml");
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+           {"</UnitDefinitions>", R"(<Unit name="m/s"><BaseUnit m="1" s="-1"/></Unit></UnitDefinitions>)"},
+           {"</ModelVariables>", R"(<ScalarVariable name="v" valueReference="7" causality="input"
+               variability="continuous"><Real unit="m/s" start="0"/></ScalarVariable></ModelVariables>)"}}) {
+    xml.replace(xml.find(from), from.size(), to);
+  }
+  const auto dir = test_support::FreshTempDir("fmi_velocity");
+  const std::string fmu = (dir / "velocity.fmu").string();
+  WriteArchive(fmu, {{"modelDescription.xml", xml},
+                     {"binaries/linux64/spring.so",
+                      ReadMember(TestFmu("spring"), "binaries/linux64/spring.so")}});
+  const std::string e = Refusal(Yaml(fmu));
+  EXPECT_HAS(e, "velocity.fmu: the FMU declares input 'v' in m/s, a velocity");
+}
+
 TEST(FmuRefusal, SlotCountMustMatch) {
   const YamlInput in = YamlInput::FromText(Yaml(TestFmu("spring")), "test.yaml");
   try {

@@ -159,18 +159,34 @@ TEST(FmuRun, FmuErrorStopsTheRunWithTheCommittedRowsOnDisk) {
   EXPECT_GE(lines, 500u) << csv.substr(0, 400);
 }
 
-TEST(FmuRun, RefusalExitsTwoNamingTheFmuAndTheCapability) {
+// Every refusal of issue 35 through the binary: exit 2, naming the FMU file and the variable
+// or capability (the messages themselves: fmu_refusal_test.cc).
+TEST(FmuRun, RefusalsExitTwoNamingTheFmuAndTheVariableOrCapability) {
   const auto dir = test_support::FreshTempDir("fmi_refusal_run");
-  test_support::WriteText(dir / "nostate.yaml",
-                          Config(kHeun, "substructures:\n  r1: {type: fmu, fmu: " +
-                                            TestFmu("maxwell_nostate") +
-                                            ", displacement: x, force: F}\n"));
-  const auto [status, out] = testing::RunCommand(std::string(HYBRIDTEST_BINARY) + " run " +
-                                                 (dir / "nostate.yaml").string() + " --out " +
-                                                 (dir / "n.csv").string());
-  EXPECT_EQ(status, 2) << out;
-  EXPECT_NE(out.find("maxwell_nostate.fmu"), std::string::npos) << out;
-  EXPECT_NE(out.find("canGetAndSetFMUstate"), std::string::npos) << out;
+  struct Case {
+    std::string fmu, displacement, force, expected;
+  };
+  const std::vector<Case> cases{
+      {TestFmu("maxwell_nostate"), "x", "F", "canGetAndSetFMUstate"},
+      {test::EditedFmu("spring", "", "", "run_no_binary.fmu", false), "x", "F",
+       "binaries/linux64/spring.so is missing"},
+      {TestFmu("spring"), "q1", "F", "no variable 'q1'"},
+      {TestFmu("spring"), "x", "k", "variable 'k' has causality parameter"},
+      {test::EditedFmu("spring", R"(<Unit name="m"><BaseUnit m="1"/></Unit>)",
+                       R"(<Unit name="m"><BaseUnit s="1"/></Unit>)", "run_secs.fmu"),
+       "x", "F", "variable 'x' (a slot displacement) has unit 'm'"}};
+  for (const Case& c : cases) {
+    test_support::WriteText(dir / "refused.yaml",
+                            Config(kHeun, "substructures:\n  r1: {type: fmu, fmu: " + c.fmu +
+                                              ", displacement: " + c.displacement +
+                                              ", force: " + c.force + "}\n"));
+    const auto [status, out] = testing::RunCommand(std::string(HYBRIDTEST_BINARY) + " run " +
+                                                   (dir / "refused.yaml").string() + " --out " +
+                                                   (dir / "n.csv").string());
+    EXPECT_EQ(status, 2) << out;
+    EXPECT_NE(out.find(c.fmu), std::string::npos) << out;
+    EXPECT_NE(out.find(c.expected), std::string::npos) << out;
+  }
 }
 
 }  // namespace

@@ -2,7 +2,8 @@
 # fresh prefix (a copy, no rebuild), configures and builds examples/cpp/01_step_a_session and
 # 02_run_spec_in_code against it with find_package(hybridtest), then runs them against the
 # installed CLI: 01 on the rotor's dummy test (compare_final_state.py), 02 against the
-# two-actuator blade of examples/06 (compare_journals.py).
+# two-actuator blade of examples/06 (compare_journals.py); and `hybridtest export-fmu` with the
+# installed FMU binary.
 # -D inputs: BUILD_DIR, SOURCE_DIR, WORK_DIR, GENERATOR, CXX_COMPILER, CXX_LAUNCHER,
 #            CXX_FLAGS, BUILD_TYPE, PYTHON.
 function(run)
@@ -37,3 +38,11 @@ run(${PYTHON} ${CMAKE_CURRENT_LIST_DIR}/compare_journals.py ${build02}/run_spec_
   ${prefix}/bin/hybridtest ${SOURCE_DIR}/examples/06_blade_two_actuators/emulated.yaml
   ${WORK_DIR}/run02)
 message("${run_output}")
+# The installed command line finds the installed FMU binary (<prefix>/<libdir>/hybridtest/
+# hybridtest_fmu.so) for export-fmu, with nothing of the build tree on its way.
+run(${prefix}/bin/hybridtest export-fmu ${SOURCE_DIR}/examples/rotor/dummy.yaml
+  --out ${WORK_DIR}/rotor.fmu)
+message("${run_output}")
+if(NOT EXISTS ${WORK_DIR}/rotor.fmu)
+  message(FATAL_ERROR "consumer.cmake: the installed export-fmu wrote no ${WORK_DIR}/rotor.fmu")
+endif()

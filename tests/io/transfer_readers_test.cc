@@ -34,13 +34,13 @@ std::string ErrorOf(const std::string& transfer) {
 
 TEST(TransferReaders, TheBuiltInTypesAndOneList) {
   const auto types = TransferTypes();
-  for (const char* t : {"emulated", "loopback", "modbus", "openfresco", "remote"}) {
+  for (const char* t : {"emulated", "fmu", "loopback", "modbus", "openfresco", "remote"}) {
     EXPECT_NE(std::find(types.begin(), types.end(), t), types.end()) << t;
   }
   const std::string unknown = ErrorOf("{type: hydraulic}");
   EXPECT_NE(unknown.find("t.yaml:7"), std::string::npos) << unknown;
   EXPECT_NE(unknown.find("'hydraulic'"), std::string::npos) << unknown;
-  EXPECT_NE(unknown.find("emulated, loopback, modbus, openfresco, remote"), std::string::npos)
+  EXPECT_NE(unknown.find("emulated, fmu, loopback, modbus, openfresco, remote"), std::string::npos)
       << unknown;
 }
 

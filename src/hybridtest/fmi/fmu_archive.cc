@@ -4,6 +4,7 @@
 #include <fmt/core.h>
 #include <zip.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -125,6 +126,37 @@ void WriteArchive(const std::string& path,
     zip_discard(done);
     throw IoError(fmt::format("{}: cannot write the archive ({})", path, why));
   }
+}
+
+std::string MakeUnpackDir() {
+  const std::string pattern =
+      (std::filesystem::temp_directory_path() / "hybridtest-fmu-XXXXXX").string();
+  std::vector<char> buffer(pattern.begin(), pattern.end());
+  buffer.push_back('\0');
+  if (mkdtemp(buffer.data()) == nullptr) {
+    throw IoError(fmt::format("cannot create a folder to unpack an FMU in ({})", pattern));
+  }
+  return buffer.data();
+}
+
+std::string ToHex(const std::string& bytes) {
+  static const char* digits = "0123456789abcdef";
+  std::string out;
+  out.reserve(bytes.size() * 2);
+  for (unsigned char c : bytes) {
+    out.push_back(digits[c >> 4]);
+    out.push_back(digits[c & 15]);
+  }
+  return out;
+}
+
+std::string FromHex(const std::string& hex) {
+  if (hex.size() % 2 != 0) throw Error("FMU state: odd number of hex digits");
+  std::string out(hex.size() / 2, '\0');
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    out[i] = static_cast<char>(std::stoi(hex.substr(2 * i, 2), nullptr, 16));
+  }
+  return out;
 }
 
 }  // namespace hybridtest::fmi

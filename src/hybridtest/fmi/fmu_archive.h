@@ -25,4 +25,12 @@ void ExtractArchive(const std::string& fmu, const std::string& dir);
 void WriteArchive(const std::string& path,
                   const std::vector<std::pair<std::string, std::string>>& members);
 
+// A fresh private folder to unpack one FMU in (under the temporary directory). Throws IoError.
+std::string MakeUnpackDir();
+
+// Bytes as lowercase hex digits (an FMU state in a run state's JSON), and back (throws Error
+// for an odd count or a non-hex digit).
+std::string ToHex(const std::string& bytes);
+std::string FromHex(const std::string& hex);
+
 }  // namespace hybridtest::fmi

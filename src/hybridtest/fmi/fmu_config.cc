@@ -37,7 +37,29 @@ std::string Known(const ModelDescription& md, const char* causality) {
   return out.empty() ? "(none)" : out;
 }
 
-// The variable `name`, of `causality` and type Real. `role` says what it serves as.
+std::optional<Eigen::MatrixXd> ReadStiffness(const YamlInput& in, const YAML::Node& node,
+                                             const std::string& kp, std::size_t m) {
+  if (!node) return std::nullopt;
+  const auto n = static_cast<Eigen::Index>(m);
+  Eigen::MatrixXd k(n, n);
+  const char* expected = "K0 in N/m: a number for one slot, an m × m list of rows for m slots";
+  if (node.IsScalar() && m == 1) {
+    k(0, 0) = in.Number(node, kp, expected);
+    return k;
+  }
+  if (!node.IsSequence() || node.size() != m) in.ThrowValue(node, kp, expected);
+  for (std::size_t i = 0; i < m; ++i) {
+    const auto row = in.Numbers(node[i], kp, expected);
+    if (row.size() != m) in.ThrowValue(node, kp, expected);
+    for (std::size_t j = 0; j < m; ++j) {
+      k(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = row[j];
+    }
+  }
+  return k;
+}
+
+}  // namespace
+
 const ModelVariable& Require(const YamlInput& in, const YAML::Node& node, const std::string& kp,
                              const std::string& fmu, const ModelDescription& md,
                              const std::string& name, const char* causality, const char* role) {
@@ -99,28 +121,32 @@ std::vector<FmuInstance::Value> ReadParameters(const YamlInput& in, const YAML::
   return out;
 }
 
-std::optional<Eigen::MatrixXd> ReadStiffness(const YamlInput& in, const YAML::Node& node,
-                                             const std::string& kp, std::size_t m) {
-  if (!node) return std::nullopt;
-  const auto n = static_cast<Eigen::Index>(m);
-  Eigen::MatrixXd k(n, n);
-  const char* expected = "K0 in N/m: a number for one slot, an m × m list of rows for m slots";
-  if (node.IsScalar() && m == 1) {
-    k(0, 0) = in.Number(node, kp, expected);
-    return k;
+std::string ReadFmuFile(const YamlInput& in, const YAML::Node& node, const std::string& kp,
+                        ModelDescription* md) {
+  namespace fs = std::filesystem;
+  fs::path file = in.String(node["fmu"], kp + ".fmu", "the FMU file (.fmu), relative to this config");
+  if (file.is_relative() && !in.path().empty()) file = fs::path(in.path()).parent_path() / file;
+  const std::string fmu = fs::absolute(file).lexically_normal().string();
+  if (!fs::is_regular_file(fmu)) {
+    throw ConfigError(fmt::format("{}: no FMU file at {}", in.Where(node["fmu"], kp + ".fmu"),
+                                  fmu));
   }
-  if (!node.IsSequence() || node.size() != m) in.ThrowValue(node, kp, expected);
-  for (std::size_t i = 0; i < m; ++i) {
-    const auto row = in.Numbers(node[i], kp, expected);
-    if (row.size() != m) in.ThrowValue(node, kp, expected);
-    for (std::size_t j = 0; j < m; ++j) {
-      k(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = row[j];
-    }
+  *md = ParseModelDescription(ReadMember(fmu, "modelDescription.xml"), fmu);
+  const std::string where = in.Where(node, kp);
+  if (md->model_identifier.empty()) {
+    throw ConfigError(fmt::format("{}: {}: the FMU does not support co-simulation (no "
+                                  "CoSimulation element); export it for co-simulation",
+                                  where, fmu));
   }
-  return k;
+  const std::string binary =
+      fmt::format("binaries/{}/{}.so", PlatformFolder(*md), md->model_identifier);
+  const auto members = ListMembers(fmu);
+  if (std::find(members.begin(), members.end(), binary) == members.end()) {
+    throw ConfigError(fmt::format("{}: {}: no binary for this platform ({} is missing); export "
+                                  "a binary FMU for Linux x86-64", where, fmu, binary));
+  }
+  return fmu;
 }
-
-}  // namespace
 
 bool IsFmuNode(const YAML::Node& node) {
   return node.IsMap() && node["type"] && node["type"].IsScalar() && node["type"].Scalar() == "fmu";
@@ -131,34 +157,20 @@ substructures::SubstructureSpec ParseFmuSubstructure(const YamlInput& in, const 
                                                      const std::vector<std::string>& slots,
                                                      const std::string& kp,
                                                      std::string* fmu_file) {
-  namespace fs = std::filesystem;
+  if (node["velocity"]) {
+    throw ConfigError(fmt::format(
+        "{}: velocity inputs are not passed to an FMU substructure: hybridtest tries a "
+        "substructure with its slot displacements only (the one seam, decision 0021; a stage's "
+        "velocity is not a trial's input); remove `velocity:` and differentiate the "
+        "displacement inside the FMU", in.Where(node["velocity"], kp + ".velocity")));
+  }
   in.CheckKeys(node, kp, {"type", "slots", "fmu", "displacement", "force", "parameters",
                           "initial_stiffness"});
   auto b = std::make_shared<FmuBinding>();
   b->name = name;
-  // The file, relative to the config.
-  fs::path file = in.String(node["fmu"], kp + ".fmu", "the FMU file (.fmu), relative to this config");
-  if (file.is_relative() && !in.path().empty()) file = fs::path(in.path()).parent_path() / file;
-  b->fmu = fs::absolute(file).lexically_normal().string();
-  if (!fs::is_regular_file(b->fmu)) {
-    throw ConfigError(fmt::format("{}: no FMU file at {}", in.Where(node["fmu"], kp + ".fmu"),
-                                  b->fmu));
-  }
-  b->md = ParseModelDescription(ReadMember(b->fmu, "modelDescription.xml"), b->fmu);
+  b->fmu = ReadFmuFile(in, node, kp, &b->md);
   const ModelDescription& md = b->md;
   const std::string where = in.Where(node, kp);
-  if (md.model_identifier.empty()) {
-    throw ConfigError(fmt::format("{}: {}: the FMU does not support co-simulation (no "
-                                  "CoSimulation element); export it for co-simulation",
-                                  where, b->fmu));
-  }
-  const std::string binary =
-      fmt::format("binaries/{}/{}.so", PlatformFolder(md), md.model_identifier);
-  const auto members = ListMembers(b->fmu);
-  if (std::find(members.begin(), members.end(), binary) == members.end()) {
-    throw ConfigError(fmt::format("{}: {}: no binary for this platform ({} is missing); export "
-                                  "a binary FMU for Linux x86-64", where, b->fmu, binary));
-  }
   // Displacements in, forces out, one each per slot; their units.
   const std::size_t m = slots.size();
   const auto inputs = Names(in, node["displacement"], kp + ".displacement", m, "FMU input");
@@ -175,6 +187,19 @@ substructures::SubstructureSpec ParseFmuSubstructure(const YamlInput& in, const 
     b->in_offset.push_back(units.in_offset);
     b->out_factor.push_back(units.out_factor);
     b->out_offset.push_back(units.out_offset);
+  }
+  // An input left unbound keeps its start value; one that is a velocity would silently stay 0.
+  for (const auto& v : md.variables) {
+    const UnitDefinition* u = v.causality == "input" ? md.UnitOf(v) : nullptr;
+    const bool bound = std::find(b->inputs.begin(), b->inputs.end(), &v) != b->inputs.end();
+    if (u != nullptr && u->has_base_unit && !bound && u->s == -1 && u->kg == 0 &&
+        ((u->m == 1 && u->rad == 0) || (u->m == 0 && u->rad == 1))) {
+      throw ConfigError(fmt::format(
+          "{}: {}: the FMU declares input '{}' in {}, a velocity, which hybridtest cannot give "
+          "(a substructure is tried with displacements only, decision 0021): export the FMU "
+          "with the displacement as its only kinematic input and differentiate it inside",
+          where, b->fmu, v.name, v.unit));
+    }
   }
   b->parameters = ReadParameters(in, node["parameters"], kp + ".parameters", b->fmu, md);
   b->initial_stiffness = ReadStiffness(in, node["initial_stiffness"], kp + ".initial_stiffness", m);

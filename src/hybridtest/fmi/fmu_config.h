@@ -25,6 +25,8 @@
 #include <vector>
 
 #include "hybridtest/common/yaml_input.h"
+#include "hybridtest/fmi/fmu_instance.h"
+#include "hybridtest/fmi/model_description.h"
 #include "hybridtest/substructures/substructure_spec.h"
 
 namespace hybridtest::fmi {
@@ -40,5 +42,20 @@ substructures::SubstructureSpec ParseFmuSubstructure(const YamlInput& in, const 
                                                      const std::vector<std::string>& slots,
                                                      const std::string& kp,
                                                      std::string* fmu_file);
+
+// Shared with the FMU plant's reader (fmu_plant_config.h). Each throws ConfigError naming
+// the config place, the FMU file and the variable.
+// The FMU file `node.fmu` (relative to the config), checked: co-simulation and a binary for
+// this platform; its description into *md. Returns its absolute path.
+std::string ReadFmuFile(const YamlInput& in, const YAML::Node& node, const std::string& kp,
+                        ModelDescription* md);
+// The variable `name` of the FMU, of `causality` and type Real; `role` says what it serves as.
+const ModelVariable& Require(const YamlInput& in, const YAML::Node& node, const std::string& kp,
+                             const std::string& fmu, const ModelDescription& md,
+                             const std::string& name, const char* causality, const char* role);
+// The `parameters:` mapping: values of the FMU's parameters, in its units.
+std::vector<FmuInstance::Value> ReadParameters(const YamlInput& in, const YAML::Node& node,
+                                                const std::string& kp, const std::string& fmu,
+                                                const ModelDescription& md);
 
 }  // namespace hybridtest::fmi

@@ -11,41 +11,6 @@
 #include "hybridtest/fmi/fmu_archive.h"
 
 namespace hybridtest::fmi {
-namespace {
-
-// A fresh private folder for one unpacked FMU.
-std::string MakeUnpackDir() {
-  const std::string pattern =
-      (std::filesystem::temp_directory_path() / "hybridtest-fmu-XXXXXX").string();
-  std::vector<char> buffer(pattern.begin(), pattern.end());
-  buffer.push_back('\0');
-  if (mkdtemp(buffer.data()) == nullptr) {
-    throw IoError(fmt::format("cannot create a folder to unpack an FMU in ({})", pattern));
-  }
-  return buffer.data();
-}
-
-std::string ToHex(const std::string& bytes) {
-  static const char* digits = "0123456789abcdef";
-  std::string out;
-  out.reserve(bytes.size() * 2);
-  for (unsigned char c : bytes) {
-    out.push_back(digits[c >> 4]);
-    out.push_back(digits[c & 15]);
-  }
-  return out;
-}
-
-std::string FromHex(const std::string& hex) {
-  if (hex.size() % 2 != 0) throw Error("FMU state: odd number of hex digits");
-  std::string out(hex.size() / 2, '\0');
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    out[i] = static_cast<char>(std::stoi(hex.substr(2 * i, 2), nullptr, 16));
-  }
-  return out;
-}
-
-}  // namespace
 
 FmuSubstructure::FmuSubstructure(std::shared_ptr<const FmuBinding> binding, LogSink log)
     : binding_(std::move(binding)), dir_(MakeUnpackDir()) {

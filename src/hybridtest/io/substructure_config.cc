@@ -66,7 +66,8 @@ void RefusePhysicalKeys(const YamlInput& in, const YAML::Node& node, const std::
 
 // Whether the transfer section `node` talks to a bench over the network (and so takes the
 // --bench HOST:PORT address): remote, modbus, openfresco, a compensator around one, or a type
-// a program registered (which may read the address; given the benefit of the doubt).
+// a program registered (which may read the address; given the benefit of the doubt); not
+// the in-process ones (emulated, loopback, rt_plant, an FMU plant).
 bool TakesBenchAddress(const YAML::Node& node) {
   if (!node.IsDefined() || !node.IsMap() || !node["type"] || !node["type"].IsScalar()) {
     return false;
@@ -74,7 +75,7 @@ bool TakesBenchAddress(const YAML::Node& node) {
   const std::string type = node["type"].Scalar();
   if (type == "remote" || type == "modbus" || type == "openfresco") return true;
   if (type == "compensated") return TakesBenchAddress(node["inner"]);
-  return type != "emulated" && type != "loopback" && type != "rt_plant";
+  return type != "emulated" && type != "loopback" && type != "rt_plant" && type != "fmu";
 }
 
 substructures::SetupTransform ParseSetup(const YamlInput& in, const YAML::Node& node,

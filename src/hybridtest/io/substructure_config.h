@@ -7,8 +7,10 @@
 //     r1:
 //       type: physical
 //       transfer:
-//         type: emulated              # emulated | loopback | remote | modbus | openfresco, or a
-//                                     # type a program registered (io/transfer_readers.h)
+//         type: emulated              # emulated | loopback | remote | modbus | openfresco | ads |
+//                                     # rt_plant | compensated | fmu (an FMU as the plant,
+//                                     # fmi/fmu_plant.h), or a type a program registered
+//                                     # (io/transfer_readers.h)
 //         config: bench-cantilever.yaml   # emulated: bench file, relative to this config
 //         # bench: {...}              # emulated: or the bench inline
 //         # law: {type: linear, stiffness: 7200}   # loopback: the specimen law

@@ -9,6 +9,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/constitutive/parse_law.h"
+#include "hybridtest/fmi/fmu_plant.h"
 #include "hybridtest/io/rt_plant_reader.h"
 #include "hybridtest/transfer/ads/ads_config.h"
 #include "hybridtest/transfer/auth.h"
@@ -131,6 +132,14 @@ TransferSpec ReadOpenFresco(const TransferReadContext& c) {
           [client] { return std::make_unique<transfer::openfresco::Client>(client); }};
 }
 
+// An FMU as the plant of an emulated bench (fmi/fmu_plant.h); its file is a run input.
+TransferSpec ReadFmuPlant(const TransferReadContext& c) {
+  std::string file;
+  TransferSpec spec = fmi::ParseFmuPlant(c.in, c.node, c.kp, &file);
+  c.NoteRead("fmu", file);
+  return spec;
+}
+
 std::map<std::string, TransferReader>& Readers() {
   static std::map<std::string, TransferReader> readers{{"emulated", ReadEmulated},
                                                        {"loopback", ReadLoopback},
@@ -139,7 +148,8 @@ std::map<std::string, TransferReader>& Readers() {
                                                        {"ads", ReadAds},
                                                        {"openfresco", ReadOpenFresco},
                                                        {"rt_plant", ReadRtPlant},
-                                                       {"compensated", ReadCompensated}};
+                                                       {"compensated", ReadCompensated},
+                                                       {"fmu", ReadFmuPlant}};
   return readers;
 }
 

@@ -2,8 +2,8 @@
 // The transfer types a run config can name (`transfer: {type: ...}`), each with its reader:
 // the reader checks the section's keys and values once (errors name file:line, the key and
 // the fix) and returns a substructures::TransferSpec whose factory builds the transfer
-// system from what was read. The built-in types are emulated, loopback, remote, modbus and
-// openfresco; a program adds its own with RegisterTransferReader before it loads a config.
+// system from what was read. The built-in types are emulated, loopback, remote, modbus, ads,
+// openfresco, rt_plant, compensated and fmu (an FMU as the plant, fmi/fmu_plant.h); a program adds its own with RegisterTransferReader before it loads a config.
 #include <functional>
 #include <optional>
 #include <string>

@@ -263,9 +263,10 @@ std::vector<PlanResult> PlanTest(const io::RunSpec& configured, const PlanOption
                                              *options.emulate_bench)] {
                               return transfer::MakeEmulatedBench(bench);
                             }};
-    } else if (physical->transfer.type != "emulated") {
+    } else if (physical->transfer.type != "emulated" && physical->transfer.type != "fmu") {
+      // (an FMU plant, fmi/fmu_plant.h, is in-process: a model, no steel)
       throw ConfigError(fmt::format(
-          "{}: plan never moves a real bench, and slot {} is not on an emulated one; give "
+          "{}: plan never moves a real bench, and slot {} is not on an emulated one (built-in or an FMU plant); give "
           "--emulate BENCH.yaml (an emulated bench config, e.g. examples/rotor/"
           "bench-cantilever.yaml) to stand in for it", spec.source.config_path,
           spec.substructures[s].slot));

@@ -1,4 +1,4 @@
-// hybridtest_pack_fmu: zips an FMU at build time (tests/fmi/CMakeLists.txt).
+// hybridtest_pack_fmu: zips an FMU at build time (examples/fmi/ and tests/fmi/CMakeLists.txt).
 //   hybridtest_pack_fmu OUT.fmu modelDescription.xml [MEMBER=FILE ...]
 // The description becomes modelDescription.xml at the root; each MEMBER (e.g.
 // binaries/linux64/spring.so) gets the bytes of FILE.
