@@ -1,0 +1,176 @@
+#!/usr/bin/python3
+"""SymPy cross-check of the constrained Kane equations (issue 37, decision 0023).
+
+    constraints_oracle.py --binary B --model MODEL.yaml [--states 25] [--seed 1] [--kanes]
+
+At random consistent states (random independent coordinates and speeds, the dependent ones
+solved by `hybridtest eom --assemble`), the engine's reduced equations
+
+    [Cᵀ M; B] u̇ = [Cᵀ g; −(Ḃ u + ċ)],   C = [I; A], A = −B_d⁻¹ B_i
+
+(`eom --json`: reduced_mass_matrix, reduced_forcing) equal an independent derivation: M and g
+from check-model's SymPy reader (check_model_sympy.py, KanesMethod over all speeds), the
+constraint rows B, c and Ḃ u + ċ from SymPy's own point velocities and accelerations (P.vel,
+P.pos_from, .dt), and the reduction done here in floating point. The SymPy side also checks
+that the engine's state meets the constraints (|f|, |B u + c| <= 1e-11). With --kanes, SymPy's
+KanesMethod(u_dependent=..., velocity_constraints=..., configuration_constraints=...) is
+formed too and its mass_matrix and forcing must equal the same (a check of the reduction
+itself; small models only: SymPy 1.11 inverts B_d symbolically). Entry a passes against b if
+|a - b| <= 1e-11 * max(1, max|B|) over the oracle's whole array.
+"""
+import argparse
+import json
+import pathlib
+import random
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+import sympy as sp
+import sympy.physics.mechanics as me
+import yaml
+
+HERE = pathlib.Path(__file__).resolve().parent
+ROOT = HERE.parent.parent
+sys.path.insert(0, str(ROOT / 'apps' / 'hybridtest'))
+import check_model_sympy as reader_module  # noqa: E402
+
+TOLERANCE = 1e-11
+
+
+def constraint_rows(reader, doc):
+    """(velocity-level rows g(q, u, t) = B u + c, holonomic rows f(q, t) or None), in the
+    engine's row order."""
+    frames, points, N = reader.frames, reader.points, reader.N
+    qd_sub = {qk.diff(reader.t): uk for qk, uk in zip(reader.q, reader.u)}
+    rows = []
+    for c in doc['constraints']:
+        E = frames[c.get('expressed_in', 'N')]
+        comps = c.get('components', ['x', 'y', 'z'])
+        if 'holonomic' in c:
+            f = reader.expr(c['holonomic'])
+            rows.append((f.diff(reader.t).subs(qd_sub), f))
+        elif 'nonholonomic' in c:
+            rows.append((reader.expr(c['nonholonomic']), None))
+        elif 'coincide' in c:
+            P, Q = (points[name] for name in c['coincide'])
+            d = P.pos_from(Q)
+            for comp in comps:
+                f = d.dot(getattr(E, comp))
+                rows.append((f.diff(reader.t).subs(qd_sub), f))
+        else:
+            P = points[c['velocity_zero']]
+            if 'of_body' in c:
+                C = points[c['through']]
+                v = C.vel(N) + frames[c['of_body']].ang_vel_in(N).cross(P.pos_from(C))
+            else:
+                v = P.vel(N)
+            for comp in comps:
+                rows.append((v.dot(getattr(E, comp)).subs(qd_sub), None))
+    return rows
+
+
+def run(binary, *args):
+    p = subprocess.run([binary, *args], capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit(f'FAIL: {binary} {" ".join(args)} exited {p.returncode}:\n{p.stderr}')
+    return p.stdout
+
+
+def worst(a, b):
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    return float(np.max(np.abs(a - b)) / max(1.0, float(np.max(np.abs(b)))))
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument('--binary', required=True)
+    ap.add_argument('--model', required=True)
+    ap.add_argument('--states', type=int, default=25)
+    ap.add_argument('--seed', type=int, default=1)
+    ap.add_argument('--kanes', action='store_true')
+    a = ap.parse_args()
+    model = pathlib.Path(a.model).resolve()
+    doc = reader_module.expand_repeats(yaml.safe_load(model.read_text(encoding='utf-8')))
+    reader = reader_module.Reader(doc, model.parent)
+    M, F = reader.build()
+    n = len(reader.q)
+    rows = constraint_rows(reader, doc)
+    g = sp.Matrix([r[0] for r in rows])
+    B = g.jacobian(reader.u)
+    # Ḃ u + ċ: the time derivative of B u + c with u̇ = 0 and q̇ = u.
+    udot_zero = {uk.diff(reader.t): 0 for uk in reader.u}
+    qd_sub = {qk.diff(reader.t): uk for qk, uk in zip(reader.q, reader.u)}
+    bias = g.diff(reader.t).subs(udot_zero).subs(qd_sub)
+    f = sp.Matrix([r[1] for r in rows if r[1] is not None])
+    Q = sp.symbols(f'Q0:{n}')
+    U = sp.symbols(f'U0:{n}')
+    plain = {**dict(zip(reader.q, Q)), **dict(zip(reader.u, U))}
+    args = [reader.t, *Q, *U, *reader.r]
+    lam = {name: sp.lambdify(args, me.msubs(expr, plain).tolist(), 'math')
+           for name, expr in (('M', M), ('F', F), ('B', B), ('bias', bias), ('g', g), ('f', f))}
+    dependent = [[s['name'] for s in doc['speeds']].index(name) for name in doc['dependent_speeds']]
+    independent = [j for j in range(n) if j not in dependent]
+    kanes = None
+    if a.kanes:
+        order = independent + dependent
+        kane = me.KanesMethod(reader.N, q_ind=reader.q, u_ind=[reader.u[j] for j in independent],
+                              u_dependent=[reader.u[j] for j in dependent],
+                              kd_eqs=[qk.diff(reader.t) - uk for qk, uk in zip(reader.q, reader.u)],
+                              velocity_constraints=list(g))
+        kane.kanes_equations(reader.bodies, reader.loads)
+        kdd = kane.kindiffdict()
+        kanes = (sp.lambdify(args, me.msubs(kane.mass_matrix.subs(kdd), plain).tolist(), 'math'),
+                 sp.lambdify(args, me.msubs(kane.forcing.subs(kdd), plain).tolist(), 'math'),
+                 order)
+    with tempfile.TemporaryDirectory() as tmp:
+        config = pathlib.Path(tmp) / 'config.yaml'
+        config.write_text(f'model: {{file: {model}}}\nintegrator: {{tableau: rk4, dt: 0.001}}\n'
+                          'duration: 1.0\n', encoding='utf-8')
+        rng = random.Random(a.seed)
+        x0 = None
+        failures = 0
+        for trial in range(a.states):
+            if x0 is None:
+                x0 = json.loads(run(a.binary, 'eom', str(config), '--time', '0', '--state',
+                                    ','.join(['0'] * (2 * n)), '--assemble', '--json'))['state']
+            x = list(x0)
+            for k in range(n):
+                x[k] += rng.uniform(-0.3, 0.3)
+                x[n + k] = rng.uniform(-3.0, 3.0)
+            t = rng.uniform(0.0, 1.0)
+            out = json.loads(run(a.binary, 'eom', str(config), '--time', repr(t), '--state',
+                                 ','.join(repr(v) for v in x), '--assemble', '--json'))
+            xs = out['state']
+            values = [t, *xs[:n], *xs[n:2 * n], *out['restoring']]
+            Mv = np.array(lam['M'](*values), float)
+            Fv = np.array(lam['F'](*values), float).reshape(-1)
+            Bv = np.array(lam['B'](*values), float)
+            bv = np.array(lam['bias'](*values), float).reshape(-1)
+            residual = max(np.max(np.abs(np.array(lam['g'](*values), float))),
+                           np.max(np.abs(np.array(lam['f'](*values), float))) if f.shape[0] else 0)
+            A = -np.linalg.solve(Bv[:, dependent], Bv[:, independent])
+            Mr = np.vstack([Mv[independent, :] + A.T @ Mv[dependent, :], Bv])
+            Fr = np.concatenate([Fv[independent] + A.T @ Fv[dependent], -bv])
+            errors = {'constraints at the state': residual / TOLERANCE * 1e-11,
+                      'reduced M': worst(out['reduced_mass_matrix'], Mr),
+                      'reduced forcing': worst(out['reduced_forcing'], Fr)}
+            if kanes is not None:
+                order = kanes[2]
+                Mk = np.array(kanes[0](*values), float)
+                Fk = np.array(kanes[1](*values), float).reshape(-1)
+                unorder = np.empty_like(Mk)
+                unorder[:, order] = Mk  # SymPy's columns are [u_ind, u_dep]
+                errors['KanesMethod M'] = worst(Mr, unorder)
+                errors['KanesMethod forcing'] = worst(Fr, Fk)
+            for name, e in errors.items():
+                if not e <= TOLERANCE:
+                    failures += 1
+                    print(f'FAIL: {model.name} state {trial}: {name}: {e:.3g} > {TOLERANCE}')
+        print(f'{model.name}: {a.states} consistent states, {failures} failures')
+        return 1 if failures else 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
