@@ -157,10 +157,12 @@ speeds:
   - {name: v, unit: m/s}
   - {name: w, unit: rad/s, initial: 2}
   - {name: vy, unit: m/s}
+frames:
+  - {name: D, parent: N, axis: z, angle: th}
 points:
   - {name: C, from: O, frame: N, position: [x, y, 0]}
 bodies:
-  - {name: disc, frame: N, mass_center: C, mass: 1, inertia: [0.1, 0.1, 0.1]}
+  - {name: disc, frame: D, mass_center: C, mass: 1, inertia: [0.1, 0.1, 0.1]}
 constraints:
   - {name: rolling, nonholonomic: CONSTRAINT}
 dependent_speeds: [DEPENDENT]
@@ -180,13 +182,13 @@ TEST(ConstraintsTest, ANonholonomicExpressionRollsTheDisc) {
 
 TEST(ConstraintsTest, ASingularChoiceOfDependentSpeedsIsRefusedAtItsLine) {
   const std::string e = BuildError(Disc("v + r * w", "vy"));
-  EXPECT_NE(e.find("bad.yaml:18: dependent_speeds"), std::string::npos) << e;
+  EXPECT_NE(e.find("bad.yaml:20: dependent_speeds"), std::string::npos) << e;
   EXPECT_NE(e.find("choose other dependent speeds"), std::string::npos) << e;
 }
 
 TEST(ConstraintsTest, AConstraintNotLinearInTheSpeedsIsRefusedAtItsLine) {
   const std::string e = BuildError(Disc("\"v * w + r * w\"", "v"));
-  EXPECT_NE(e.find("bad.yaml:17: constraints[0].nonholonomic"), std::string::npos) << e;
+  EXPECT_NE(e.find("bad.yaml:19: constraints[0].nonholonomic"), std::string::npos) << e;
   EXPECT_NE(e.find("not linear in the speeds"), std::string::npos) << e;
   const std::string e2 = BuildError(Disc("\"sin(v) + w\"", "v"));
   EXPECT_NE(e2.find("not linear in the speeds"), std::string::npos) << e2;

@@ -132,12 +132,11 @@ def main():
         x0 = None
         failures = 0
         for trial in range(a.states):
-            if x0 is None:
-                x0 = json.loads(run(a.binary, 'eom', str(config), '--time', '0', '--state',
-                                    ','.join(['0'] * (2 * n)), '--assemble', '--json'))['state']
+            if x0 is None:  # the model's initial state, assembled
+                x0 = json.loads(run(a.binary, 'modes', str(model), '--json'))['operating_point']
             x = list(x0)
             for k in range(n):
-                x[k] += rng.uniform(-0.3, 0.3)
+                x[k] += rng.uniform(-0.2, 0.2)
                 x[n + k] = rng.uniform(-3.0, 3.0)
             t = rng.uniform(0.0, 1.0)
             out = json.loads(run(a.binary, 'eom', str(config), '--time', repr(t), '--state',

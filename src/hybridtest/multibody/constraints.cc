@@ -278,6 +278,28 @@ void CalcConstrainedStateDerivative(const Model& model, Data<T>& data, const T& 
   }
 }
 
+void CalcConstrainedRateCoupling(const Model& model, Data<double>& data,
+                                 const Eigen::Ref<const Eigen::MatrixXd>& B_r,
+                                 Eigen::Ref<Eigen::MatrixXd> out) {
+  const int n = data.n;
+  const int m = model.num_constraint_rows();
+  const int p = n - m;
+  data.lu = data.reduced_M;
+  if (!internal::LuFactor(data.lu, n, data.lu_pivots.data())) {
+    throw ModelError("the reduced equations [Cᵀ M; B] are singular here");
+  }
+  for (Eigen::Index s = 0; s < B_r.cols(); ++s) {
+    double* column = out.col(s).data();
+    for (int c = 0; c < p; ++c) {
+      double sum = B_r(data.independent[c], s);
+      for (int k = 0; k < m; ++k) sum += data.constraint_A(k, c) * B_r(data.dependent[k], s);
+      column[c] = sum;
+    }
+    for (int k = 0; k < m; ++k) column[p + k] = 0.0;
+    internal::LuSolve(data.lu, n, data.lu_pivots.data(), column);
+  }
+}
+
 #define HYBRIDTEST_INSTANTIATE(T)                                                        \
   template bool ChooseDependentSpeeds<T>(const Model&, Data<T>&);                        \
   template void CalcReducedEquations<T>(const Model&, Data<T>&, bool);                   \

@@ -53,6 +53,14 @@ void CalcConstrainedStateDerivative(const Model& model, Data<T>& data, const T& 
                                     const Eigen::Ref<const VectorX<T>>& r,
                                     Eigen::Ref<VectorX<T>> xdot);
 
+// ∂u̇/∂r (n × num_slots) of a constrained model from the coupling matrix B_r = ∂g/∂r (n ×
+// num_slots, CalcCouplingMatrix) and the reduction of the last CalcStateDerivative on `data`:
+// u̇ = R⁻¹ [Cᵀ g; −bias − s] with only g reading r, so ∂u̇/∂r = R⁻¹ [Cᵀ B_r; 0]. (For a tree,
+// ∂u̇/∂r = M⁻¹ B_r.) `out` is overwritten; `data.lu` is refactored.
+void CalcConstrainedRateCoupling(const Model& model, Data<double>& data,
+                                 const Eigen::Ref<const Eigen::MatrixXd>& B_r,
+                                 Eigen::Ref<Eigen::MatrixXd> out);
+
 // Names of the rows of B u + c = 0, for messages: "loop (x)", "rear contact (y)".
 std::string ConstraintRowName(const Model& model, int row);
 
