@@ -26,7 +26,6 @@ import subprocess
 import sys
 import tempfile
 
-import numpy as np
 import sympy as sp
 import sympy.physics.mechanics as me
 import yaml
@@ -78,9 +77,32 @@ def run(binary, *args):
     return p.stdout
 
 
+def flat(a):
+    return [float(v) for row in a for v in (row if isinstance(row, (list, tuple)) else [row])]
+
+
 def worst(a, b):
-    a, b = np.asarray(a, float), np.asarray(b, float)
-    return float(np.max(np.abs(a - b)) / max(1.0, float(np.max(np.abs(b)))))
+    a, b = flat(a), flat(b)
+    scale = max(1.0, max(abs(v) for v in b))
+    return max(abs(x - y) for x, y in zip(a, b)) / scale
+
+
+def solve(A, B):
+    """X with A X = B (lists of rows), Gaussian elimination with partial pivoting."""
+    n = len(A)
+    M = [list(map(float, A[i])) + list(map(float, B[i])) for i in range(n)]
+    for c in range(n):
+        p = max(range(c, n), key=lambda i: abs(M[i][c]))
+        M[c], M[p] = M[p], M[c]
+        for i in range(c + 1, n):
+            f = M[i][c] / M[c][c]
+            M[i] = [x - f * y for x, y in zip(M[i], M[c])]
+    X = [[0.0] * len(B[0]) for _ in range(n)]
+    for i in reversed(range(n)):
+        for k in range(len(B[0])):
+            s = M[i][n + k] - sum(M[i][j] * X[j][k] for j in range(i + 1, n))
+            X[i][k] = s / M[i][i]
+    return X
 
 
 def main():
@@ -131,6 +153,7 @@ def main():
         rng = random.Random(a.seed)
         x0 = None
         failures = 0
+        largest = {}
         for trial in range(a.states):
             if x0 is None:  # the model's initial state, assembled
                 x0 = json.loads(run(a.binary, 'modes', str(model), '--json'))['operating_point']
@@ -143,31 +166,40 @@ def main():
                                  ','.join(repr(v) for v in x), '--assemble', '--json'))
             xs = out['state']
             values = [t, *xs[:n], *xs[n:2 * n], *out['restoring']]
-            Mv = np.array(lam['M'](*values), float)
-            Fv = np.array(lam['F'](*values), float).reshape(-1)
-            Bv = np.array(lam['B'](*values), float)
-            bv = np.array(lam['bias'](*values), float).reshape(-1)
-            residual = max(np.max(np.abs(np.array(lam['g'](*values), float))),
-                           np.max(np.abs(np.array(lam['f'](*values), float))) if f.shape[0] else 0)
-            A = -np.linalg.solve(Bv[:, dependent], Bv[:, independent])
-            Mr = np.vstack([Mv[independent, :] + A.T @ Mv[dependent, :], Bv])
-            Fr = np.concatenate([Fv[independent] + A.T @ Fv[dependent], -bv])
-            errors = {'constraints at the state': residual / TOLERANCE * 1e-11,
+            Mv = [list(map(float, row)) for row in lam['M'](*values)]
+            Fv = flat(lam['F'](*values))
+            Bv = [list(map(float, row)) for row in lam['B'](*values)]
+            bv = flat(lam['bias'](*values))
+            residual = max([abs(v) for v in flat(lam['g'](*values))] +
+                           ([abs(v) for v in flat(lam['f'](*values))] if f.shape[0] else []))
+            m = len(Bv)
+            X = solve([[row[j] for j in dependent] for row in Bv],
+                      [[row[j] for j in independent] for row in Bv])
+            A = [[-v for v in row] for row in X]  # (m x p): u_dep = A u_ind
+            Mr = [[Mv[i][k] + sum(A[s][c] * Mv[dependent[s]][k] for s in range(m))
+                   for k in range(n)] for c, i in enumerate(independent)] + Bv
+            Fr = [Fv[i] + sum(A[s][c] * Fv[dependent[s]] for s in range(m))
+                  for c, i in enumerate(independent)] + [-v for v in bv]
+            errors = {'constraints at the state': residual,
                       'reduced M': worst(out['reduced_mass_matrix'], Mr),
                       'reduced forcing': worst(out['reduced_forcing'], Fr)}
             if kanes is not None:
                 order = kanes[2]
-                Mk = np.array(kanes[0](*values), float)
-                Fk = np.array(kanes[1](*values), float).reshape(-1)
-                unorder = np.empty_like(Mk)
-                unorder[:, order] = Mk  # SymPy's columns are [u_ind, u_dep]
+                Mk = [list(map(float, row)) for row in kanes[0](*values)]
+                Fk = flat(kanes[1](*values))
+                unorder = [[0.0] * n for _ in range(n)]  # SymPy's columns are [u_ind, u_dep]
+                for i in range(n):
+                    for c, j in enumerate(order):
+                        unorder[i][j] = Mk[i][c]
                 errors['KanesMethod M'] = worst(Mr, unorder)
                 errors['KanesMethod forcing'] = worst(Fr, Fk)
             for name, e in errors.items():
+                largest[name] = max(largest.get(name, 0.0), e)
                 if not e <= TOLERANCE:
                     failures += 1
                     print(f'FAIL: {model.name} state {trial}: {name}: {e:.3g} > {TOLERANCE}')
-        print(f'{model.name}: {a.states} consistent states, {failures} failures')
+        print(f'{model.name}: {a.states} consistent states, {failures} failures; largest: ' +
+              ', '.join(f'{k} {v:.2g}' for k, v in largest.items()))
         return 1 if failures else 0
 
 
