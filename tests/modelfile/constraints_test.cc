@@ -149,6 +149,7 @@ TEST(ConstraintsTest, AnUnmeetableLoopIsRefusedWithFileLineAndResidual) {
 const char* kRollingDisc = R"(name: disc
 parameters:
   r: {value: 0.5, unit: m}
+  c0: 0.5
 coordinates:
   - {name: x, unit: m}
   - {name: th, unit: rad}
@@ -182,15 +183,15 @@ TEST(ConstraintsTest, ANonholonomicExpressionRollsTheDisc) {
 
 TEST(ConstraintsTest, ASingularChoiceOfDependentSpeedsIsRefusedAtItsLine) {
   const std::string e = BuildError(Disc("v + r * w", "vy"));
-  EXPECT_NE(e.find("bad.yaml:20: dependent_speeds"), std::string::npos) << e;
+  EXPECT_NE(e.find("bad.yaml:21: dependent_speeds"), std::string::npos) << e;
   EXPECT_NE(e.find("choose other dependent speeds"), std::string::npos) << e;
 }
 
 TEST(ConstraintsTest, AConstraintNotLinearInTheSpeedsIsRefusedAtItsLine) {
-  const std::string e = BuildError(Disc("\"v * w + r * w\"", "v"));
-  EXPECT_NE(e.find("bad.yaml:19: constraints[0].nonholonomic"), std::string::npos) << e;
+  const std::string e = BuildError(Disc("\"c0 * v * w + r * w\"", "v"));
+  EXPECT_NE(e.find("bad.yaml:20: constraints[0].nonholonomic"), std::string::npos) << e;
   EXPECT_NE(e.find("not linear in the speeds"), std::string::npos) << e;
-  const std::string e2 = BuildError(Disc("\"sin(v) + w\"", "v"));
+  const std::string e2 = BuildError(Disc("\"c0 * sin(c0 * v) + w\"", "v"));
   EXPECT_NE(e2.find("not linear in the speeds"), std::string::npos) << e2;
 }
 
