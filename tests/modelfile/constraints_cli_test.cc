@@ -33,7 +33,9 @@ fs::path TempDir() {
 
 std::string ReadFile(const fs::path& p) {
   std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), {});
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 TEST(ConstraintsCliTest, FourBarSimulationKeepsTheLoopClosed) {
