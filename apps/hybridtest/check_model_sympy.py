@@ -321,6 +321,9 @@ class Reader:
             W = sp.eye(n)
         qd = sp.Matrix([qk.diff(self.t) for qk in self.q])
         kd = list(qd - W * sp.Matrix(self.u))
+        # Kept for other readers (tests/oracle/constraints_oracle.py adds constraint rows).
+        self.N, self.frames, self.points = N, frames, points
+        self.bodies, self.loads, self.kd = bodies, loads, kd
         kane = me.KanesMethod(N, q_ind=self.q, u_ind=self.u, kd_eqs=kd)
         kane.kanes_equations(bodies, loads)
         # q' may remain in the forcing: eliminate it through the kinematical equations.

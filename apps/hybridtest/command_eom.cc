@@ -9,6 +9,8 @@
 #include "command.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/config.h"
+#include "hybridtest/multibody/assembly.h"
+#include "hybridtest/multibody/constraints.h"
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/io/substructure_config.h"
 
@@ -21,6 +23,7 @@ struct EomOptions {
   std::string state;
   std::string restoring;
   bool json = false;
+  bool assemble = false;
 };
 
 void RunEom(const EomOptions& opt) {
@@ -35,7 +38,14 @@ void RunEom(const EomOptions& opt) {
                                   nx > 2 * n ? "; z" : "", n,
                                   nx > 2 * n ? fmt::format(" and {} extra states", nx - 2 * n) : ""));
   }
-  const Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(xs.data(), nx);
+  Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(xs.data(), nx);
+  if (opt.assemble && model.has_constraints()) {
+    try {
+      x = multibody::AssembleState(model, opt.time, x).x;
+    } catch (const ModelError& e) {
+      throw ConfigError(fmt::format("--state: {}", e.what()));
+    }
+  }
   multibody::Data<double> data(model);
   Eigen::VectorXd r(model.num_slots());
   if (!opt.restoring.empty()) {
@@ -58,6 +68,10 @@ void RunEom(const EomOptions& opt) {
   }
   Eigen::VectorXd xdot(nx);
   multibody::CalcStateDerivative<double>(model, data, opt.time, x, r, xdot);
+  // A constrained model: the reduced equations [Cᵀ M; B] u̇ = [Cᵀ g; −bias], unstabilised
+  // (constraints.h), in the speeds' order, rows: independent speeds, then constraint rows.
+  const bool constrained = model.has_constraints();
+  if (constrained) multibody::CalcReducedEquations(model, data, false);
 
   if (opt.json) {
     nlohmann::json out;
@@ -70,6 +84,21 @@ void RunEom(const EomOptions& opt) {
     out["forcing"] = std::vector<double>(data.g.data(), data.g.data() + n);
     out["xdot"] = std::vector<double>(xdot.data(), xdot.data() + nx);
     out["restoring"] = std::vector<double>(r.data(), r.data() + r.size());
+    if (constrained) {
+      out["state"] = std::vector<double>(x.data(), x.data() + nx);
+      out["reduced_mass_matrix"] = nlohmann::json::array();
+      for (int i = 0; i < n; ++i) {
+        std::vector<double> row;
+        for (int j = 0; j < n; ++j) row.push_back(data.reduced_M(i, j));
+        out["reduced_mass_matrix"].push_back(row);
+      }
+      out["reduced_forcing"] = std::vector<double>(data.reduced_f.data(), data.reduced_f.data() + n);
+      out["dependent_speeds"] = data.dependent;
+      out["constraint_velocity"] = std::vector<double>(
+          data.constraint_velocity.data(), data.constraint_velocity.data() + data.constraint_velocity.size());
+      out["constraint_position"] = std::vector<double>(
+          data.constraint_position.data(), data.constraint_position.data() + data.constraint_position.size());
+    }
     std::cout << out.dump() << "\n";
     return;
   }
@@ -88,6 +117,15 @@ void RunEom(const EomOptions& opt) {
     const auto& info = model.slots()[static_cast<std::size_t>(i)].info;
     fmt::print(" {:>24.17g} [{}] {}\n", r(i), info.unit.empty() ? "N" : info.unit, info.name);
   }
+  if (constrained) {
+    fmt::print("reduced equations [Cᵀ M; B] u̇ = [Cᵀ g; −(Ḃu + ċ)] (dependent speeds:");
+    for (int j : data.dependent) fmt::print(" {}", model.speeds()[j].name);
+    fmt::print("):\n");
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < n; ++j) fmt::print(" {:>24.17g}", data.reduced_M(i, j));
+      fmt::print(" | {:>24.17g}\n", data.reduced_f(i));
+    }
+  }
   fmt::print("xdot:\n");
   for (int i = 0; i < nx; ++i) fmt::print(" {:>24.17g}", xdot(i));
   fmt::print("\n");
@@ -104,7 +142,12 @@ void AddEomCommand(CLI::App& root) {
                   "static restoring forces r^s, one per slot, each in its slot's unit (N, or "
                   "N·m for a moment slot; default: computed by the configured numerical "
                   "substructures)");
-  cmd->add_flag("--json", opt->json, "print one JSON object {mass_matrix, forcing, xdot}");
+  cmd->add_flag("--json", opt->json, "print one JSON object {mass_matrix, forcing, xdot} (a "
+                "constrained model adds state, reduced_mass_matrix, reduced_forcing, "
+                "dependent_speeds, constraint_velocity, constraint_position)");
+  cmd->add_flag("--assemble", opt->assemble,
+                "a constrained model: solve the dependent coordinates and speeds of --state "
+                "from the independent ones first");
   cmd->callback([opt] { RunEom(*opt); });
 }
 

@@ -2,6 +2,7 @@
 // jets seeded with q_k(s) = q0_k + q̇_k s + ½ q̈_k s² and t(s) = t0 + s, the jet must carry
 //   v = φ,  d1 = dφ/ds,  d2 = d²φ/ds²  (at s = 0),  dq_k = ∂φ/∂q_k.
 #include "hybridtest/multibody/jet.h"
+#include "hybridtest/multibody/scalar.h"
 
 #include <gtest/gtest.h>
 
@@ -132,6 +133,23 @@ TEST(JetTest, ConstantsAndShorterJetsCombine) {
   EXPECT_DOUBLE_EQ(s.v, 1.75);
   EXPECT_DOUBLE_EQ(s.dq[1], 2.5);
   EXPECT_DOUBLE_EQ(s.d1, 2.5);
+}
+
+// x² at x = 0 on Jet<AutoDiff> (a model file's `^2` in a Jacobian, e.g. the benchmark
+// bicycle's contact point): the derivatives are finite, pow(v, 0)'s own derivative is not used.
+TEST(JetTest, SquareAtZeroHasFiniteAutoDiffDerivatives) {
+  Jet<AutoDiff> x;
+  x.v = AutoDiff(0.0, Derivatives::Unit(1, 0));
+  x.d1 = AutoDiff(0.5, Derivatives::Zero(1));
+  x.d2 = AutoDiff(0.0, Derivatives::Zero(1));
+  x.n = 1;
+  x.dq[0] = AutoDiff(1.0, Derivatives::Zero(1));
+  const Jet<AutoDiff> y = pow(x, 2.0);
+  EXPECT_EQ(y.v.value(), 0.0);
+  EXPECT_TRUE(std::isfinite(y.d1.derivatives()(0)));
+  EXPECT_DOUBLE_EQ(y.d1.derivatives()(0), 1.0);   // d(2 x ẋ)/dx = 2 ẋ
+  EXPECT_DOUBLE_EQ(y.d2.value(), 0.5);            // 2 ẋ² + 2 x ẍ
+  EXPECT_TRUE(std::isfinite(y.d2.derivatives()(0)));
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 
 #include <fmt/core.h>
 
+#include "hybridtest/multibody/assembly.h"
+
 #include <cmath>
 #include <filesystem>
 
@@ -281,10 +283,9 @@ SimulationConfig ParseSimulationConfig(const YamlInput& in) {
   const int n = cfg.model.model.num_coordinates();
 
   // Initial state: zero unless given (the paper states none; see PAPER-NOTES).
-  cfg.x0.setZero(cfg.model.model.num_states());
-  for (int k = 0; k < cfg.model.model.num_extra_states(); ++k) {
-    cfg.x0(2 * n + k) = cfg.model.model.extra_states()[k].initial;  // z(0) from the model
-  }
+  // The model's own initial state (zero unless a model file gives `initial:`; z(0) from the
+  // model's states).
+  cfg.x0 = cfg.model.model.initial_state();
   const YAML::Node init = in.Mapping(root, "initial_state", "initial_state", false);
   if (init.IsDefined()) {
     in.CheckKeys(init, "initial_state", {"q", "u"});
@@ -298,6 +299,15 @@ SimulationConfig ParseSimulationConfig(const YamlInput& in) {
                                       key[0] == 'q' ? "coordinates" : "speeds"));
       }
       cfg.x0.segment(key[0] == 'q' ? 0 : n, n) = Eigen::Map<const Eigen::VectorXd>(v.data(), n);
+    }
+  }
+  if (cfg.model.model.has_constraints()) {
+    // Dependent coordinates and speeds solved from the independent ones (assembly.h).
+    try {
+      cfg.x0 = multibody::AssembleState(cfg.model.model, 0.0, cfg.x0).x;
+    } catch (const ModelError& e) {
+      throw ConfigError(fmt::format("{}: {}", in.Where(init.IsDefined() ? init : root,
+                                                       "initial_state"), e.what()));
     }
   }
 

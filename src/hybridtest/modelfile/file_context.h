@@ -86,6 +86,15 @@ void ReadLoads(FileContext& c, const YAML::Node& forces, const YAML::Node& torqu
 // `states:` (names already declared, in order): the rates and initial values, into the builder.
 void ReadExtraStates(FileContext& c, const YAML::Node& node);
 
+// `constraints:` and their options (model_file_constraints.cc): into the builder; returns the
+// constraint items (for their lines).
+std::vector<YAML::Node> ReadConstraints(FileContext& c, const YAML::Node& root);
+// Refuses (ConfigError at the constraint's or dependent_speeds' line) constraints that cannot
+// be met at the model's initial state, or a singular choice of dependent speeds there.
+void CheckConstraintsAtInitialState(const FileContext& c, const YAML::Node& root,
+                                    const std::vector<YAML::Node>& items,
+                                    const multibody::Model& model);
+
 // The elements of the optional list section `node` at `key` (empty when absent), with
 // `repeat:` blocks expanded:
 //   - repeat: {i: [1, 2, 3]}

@@ -59,7 +59,7 @@ std::vector<multibody::QuantityInfo> ReadQuantities(const YamlInput& in, const Y
   for (std::size_t i = 0; i < items.size(); ++i) {
     const std::string& kp = labels[i];
     in.RequireMapping(items[i], kp);
-    in.CheckKeys(items[i], kp, {"name", "unit", "description"});
+    in.CheckKeys(items[i], kp, {"name", "unit", "description", "initial"});
     const std::string unit = in.String(items[i]["unit"], kp + ".unit",
                                        key == "coordinates" ? "m or rad" : "m/s or rad/s");
     CheckStateUnit(in, items[i]["unit"], kp + ".unit", unit, key == "coordinates");
@@ -76,7 +76,9 @@ ModelFile ParseModelFile(YamlInput input) {
   const YAML::Node& root = in.root();
   in.CheckKeys(root, "", {"name", "description", "parameters", "coordinates", "speeds",
                           "kinematical_equations", "tables", "time_functions", "frames", "points",
-                          "particles", "bodies", "slots", "states", "forces", "torques"});
+                          "particles", "bodies", "slots", "states", "forces", "torques",
+                          "constraints", "dependent_speeds", "dependent_coordinates",
+                          "constraint_stabilisation"});
   f.name = in.ReadString(root, "", "name",
                          std::filesystem::path(in.path()).stem().string());
   f.description = in.ReadString(root, "", "description", "model file " + in.path());
@@ -215,8 +217,23 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
     c.symbols.SetMirror(c.mirror);  // velocity() and angular_velocity(): loads only
     internal::ReadExtraStates(c, states);
     internal::ReadLoads(c, root["forces"], root["torques"]);
-    return {file.name, file.description, parameters, std::move(builder).Build(),
-            std::move(stiffness)};
+    // Initial values (constants of the parameters), then the constraints.
+    std::vector<double> q0(coordinates.size(), 0.0), u0(coordinates.size(), 0.0);
+    for (std::size_t k = 0; k < coordinate_items.size() && k < q0.size(); ++k) {
+      if (!coordinate_items[k]["initial"]) continue;
+      q0[k] = c.Constant(coordinate_items[k]["initial"], coordinate_labels[k] + ".initial",
+                         "the coordinate's initial value in SI (a constant)");
+    }
+    for (std::size_t k = 0; k < speed_items.size() && k < u0.size(); ++k) {
+      if (!speed_items[k]["initial"]) continue;
+      u0[k] = c.Constant(speed_items[k]["initial"], speed_labels[k] + ".initial",
+                         "the speed's initial value in SI (a constant)");
+    }
+    builder.SetInitialState(std::move(q0), std::move(u0));
+    const std::vector<YAML::Node> constraint_items = internal::ReadConstraints(c, root);
+    multibody::Model model = std::move(builder).Build();
+    internal::CheckConstraintsAtInitialState(c, root, constraint_items, model);
+    return {file.name, file.description, parameters, std::move(model), std::move(stiffness)};
   } catch (const ModelError& e) {
     std::string which;
     if (c.num_coordinates > multibody::kMaxJetCoordinates && !c.first_general.empty()) {

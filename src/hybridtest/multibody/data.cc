@@ -58,6 +58,21 @@ Data<T>::Data(const Model& model) : n(model.num_coordinates()) {
   composite_mass.setZero(n);
   composite_moment.setZero(3, n);
   composite_inertia.assign(n, Matrix3<T>::Zero());
+  if (model.has_constraints()) {
+    const int m = model.num_constraint_rows();
+    constraint_B.setZero(m, n);
+    constraint_velocity.setZero(m);
+    constraint_bias.setZero(m);
+    constraint_position.setZero(m);
+    dependent.assign(static_cast<std::size_t>(m), 0);
+    independent.assign(static_cast<std::size_t>(n - m), 0);
+    constraint_A.setZero(m, n - m);
+    reduced_M.setZero(n, n);
+    reduced_f.setZero(n);
+    lu.setZero(n, n);
+    lu_pivots.assign(static_cast<std::size_t>(n), 0);
+    pivot_scratch.setZero(m, n);
+  }
 }
 
 template struct Data<double>;

@@ -65,6 +65,21 @@ struct Data {
   VectorX<T> composite_mass;                   // (n) [kg]
   Matrix3X<T> composite_moment;                // (3 × n) [kg·m]
   std::vector<Matrix3<T>> composite_inertia;   // (n) [kg·m²]
+
+  // Constraints (Model::has_constraints(); empty otherwise), m = num_constraint_rows(),
+  // p = n − m; constraints.h. Rows in the units of their constraint.
+  MatrixX<T> constraint_B;         // (m × n) B(q, t) of B u + c = 0
+  VectorX<T> constraint_velocity;  // (m) B u + c at the state
+  VectorX<T> constraint_bias;      // (m) Ḃ u + ċ: B u̇ + bias = 0 are the acceleration constraints
+  VectorX<T> constraint_position;  // (m) f(q, t) for holonomic rows, 0 for the others
+  std::vector<int> dependent;      // (m) the dependent speeds of the last reduction
+  std::vector<int> independent;    // (p) the others, ascending
+  MatrixX<T> constraint_A;         // (m × p) u_dep = A u_ind + b: A = −B_dep⁻¹ B_ind
+  MatrixX<T> reduced_M;            // (n × n) [Cᵀ M; B]: rows p independent, then m constraint
+  VectorX<T> reduced_f;            // (n) [Cᵀ g; −bias − stabilisation]
+  MatrixX<T> lu;                   // (n × n) LU factor scratch
+  std::vector<int> lu_pivots;      // (n)
+  Eigen::MatrixXd pivot_scratch;   // (m × n) values of B for the pivoted choice
 };
 
 extern template struct Data<double>;

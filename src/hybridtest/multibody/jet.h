@@ -130,8 +130,11 @@ template <typename T> Jet<T> sqrt(const Jet<T>& a) {
 }
 template <typename T> Jet<T> pow(const Jet<T>& a, double p) {
   using std::pow;
-  return jet_detail::Chain(a, T(pow(a.v, p)), T(p * pow(a.v, p - 1.0)),
-                           T(p * (p - 1.0) * pow(a.v, p - 2.0)));
+  // pow(v, 0) is the constant 1: for AutoDiff, pow(v, 0)'s own derivative 0 · v^−1 is NaN at
+  // v = 0 (e.g. x² at x = 0). For double the values are the same as pow's.
+  const T d1 = p == 1.0 ? T(1.0) : T(p * pow(a.v, p - 1.0));
+  const T d2 = p == 2.0 ? T(2.0) : p == 1.0 ? T(0.0) : T(p * (p - 1.0) * pow(a.v, p - 2.0));
+  return jet_detail::Chain(a, T(pow(a.v, p)), d1, d2);
 }
 
 }  // namespace hybridtest::multibody

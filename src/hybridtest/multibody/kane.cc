@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/multibody/constraints.h"
 #include "hybridtest/multibody/field_eval.h"
 #include "hybridtest/multibody/mass_solve.h"
 #include "hybridtest/multibody/planar_kinematics.h"
@@ -258,6 +259,10 @@ void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
   if (xdot.size() != model.num_states()) {
     throw ModelError(fmt::format("ẋ has {} entries; expected 2n + nz = {}", xdot.size(),
                                  model.num_states()));
+  }
+  if (model.has_constraints()) {  // closed loops, rolling: the reduced equations
+    CalcConstrainedStateDerivative(model, data, t, x, r, xdot);
+    return;
   }
   if constexpr (std::is_same_v<T, double>) {
     if (model.compiled_rhs() != nullptr) {

@@ -40,6 +40,12 @@ int ScalarField::max_coordinate() const {
   return m;
 }
 
+namespace internal {
+// The rows of B u + c = 0 from the constraints, with the options checked (constraint_builder.cc).
+void CompileConstraintRows(const ModelElements& e, std::vector<ConstraintRow>& rows,
+                           int& num_holonomic);
+}  // namespace internal
+
 namespace {
 // Evaluates every DCM frame at q = 0 and at two pseudo-random q (t = 0) and refuses one that
 // is not a rotation (RᵀR = I, det R = +1, to 1e-9): a wrong DCM would silently give wrong
@@ -247,7 +253,15 @@ Model ModelBuilder::Build() && {
     throw ModelError("the model has no mass: add at least one particle or rigid body");
   }
   internal::CompiledKinematics compiled = internal::CompileKinematics(elements_);
-  const bool general = compiled.general;
+  // A non-affine constraint expression is evaluated on jets, as a general field is.
+  bool constraints_general = false;
+  for (const ConstraintSpec& c : elements_.constraints) {
+    constraints_general = constraints_general || !c.field.is_affine() || !c.constant.is_affine();
+    for (const auto& [j, field] : c.coefficients) {
+      constraints_general = constraints_general || !field.is_affine();
+    }
+  }
+  const bool general = compiled.general || constraints_general;
   // Jets (general expressions, W(q), DCM frames) carry ∂/∂q inline for up to
   // kMaxJetCoordinates coordinates; affine models have no such cap.
   const int num_q = static_cast<int>(elements_.coordinates.size());
@@ -333,6 +347,7 @@ Model ModelBuilder::Build() && {
     for (std::size_t t = 1; t < m.projection_terms_.size(); ++t)
       m.projection_terms_[t].continues = m.projection_terms_[t].j == m.projection_terms_[t - 1].j;
   }
+  internal::CompileConstraintRows(elements_, m.constraint_rows_, m.num_holonomic_rows_);
   m.compiled_frames_ = std::move(compiled.frames);
   m.compiled_points_ = std::move(compiled.points);
   m.elements_ = std::move(elements_);

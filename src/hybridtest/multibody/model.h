@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "hybridtest/multibody/constant_mass.h"
+#include "hybridtest/multibody/constraint_spec.h"
 #include "hybridtest/multibody/kinematic_field.h"
 #include "hybridtest/multibody/symbolic_compiled.h"
 
@@ -246,6 +247,16 @@ struct ModelElements {
   std::vector<TimeFunctionSpec> time_functions;
   KinematicMatrixFunction kinematic_matrix;  // empty: q̇ = u
   std::vector<ExtraStateSpec> extra_states;
+  std::vector<ConstraintSpec> constraints;  // closed loops, rolling (constraint_spec.h)
+  ConstraintOptions constraint_options;
+  std::vector<double> initial_q, initial_u;  // ModelBuilder::SetInitialState (empty: zero)
+};
+
+// One row of the velocity constraints B u + c = 0 (Model::constraint_rows()).
+struct ConstraintRow {
+  int constraint = -1;  // index in Model::constraints()
+  int component = 0;    // kCoincident, kVelocity: 0, 1, 2; otherwise 0
+  bool holonomic = false;
 };
 
 class Model;
@@ -310,6 +321,28 @@ class ModelBuilder {
     elements_.kinematic_matrix = KinematicMatrixFunction(f);
   }
 
+  // Constraints (constraint_spec.h, equations in constraints.h). A configuration constraint
+  // f(q, t) = 0 [m, rad or 1]:
+  void AddHolonomicConstraint(std::string name, ScalarField f);
+  // A velocity constraint Σ_j B_j(q, t) u_j + c(q, t) = 0, linear in u by construction.
+  void AddNonholonomicConstraint(std::string name,
+                                 std::vector<std::pair<int, ScalarField>> coefficients,
+                                 ScalarField constant);
+  // Points P and Q coincide: the `components` (0, 1, 2) of p_OP − p_OQ in `expressed_in`
+  // vanish (a closed loop).
+  void AddCoincidenceConstraint(std::string name, PointId P, PointId Q, FrameId expressed_in,
+                                std::vector<int> components);
+  // The velocity of P in N has zero `components` in `expressed_in`. With `body` given, P is
+  // taken as the point of `body` that coincides with it, v = v_C + ω_body × (p_P − p_C) with C
+  // = `body_point` fixed in `body`: a wheel rolling without slip at its contact point P.
+  void AddVelocityConstraint(std::string name, PointId P, FrameId expressed_in,
+                             std::vector<int> components, FrameId body = FrameId{-1},
+                             PointId body_point = PointId{-1});
+  void SetConstraintOptions(ConstraintOptions options);
+  // The state a run starts from unless its config says otherwise, and the operating point of
+  // a linearisation: q (n) [SI], u (n) [SI]; default zero.
+  void SetInitialState(std::vector<double> q, std::vector<double> u);
+
   // Validates (ids, masses, inertia, a positive-definite mass matrix is the user's job) and
   // freezes the model. Throws ModelError naming the element at fault.
   Model Build() &&;
@@ -344,6 +377,16 @@ class Model {
   const std::vector<LoadSpec>& loads() const { return elements_.loads; }
   const std::vector<SlotSpec>& slots() const { return elements_.slots; }
   const std::vector<TimeFunctionSpec>& time_functions() const { return elements_.time_functions; }
+  // Constraints: m = num_constraint_rows() velocity constraints B u + c = 0 (constraints.h).
+  bool has_constraints() const { return !constraint_rows_.empty(); }
+  const std::vector<ConstraintSpec>& constraints() const { return elements_.constraints; }
+  const ConstraintOptions& constraint_options() const { return elements_.constraint_options; }
+  const std::vector<ConstraintRow>& constraint_rows() const { return constraint_rows_; }
+  int num_constraint_rows() const { return static_cast<int>(constraint_rows_.size()); }
+  int num_holonomic_rows() const { return num_holonomic_rows_; }
+  // x0 = [q0; u0; z0] (2n + nz): SetInitialState's q and u (zero if not set) and the extra
+  // states' initial values. Not assembled: see AssembleState (assembly.h).
+  Eigen::VectorXd initial_state() const;
   // What Build() derived from frames() and points() for the engine, indexed like them.
   const std::vector<CompiledFrame>& compiled_frames() const { return compiled_frames_; }
   const std::vector<CompiledPoint>& compiled_points() const { return compiled_points_; }
@@ -396,6 +439,8 @@ class Model {
   friend class ModelBuilder;
   Model() = default;
   ModelElements elements_;
+  std::vector<ConstraintRow> constraint_rows_;
+  int num_holonomic_rows_ = 0;
   std::vector<CompiledFrame> compiled_frames_;
   std::vector<CompiledPoint> compiled_points_;
   std::vector<MassTerm> mass_terms_;

@@ -14,6 +14,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/integrators/stability.h"
 #include "hybridtest/multibody/data.h"
+#include "hybridtest/multibody/constraints.h"
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/schemes/step_control.h"
 #include "hybridtest/substructures/physical_substructure.h"
@@ -62,7 +63,14 @@ double CheckStepStability(const io::RunSpec& spec, double dt) {
     Eigen::VectorXd xdot(nx), q_scratch(n), d_plus(m), d_minus(m);
     multibody::CalcStateDerivative<double>(model, data, 0.0, x0, r0, xdot);  // fills data.M
     Eigen::MatrixXd f_r = Eigen::MatrixXd::Zero(nx, m);  // the rates ż do not read r
-    f_r.middleRows(n, n) = data.M.llt().solve(multibody::CalcCouplingMatrix(model, 0.0, x0));
+    const Eigen::MatrixXd B_r = multibody::CalcCouplingMatrix(model, 0.0, x0);
+    if (model.has_constraints()) {  // through the reduced equations (constraints.h)
+      Eigen::MatrixXd dudr(n, m);
+      multibody::CalcConstrainedRateCoupling(model, data, B_r, dudr);
+      f_r.middleRows(n, n) = dudr;
+    } else {
+      f_r.middleRows(n, n) = data.M.llt().solve(B_r);
+    }
     Eigen::MatrixXd d_q;
     schemes::CalcSlotJacobian(model, data, 0.0, q0, d_q, q_scratch, d_plus, d_minus);
     const Eigen::VectorXd kv = Eigen::Map<const Eigen::VectorXd>(k.data(), m);

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/multibody/constraints.h"
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/schemes/step_control.h"
 
@@ -95,9 +96,14 @@ void AlphaOs::Step(SubstructureSeam& seam, RowSink& /*rows*/) {
   multibody::CalcCouplingMatrix(model_, derivatives_, t_next, x_pred_, B_);
   multibody::CalcStateDerivative<double>(model_, data_, t_next, x_pred_, r_pred_, xdot_);
   CalcSlotJacobian(model_, data_, t_next, x_pred_.head(n_), D_, q_scratch_, d_plus_, d_minus_);
-  mass_llt_.compute(data_.M);
-  dfdr_ = B_;  // (n × m) ∂f_u/∂r = M⁻¹ B, a column at a time (no solver workspace)
-  for (int s = 0; s < m_; ++s) mass_llt_.solveInPlace(dfdr_.col(s));
+  if (model_.has_constraints()) {
+    // ∂u̇/∂r through the reduced equations (multibody/constraints.h).
+    multibody::CalcConstrainedRateCoupling(model_, data_, B_, dfdr_);
+  } else {
+    mass_llt_.compute(data_.M);
+    dfdr_ = B_;  // (n × m) ∂f_u/∂r = M⁻¹ B, a column at a time (no solver workspace)
+    for (int s = 0; s < m_; ++s) mass_llt_.solveInPlace(dfdr_.col(s));
+  }
   // Unknowns [a; w] (w = ż, the extra states' rates; none for most models): q moves with a,
   // [u; z] with [a; w]; the rates do not read r, so only the u̇ rows see M⁻¹ B K0 D.
   jac_.setIdentity();

@@ -1,6 +1,10 @@
 // The engine's equations as expressions. See equations.h.
 #include "hybridtest/symbolic/equations.h"
 
+#include <fmt/core.h>
+
+#include "hybridtest/common/error.h"
+
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/symbolic/simplify.h"
 
@@ -94,9 +98,21 @@ std::vector<GiNaC::ex> ExtraStateRates(const multibody::Model& model, const Data
   return zdot;
 }
 
+// Constrained models (constraints:) are not printed yet: their reduced equations need the
+// dependent speeds solved symbolically (decision 0023).
+void RefuseConstraints(const multibody::Model& model) {
+  if (!model.has_constraints()) return;
+  throw ModelError(fmt::format(
+      "the model has {} constraint rows (constraints:); printing or compiling the equations of "
+      "a constrained model is not supported yet: use `eom` for its reduced equations at a "
+      "state, `modes` for its linearisation, or remove the constraints",
+      model.num_constraint_rows()));
+}
+
 }  // namespace
 
 RhsExpressions DeriveRhs(const multibody::Model& model) {
+  RefuseConstraints(model);
   const int n = model.num_coordinates();
   Data<Symbolic> data(model);
   Equations symbols;
@@ -117,6 +133,7 @@ RhsExpressions DeriveRhs(const multibody::Model& model) {
 }
 
 Equations DeriveEquations(const multibody::Model& model) {
+  RefuseConstraints(model);
   const int n = model.num_coordinates();
   Equations eq;
   Data<Symbolic> data(model);
