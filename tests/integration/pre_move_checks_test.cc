@@ -116,18 +116,28 @@ TEST(PreMoveChecks, ProbeReadsEveryActuatorOfATwoActuatorSpecimen) {
   EXPECT_NE(good.find("ok: every actuator at p0"), std::string::npos) << good;
   const fs::path dir = TempDir() / "probe_two";
   fs::create_directories(dir);
-  fs::copy_file(example + "bench-2act.yaml", dir / "bench-2act.yaml",
-                fs::copy_options::overwrite_existing);
   fs::copy_file(example + "blade_tip.yaml", dir / "blade_tip.yaml",
                 fs::copy_options::overwrite_existing);
-  const std::string run = Slurp(example + "emulated.yaml");
-  ASSERT_NE(run.find("p0: [0.02, 0.03]"), std::string::npos);
-  std::ofstream(dir / "emulated.yaml")
-      << std::regex_replace(run, std::regex("p0: \\[0.02, 0.03\\]"), "p0: [0.02, 0.04]");
+  fs::copy_file(example + "emulated.yaml", dir / "emulated.yaml",
+                fs::copy_options::overwrite_existing);
+  // p0 agrees, but actuator 2 starts 10 mm away from it: the reading catches it.
+  const std::string bench = Slurp(example + "bench-2act.yaml");
+  ASSERT_NE(bench.find("p0_mm: [20, 30]"), std::string::npos);
+  std::ofstream(dir / "bench-2act.yaml")
+      << std::regex_replace(bench, std::regex("p0_mm: \\[20, 30\\]"),
+                            "p0_mm: [20, 30]\n  initial_position_mm: [20, 40]");
   const auto [bad, text] = Hybridtest(fmt::format("probe {}/emulated.yaml", dir.string()));
   EXPECT_EQ(bad, 2) << text;
-  EXPECT_NE(text.find("PROBLEM: actuator 2: position 0.03 m"), std::string::npos) << text;
+  EXPECT_NE(text.find("PROBLEM: actuator 2: position 0.04 m"), std::string::npos) << text;
   EXPECT_EQ(text.find("PROBLEM: actuator 1"), std::string::npos) << text;
+  // A setup.p0 that disagrees with the bench's p0 is refused before anything is read.
+  const std::string run = Slurp(example + "emulated.yaml");
+  std::ofstream(dir / "emulated.yaml")
+      << std::regex_replace(run, std::regex("p0: \\[0.02, 0.03\\]"), "p0: [0.02, 0.04]");
+  const auto [refused, why] = Hybridtest(fmt::format("probe {}/emulated.yaml", dir.string()));
+  EXPECT_EQ(refused, 2) << why;
+  EXPECT_NE(why.find("substructures.blade1.setup.p0[2] = 0.04 m, but the emulated bench "
+                     "announces p0 = 0.03 m"), std::string::npos) << why;
 }
 
 TEST(PreMoveChecks, ProbeReadsAModbusControllerWithoutWritingAnything) {
