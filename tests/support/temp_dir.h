@@ -9,10 +9,24 @@
 
 namespace hybridtest::test_support {
 
-// <temp>/hybridtest_<name>_<pid>, emptied if it was left over, then created. The pid keeps
+// The directory tests write their scratch files in: /dev/shm when it is a writable directory
+// (a tmpfs: a physical run syncs its journal at every row, and on a disk those syncs are most
+// of a test's time, 70 s instead of 8 s for a 10,000-row emulated run), else $TMPDIR or /tmp.
+inline std::filesystem::path ScratchBase() {
+  static const std::filesystem::path base = [] {
+    std::error_code error;
+    if (std::filesystem::is_directory("/dev/shm", error) && ::access("/dev/shm", W_OK) == 0) {
+      return std::filesystem::path("/dev/shm");
+    }
+    return std::filesystem::temp_directory_path();
+  }();
+  return base;
+}
+
+// <scratch>/hybridtest_<name>_<pid>, emptied if it was left over, then created. The pid keeps
 // the test processes that CTest runs in parallel apart.
 inline std::filesystem::path FreshTempDir(const std::string& name) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+  const std::filesystem::path dir = ScratchBase() /
                                     ("hybridtest_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
