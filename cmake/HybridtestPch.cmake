@@ -27,19 +27,24 @@ set(HYBRIDTEST_PCH_HEADERS
   <yaml-cpp/yaml.h>
   <Eigen/Core> <Eigen/Cholesky> <Eigen/Eigenvalues> <Eigen/Geometry> <Eigen/LU>)
 
-# hybridtest_pch(TARGET): TARGET (a static layer library) uses the layers' shared precompiled
-# header; the first library given creates it.
-function(hybridtest_pch target)
+# hybridtest_pch_share(TARGET GROUP HEADER...): TARGET uses the precompiled header of HEADERs
+# shared by the targets of GROUP (REUSE_FROM); the group's first target creates it.
+function(hybridtest_pch_share target group)
   if(NOT hybridtest_pch_default)
     return()
   endif()
-  get_property(owner GLOBAL PROPERTY HYBRIDTEST_PCH_OWNER)
+  get_property(owner GLOBAL PROPERTY HYBRIDTEST_PCH_OWNER_${group})
   if(NOT owner)
-    target_precompile_headers(${target} PRIVATE ${HYBRIDTEST_PCH_HEADERS})
-    set_property(GLOBAL PROPERTY HYBRIDTEST_PCH_OWNER ${target})
+    target_precompile_headers(${target} PRIVATE ${ARGN})
+    set_property(GLOBAL PROPERTY HYBRIDTEST_PCH_OWNER_${group} ${target})
   else()
     target_precompile_headers(${target} REUSE_FROM ${owner})
   endif()
+endfunction()
+
+# hybridtest_pch(TARGET): TARGET (a static layer library) uses the layers' shared header.
+function(hybridtest_pch target)
+  hybridtest_pch_share(${target} layers ${HYBRIDTEST_PCH_HEADERS})
 endfunction()
 
 # hybridtest_pch_app(TARGET [HEADER...]): an executable's own precompiled header (the shared
@@ -52,19 +57,9 @@ function(hybridtest_pch_app target)
 endfunction()
 
 # hybridtest_pch_tests(TARGET): the GoogleTest executables share one precompiled header (the
-# shared headers, GoogleTest and GoogleMock: about 40% of a test file's compile time); the first
-# test target creates it. Their compile options are the same; the definitions they add
-# (HYBRIDTEST_SOURCE_DIR, ...) are not used by the header.
+# shared headers, GoogleTest and GoogleMock: about 30% of a test file's compile time). Their
+# compile options are the same; the definitions they add (HYBRIDTEST_SOURCE_DIR, ...) are not
+# used by the header.
 function(hybridtest_pch_tests target)
-  if(NOT hybridtest_pch_default)
-    return()
-  endif()
-  get_property(owner GLOBAL PROPERTY HYBRIDTEST_TEST_PCH_OWNER)
-  if(NOT owner)
-    target_precompile_headers(${target} PRIVATE ${HYBRIDTEST_PCH_HEADERS} <gtest/gtest.h>
-                              <gmock/gmock.h>)
-    set_property(GLOBAL PROPERTY HYBRIDTEST_TEST_PCH_OWNER ${target})
-  else()
-    target_precompile_headers(${target} REUSE_FROM ${owner})
-  endif()
+  hybridtest_pch_share(${target} tests ${HYBRIDTEST_PCH_HEADERS} <gtest/gtest.h> <gmock/gmock.h>)
 endfunction()

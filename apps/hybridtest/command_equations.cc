@@ -28,10 +28,7 @@ void AddModelArguments(CLI::App* cmd, EquationsOptions& opt) {
 }
 
 void RunEquations(const EquationsOptions& opt) {
-  if (opt.format != "c" && opt.format != "markdown" && opt.format != "latex" &&
-      opt.format != "sympy") {  // a bad format before any work
-    throw ConfigError(fmt::format("--format {}: expected markdown, latex, sympy or c", opt.format));
-  }
+  CheckEquationsFormat(opt.format);  // a bad format before any work
   if (!opt.out.empty()) {
     io::CheckOutputFile(opt.out, {{opt.model, "the model"}}, "--out");
     std::error_code ec;

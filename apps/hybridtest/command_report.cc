@@ -46,9 +46,7 @@ std::string RecordedConfig(const io::RunData& run) {
                                   run.csv_path));
   }
   const std::string config = io::RecordedConfigPath(*inputs, run.csv_path);
-  io::SubstructureOptions options;
-  options.allow_physical = true;
-  const io::RunSpec spec = io::LoadRunSpec(config, options);
+  const io::RunSpec spec = io::LoadRunSpec(config);  // physical slots allowed: nothing moves
   io::CheckRunInputs(*inputs, spec, run.csv_path,
                      "--equations prints the equations of the model the run integrated, from "
                      "the files it read",

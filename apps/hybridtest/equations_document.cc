@@ -77,13 +77,19 @@ models::BuiltModel LoadModel(const EquationsOptions& opt, std::string* source, R
   return built;
 }
 
+void CheckEquationsFormat(const std::string& format) {
+  if (format != "c" && format != "markdown" && format != "latex" && format != "sympy") {
+    throw ConfigError(fmt::format("--format {}: expected markdown, latex, sympy or c", format));
+  }
+}
+
 namespace {
 
 symbolic::Format ParseFormat(const std::string& format) {
-  if (format == "markdown") return symbolic::Format::kMarkdown;
+  CheckEquationsFormat(format);
   if (format == "latex") return symbolic::Format::kLatex;
   if (format == "sympy") return symbolic::Format::kSympy;
-  throw ConfigError(fmt::format("--format {}: expected markdown, latex, sympy or c", format));
+  return symbolic::Format::kMarkdown;
 }
 
 }  // namespace

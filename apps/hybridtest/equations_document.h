@@ -32,4 +32,7 @@ models::BuiltModel LoadModel(const EquationsOptions& opt, std::string* source, R
 // ModelError for what the symbolic engine cannot derive.
 std::string EquationsDocument(const EquationsOptions& opt);
 
+// Throws ConfigError unless `format` is one `--format` takes: markdown, latex, sympy or c.
+void CheckEquationsFormat(const std::string& format);
+
 }  // namespace hybridtest::app

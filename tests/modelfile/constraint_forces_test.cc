@@ -6,7 +6,6 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include <Eigen/LU>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -17,6 +16,7 @@
 #include "hybridtest/multibody/assembly.h"
 #include "hybridtest/multibody/constraints.h"
 #include "hybridtest/multibody/kane.h"
+#include "support/augmented_constraints.h"
 #include "support/temp_dir.h"
 
 namespace hybridtest {
@@ -26,13 +26,6 @@ namespace fs = std::filesystem;
 using multibody::Data;
 using multibody::Model;
 const std::string kSource = HYBRIDTEST_SOURCE_DIR;
-
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 models::BuiltModel BuildText(const std::string& text, const std::string& name,
                              const std::map<std::string, double>& set = {}) {
@@ -101,26 +94,8 @@ TEST(ConstraintForces, TheRodOfATetheredMassCarriesItsAnalyticalTension) {
   }
 }
 
-// λ of M u̇ = g + Bᵀλ, B u̇ = −bias, solved as one augmented system.
-Eigen::VectorXd AugmentedMultipliers(const Model& model, const Eigen::VectorXd& x) {
-  Data<double> data(model);
-  const int n = model.num_coordinates();
-  const int m = model.num_constraint_rows();
-  multibody::CalcKinematics<double>(model, data, 0.0, x);
-  multibody::CalcMassMatrixPairwise(model, data);
-  multibody::CalcForcing<double>(model, data, Eigen::VectorXd::Zero(model.num_slots()));
-  multibody::CalcConstraints(model, data);
-  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n + m, n + m);
-  K.topLeftCorner(n, n) = data.M;
-  K.topRightCorner(n, m) = -data.constraint_B.transpose();
-  K.bottomLeftCorner(m, n) = data.constraint_B;
-  Eigen::VectorXd rhs(n + m);
-  rhs << data.g, -data.constraint_bias;
-  return Eigen::FullPivLU<Eigen::MatrixXd>(K).solve(rhs).tail(m);
-}
-
 TEST(ConstraintForces, EqualTheMultipliersOfTheAugmentedSystemWhicheverSpeedsAreDependent) {
-  std::string text = ReadText(kSource + "/examples/models/slider_crank.yaml");
+  std::string text = test_support::ReadText(kSource + "/examples/models/slider_crank.yaml");
   for (const bool pivoted : {false, true}) {
     const std::string edited =
         pivoted ? std::regex_replace(text, std::regex("dependent_speeds: \\[u2, u3\\]"), "") : text;
@@ -134,7 +109,8 @@ TEST(ConstraintForces, EqualTheMultipliersOfTheAugmentedSystemWhicheverSpeedsAre
       x(3) = -6.0 + crank;
       x = multibody::AssembleState(model, 0.0, x).x;
       const Eigen::VectorXd lambda = Forces(model, x, data);
-      const Eigen::VectorXd reference = AugmentedMultipliers(model, x);
+      const Eigen::VectorXd reference =
+          test_support::AugmentedSolution(model, 0.0, x).tail(model.num_constraint_rows());
       EXPECT_LT((lambda - reference).cwiseAbs().maxCoeff(), 1e-9 * (1.0 + reference.norm()))
           << "pivoted " << pivoted << " crank " << crank << ": " << lambda.transpose()
           << " vs " << reference.transpose();
@@ -143,7 +119,7 @@ TEST(ConstraintForces, EqualTheMultipliersOfTheAugmentedSystemWhicheverSpeedsAre
 }
 
 TEST(ConstraintForces, TheBicyclesFrontWheelCarriesItsShareOfTheWeightAtSteadyRolling) {
-  std::string text = ReadText(kSource + "/examples/models/whipple_bicycle.yaml");
+  std::string text = test_support::ReadText(kSource + "/examples/models/whipple_bicycle.yaml");
   text = std::regex_replace(text, std::regex("(name: front touches ground, [^}]*)\\}"),
                             "$1, record_force: true}");
   text = std::regex_replace(text, std::regex("(name: front rolling, [^}]*)\\}"),

@@ -20,6 +20,7 @@
 #include "hybridtest/multibody/derivatives.h"
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/symbolic/equations.h"
+#include "support/augmented_constraints.h"
 #include "support/temp_dir.h"
 
 namespace hybridtest {
@@ -53,20 +54,7 @@ models::BuiltModel FourBar(const std::string& edit_from = "", const std::string&
 
 // u̇ from M u̇ = g + Bᵀλ, B u̇ = −bias (no stabilisation needed on the manifold).
 Eigen::VectorXd MultiplierSolution(const Model& model, double t, const Eigen::VectorXd& x) {
-  Data<double> data(model);
-  const int n = model.num_coordinates();
-  const int m = model.num_constraint_rows();
-  multibody::CalcKinematics<double>(model, data, t, x);
-  multibody::CalcMassMatrixPairwise(model, data);
-  multibody::CalcForcing<double>(model, data, Eigen::VectorXd::Zero(model.num_slots()));
-  multibody::CalcConstraints(model, data);
-  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n + m, n + m);
-  K.topLeftCorner(n, n) = data.M;
-  K.topRightCorner(n, m) = -data.constraint_B.transpose();
-  K.bottomLeftCorner(m, n) = data.constraint_B;
-  Eigen::VectorXd rhs(n + m);
-  rhs << data.g, -data.constraint_bias;
-  return Eigen::FullPivLU<Eigen::MatrixXd>(K).solve(rhs).head(n);
+  return test_support::AugmentedSolution(model, t, x).head(model.num_coordinates());
 }
 
 TEST(ConstraintsTest, AssemblyClosesTheFourBarLoop) {

@@ -8,6 +8,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/substructures/physical_substructure.h"
 #include "hybridtest/substructures/resume_rules.h"
+#include "hybridtest/substructures/substructure_spec.h"
 
 namespace hybridtest::substructures {
 
@@ -108,7 +109,7 @@ nlohmann::json PhysicalSubstructure::ReimposeForResume(const ResumeRequest& requ
   const std::size_t n = check.actuators.size();
   for (std::size_t k = 0; k < n; ++k) {
     const auto& a = check.actuators[k];
-    const std::string slot = n == 1 ? request.name : fmt::format("{}_a{}", request.name, k + 1);
+    const std::string slot = ActuatorName(request.name, static_cast<int>(k), static_cast<int>(n));
     nlohmann::json c = {{"slot", slot},
                         {"command_m", a.command},
                         {"committed_force_N", a.committed_force},

@@ -17,11 +17,14 @@
 
 namespace hybridtest::substructures {
 
+std::string ActuatorName(const std::string& name, int k, int n) {
+  return n == 1 ? name : fmt::format("{}_a{}", name, k + 1);
+}
+
 std::vector<std::string> SubstructureSpec::ActuatorNames() const {
   const int n = num_actuators();
-  if (n == 1) return {slot};
   std::vector<std::string> names;
-  for (int k = 1; k <= n; ++k) names.push_back(fmt::format("{}_a{}", slot, k));
+  for (int k = 0; k < n; ++k) names.push_back(ActuatorName(slot, k, n));
   return names;
 }
 

@@ -30,6 +30,10 @@
 
 namespace hybridtest::substructures {
 
+// The name of actuator k (0-based) of n of the substructure `name`, as its journal channels and
+// records name it: `name` itself for one actuator, "<name>_a<k+1>" for several.
+std::string ActuatorName(const std::string& name, int k, int n);
+
 // A transfer system of one configured type, ready to be made (nothing connected yet).
 struct TransferSpec {
   std::string type;  // "emulated", "loopback", "remote", "modbus", "openfresco", or a user's
@@ -96,7 +100,7 @@ struct SubstructureSpec {
     return 1;
   }
   // The names of its actuators' journal channels, in actuator order: the slot's name for one
-  // actuator, "<name>_a1", "<name>_a2", ... for several; empty if numerical.
+  // actuator, "<name>_a1", "<name>_a2", ... for several (ActuatorName); empty if numerical.
   std::vector<std::string> ActuatorNames() const;
   // Each actuator's safety limits (SI), in actuator order; empty if not `physical`.
   std::vector<transfer::SafetyLimits> ActuatorLimits() const;
