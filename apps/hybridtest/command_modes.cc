@@ -27,6 +27,7 @@ struct ModesOptions {
   std::vector<std::string> set;
   double time = 0.0;
   std::string steady;
+  std::string driven;
   multibody::SteadyStateOptions steady_options;
   bool json = false;
 };
@@ -67,10 +68,13 @@ io::ModesRequest MakeRequest(const ModesOptions& opt) {
     request.set.emplace_back(item.substr(0, eq), v[0]);
   }
   ParseAt(opt.at, request);
-  std::string name;
-  std::stringstream ss(opt.steady);
-  while (std::getline(ss, name, ',')) {
-    if (!name.empty()) request.steady.push_back(name);
+  for (auto [text, names] : {std::pair{&opt.steady, &request.steady},
+                             std::pair{&opt.driven, &request.driven}}) {
+    std::string name;
+    std::stringstream ss(*text);
+    while (std::getline(ss, name, ',')) {
+      if (!name.empty()) names->push_back(name);
+    }
   }
   return request;
 }
@@ -88,6 +92,8 @@ nlohmann::json SteadyJson(const multibody::Model& model, const multibody::Steady
   j["residual_speed"] = model.speeds()[static_cast<std::size_t>(s.worst_speed)].name;
   j["residual_unit"] = multibody::SpeedRateUnit(model, s.worst_speed);
   j["converged"] = s.converged;
+  j["driven"] = nlohmann::json::array();
+  for (int k : s.driven_speeds) j["driven"].push_back(model.speeds()[static_cast<std::size_t>(k)].name);
   return j;
 }
 
@@ -185,6 +191,9 @@ void AddModesCommand(CLI::App& root) {
   cmd->add_option("--steady", opt->steady,
                   "coordinates to solve first for a steady state u̇ = 0, comma separated "
                   "(q1,q3), with the other coordinates and the independent speeds held");
+  cmd->add_option("--driven", opt->driven,
+                  "with --steady: speeds a drive holds at their values (a motor at its set "
+                  "speed), comma separated; their rates need not vanish");
   cmd->add_option("--steady-tolerance", opt->steady_options.tolerance,
                   "steady state: largest |u̇| accepted, in the speed rates' units (default "
                   "1e-10)")->check(CLI::PositiveNumber);
@@ -195,7 +204,7 @@ void AddModesCommand(CLI::App& root) {
                 "print one JSON object {model, states, operating_point, state_matrix, modes: "
                 "[{real, imag, frequency_hz, damped_frequency_hz, damping_ratio, shape_real, "
                 "shape_imag}], steady: {coordinates, values, iterations, residual, "
-                "residual_speed, residual_unit, converged} (with --steady)}");
+                "residual_speed, residual_unit, converged, driven} (with --steady)}");
   cmd->callback([opt] { RunModes(*opt); });
 }
 

@@ -30,7 +30,7 @@ class SteadyState:
     """The steady state found before linearising: coordinates (names) and their values [SI],
     iterations (Gauss–Newton steps), residual = max |u̇| at it (unit residual_unit, the rate
     of speed residual_speed, the largest), converged (always True: one that is not found
-    raises ModelError)."""
+    raises ModelError), driven (the speeds a drive held)."""
 
     def __init__(self, d):
         self.coordinates = list(d["coordinates"])
@@ -40,6 +40,7 @@ class SteadyState:
         self.residual_speed = d["residual_speed"]
         self.residual_unit = d["residual_unit"]
         self.converged = d["converged"]
+        self.driven = list(d["driven"])
 
     def __repr__(self):
         found = ", ".join(f"{n} = {v:.12g}" for n, v in zip(self.coordinates, self.values))
@@ -73,7 +74,16 @@ class ModeAnalysis:
                 f"states, {len(self.modes)} modes>")
 
 
-def modes(path, *, at=None, set=None, time=0.0, steady=None, tolerance=1e-10,
+def _names(value):
+    """A list of names from None, "a,b" or an iterable of names."""
+    if value is None:
+        return []
+    if isinstance(value, str):
+        return [s.strip() for s in value.split(",") if s.strip()]
+    return [str(s) for s in value]
+
+
+def modes(path, *, at=None, set=None, time=0.0, steady=None, driven=None, tolerance=1e-10,
           max_iterations=50):
     """Linearises a model file or run config about an operating point, through its
     constraints, as `hybridtest modes` does, and returns a ModeAnalysis.
@@ -81,20 +91,15 @@ def modes(path, *, at=None, set=None, time=0.0, steady=None, tolerance=1e-10,
     at: {"q": [...], "u": [...]} replaces the start's coordinates and/or speeds (n values
     each, SI; the dependent ones are solved). set: {parameter: SI value} overrides. time: t
     [s]. steady: coordinate names (a list, or "q1,q3") solved first for u̇ = 0 with the other
-    coordinates and the independent speeds held; tolerance on max |u̇| in the speed rates'
-    units, max_iterations of Gauss–Newton. Raises ConfigError for bad input and ModelError
+    coordinates and the independent speeds held; driven: speeds a drive holds at their values
+    (a motor at its set speed; unconstrained models), whose rates need not vanish; tolerance
+    on max |u̇| in the speed rates' units, max_iterations of Gauss–Newton. Raises ConfigError for bad input and ModelError
     for an operating point the model cannot take or a steady state that is not found (the
     message names the residual, the largest speed rate and what to try).
     """
-    if steady is None:
-        names = []
-    elif isinstance(steady, str):
-        names = [s.strip() for s in steady.split(",") if s.strip()]
-    else:
-        names = [str(s) for s in steady]
     if at is not None:
         at = {key: [float(v) for v in np.ravel(values)] for key, values in dict(at).items()}
     if set is not None:
         set = {str(key): float(value) for key, value in dict(set).items()}
-    return ModeAnalysis(_core_modes(os.fspath(path), at, set, float(time), names,
-                                    float(tolerance), int(max_iterations)))
+    return ModeAnalysis(_core_modes(os.fspath(path), at, set, float(time), _names(steady),
+                                    _names(driven), float(tolerance), int(max_iterations)))

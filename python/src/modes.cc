@@ -4,7 +4,7 @@
 //
 //   {model, time, start, x, states, A, modes: [{eigenvalue, frequency_hz, damped_frequency_hz,
 //    damping_ratio, shape}], steady: None | {coordinates, values, iterations, residual,
-//    residual_speed, residual_unit, converged}}
+//    residual_speed, residual_unit, converged, driven}}
 //
 // Arrays are numpy (A float64, shape complex128); everything is SI.
 #include <pybind11/complex.h>
@@ -37,11 +37,13 @@ void ReadAt(const std::optional<py::dict>& at, io::ModesRequest& request) {
 
 py::dict Modes(const std::string& path, const std::optional<py::dict>& at,
                const std::optional<py::dict>& set, double time,
-               const std::vector<std::string>& steady, double tolerance, int max_iterations) {
+               const std::vector<std::string>& steady, const std::vector<std::string>& driven,
+               double tolerance, int max_iterations) {
   io::ModesRequest request;
   request.path = path;
   request.time = time;
   request.steady = steady;
+  request.driven = driven;
   if (!(tolerance > 0.0)) {
     throw ConfigError(fmt::format("modes(tolerance={}): expected a positive tolerance on |u̇| "
                                   "in the speed rates' units", tolerance));
@@ -95,6 +97,9 @@ py::dict Modes(const std::string& path, const std::optional<py::dict>& at,
     d["residual_speed"] = model.speeds()[static_cast<std::size_t>(s.worst_speed)].name;
     d["residual_unit"] = multibody::SpeedRateUnit(model, s.worst_speed);
     d["converged"] = s.converged;
+    py::list drives;
+    for (int k : s.driven_speeds) drives.append(model.speeds()[static_cast<std::size_t>(k)].name);
+    d["driven"] = drives;
     out["steady"] = d;
   }
   return out;
@@ -105,7 +110,8 @@ py::dict Modes(const std::string& path, const std::optional<py::dict>& at,
 void BindModes(py::module_& m) {
   m.def("modes", &Modes, py::arg("path"), py::arg("at") = py::none(),
         py::arg("set") = py::none(), py::arg("time") = 0.0,
-        py::arg("steady") = std::vector<std::string>{}, py::arg("tolerance") = 1e-10,
+        py::arg("steady") = std::vector<std::string>{},
+        py::arg("driven") = std::vector<std::string>{}, py::arg("tolerance") = 1e-10,
         py::arg("max_iterations") = 50,
         "`hybridtest modes` as a dict (hybridtest.modes wraps it as a ModeAnalysis).");
 }

@@ -117,3 +117,18 @@ def test_a_run_config_gives_its_model_files_operating_point():
     by_file = ht.modes(FOUR_BAR, set={"k": 30.0})
     np.testing.assert_array_equal(by_config.A, by_file.A)
     np.testing.assert_array_equal(by_config.x, by_file.x)
+
+
+def test_a_driven_rotor_balances_its_blade_tips():
+    # q_i = ramp (f_w − m g sin θ_i) / (k − m Ω²): the tip balance along b̂_iy at u̇ = 0.
+    omega, t, q4 = 20.0, 3.0, 0.3
+    a = ht.modes(ROOT / "examples/models/rotor.yaml", time=t, at={"q": [0, 0, 0, q4],
+                 "u": [0, 0, 0, omega]}, steady="q1,q2,q3", driven="u4")
+    ramp = 1 - math.exp(-t / 0.5)
+    want = [ramp * (100.0 - 1.96 * 9.82 * math.sin(q4 + 2 * math.pi * i / 3)) /
+            (7.2e3 - 1.96 * omega ** 2) for i in range(3)]
+    np.testing.assert_allclose(a.steady.values, want, rtol=0, atol=1e-15)
+    assert a.steady.driven == ["u4"]
+    with pytest.raises(ht.ModelError, match="u̇ of speed 'u4'"):
+        ht.modes(ROOT / "examples/models/rotor.yaml", time=t, at={"u": [0, 0, 0, omega]},
+                 steady="q1,q2,q3")

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <functional>
+#include <tuple>
 #include <nlohmann/json.hpp>
 
 #include "hybridtest/common/error.h"
@@ -116,6 +117,33 @@ TEST(SteadyStateTest, FourBarEquilibriumMinimisesItsPotentialEnergy) {
   EXPECT_GT(std::abs(r.analysis.modes[0].eigenvalue.imag()), 1.0);
 }
 
+// The rotor (examples/models/rotor.yaml) driven at Ω: each blade tip, at angle θ_i = q4 +
+// 2π(i−1)/3, balances m(−Ω² q_i) = −k q_i + ramp (f_w − m g sin θ_i) along b̂_iy (u̇ = 0),
+// so q_i = ramp (f_w − m g sin θ_i) / (k − m Ω²), ramp = 1 − exp(−t/t0). Without the drive
+// the generator's damping slows the hub: no steady state.
+TEST(SteadyStateTest, DrivenRotorBladesMatchTheTipBalance) {
+  const double m = 1.96, k = 7.2e3, f_w = 100.0, g = 9.82, t0 = 0.5;
+  for (auto [omega, t, q4] : {std::tuple{20.0, 3.0, 0.3}, std::tuple{40.0, 0.7, -1.1}}) {
+    io::ModesRequest request;
+    request.path = kSource + "/examples/models/rotor.yaml";
+    request.time = t;
+    request.q = std::vector<double>{0.0, 0.0, 0.0, q4};
+    request.u = std::vector<double>{0.0, 0.0, 0.0, omega};
+    request.steady = {"q1", "q2", "q3"};
+    request.driven = {"u4"};
+    const io::ModesReport r = io::AnalyseModes(request);
+    const double ramp = 1.0 - std::exp(-t / t0);
+    for (int i = 0; i < 3; ++i) {
+      const double theta = q4 + 2.0 * M_PI * i / 3.0;
+      EXPECT_NEAR(r.steady->x(i), ramp * (f_w - m * g * std::sin(theta)) / (k - m * omega * omega),
+                  1e-15) << "Ω = " << omega << ", blade " << i + 1;
+    }
+    EXPECT_EQ(r.steady->driven_speeds, std::vector<int>{3});
+    request.driven.clear();
+    EXPECT_THROW(io::AnalyseModes(request), ModelError);  // u̇4 = −d_g Ω / I_g ≠ 0
+  }
+}
+
 TEST(SteadyStateTest, NoSteadyStateIsRefusedNamingTheResidual) {
   // k = 0 and T = 6 N·m > m g l = 4.905 N·m: u̇ ≥ (T − m g l)/(m l²) = 4.38 rad/s².
   try {
@@ -139,6 +167,9 @@ TEST(SteadyStateTest, CommandLineRefusalsExitTwo) {
       {kGovernor + " --steady phi", "'phi' is not a coordinate of the model; its coordinates are psi, theta"},
       {kFourBar + " --steady q2 --at u=0,0,0", "coordinate q2 is dependent"},
       {kGovernor + " --steady theta --steady-iterations 1", "the iteration limit (1) was reached"},
+      {kFourBar + " --steady q1 --driven u1", "driven speeds are supported for unconstrained models only"},
+      {kGovernor + " --driven w", "driven speeds only matter for a steady state"},
+      {kGovernor + " --steady theta --driven v", "'v' is not a speed of the model; its speeds are w, thetadot"},
   };
   for (const Case& c : cases) {
     const auto [status, out] = testing::RunCommand(

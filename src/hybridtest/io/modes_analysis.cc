@@ -71,20 +71,20 @@ models::BuiltModel LoadModesModel(const ModesRequest& request, Eigen::VectorXd* 
   return built;
 }
 
-std::vector<int> CoordinateIndices(const multibody::Model& model,
-                                   const std::vector<std::string>& names,
-                                   const std::string& where) {
+std::vector<int> QuantityIndices(const std::vector<multibody::QuantityInfo>& known,
+                                 const std::vector<std::string>& names, const std::string& kind,
+                                 const std::string& where) {
   std::vector<int> out;
   for (const std::string& name : names) {
-    const auto& c = model.coordinates();
-    const auto at = std::find_if(c.begin(), c.end(), [&](const auto& q) { return q.name == name; });
-    if (at == c.end()) {
-      std::string known;
-      for (const auto& q : c) known += (known.empty() ? "" : ", ") + q.name;
-      throw ConfigError(fmt::format("{}: '{}' is not a coordinate of the model; its coordinates "
-                                    "are {}", where, name, known));
+    const auto at =
+        std::find_if(known.begin(), known.end(), [&](const auto& q) { return q.name == name; });
+    if (at == known.end()) {
+      std::string list;
+      for (const auto& q : known) list += (list.empty() ? "" : ", ") + q.name;
+      throw ConfigError(fmt::format("{}: '{}' is not a {} of the model; its {}s are {}", where,
+                                    name, kind, kind, list));
     }
-    out.push_back(static_cast<int>(at - c.begin()));
+    out.push_back(static_cast<int>(at - known.begin()));
   }
   return out;
 }
@@ -97,11 +97,20 @@ ModesReport AnalyseModes(const ModesRequest& request) {
   multibody::ModeAnalysis analysis;
   try {
     Eigen::VectorXd x = start;
+    if (!request.driven.empty() && request.steady.empty()) {
+      throw ConfigError(fmt::format("modes {}: driven speeds only matter for a steady state; "
+                                    "name the coordinates to solve for (--steady, steady=)",
+                                    request.path));
+    }
     if (!request.steady.empty()) {
-      const std::vector<int> free = CoordinateIndices(
-          model, request.steady, fmt::format("modes {}: steady", request.path));
+      const std::vector<int> free = QuantityIndices(
+          model.coordinates(), request.steady, "coordinate",
+          fmt::format("modes {}: steady", request.path));
+      multibody::SteadyStateOptions options = request.steady_options;
+      options.driven_speeds = QuantityIndices(model.speeds(), request.driven, "speed",
+                                              fmt::format("modes {}: driven", request.path));
       steady = multibody::FindSteadyState(model, request.time, x, free, built.slot_stiffness,
-                                          request.steady_options);
+                                          options);
       if (!steady->converged) throw ModelError(steady->message);
       x = steady->x;
     }

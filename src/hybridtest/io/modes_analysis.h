@@ -22,7 +22,10 @@ struct ModesRequest {
   std::optional<std::vector<double>> u;              // (n) replaces the start's u [SI]
   double time = 0.0;                                 // t of the operating point [s]
   std::vector<std::string> steady;                   // coordinates solved for u̇ = 0 (names)
-  multibody::SteadyStateOptions steady_options;
+  std::vector<std::string> driven;                   // speeds a drive holds (names; their
+                                                     // rates are not required to vanish)
+  multibody::SteadyStateOptions steady_options;      // tolerance, iterations (driven_speeds
+                                                     // is filled from `driven`)
 };
 
 struct ModesReport {
@@ -37,9 +40,11 @@ struct ModesReport {
 // --set on a config that names a built-in model, or q/u of the wrong length.
 models::BuiltModel LoadModesModel(const ModesRequest& request, Eigen::VectorXd* x0);
 
-// Indices in q of the named coordinates; ConfigError naming an unknown one and the known ones.
-std::vector<int> CoordinateIndices(const multibody::Model& model,
-                                   const std::vector<std::string>& names, const std::string& where);
+// Indices of the named quantities in `known` (the model's coordinates or speeds; `kind` is
+// "coordinate" or "speed"); ConfigError naming an unknown one and the known ones.
+std::vector<int> QuantityIndices(const std::vector<multibody::QuantityInfo>& known,
+                                 const std::vector<std::string>& names, const std::string& kind,
+                                 const std::string& where);
 
 // The whole analysis. A model that cannot be evaluated or assembled at the operating point,
 // and a steady state that is not found (its message: the residual, the largest speed rate,

@@ -5,10 +5,11 @@
 // constrained model the dependent coordinates and speeds are reassembled (AssembleState) at
 // every iterate, so the equations hold on the constraint manifold.
 //
-// The equations are the n speed rates u̇_k (residual R, n rows); the unknowns the n_f free
-// coordinates. Gauss–Newton: the step δ solves min |R + G δ|₂ (least squares when n > n_f;
-// a column-pivoted QR, rank-revealing), with
-//   G = (J T)[u rows, free columns],  J = ∂ẋ/∂x exact (AutoDiff, LinearizeConstrained),
+// The equations are the speed rates u̇_k (residual R: all n, or those of the speeds not in
+// SteadyStateOptions::driven_speeds, which a drive holds); the unknowns the n_f free
+// coordinates. Gauss–Newton: the step δ solves min |R + G δ|₂ (least squares when there are
+// more equations than unknowns; a column-pivoted QR, rank-revealing), with
+//   G = (J T)[rows of R, free columns],  J = ∂ẋ/∂x exact (AutoDiff, LinearizeConstrained),
 // T the manifold's tangent (the chain rule through the dependent q and u). A backtracking line
 // search on |R|₂ (Armijo, halving down to 2⁻²⁰) damps the step; a trial state the constraints
 // cannot reach is a failed trial. Slots are closed by r = k d(q), as in CalcModes.
@@ -29,14 +30,18 @@ namespace hybridtest::multibody {
 struct SteadyStateOptions {
   double tolerance = 1e-10;   // on max |u̇_k| [the speed rates' units]
   int max_iterations = 50;
+  // Speeds held by a drive (a motor keeps the rotor at its speed): their rates are left out
+  // of the equations (indices in u). Empty: every speed's rate must vanish.
+  std::vector<int> driven_speeds;
 };
 
 struct SteadyState {
   Eigen::VectorXd x;                   // (2n + nz) the last iterate, assembled
   std::vector<int> free_coordinates;   // indices in q
+  std::vector<int> driven_speeds;      // indices in u (their rates left out)
   int iterations = 0;                  // Gauss–Newton steps taken
-  double residual = 0.0;               // max_k |u̇_k| at x [the speed rates' units]
-  int worst_speed = -1;                // the k of that largest |u̇_k|
+  double residual = 0.0;               // max_k |u̇_k| at x (k not driven) [the rates' units]
+  int worst_speed = -1;                // the k (index in u) of that largest |u̇_k|
   bool converged = false;
   std::string message;                 // empty when converged; else why and what to try
 };
