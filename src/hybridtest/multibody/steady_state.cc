@@ -145,18 +145,10 @@ bool Trial(const Model& model, SteadyEquations& equations, double t, const Eigen
   return rates_out.allFinite();
 }
 
-}  // namespace
-
-std::string SpeedRateUnit(const Model& model, int k) {
-  const std::string& unit = model.speeds()[static_cast<std::size_t>(k)].unit;
-  if (unit.size() > 2 && unit.compare(unit.size() - 2, 2, "/s") == 0) return unit + "²";
-  return unit.empty() ? "1/s" : unit + "/s";
-}
-
-SteadyState FindSteadyState(const Model& model, double t, const Eigen::VectorXd& x,
-                            const std::vector<int>& free_coordinates,
-                            const std::vector<double>& slot_stiffness,
-                            const SteadyStateOptions& options) {
+// Refuses an empty or repeated list of free coordinates, indices out of range and drives the
+// equations cannot take.
+void CheckArguments(const Model& model, const std::vector<int>& free_coordinates,
+                    const SteadyStateOptions& options) {
   const int n = model.num_coordinates();
   if (free_coordinates.empty()) {
     throw ModelError("a steady state needs at least one coordinate to solve for");
@@ -172,7 +164,9 @@ SteadyState FindSteadyState(const Model& model, double t, const Eigen::VectorXd&
     }
   }
   for (int k : options.driven_speeds) {
-    if (k < 0 || k >= n) throw ModelError(fmt::format("speed index {} is out of range (n = {})", k, n));
+    if (k < 0 || k >= n) {
+      throw ModelError(fmt::format("speed index {} is out of range (n = {})", k, n));
+    }
   }
   if (!options.driven_speeds.empty() && model.has_constraints()) {
     throw ModelError("driven speeds are supported for unconstrained models only (a drive on a "
@@ -183,6 +177,21 @@ SteadyState FindSteadyState(const Model& model, double t, const Eigen::VectorXd&
     throw ModelError("every speed is driven, so no speed rate is left to vanish: leave some "
                      "speeds undriven");
   }
+}
+
+}  // namespace
+
+std::string SpeedRateUnit(const Model& model, int k) {
+  const std::string& unit = model.speeds()[static_cast<std::size_t>(k)].unit;
+  if (unit.size() > 2 && unit.compare(unit.size() - 2, 2, "/s") == 0) return unit + "²";
+  return unit.empty() ? "1/s" : unit + "/s";
+}
+
+SteadyState FindSteadyState(const Model& model, double t, const Eigen::VectorXd& x,
+                            const std::vector<int>& free_coordinates,
+                            const std::vector<double>& slot_stiffness,
+                            const SteadyStateOptions& options) {
+  CheckArguments(model, free_coordinates, options);
   SteadyState out;
   out.free_coordinates = free_coordinates;
   out.driven_speeds = options.driven_speeds;
