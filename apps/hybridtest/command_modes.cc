@@ -93,7 +93,9 @@ nlohmann::json SteadyJson(const multibody::Model& model, const multibody::Steady
   j["residual_unit"] = multibody::SpeedRateUnit(model, s.worst_speed);
   j["converged"] = s.converged;
   j["driven"] = nlohmann::json::array();
-  for (int k : s.driven_speeds) j["driven"].push_back(model.speeds()[static_cast<std::size_t>(k)].name);
+  for (int k : s.driven_speeds) {
+    j["driven"].push_back(model.speeds()[static_cast<std::size_t>(k)].name);
+  }
   return j;
 }
 
@@ -145,7 +147,8 @@ void RunModes(const ModesOptions& opt) {
   if (report.steady) {
     const multibody::SteadyState& st = *report.steady;
     fmt::print("steady state (u̇ = 0) in {} iteration(s), residual max |u̇| = {:.3g} {} (u̇ of "
-               "{}):", st.iterations, st.residual, multibody::SpeedRateUnit(built.model, st.worst_speed),
+               "{}):", st.iterations, st.residual,
+               multibody::SpeedRateUnit(built.model, st.worst_speed),
                built.model.speeds()[static_cast<std::size_t>(st.worst_speed)].name);
     for (int k : st.free_coordinates) {
       const auto& c = built.model.coordinates()[static_cast<std::size_t>(k)];

@@ -93,9 +93,10 @@ def modes(path, *, at=None, set=None, time=0.0, steady=None, driven=None, tolera
     [s]. steady: coordinate names (a list, or "q1,q3") solved first for u̇ = 0 with the other
     coordinates and the independent speeds held; driven: speeds a drive holds at their values
     (a motor at its set speed; unconstrained models), whose rates need not vanish; tolerance
-    on max |u̇| in the speed rates' units, max_iterations of Gauss–Newton. Raises ConfigError for bad input and ModelError
-    for an operating point the model cannot take or a steady state that is not found (the
-    message names the residual, the largest speed rate and what to try).
+    on max |u̇| in the speed rates' units, max_iterations of Gauss–Newton. Raises ConfigError
+    for bad input and ModelError for an operating point the model cannot take or a steady
+    state that is not found (the message names the residual, the largest speed rate and what
+    to try).
     """
     if at is not None:
         at = {key: [float(v) for v in np.ravel(values)] for key, values in dict(at).items()}

@@ -164,12 +164,15 @@ TEST(SteadyStateTest, CommandLineRefusalsExitTwo) {
   const Case cases[] = {
       {kPendulum + " --steady q --set k=0 --set T=6", "it has a minimum here that is not zero"},
       {kGovernor + " --steady psi", "no speed rate depends on coordinate psi"},
-      {kGovernor + " --steady phi", "'phi' is not a coordinate of the model; its coordinates are psi, theta"},
+      {kGovernor + " --steady phi",
+       "'phi' is not a coordinate of the model; its coordinates are psi, theta"},
       {kFourBar + " --steady q2 --at u=0,0,0", "coordinate q2 is dependent"},
       {kGovernor + " --steady theta --steady-iterations 1", "the iteration limit (1) was reached"},
-      {kFourBar + " --steady q1 --driven u1", "driven speeds are supported for unconstrained models only"},
+      {kFourBar + " --steady q1 --driven u1",
+       "driven speeds are supported for unconstrained models only"},
       {kGovernor + " --driven w", "driven speeds only matter for a steady state"},
-      {kGovernor + " --steady theta --driven v", "'v' is not a speed of the model; its speeds are w, thetadot"},
+      {kGovernor + " --steady theta --driven v",
+       "'v' is not a speed of the model; its speeds are w, thetadot"},
   };
   for (const Case& c : cases) {
     const auto [status, out] = testing::RunCommand(

@@ -89,7 +89,9 @@ class SteadyEquations {
     for (int first = 0; first < nf; first += kMaxDerivatives) {
       const int c = std::min(kMaxDerivatives, nf - first);
       for (int i = 0; i < xa.size(); ++i) xa(i) = AutoDiff(x(i), Derivatives::Zero(c));
-      for (int j = 0; j < c; ++j) xa(free_[static_cast<std::size_t>(first + j)]).derivatives()(j) = 1.0;
+      for (int j = 0; j < c; ++j) {
+        xa(free_[static_cast<std::size_t>(first + j)]).derivatives()(j) = 1.0;
+      }
       const AutoDiff ta(t_, Derivatives::Zero(c));
       VectorX<AutoDiff> r = ClosedSlots<AutoDiff>(model_, ad, ta, xa, k_);
       for (int s = 0; s < r.size(); ++s)
@@ -135,7 +137,9 @@ bool Trial(const Model& model, SteadyEquations& equations, double t, const Eigen
            const std::vector<int>& free, const Eigen::VectorXd& step, Eigen::VectorXd& x_out,
            Eigen::VectorXd& rates_out) {
   Eigen::VectorXd trial = x;
-  for (std::size_t j = 0; j < free.size(); ++j) trial(free[j]) += step(static_cast<Eigen::Index>(j));
+  for (std::size_t j = 0; j < free.size(); ++j) {
+    trial(free[j]) += step(static_cast<Eigen::Index>(j));
+  }
   try {
     x_out = AssembleState(model, t, trial).x;
     rates_out = equations.Residual(x_out);
