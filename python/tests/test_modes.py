@@ -1,6 +1,8 @@
 """hybridtest.modes: the same analysis as `hybridtest modes` (one C++ implementation), against
 the command line's --json, Meijaard et al.'s Table 2 (the benchmark bicycle at v = 5 m/s), the
-governor's analytic steady angle arccos(g / (l Ω²)), and the errors."""
+governor's analytic steady angle arccos(g / (l Ω²)) and nutation frequency about it, the driven
+rotor's blade balance, and the errors."""
+import cmath
 import json
 import math
 import subprocess
@@ -63,6 +65,18 @@ def test_governor_steady_angle(omega):
     assert a.steady.residual <= 1e-10 and a.steady.residual_unit == "rad/s²"
     assert a.x[1] == a.steady.values[0] and a.x[2] == omega
     assert a.start[1] == 1.2  # the model's initial angle, where the search began
+    # The nutation about the steady cone, with the angular momentum h about the shaft kept:
+    # m l² θ̈ = m l² f(θ), f = sin θ cos θ ψ̇(θ)² − (g/l) sin θ, ψ̇ = h / (J + m l² sin² θ);
+    # ω² = −f'(θ*) (a complex-step derivative: exact to rounding, no engine code).
+    m, l, inertia, g = 0.5, 0.2, 0.01, 9.81
+    h = (inertia + m * l * l * math.sin(theta) ** 2) * omega
+
+    def f(t):
+        rate = h / (inertia + m * l * l * cmath.sin(t) ** 2)
+        return cmath.sin(t) * cmath.cos(t) * rate ** 2 - g / l * cmath.sin(t)
+    nutation = math.sqrt(-f(theta + 1e-30j).imag / 1e-30)
+    assert max(ev.imag for ev in a.eigenvalues) == pytest.approx(nutation, rel=1e-10)
+    assert np.max(np.abs(a.eigenvalues.real)) <= 1e-9
 
 
 def test_steady_state_from_a_given_start_and_the_forms_of_steady(cli):
