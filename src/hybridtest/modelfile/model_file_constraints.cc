@@ -118,6 +118,36 @@ std::vector<int> IndexList(FileContext& c, const YAML::Node& node, const std::st
   return out;
 }
 
+// `record_force: true|false` (default false).
+bool RecordForce(FileContext& c, const YAML::Node& s, const std::string& kp) {
+  const YAML::Node node = s["record_force"];
+  if (!node.IsDefined()) return false;
+  const std::string value = node.IsScalar() ? node.Scalar() : "";
+  if (value != "true" && value != "false") {
+    c.in.ThrowValue(node, kp + ".record_force", "true (write the constraint's force as journal "
+                    "channels) or false");
+  }
+  return value == "true";
+}
+
+// The unit of the constraint's multipliers: [N] for points; for an expression, work [J] over
+// the unit of f (holonomic) or power [W] over the unit of the row (nonholonomic).
+std::string ForceUnit(FileContext& c, const YAML::Node& s, const std::string& kp) {
+  const bool holonomic = s["holonomic"].IsDefined();
+  if (!holonomic && !s["nonholonomic"].IsDefined()) return "N";
+  const char* key = holonomic ? "holonomic" : "nonholonomic";
+  const Dim row = c.Parse(s[key], kp + "." + key).dim();
+  if (!row.known) {
+    throw ConfigError(fmt::format("{}.record_force: the unit of the constraint's force cannot be "
+                                  "told, because the dimension of '{}' is unknown; give its "
+                                  "parameters units", c.Where(s, kp), s[key].Scalar()));
+  }
+  Dim force{true, {2 - row.e[0], 1 - row.e[1], (holonomic ? -2 : -3) - row.e[2]}};
+  if (force == kForce) return "N";
+  if (force == kMoment) return "N·m";
+  return DimName(force);
+}
+
 }  // namespace
 
 std::vector<YAML::Node> ReadConstraints(FileContext& c, const YAML::Node& root) {
@@ -128,7 +158,8 @@ std::vector<YAML::Node> ReadConstraints(FileContext& c, const YAML::Node& root) 
     const std::string& kp = labels[i];
     c.in.RequireMapping(s, kp);
     c.in.CheckKeys(s, kp, {"name", "description", "holonomic", "nonholonomic", "coincide",
-                           "velocity_zero", "of_body", "through", "components", "expressed_in"});
+                           "velocity_zero", "of_body", "through", "components", "expressed_in",
+                           "record_force"});
     const std::string name = c.in.ReadString(s, kp, "name", kp);
     const int kinds = (s["holonomic"] ? 1 : 0) + (s["nonholonomic"] ? 1 : 0) +
                       (s["coincide"] ? 1 : 0) + (s["velocity_zero"] ? 1 : 0);
@@ -173,6 +204,7 @@ std::vector<YAML::Node> ReadConstraints(FileContext& c, const YAML::Node& root) 
                                            E, comps, body, through);
         }
       }
+      if (RecordForce(c, s, kp)) c.builder->RecordConstraintForce(name, ForceUnit(c, s, kp));
     } catch (const ModelError& e) {
       throw ConfigError(fmt::format("{}: {}", c.Where(s, kp), e.what()));
     }

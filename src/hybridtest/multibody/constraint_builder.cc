@@ -91,6 +91,18 @@ void ModelBuilder::AddVelocityConstraint(std::string name, PointId P, FrameId ex
   elements_.constraints.push_back(std::move(c));
 }
 
+void ModelBuilder::RecordConstraintForce(const std::string& name, std::string force_unit) {
+  for (ConstraintSpec& c : elements_.constraints) {
+    if (c.name == name) {
+      c.record_force = true;
+      c.force_unit = std::move(force_unit);
+      return;
+    }
+  }
+  throw ModelError(fmt::format("RecordConstraintForce: no constraint is named '{}'; add it "
+                               "first", name));
+}
+
 void ModelBuilder::SetConstraintOptions(ConstraintOptions options) {
   if (!(options.stabilisation_time_constant >= 0.0) ||
       !std::isfinite(options.stabilisation_time_constant)) {

@@ -38,6 +38,13 @@ struct ConstraintSpec {
   int body_point = -1;    // kVelocity: a point fixed in `body` (with body ≥ 0)
   int expressed_in = 0;   // kCoincident, kVelocity: frame of the components
   std::vector<int> components;  // kCoincident, kVelocity: 0, 1, 2 (x, y, z of expressed_in)
+  // Whether a run records this constraint's force, its multipliers λ (one per row,
+  // constraints.h CalcConstraintForces), as journal channels, and their unit: [N] for
+  // kCoincident and kVelocity rows (the force on P along a component of expressed_in); for an
+  // expression, the work unit over the row's unit: [N] for f in m, [N·m] for f in rad
+  // (ModelBuilder::RecordConstraintForce).
+  bool record_force = false;
+  std::string force_unit = "N";
 
   int num_rows() const {
     return kind == Kind::kHolonomic || kind == Kind::kNonholonomic

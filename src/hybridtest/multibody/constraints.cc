@@ -266,16 +266,7 @@ void CalcConstrainedStateDerivative(const Model& model, Data<T>& data, const T& 
     xdot(k) = data.qdot(k);
     xdot(n + k) = data.udot(k);
   }
-  if (model.num_extra_states() > 0) {
-    const LoadArgs<T> args{data.t, std::span<const T>(data.q.data(), n),
-                           std::span<const T>(data.u.data(), n), std::span<const T>(),
-                           std::span<const T>(data.time_values.data(), data.time_values.size()),
-                           std::span<const T>(data.z.data(), data.z.size())};
-    for (int k = 0; k < model.num_extra_states(); ++k) {
-      data.zdot(k) = model.extra_states()[k].rate.template get<T>()(args);
-    }
-    xdot.tail(model.num_extra_states()) = data.zdot;
-  }
+  internal::CalcExtraStateRates(model, data, xdot);
 }
 
 void CalcConstrainedRateCoupling(const Model& model, Data<double>& data,
@@ -298,6 +289,25 @@ void CalcConstrainedRateCoupling(const Model& model, Data<double>& data,
     for (int k = 0; k < m; ++k) column[p + k] = 0.0;
     internal::LuSolve(data.lu, n, data.lu_pivots.data(), column);
   }
+}
+
+void CalcConstraintForces(const Model& model, Data<double>& data,
+                          Eigen::Ref<Eigen::VectorXd> lambda) {
+  const int n = data.n;
+  const int m = model.num_constraint_rows();
+  for (int s = 0; s < m; ++s)
+    for (int k = 0; k < m; ++k) data.lu(k, s) = data.constraint_B(s, data.dependent[k]);
+  if (!internal::LuFactor(data.lu, m, data.lu_pivots.data())) {
+    throw ModelError("the constraint forces cannot be solved here: the columns of B of the "
+                     "dependent speeds are singular");
+  }
+  for (int k = 0; k < m; ++k) {
+    const int j = data.dependent[k];
+    double v = -data.g(j);
+    for (int i = 0; i < n; ++i) v += data.M(j, i) * data.udot(i);
+    lambda(k) = v;
+  }
+  internal::LuSolve(data.lu, m, data.lu_pivots.data(), lambda.data());
 }
 
 #define HYBRIDTEST_INSTANTIATE(T)                                                        \

@@ -61,6 +61,17 @@ void CalcConstrainedRateCoupling(const Model& model, Data<double>& data,
                                  const Eigen::Ref<const Eigen::MatrixXd>& B_r,
                                  Eigen::Ref<Eigen::MatrixXd> out);
 
+// The constraint forces at the state of the last CalcConstrainedStateDerivative on `data`: the
+// multipliers λ (m, one per row of B u + c = 0) of M u̇ = g + Bᵀ λ, with M, g the tree's and u̇
+// the constrained solution (the reduced rows Cᵀ (g − M u̇) = 0 put M u̇ − g in the range of
+// Bᵀ). Solved from the dependent speeds' rows, B_dᵀ λ = (M u̇ − g)_d. Bᵀ λ is the generalized
+// force the constraints apply, so a row of a "coincide: [P, Q]" constraint gives the force on
+// P (and −λ on Q) along its component [N], a "velocity_zero" row the force on the body at P
+// (the ground's contact force on a wheel) [N], an expression row the work per unit of the
+// row (ConstraintSpec::force_unit). Allocation-free; `data.lu` is refactored. Throws
+// ModelError if B_d is singular (as the derivative would have).
+void CalcConstraintForces(const Model& model, Data<double>& data, Eigen::Ref<Eigen::VectorXd> lambda);
+
 // Names of the rows of B u + c = 0, for messages: "loop (x)", "rear contact (y)".
 std::string ConstraintRowName(const Model& model, int row);
 

@@ -283,18 +283,28 @@ void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
   internal::SolveFactoredMassMatrix(model, data);
   internal::CopyN(data.qdot.data(), n, xdot.data());
   internal::CopyN(data.udot.data(), n, xdot.data() + n);
-  if (model.num_extra_states() > 0) {
-    // ż = f_z(t, q, u, z): the loads' inputs with r left out.
-    const LoadArgs<T> args{data.t, std::span<const T>(data.q.data(), n),
-                           std::span<const T>(data.u.data(), n), std::span<const T>(),
-                           std::span<const T>(data.time_values.data(), data.time_values.size()),
-                           std::span<const T>(data.z.data(), data.z.size())};
-    for (int k = 0; k < model.num_extra_states(); ++k) {
-      data.zdot(k) = model.extra_states()[k].rate.template get<T>()(args);
-    }
-    xdot.tail(model.num_extra_states()) = data.zdot;
-  }
+  internal::CalcExtraStateRates(model, data, xdot);
 }
+
+namespace internal {
+template <typename T>
+void CalcExtraStateRates(const Model& model, Data<T>& data, Eigen::Ref<VectorX<T>> xdot) {
+  if (model.num_extra_states() == 0) return;
+  // ż = f_z(t, q, u, z): the loads' inputs with r left out.
+  const int n = data.n;
+  const LoadArgs<T> args{data.t, std::span<const T>(data.q.data(), n),
+                         std::span<const T>(data.u.data(), n), std::span<const T>(),
+                         std::span<const T>(data.time_values.data(), data.time_values.size()),
+                         std::span<const T>(data.z.data(), data.z.size())};
+  for (int k = 0; k < model.num_extra_states(); ++k) {
+    data.zdot(k) = model.extra_states()[k].rate.template get<T>()(args);
+  }
+  xdot.tail(model.num_extra_states()) = data.zdot;
+}
+template void CalcExtraStateRates<double>(const Model&, Data<double>&, Eigen::Ref<VectorX<double>>);
+template void CalcExtraStateRates<AutoDiff>(const Model&, Data<AutoDiff>&,
+                                            Eigen::Ref<VectorX<AutoDiff>>);
+}  // namespace internal
 
 #define HYBRIDTEST_INSTANTIATE(T)                                                             \
   template void CalcMassMatrix<T>(const Model&, Data<T>&);                                    \

@@ -68,4 +68,11 @@ Eigen::MatrixXd CalcCouplingMatrix(const Model& model, double t, const Eigen::Ve
 Eigen::MatrixXd CalcStateJacobian(const Model& model, double t, const Eigen::VectorXd& x,
                                   const Eigen::VectorXd& r);
 
+namespace internal {
+// ż = f_z(t, q, u, z) (nz; the loads' inputs with r left out) at the state of the last
+// CalcKinematics, into data.zdot and the tail of xdot. Shared by the tree and constrained paths.
+template <typename T>
+void CalcExtraStateRates(const Model& model, Data<T>& data, Eigen::Ref<VectorX<T>> xdot);
+}  // namespace internal
+
 }  // namespace hybridtest::multibody

@@ -339,6 +339,9 @@ class ModelBuilder {
                              std::vector<int> components, FrameId body = FrameId{-1},
                              PointId body_point = PointId{-1});
   void SetConstraintOptions(ConstraintOptions options);
+  // Record the force of the constraint `name` (its multipliers λ, unit `force_unit`) as journal
+  // channels (ConstraintSpec::record_force). Throws ModelError if no constraint has that name.
+  void RecordConstraintForce(const std::string& name, std::string force_unit);
   // The state a run starts from unless its config says otherwise, and the operating point of
   // a linearisation: q (n) [SI], u (n) [SI]; default zero.
   void SetInitialState(std::vector<double> q, std::vector<double> u);

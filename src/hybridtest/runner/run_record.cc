@@ -26,7 +26,55 @@ std::string SlotCoordinate(const multibody::Model& model, int slot) {
   return "";
 }
 
+// A constraint's name as the stem of a channel name: letters, digits and _ kept.
+std::string ChannelStem(const std::string& name) {
+  std::string out = name;
+  for (char& ch : out) {
+    const bool keep = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') ||
+                      (ch >= '0' && ch <= '9') || ch == '_';
+    if (!keep) ch = '_';
+  }
+  return out;
+}
+
+void AddConstraintForceChannels(const multibody::Model& model,
+                                std::vector<io::Channel>& channels) {
+  for (int row : RecordedConstraintRows(model)) {
+    const multibody::ConstraintRow& r = model.constraint_rows()[static_cast<std::size_t>(row)];
+    const multibody::ConstraintSpec& c = model.constraints()[static_cast<std::size_t>(r.constraint)];
+    std::string name = ChannelStem(c.name) + "_reaction";
+    std::string description;
+    if (c.components.empty()) {
+      description = fmt::format("force of constraint '{}' (its multiplier λ)", c.name);
+    } else {
+      const char axis = "xyz"[r.component];
+      name += std::string("_") + axis;
+      const std::string& frame = model.frames()[static_cast<std::size_t>(c.expressed_in)].name;
+      const std::string& point = model.points()[static_cast<std::size_t>(c.point)].name;
+      description = c.kind == multibody::ConstraintSpec::Kind::kCoincident
+          ? fmt::format("force of constraint '{}' on {} along {}.{} (−it on {})", c.name,
+                        point, frame, axis,
+                        model.points()[static_cast<std::size_t>(c.other)].name)
+          : fmt::format("force of constraint '{}' on {} along {}.{}", c.name,
+                        c.body >= 0 ? model.frames()[static_cast<std::size_t>(c.body)].name +
+                                          " at " + point
+                                    : point,
+                        frame, axis);
+    }
+    channels.push_back({name, c.force_unit, description});
+  }
+}
+
 }  // namespace
+
+std::vector<int> RecordedConstraintRows(const multibody::Model& model) {
+  std::vector<int> rows;
+  for (int k = 0; k < model.num_constraint_rows(); ++k) {
+    const int c = model.constraint_rows()[static_cast<std::size_t>(k)].constraint;
+    if (model.constraints()[static_cast<std::size_t>(c)].record_force) rows.push_back(k);
+  }
+  return rows;
+}
 
 std::vector<io::Channel> JournalChannels(const io::RunSpec& spec) {
   const multibody::Model& model = spec.model.model;
@@ -39,6 +87,7 @@ std::vector<io::Channel> JournalChannels(const io::RunSpec& spec) {
     if (!sub.is_physical()) continue;
     for (const auto& name : sub.ActuatorNames()) AddPhysicalChannels(name, channels);
   }
+  AddConstraintForceChannels(model, channels);
   return channels;
 }
 

@@ -86,7 +86,16 @@ void CheckStateAgreesWithItsRow(const RunState& s) {
       expected.push_back(number(last.at(key)));
     }
   }
-  if (!SameJournalValues(expected, s.row)) {
+  // The constraint forces end the row; they are derived from the point, not part of it.
+  if (s.constraint_forces < 0 ||
+      s.row.size() != expected.size() + static_cast<std::size_t>(s.constraint_forces)) {
+    throw ConfigError(fmt::format("its row has {} values; its committed point has {} and {} "
+                                  "constraint forces", s.row.size(), expected.size(),
+                                  s.constraint_forces));
+  }
+  const std::vector<double> point(s.row.begin(),
+                                  s.row.begin() + static_cast<std::ptrdiff_t>(expected.size()));
+  if (!SameJournalValues(expected, point)) {
     throw ConfigError(fmt::format("its committed point ({}) is not its row ({}): the parts of the "
                                   "state disagree", DescribeRow(expected), DescribeRow(s.row)));
   }
@@ -170,6 +179,7 @@ nlohmann::json ToJson(const RunState& s) {
                                                     ? RowToJson(*s.journal_last_row)
                                                     : nlohmann::json(nullptr)}}},
                       {"inputs", s.inputs}};
+  if (s.constraint_forces > 0) j["constraint_forces"] = s.constraint_forces;
   j["checksum"] = RunStateChecksum(j);
   return j;
 }
@@ -219,6 +229,7 @@ RunState RunStateFromJson(const nlohmann::json& j, const std::string& where) {
       s.journal_last_row = RowFromJson(j.at("journal").at("last_row"));
     }
     s.inputs = j.at("inputs");
+    if (j.contains("constraint_forces")) s.constraint_forces = count(j.at("constraint_forces"));
     if (s.rows < 1 || !s.substructures.is_array() || !s.inputs.is_array() || s.row.empty() ||
         s.journal_rows < 0 || s.journal_rows > s.rows ||
         (s.journal_rows > 0) != s.journal_last_row.has_value()) {

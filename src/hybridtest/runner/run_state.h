@@ -45,6 +45,9 @@ struct RunState {
   nlohmann::json statistics = nlohmann::json::object();
   nlohmann::json stiffness = nlohmann::json::array();
   std::vector<double> row;                        // the committed row's values
+  // The last values of a row that are the model's constraint forces (run_record.h): derived
+  // from the committed point, not part of it. Written to the JSON only when > 0.
+  long constraint_forces = 0;
   long journal_rows = 0;                          // journal rows on disk at saving
   std::optional<std::vector<double>> journal_last_row;  // values of its last row
   nlohmann::json inputs = nlohmann::json::array();

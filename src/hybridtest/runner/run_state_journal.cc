@@ -68,16 +68,17 @@ JournalRows ReadJournalRows(const std::string& csv_path, const std::vector<long>
 namespace {
 
 // Where a journal row's columns are, from the state: t, x (nx), r (m), then command, position,
-// force and lab time of each of `actuators` physical actuators.
+// force and lab time of each of `actuators` physical actuators, then `forces` constraint forces.
 struct RowLayout {
-  std::size_t nx = 0, m = 0, actuators = 0;
+  std::size_t nx = 0, m = 0, actuators = 0, forces = 0;
 };
 
 RowLayout LayoutOf(const RunState& s) {
   RowLayout layout;
   layout.nx = s.scheme.at("x").size();
   layout.m = s.scheme.at("r").size();
-  const std::size_t fixed = 1 + layout.nx + layout.m;
+  layout.forces = static_cast<std::size_t>(s.constraint_forces);
+  const std::size_t fixed = 1 + layout.nx + layout.m + layout.forces;
   if (s.row.size() > fixed && (s.row.size() - fixed) % 4 == 0) {
     layout.actuators = (s.row.size() - fixed) / 4;
   }
@@ -109,7 +110,7 @@ JournalScan ScanJournal(const std::string& csv_path, const std::vector<long>& in
       if (std::find(indices.begin(), indices.end(), index) != indices.end()) {
         scan.rows.rows.emplace(index, values);
       }
-      if (layout.actuators > 0 && values.size() == 1 + layout.nx + layout.m + 4 * layout.actuators) {
+      if (layout.actuators > 0 && values.size() == 1 + layout.nx + layout.m + 4 * layout.actuators + layout.forces) {
         bool committed = true;
         for (std::size_t k = 0; k < layout.actuators && committed; ++k) {
           committed = !std::isnan(values[1 + layout.nx + layout.m + 4 * k]);

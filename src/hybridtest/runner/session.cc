@@ -7,6 +7,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/multibody/kane.h"
+#include "hybridtest/runner/constraint_force_recorder.h"
 #include "hybridtest/runner/pre_move_checks.h"
 #include "hybridtest/runner/run_files.h"
 #include "hybridtest/runner/run_record.h"
@@ -95,6 +96,9 @@ Session::Session(io::RunSpec spec, SessionOptions options)
   }
   slot_map_ = MakeSlotMap(subs_, names, slot_of_, slot_names);
   row_.resize(static_cast<Eigen::Index>(JournalChannels(spec_).size()));
+  if (!RecordedConstraintRows(model()).empty()) {
+    forces_ = std::make_unique<ConstraintForceRecorder>(model());
+  }
   r0_.resize(model().num_slots());
   exchanges_.resize(actuators);
   seam_ = std::make_unique<Seam>(*this);
@@ -155,6 +159,7 @@ RunState Session::GetState() const {
   state.statistics = ToJson(stats_);
   state.stiffness = stiffness_record_;
   state.inputs = spec_.source.inputs;
+  state.constraint_forces = forces_ ? forces_->size() : 0;
   return state;
 }
 
@@ -203,6 +208,7 @@ void Session::FillRow(double t, const Eigen::VectorXd& x, const Eigen::VectorXd&
       }
     }
   }
+  if (forces_) forces_->Fill(t, x, r, row_.data() + c);
 }
 
 void Session::Publish(RowKind kind, long step, double t, const Eigen::VectorXd& x,

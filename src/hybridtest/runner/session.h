@@ -112,6 +112,7 @@ struct ResumeEvent {
 
 class Session;
 class RunFiles;
+class ConstraintForceRecorder;
 
 class SessionObserver {
  public:
@@ -289,6 +290,7 @@ class Session {
   std::chrono::steady_clock::time_point wall_start_;
   // Preallocated per-step buffers.
   Eigen::VectorXd row_;
+  std::unique_ptr<ConstraintForceRecorder> forces_;  // the row's constraint forces, if any
   Eigen::VectorXd r0_;
   std::vector<substructures::Exchange> exchanges_;  // per actuator of the physical substructures
   // The model slots each substructure serves (its d and r, in its order), and their buffers.
