@@ -1,22 +1,22 @@
-// hybridtest modes MODEL_OR_CONFIG [--at q=...,u=...] [--set NAME=VALUE ...] [--time T] [--json]
+// hybridtest modes MODEL_OR_CONFIG [--at q=...,u=...] [--set NAME=VALUE ...] [--time T]
+//                 [--steady NAMES] [--json]
 // Linearises the model about an operating point (through its constraints: the state matrix
 // in the independent states) and prints the eigenvalues, natural and damped frequencies,
 // damping ratios and mode shapes (multibody/modes.h). The operating point is the model's
 // initial state (a model file's `initial:` values, or a run config's initial_state),
-// assembled, unless --at gives q and/or u.
+// assembled, unless --at gives q and/or u; --steady first solves the named coordinates for
+// u̇ = 0 (multibody/steady_state.h). The loading and the analysis are io::AnalyseModes, shared
+// with Python's hybridtest.modes.
 #include <fmt/core.h>
-#include <yaml-cpp/yaml.h>
 
-#include <filesystem>
 #include <iostream>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "cli_values.h"
 #include "command.h"
 #include "hybridtest/common/error.h"
-#include "hybridtest/io/config.h"
-#include "hybridtest/modelfile/model_file.h"
-#include "hybridtest/multibody/modes.h"
+#include "hybridtest/io/modes_analysis.h"
 
 namespace hybridtest::app {
 namespace {
@@ -26,68 +26,24 @@ struct ModesOptions {
   std::string at;
   std::vector<std::string> set;
   double time = 0.0;
+  std::string steady;
+  std::string driven;
+  multibody::SteadyStateOptions steady_options;
   bool json = false;
 };
 
-// The model (with --set applied) and its operating point.
-models::BuiltModel LoadModel(const ModesOptions& opt, Eigen::VectorXd* x0) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(opt.model);
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(fmt::format("modes {}: cannot read it as YAML ({}); give a model file or "
-                                  "a run config", opt.model, e.what()));
-  }
-  std::string model_file;
-  models::ParameterSet parameters;
-  std::optional<Eigen::VectorXd> config_x0;
-  if (root.IsMap() && root["coordinates"]) {
-    model_file = opt.model;
-    parameters = modelfile::LoadModelFile(model_file).parameters;
-  } else {
-    const io::SimulationConfig cfg = io::LoadSimulationConfig(opt.model);
-    if (opt.set.empty()) {
-      *x0 = cfg.x0;
-      return cfg.model;
-    }
-    if (!root["model"] || !root["model"]["file"]) {
-      throw ConfigError(fmt::format("modes {}: --set needs a model file (the config names a "
-                                    "built-in model); give its parameters under "
-                                    "model.parameters instead", opt.model));
-    }
-    model_file = (std::filesystem::path(opt.model).parent_path() /
-                  root["model"]["file"].as<std::string>()).string();
-    parameters = cfg.model.parameters;
-    if (root["initial_state"]) config_x0 = cfg.x0;
-  }
-  for (const std::string& item : opt.set) {
-    const std::size_t eq = item.find('=');
-    if (eq == std::string::npos) {
-      throw ConfigError(fmt::format("--set {}: expected NAME=VALUE (a parameter, SI)", item));
-    }
-    const std::vector<double> v = ParseNumberList(item.substr(eq + 1), "--set " + item);
-    if (v.size() != 1) throw ConfigError(fmt::format("--set {}: expected one number", item));
-    parameters.Set(item.substr(0, eq), v[0], "--set " + item);
-  }
-  models::BuiltModel built =
-      modelfile::BuildModelFile(modelfile::LoadModelFile(model_file), parameters);
-  *x0 = config_x0 ? *config_x0 : built.model.initial_state();
-  return built;
-}
-
-// --at q=a,b,...,u=c,d,...: either part may be left out.
-void ApplyAt(const std::string& at, int n, Eigen::VectorXd& x) {
+// --at q=a,b,...,u=c,d,...: either part may be left out (the lengths are checked by
+// io::LoadModesModel).
+void ParseAt(const std::string& at, io::ModesRequest& request) {
   if (at.empty()) return;
   std::vector<double>* target = nullptr;
-  std::vector<double> q, u;
   std::string token;
   std::stringstream ss(at);
   while (std::getline(ss, token, ',')) {
-    if (token.rfind("q=", 0) == 0) {
-      target = &q;
-      token = token.substr(2);
-    } else if (token.rfind("u=", 0) == 0) {
-      target = &u;
+    if (token.rfind("q=", 0) == 0 || token.rfind("u=", 0) == 0) {
+      auto& part = token[0] == 'q' ? request.q : request.u;
+      part.emplace();
+      target = &*part;
       token = token.substr(2);
     }
     if (target == nullptr) {
@@ -95,33 +51,71 @@ void ApplyAt(const std::string& at, int n, Eigen::VectorXd& x) {
     }
     target->push_back(ParseNumberList(token, "--at")[0]);
   }
-  for (const auto* part : {&q, &u}) {
-    if (!part->empty() && static_cast<int>(part->size()) != n) {
-      throw ConfigError(fmt::format("--at {}: {} has {} values; the model has n = {}", at,
-                                    part == &q ? "q" : "u", part->size(), n));
+}
+
+io::ModesRequest MakeRequest(const ModesOptions& opt) {
+  io::ModesRequest request;
+  request.path = opt.model;
+  request.time = opt.time;
+  request.steady_options = opt.steady_options;
+  for (const std::string& item : opt.set) {
+    const std::size_t eq = item.find('=');
+    if (eq == std::string::npos) {
+      throw ConfigError(fmt::format("--set {}: expected NAME=VALUE (a parameter, SI)", item));
+    }
+    const std::vector<double> v = ParseNumberList(item.substr(eq + 1), "--set " + item);
+    if (v.size() != 1) throw ConfigError(fmt::format("--set {}: expected one number", item));
+    request.set.emplace_back(item.substr(0, eq), v[0]);
+  }
+  ParseAt(opt.at, request);
+  for (auto [text, names] : {std::pair{&opt.steady, &request.steady},
+                             std::pair{&opt.driven, &request.driven}}) {
+    std::string name;
+    std::stringstream ss(*text);
+    while (std::getline(ss, name, ',')) {
+      if (!name.empty()) names->push_back(name);
     }
   }
-  for (int k = 0; k < n && !q.empty(); ++k) x(k) = q[static_cast<std::size_t>(k)];
-  for (int k = 0; k < n && !u.empty(); ++k) x(n + k) = u[static_cast<std::size_t>(k)];
+  return request;
+}
+
+nlohmann::json SteadyJson(const multibody::Model& model, const multibody::SteadyState& s) {
+  nlohmann::json j;
+  j["coordinates"] = nlohmann::json::array();
+  j["values"] = nlohmann::json::array();
+  for (int k : s.free_coordinates) {
+    j["coordinates"].push_back(model.coordinates()[static_cast<std::size_t>(k)].name);
+    j["values"].push_back(s.x(k));
+  }
+  j["iterations"] = s.iterations;
+  j["residual"] = s.residual;
+  j["residual_speed"] = model.speeds()[static_cast<std::size_t>(s.worst_speed)].name;
+  j["residual_unit"] = multibody::SpeedRateUnit(model, s.worst_speed);
+  j["converged"] = s.converged;
+  j["driven"] = nlohmann::json::array();
+  for (int k : s.driven_speeds) {
+    j["driven"].push_back(model.speeds()[static_cast<std::size_t>(k)].name);
+  }
+  return j;
 }
 
 void RunModes(const ModesOptions& opt) {
-  Eigen::VectorXd x0;
-  const models::BuiltModel built = LoadModel(opt, &x0);
-  const multibody::Model& model = built.model;
-  ApplyAt(opt.at, model.num_coordinates(), x0);
-  multibody::ModeAnalysis a;
-  try {
-    a = multibody::CalcModes(model, opt.time, x0, built.slot_stiffness);
-  } catch (const ModelError& e) {
-    throw ConfigError(fmt::format("modes {}: at the operating point: {}", opt.model, e.what()));
-  }
+  const io::ModesReport report = [&] {
+    try {
+      return io::AnalyseModes(MakeRequest(opt));
+    } catch (const ModelError& e) {
+      throw ConfigError(e.what());  // the operating point is the user's input: exit 2
+    }
+  }();
+  const models::BuiltModel& built = report.built;
+  const multibody::ModeAnalysis& a = report.analysis;
   const auto& lin = a.linearization;
   if (opt.json) {
     nlohmann::json out;
     out["model"] = built.name;
     out["states"] = lin.state_names;
     out["operating_point"] = std::vector<double>(a.x.data(), a.x.data() + a.x.size());
+    if (report.steady) out["steady"] = SteadyJson(built.model, *report.steady);
     out["state_matrix"] = nlohmann::json::array();
     for (Eigen::Index i = 0; i < lin.A.rows(); ++i) {
       std::vector<double> row(lin.A.cols());
@@ -149,7 +143,20 @@ void RunModes(const ModesOptions& opt) {
   }
   fmt::print("model {}: linearised at t = {} s about x = [", built.name, opt.time);
   for (Eigen::Index i = 0; i < a.x.size(); ++i) fmt::print("{}{:.6g}", i ? ", " : "", a.x(i));
-  fmt::print("]\nindependent states ({}):", lin.state_names.size());
+  fmt::print("]\n");
+  if (report.steady) {
+    const multibody::SteadyState& st = *report.steady;
+    fmt::print("steady state (u̇ = 0) in {} iteration(s), residual max |u̇| = {:.3g} {} (u̇ of "
+               "{}):", st.iterations, st.residual,
+               multibody::SpeedRateUnit(built.model, st.worst_speed),
+               built.model.speeds()[static_cast<std::size_t>(st.worst_speed)].name);
+    for (int k : st.free_coordinates) {
+      const auto& c = built.model.coordinates()[static_cast<std::size_t>(k)];
+      fmt::print(" {} = {:.15g} {}", c.name, st.x(k), c.unit);
+    }
+    fmt::print("\n");
+  }
+  fmt::print("independent states ({}):", lin.state_names.size());
   for (const std::string& s : lin.state_names) fmt::print(" {}", s);
   fmt::print("\nstate matrix A (ẋ_i = A x_i):\n");
   for (Eigen::Index i = 0; i < lin.A.rows(); ++i) {
@@ -184,9 +191,23 @@ void AddModesCommand(CLI::App& root) {
                   "initial state; dependent coordinates and speeds are solved)");
   cmd->add_option("--set", opt->set, "override a parameter, NAME=VALUE in SI (repeatable)");
   cmd->add_option("--time", opt->time, "time t [s] (default 0)")->check(FiniteNumber());
+  cmd->add_option("--steady", opt->steady,
+                  "coordinates to solve first for a steady state u̇ = 0, comma separated "
+                  "(q1,q3), with the other coordinates and the independent speeds held");
+  cmd->add_option("--driven", opt->driven,
+                  "with --steady: speeds a drive holds at their values (a motor at its set "
+                  "speed), comma separated; their rates need not vanish");
+  cmd->add_option("--steady-tolerance", opt->steady_options.tolerance,
+                  "steady state: largest |u̇| accepted, in the speed rates' units (default "
+                  "1e-10)")->check(CLI::PositiveNumber);
+  cmd->add_option("--steady-iterations", opt->steady_options.max_iterations,
+                  "steady state: most Gauss–Newton iterations (default 50)")
+      ->check(CLI::Range(1, 10000));
   cmd->add_flag("--json", opt->json,
-                "print one JSON object {states, state_matrix, modes: [{real, imag, "
-                "frequency_hz, damped_frequency_hz, damping_ratio, shape_real, shape_imag}]}");
+                "print one JSON object {model, states, operating_point, state_matrix, modes: "
+                "[{real, imag, frequency_hz, damped_frequency_hz, damping_ratio, shape_real, "
+                "shape_imag}], steady: {coordinates, values, iterations, residual, "
+                "residual_speed, residual_unit, converged, driven} (with --steady)}");
   cmd->callback([opt] { RunModes(*opt); });
 }
 

@@ -4,6 +4,7 @@
     m = ht.Model.from_file("examples/models/rotor.yaml")
     M = m.mass_matrix(0.0, np.zeros(m.num_states))
     sim = ht.simulate("examples/rotor/numerical.yaml")        # in memory; out= writes files
+    lin = ht.modes("examples/models/whipple_bicycle.yaml", set={"v": 5.0})  # eigenvalues, A
     run = ht.run("examples/rotor/remote.yaml", transfers={"r1": MyBench()}, out="run.csv")
 
 Every quantity is SI. Errors are hybridtest.Error and its subclasses ConfigError, ModelError,
@@ -26,11 +27,13 @@ from ._core import (  # noqa: F401
     time_transfer,
 )
 from ._core import Session as _CoreSession
+from ._modes import Mode, ModeAnalysis, SteadyState, modes  # noqa: F401
 from ._core import read_run as _read_run
 
 __all__ = [
-    "ConfigError", "Error", "IoError", "Model", "ModelError", "Result", "SafetyStop", "Session",
-    "Status", "TransferError", "read_run", "resume", "run", "simulate",
+    "ConfigError", "Error", "IoError", "Mode", "ModeAnalysis", "Model", "ModelError", "Result",
+    "SafetyStop", "Session", "Status", "SteadyState", "TransferError", "modes", "read_run",
+    "resume", "run", "simulate",
 ]
 
 

@@ -15,6 +15,8 @@ namespace py = pybind11;
 void BindErrors(py::module_& m);
 // Model: load, parameters, M, g, ẋ, Jacobians, slot displacements, check (model.cc).
 void BindModel(py::module_& m);
+// modes(): linearisation, modes and steady states of a model file or config (modes.cc).
+void BindModes(py::module_& m);
 // Session, its observers and the in-memory record; compiling a config or a dict (session.cc).
 void BindSession(py::module_& m);
 // Reading a run back: journal and sidecar (read_run.cc).

@@ -9,6 +9,7 @@ PYBIND11_MODULE(_core, m) {
   m.attr("__version__") = hybridtest::kVersion;
   hybridtest::python::BindErrors(m);
   hybridtest::python::BindModel(m);
+  hybridtest::python::BindModes(m);
   hybridtest::python::BindSession(m);
   hybridtest::python::BindReadRun(m);
   hybridtest::python::BindTiming(m);

@@ -200,6 +200,8 @@ Linearization LinearizeConstrained(const Model& model, double t, const Eigen::Ve
   };
   if (!model.has_constraints()) {
     out.A = J;
+    out.J = J;
+    out.T = Eigen::MatrixXd::Identity(nx, nx);
     for (int i = 0; i < nx; ++i) {
       out.states.push_back(i);
       out.state_names.push_back(name_of(i));
@@ -271,6 +273,8 @@ Linearization LinearizeConstrained(const Model& model, double t, const Eigen::Ve
   Eigen::MatrixXd PJ(ni, nx);
   for (int i = 0; i < ni; ++i) PJ.row(i) = J.row(out.states[static_cast<std::size_t>(i)]);
   out.A = PJ * T;
+  out.J = std::move(J);
+  out.T = std::move(T);
   for (int i : out.states) out.state_names.push_back(name_of(i));
   return out;
 }

@@ -43,6 +43,8 @@ struct Linearization {
   Eigen::MatrixXd A;                     // state matrix in the independent states
   std::vector<int> states;               // indices in x of the independent states
   std::vector<std::string> state_names;  // their names (coordinates, speeds, states)
+  Eigen::MatrixXd J;                     // (nx × nx) ∂ẋ/∂x with r = k d(q), exact
+  Eigen::MatrixXd T;                     // (nx × ni) ∂x/∂x_i, the constraint manifold's tangent
 };
 
 // At a consistent state x (AssembleState), with the slots closed by r = k d(q) (k =

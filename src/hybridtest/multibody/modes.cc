@@ -66,6 +66,7 @@ ModeAnalysis CalcModes(const Model& model, double t, const Eigen::VectorXd& x,
     mode.frequency_hz = magnitude / (2.0 * std::numbers::pi);
     mode.damped_frequency_hz = std::abs(lambda(i).imag()) / (2.0 * std::numbers::pi);
     mode.damping_ratio = magnitude > 0.0 ? -lambda(i).real() / magnitude : 0.0;
+    if (mode.damping_ratio == 0.0) mode.damping_ratio = 0.0;  // +0, not −0, for Re λ = 0
     mode.shape = vectors.col(i);
     Eigen::Index largest = 0;
     mode.shape.cwiseAbs().maxCoeff(&largest);
