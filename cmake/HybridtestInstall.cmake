@@ -58,4 +58,5 @@ install(FILES ${PROJECT_BINARY_DIR}/hybridtestConfig.cmake
 # The command line, with the SymPy reader that check-model runs from beside the binary.
 install(TARGETS hybridtest RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(FILES ${PROJECT_BINARY_DIR}/apps/hybridtest/hybridtest_check_model_sympy.py
+  ${PROJECT_BINARY_DIR}/apps/hybridtest/hybridtest_check_constraints_sympy.py
   DESTINATION ${CMAKE_INSTALL_BINDIR})

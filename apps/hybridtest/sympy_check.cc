@@ -38,6 +38,30 @@ std::string Capture(const std::string& command, int* status) {
   *status = ::pclose(pipe);
   return out;
 }
+
+// Runs `command` (a script of check-model's SymPy half), at most `timeout_s` seconds if > 0.
+// Returns its standard output, with `status` set and `errors` the last lines of its standard
+// error. Throws Error if the time ran out.
+std::string RunScript(const std::string& command, double timeout_s, const std::string& model_file,
+                      int* status, std::string* errors) {
+  const std::filesystem::path errors_file = std::filesystem::temp_directory_path() /
+      fmt::format("hybridtest-check-model-{}.err", ::getpid());
+  const std::string limit = timeout_s > 0.0 ? fmt::format("timeout {:g} ", timeout_s) : "";
+  const std::string out =
+      Capture(fmt::format("{}{} 2>{}", limit, command, Quote(errors_file.string())), status);
+  {
+    std::ifstream err(errors_file);
+    const std::string text{std::istreambuf_iterator<char>(err), std::istreambuf_iterator<char>()};
+    *errors = LastLines(text, 8);
+  }
+  std::filesystem::remove(errors_file);
+  if (timeout_s > 0.0 && WIFEXITED(*status) && WEXITSTATUS(*status) == 124) {
+    throw Error(fmt::format("check-model's SymPy half did not finish within {:g} s on {}; raise "
+                            "--sympy-timeout, compare fewer states (--sympy-states) or skip it "
+                            "with --no-sympy", timeout_s, model_file));
+  }
+  return out;
+}
 }  // namespace
 
 std::string DescribeStatus(int status) {
@@ -108,29 +132,15 @@ SympyResult RunSympyReader(const std::string& python, const std::string& script,
   const std::filesystem::path states_file = std::filesystem::temp_directory_path() /
       fmt::format("hybridtest-check-model-{}.json", ::getpid());
   std::ofstream(states_file) << in.dump();
-  const std::filesystem::path errors_file = std::filesystem::temp_directory_path() /
-      fmt::format("hybridtest-check-model-{}.err", ::getpid());
   int status = 0;
-  const std::string limit = timeout_s > 0.0 ? fmt::format("timeout {:g} ", timeout_s) : "";
-  const std::string out = Capture(fmt::format("{}{} -B {} {} {} 2>{}", limit, Quote(python), Quote(script),
-                                              Quote(model_file), Quote(states_file.string()),
-                                              Quote(errors_file.string())),
-                                  &status);
   std::string errors;
-  {
-    std::ifstream err(errors_file);
-    errors.assign(std::istreambuf_iterator<char>(err), std::istreambuf_iterator<char>());
-  }
+  const std::string out = RunScript(fmt::format("{} -B {} {} {}", Quote(python), Quote(script),
+                                                Quote(model_file), Quote(states_file.string())),
+                                    timeout_s, model_file, &status, &errors);
   std::filesystem::remove(states_file);
-  std::filesystem::remove(errors_file);
-  if (timeout_s > 0.0 && WIFEXITED(status) && WEXITSTATUS(status) == 124) {
-    throw Error(fmt::format("the SymPy reader did not finish within {:g} s on {}; raise "
-                            "--sympy-timeout, compare fewer states (--sympy-states) or skip it "
-                            "with --no-sympy", timeout_s, model_file));
-  }
   if (status != 0) {
     throw Error(fmt::format("the SymPy reader {} failed on {}: {}; its message: {}", script,
-                            model_file, DescribeStatus(status), LastLines(errors, 8)));
+                            model_file, DescribeStatus(status), errors));
   }
   const nlohmann::json j = nlohmann::json::parse(out, nullptr, false);
   if (j.is_discarded() || !j.contains("M") || !j.contains("g")) {
@@ -153,6 +163,36 @@ SympyResult RunSympyReader(const std::string& python, const std::string& script,
       list.push_back(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));
     }
   }
+  return result;
+}
+
+ConstraintCheck RunConstraintCheck(const std::string& python, const std::string& reader_script,
+                                   const std::string& model_file, int states, unsigned seed,
+                                   double tolerance, double timeout_s) {
+  const std::filesystem::path script = std::filesystem::path(reader_script).parent_path() /
+                                       "hybridtest_check_constraints_sympy.py";
+  std::error_code ec;
+  const std::filesystem::path binary = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec || !std::filesystem::exists(script)) {
+    throw Error(fmt::format("the SymPy check of the constraints {} is missing (it ships beside "
+                            "the hybridtest binary)", script.string()));
+  }
+  int status = 0;
+  std::string errors;
+  const std::string out = RunScript(
+      fmt::format("{} -B {} --binary {} --model {} --states {} --seed {} --tolerance {:g}",
+                  Quote(python), Quote(script.string()), Quote(binary.string()),
+                  Quote(model_file), states, seed, tolerance),
+      timeout_s, model_file, &status, &errors);
+  if (status != 0 && !(WIFEXITED(status) && WEXITSTATUS(status) == 1)) {
+    throw Error(fmt::format("the SymPy check of the constraints {} failed on {}: {}; its "
+                            "message: {}", script.string(), model_file, DescribeStatus(status),
+                            errors));
+  }
+  ConstraintCheck result;
+  result.agree = status == 0;
+  result.report = out;
+  while (!result.report.empty() && result.report.back() == '\n') result.report.pop_back();
   return result;
 }
 

@@ -44,4 +44,18 @@ SympyResult RunSympyReader(const std::string& python, const std::string& script,
                            const std::string& model_file, const std::vector<SympyState>& states,
                            double timeout_s = 0.0);
 
+// The reduced equations of a model with constraints against SymPy: runs
+// hybridtest_check_constraints_sympy.py (beside `reader_script`), which evaluates this binary's
+// reduced M and forcing (`eom --assemble --json`) at `states` random consistent states and
+// compares them with its own reduction of SymPy's M, g and constraint rows, with the dependent
+// speeds the engine used. `report`: its lines (a summary, and each difference). Throws Error
+// if it cannot run or fails otherwise, or after `timeout_s` (> 0).
+struct ConstraintCheck {
+  bool agree = false;
+  std::string report;
+};
+ConstraintCheck RunConstraintCheck(const std::string& python, const std::string& reader_script,
+                                   const std::string& model_file, int states, unsigned seed,
+                                   double tolerance, double timeout_s = 0.0);
+
 }  // namespace hybridtest::app

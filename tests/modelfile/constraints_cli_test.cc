@@ -2,7 +2,7 @@
 // keeps the loop-closure residual below 1e-8 m (the documented tolerance, decision 0023);
 // the slider-crank's dummy hybrid test equals its numerical simulation bit for bit; and the
 // three refusals (unmeetable constraint, singular dependent speeds, a velocity constraint not
-// linear in u) exit 2 naming file:line.
+// linear in u) exit 2 naming file:line; check-model compares the reduced equations with SymPy.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -91,6 +91,24 @@ TEST(ConstraintsCliTest, RefusalsExitTwoNamingFileAndLine) {
   EXPECT_NE(out.find("cannot be met"), std::string::npos) << out;
   const auto [s2, o2] = Hybridtest(fmt::format("modes {}/examples/models/four_bar.yaml --at q=0.3", kSource));
   EXPECT_EQ(s2, 2) << o2;  // q has 1 value for n = 3
+}
+
+// check-model on a constrained file also compares the reduced equations with SymPy, with the
+// dependent speeds the engine picked (here by pivoting: the file names none); a tolerance no
+// floating-point result meets makes that comparison fail, and check-model with it.
+TEST(ConstraintsCliTest, CheckModelComparesTheReducedEquationsWithSympy) {
+  std::string text = ReadFile(kSource + "/examples/models/four_bar.yaml");
+  const fs::path pivoted = TempDir() / "four_bar_pivoted.yaml";
+  std::ofstream(pivoted) << std::regex_replace(text, std::regex("dependent_speeds: \\[u2, u3\\]"), "");
+  const auto [status, out] = Hybridtest("check-model " + pivoted.string());
+  ASSERT_EQ(status, 0) << out;
+  EXPECT_NE(out.find("reduced equations with dependent speeds at 5 consistent states, 0 failures"),
+            std::string::npos) << out;
+  const auto [s2, o2] = Hybridtest(fmt::format(
+      "check-model {}/examples/models/slider_crank.yaml --tolerance 1e-30", kSource));
+  EXPECT_EQ(s2, 1) << o2;
+  EXPECT_NE(o2.find("FAIL: slider_crank.yaml state"), std::string::npos) << o2;
+  EXPECT_NE(o2.find("DIFFERENT"), std::string::npos) << o2;
 }
 
 }  // namespace
