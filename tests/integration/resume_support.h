@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "integration/child_process.h"
+#include "support/temp_dir.h"
 
 namespace hybridtest::testing {
 
@@ -27,11 +28,12 @@ inline nlohmann::json Sidecar(const fs::path& csv) {
   return nlohmann::json::parse(in);
 }
 
-// In /dev/shm when there is one: these tests are about resuming, not about the disk, and a
-// physical run syncs every row (a tmpfs makes fsync free and the suite fast).
+// In the tests' scratch directory (support/temp_dir.h: /dev/shm when there is one): these tests
+// are about resuming, not about the disk, and a physical run syncs every row (a tmpfs makes
+// fsync free and the suite fast).
 inline fs::path ResumeTestDir(const std::string& name) {
-  const fs::path base = fs::is_directory("/dev/shm") ? fs::path("/dev/shm") : fs::temp_directory_path();
-  const fs::path dir = base / fmt::format("hybridtest_resume_{}_{}", name, ::getpid());
+  const fs::path dir =
+      test_support::ScratchBase() / fmt::format("hybridtest_resume_{}_{}", name, ::getpid());
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

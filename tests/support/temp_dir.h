@@ -2,6 +2,7 @@
 // Scratch files for tests: a fresh directory per test process, and whole-file text I/O.
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -9,12 +10,18 @@
 
 namespace hybridtest::test_support {
 
-// The directory tests write their scratch files in: /dev/shm when it is a writable directory
-// (a tmpfs: a physical run syncs its journal at every row, and on a disk those syncs are most
-// of a test's time, 70 s instead of 8 s for a 10,000-row emulated run), else $TMPDIR or /tmp.
+// The directory tests write their scratch files in: $TMPDIR when it is set (scripts/test.sh
+// points it at a fresh directory in /dev/shm and removes it afterwards), else /dev/shm when it
+// is a writable directory (a tmpfs: a physical run syncs its journal at every row, and on a
+// disk those syncs are most of a test's time, 70 s instead of 8 s for a 10,000-row emulated
+// run), else the system's temporary directory.
 inline std::filesystem::path ScratchBase() {
   static const std::filesystem::path base = [] {
     std::error_code error;
+    if (const char* tmp = std::getenv("TMPDIR");
+        tmp != nullptr && *tmp != '\0' && std::filesystem::is_directory(tmp, error)) {
+      return std::filesystem::path(tmp);
+    }
     if (std::filesystem::is_directory("/dev/shm", error) && ::access("/dev/shm", W_OK) == 0) {
       return std::filesystem::path("/dev/shm");
     }
