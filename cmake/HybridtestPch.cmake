@@ -27,6 +27,19 @@ set(HYBRIDTEST_PCH_HEADERS
   <yaml-cpp/yaml.h>
   <Eigen/Core> <Eigen/Cholesky> <Eigen/Eigenvalues> <Eigen/Geometry> <Eigen/LU>)
 
+# hybridtest_pch_cxx(OUT HEADER...): the HEADERs for C++ sources only. A target may also compile C
+# (the benchmarks compile SymPy's generated C); a C translation unit must not get a header of
+# <algorithm> and Eigen. An angle-bracket header's closing '>' is written $<ANGLE-R> inside the
+# generator expression.
+function(hybridtest_pch_cxx out)
+  set(result "")
+  foreach(header IN LISTS ARGN)
+    string(REGEX REPLACE ">$" "$<ANGLE-R>" header "${header}")
+    list(APPEND result "$<$<COMPILE_LANGUAGE:CXX>:${header}>")
+  endforeach()
+  set(${out} "${result}" PARENT_SCOPE)
+endfunction()
+
 # hybridtest_pch_share(TARGET GROUP HEADER...): TARGET uses the precompiled header of HEADERs
 # shared by the targets of GROUP (REUSE_FROM); the group's first target creates it.
 function(hybridtest_pch_share target group)
@@ -35,7 +48,8 @@ function(hybridtest_pch_share target group)
   endif()
   get_property(owner GLOBAL PROPERTY HYBRIDTEST_PCH_OWNER_${group})
   if(NOT owner)
-    target_precompile_headers(${target} PRIVATE ${ARGN})
+    hybridtest_pch_cxx(headers ${ARGN})
+    target_precompile_headers(${target} PRIVATE ${headers})
     set_property(GLOBAL PROPERTY HYBRIDTEST_PCH_OWNER_${group} ${target})
   else()
     target_precompile_headers(${target} REUSE_FROM ${owner})
@@ -53,7 +67,8 @@ function(hybridtest_pch_app target)
   if(NOT hybridtest_pch_default)
     return()
   endif()
-  target_precompile_headers(${target} PRIVATE ${HYBRIDTEST_PCH_HEADERS} ${ARGN})
+  hybridtest_pch_cxx(headers ${HYBRIDTEST_PCH_HEADERS} ${ARGN})
+  target_precompile_headers(${target} PRIVATE ${headers})
 endfunction()
 
 # hybridtest_pch_tests(TARGET): the GoogleTest executables share one precompiled header (the
