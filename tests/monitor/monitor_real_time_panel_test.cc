@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "hybridtest/io/run_spec_yaml.h"
@@ -54,7 +55,10 @@ class Snapshot final : public runner::SessionObserver {
       position.push_back(e.row[c + 1]);
     }
     if (e.step != at_) return;
-    delay = session_.substructures()[0]->transfer_system()->compensated_delay();
+    // A slot without a transfer system leaves NaN, which no recorded delay equals.
+    const transfer::TransferSystem* transfer = session_.substructures()[0]->transfer_system();
+    delay = transfer != nullptr ? transfer->compensated_delay()
+                                : std::numeric_limits<double>::quiet_NaN();
     for (int i = 0; i < 2000 && state_.frames() <= at_; ++i) {
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }

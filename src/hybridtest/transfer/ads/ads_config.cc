@@ -3,10 +3,9 @@
 
 #include <fmt/core.h>
 
-#include <algorithm>
-
 #include "hybridtest/common/error.h"
 #include "hybridtest/transfer/bench_config.h"
+#include "hybridtest/transfer/controller_options.h"
 #include "hybridtest/transfer/socket.h"
 
 namespace hybridtest::transfer::ads {
@@ -24,24 +23,6 @@ std::uint16_t ReadPort(const YamlInput& in, const YAML::Node& node, const std::s
   const int port = in.Integer(node, key, expected);
   if (port < 1 || port > 65535) in.ThrowValue(node, key, expected);
   return static_cast<std::uint16_t>(port);
-}
-
-// The per-actuator following errors (one value, or one per actuator) [bench length unit].
-std::vector<double> ReadFollowingErrors(const YamlInput& in, const YAML::Node& f,
-                                        const std::string& fkp, int n, const std::string& unit) {
-  const std::string what = fmt::format(
-      "the largest |command − measured position| after a move, in the length unit ({})", unit);
-  if (!f.IsSequence()) return {in.PositiveNumber(f, fkp, what)};
-  if (f.size() != static_cast<std::size_t>(n)) {
-    throw ConfigError(fmt::format("{}: {} values for {} actuator{}: give one limit per actuator, "
-                                  "or one for all", in.Where(f, fkp), f.size(), n,
-                                  n == 1 ? "" : "s"));
-  }
-  std::vector<double> out;
-  for (std::size_t k = 0; k < f.size(); ++k) {
-    out.push_back(in.PositiveNumber(f[k], fmt::format("{}[{}]", fkp, k), what));
-  }
-  return out;
 }
 
 }  // namespace
@@ -112,58 +93,10 @@ AdsOptions ParseAdsOptions(const YamlInput& in, const YAML::Node& node, const st
                                        "a PLC variable's name, e.g. " + DefaultSymbol(static_cast<Role>(r)));
     }
   }
-  const auto seconds = [&](const char* key, double fallback) {
-    return node[key] ? in.PositiveNumber(node[key], kp + "." + key, "a time in seconds") : fallback;
-  };
-  o.ack_timeout = seconds("timeout", default_timeout);
-  o.response_timeout = seconds("response_timeout", std::min(o.response_timeout, o.ack_timeout));
-  o.connect_timeout = seconds("connect_timeout", o.connect_timeout);
-  o.hold_timeout = seconds("hold_timeout", o.hold_timeout);
-  o.poll_interval = in.ReadNumber(node, kp, "poll_interval", "a pause in seconds (0: back to back)",
-                                  o.poll_interval);
-  if (o.poll_interval < 0.0) {
-    in.ThrowValue(node["poll_interval"], kp + ".poll_interval", "a non-negative time in seconds");
-  }
-  if (const YAML::Node p = in.Mapping(node, "plausibility", kp + ".plausibility", false); p.IsDefined()) {
-    in.CheckKeys(p, kp + ".plausibility", {"position_tolerance", "force"});
-    if (p["position_tolerance"]) {
-      o.position_tolerance = in.PositiveNumber(p["position_tolerance"], kp + ".plausibility.position_tolerance",
-                                               "a length in the bench length unit");
-    }
-    if (p["force"]) {
-      o.force_plausible = in.PositiveNumber(p["force"], kp + ".plausibility.force",
-                                            "a force in the bench force unit");
-    }
-  }
-  // The in-position window and the following error (the Modbus transfer's rules).
-  const SafetyLimits l = limits != nullptr ? *limits : SafetyLimits{};
-  const double metres = o.profile.units.metres_per_length_unit;
-  const std::string& unit = o.profile.units.length_name;
-  o.settle_tolerance = InBenchUnit(kDefaultSettleTolerance, metres);
-  if (node["settle_tolerance"]) {
-    o.settle_tolerance = in.PositiveNumber(node["settle_tolerance"], kp + ".settle_tolerance",
-                                           "the PLC's in-position window, in " + unit);
-    if (*o.settle_tolerance * metres > l.max_increment) {
-      in.ThrowValue(node["settle_tolerance"], kp + ".settle_tolerance",
-                    fmt::format("a window narrower than the slot's max_increment ({} {})",
-                                l.max_increment / metres, unit));
-    }
-  }
-  if (node["following_error"]) {
-    o.following_errors = ReadFollowingErrors(in, node["following_error"],
-                                             kp + ".following_error", n, unit);
-    for (double limit : o.following_errors) {
-      if (limit * metres > l.stroke_max - l.stroke_min) {
-        in.ThrowValue(node["following_error"], kp + ".following_error",
-                      fmt::format("a limit shorter than the stroke, in {} (e.g. the slot's "
-                                  "max_increment, {} {})", unit, l.max_increment / metres, unit));
-      }
-    }
-    o.following_error = o.following_errors[0];
-    if (o.following_errors.size() == 1) o.following_errors.clear();
-  } else {
-    o.following_error = DefaultFollowingError(*o.settle_tolerance, InBenchUnit(l.max_increment, metres));
-  }
+  // The timeouts, the first exchange's plausibility, the in-position window and the following
+  // errors, in the profile's units.
+  ReadControllerOptions(in, node, kp, default_timeout, limits, o.profile.units,
+                        static_cast<std::size_t>(n), o);
   return o;
 }
 

@@ -34,13 +34,6 @@ constexpr Role kOutputs[] = {kPosition, kForce, kAck, kEnabled, kFault, kHolding
 
 AdsTransfer::AdsTransfer(AdsOptions options) : options_(std::move(options)), link_(options_.endpoint) {
   AdsOptions& o = options_;
-  for (const auto& [name, value] :
-       {std::pair{"connect_timeout", o.connect_timeout}, {"response_timeout", o.response_timeout},
-        {"timeout", o.ack_timeout}, {"hold_timeout", o.hold_timeout}}) {
-    if (!(value > 0.0) || !std::isfinite(value)) {
-      throw ConfigError(fmt::format("ads transfer: {} = {} s: expected a positive time", name, value));
-    }
-  }
   if (o.profile.actuators < 1) {
     throw ConfigError(fmt::format("ads transfer: actuators = {}: expected 1 or more",
                                   o.profile.actuators));
@@ -52,31 +45,8 @@ AdsTransfer::AdsTransfer(AdsOptions options) : options_(std::move(options)), lin
                                     DefaultSymbol(static_cast<Role>(r))));
     }
   }
-  const double metres = o.profile.units.metres_per_length_unit;
-  if (!o.position_tolerance) o.position_tolerance = 1e-3 / metres;
-  if (!o.force_plausible) o.force_plausible = 1e6 / o.profile.units.newtons_per_force_unit;
-  if (!o.settle_tolerance) o.settle_tolerance = InBenchUnit(kDefaultSettleTolerance, metres);
-  if (!o.following_error) {
-    o.following_error = DefaultFollowingError(*o.settle_tolerance,
-                                              InBenchUnit(SafetyLimits{}.max_increment, metres));
-  }
-  const auto n = static_cast<std::size_t>(o.profile.actuators);
-  if (!o.following_errors.empty() && o.following_errors.size() != n) {
-    throw ConfigError(fmt::format("ads transfer: {} following errors for {} actuators: give one "
-                                  "per actuator", o.following_errors.size(), n));
-  }
-  if (!(o.poll_interval >= 0.0) || !(*o.position_tolerance > 0.0) || !(*o.force_plausible > 0.0)) {
-    throw ConfigError(fmt::format("ads transfer: poll_interval = {} s, position_tolerance = {}, "
-                                  "force_plausible = {}: expected a non-negative interval and "
-                                  "positive plausibility bounds", o.poll_interval,
-                                  *o.position_tolerance, *o.force_plausible));
-  }
-  std::vector<SettledReadingCheck::Limits> limits;
-  for (std::size_t k = 0; k < n; ++k) {
-    limits.push_back({o.following_errors.empty() ? *o.following_error : o.following_errors[k],
-                      *o.settle_tolerance});
-  }
-  settled_ = SettledReadingCheck(std::move(limits));  // throws ConfigError for a bad value
+  settled_ = SettledReadingCheck(ResolveControllerOptions(
+      o, o.profile.units, static_cast<std::size_t>(o.profile.actuators), "ads transfer"));
 }
 
 AdsTransfer::~AdsTransfer() {

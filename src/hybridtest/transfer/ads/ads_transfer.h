@@ -39,24 +39,17 @@
 
 #include "hybridtest/transfer/ads/ads_link.h"
 #include "hybridtest/transfer/ads/ads_profile.h"
+#include "hybridtest/transfer/controller_options.h"
 #include "hybridtest/transfer/safety_settled_reading.h"
 #include "hybridtest/transfer/transfer_system.h"
 
 namespace hybridtest::transfer::ads {
 
-struct AdsOptions {
+// The timeouts, the first exchange's plausibility, the PLC's in-position window and the
+// following errors are the ControllerOptions (controller_options.h), in the profile's units.
+struct AdsOptions : ControllerOptions {
   AdsEndpoint endpoint;
   AdsProfile profile = DefaultProfile();
-  // The bounds of every wait [s]: the TCP connection, one answer, one command's ack, the
-  // answer to Hold()'s write; and the pause between two reads while waiting for the ack.
-  double connect_timeout = 5.0, response_timeout = 1.0, ack_timeout = 5.0, hold_timeout = 0.5;
-  double poll_interval = 0.0;
-  // Bench units. First exchange: the largest |position − command| and |force| (unset: 1 mm,
-  // 1 MN). The PLC's in-position window and the following error, one for all or one per
-  // actuator (unset: 0.05 mm and four windows; safety_settled_reading.h).
-  std::optional<double> position_tolerance, force_plausible;
-  std::optional<double> settle_tolerance, following_error;
-  std::vector<double> following_errors;
 };
 
 class AdsTransfer final : public TransferSystem {

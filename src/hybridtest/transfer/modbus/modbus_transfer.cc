@@ -42,59 +42,9 @@ ModbusTransfer::ModbusTransfer(ModbusOptions options)
                       "default profile for one actuator)");
   }
   const RegisterMap& first = o.maps[0];
-  for (const auto& [name, value] :
-       {std::pair{"connect_timeout", o.connect_timeout}, {"response_timeout", o.response_timeout},
-        {"ack_timeout", o.ack_timeout}, {"hold_timeout", o.hold_timeout}}) {
-    if (!(value > 0.0) || !std::isfinite(value)) {
-      throw ConfigError(fmt::format("modbus transfer: {} = {} s: expected a positive time", name,
-                                    value));
-    }
-  }
-  if (!options_.position_tolerance) {
-    options_.position_tolerance = 1e-3 / first.units.metres_per_length_unit;  // 1 mm
-  }
-  if (!options_.force_plausible) {
-    options_.force_plausible = 1e6 / first.units.newtons_per_force_unit;  // 1 MN
-  }
-  const double metres = first.units.metres_per_length_unit;
-  if (!options_.settle_tolerance) {
-    options_.settle_tolerance = InBenchUnit(kDefaultSettleTolerance, metres);
-  }
-  if (!(*o.settle_tolerance > 0.0) || !std::isfinite(*o.settle_tolerance)) {
-    throw ConfigError(fmt::format("modbus transfer: settle_tolerance = {} {}: expected a positive "
-                                  "distance in the map's length unit (the controller's "
-                                  "in-position window)", *o.settle_tolerance,
-                                  first.units.length_name));
-  }
-  if (!options_.following_error) {
-    options_.following_error = DefaultFollowingError(
-        *o.settle_tolerance, InBenchUnit(SafetyLimits{}.max_increment, metres));
-  }
-  if (!(o.poll_interval >= 0.0) || !(*o.position_tolerance > 0.0) || !(*o.force_plausible > 0.0)) {
-    throw ConfigError(fmt::format(
-        "modbus transfer: poll_interval = {} s, position_tolerance = {}, force_plausible = {}: "
-        "expected a non-negative interval and positive plausibility bounds",
-        o.poll_interval, *o.position_tolerance, *o.force_plausible));
-  }
-  if (!(*o.following_error > 0.0) || !std::isfinite(*o.following_error)) {
-    throw ConfigError(fmt::format("modbus transfer: following_error = {} {}: expected a positive "
-                                  "distance in the map's length unit",
-                                  *o.following_error, first.units.length_name));
-  }
   if (o.unit_id < 0 || o.unit_id > 255) {
     throw ConfigError(fmt::format("modbus transfer: unit_id = {}: expected 0..255 (usually 1; "
                                   "255 addresses a Modbus/TCP device directly)", o.unit_id));
-  }
-  if (!o.following_errors.empty() && o.following_errors.size() != o.maps.size()) {
-    throw ConfigError(fmt::format("modbus transfer: {} following errors for {} actuators: give "
-                                  "one per actuator", o.following_errors.size(), o.maps.size()));
-  }
-  for (double limit : o.following_errors) {
-    if (!(limit > 0.0) || !std::isfinite(limit)) {
-      throw ConfigError(fmt::format("modbus transfer: following_error {} {}: expected a positive "
-                                    "distance in the map's length unit", limit,
-                                    first.units.length_name));
-    }
   }
   for (const RegisterMap& m : o.maps) {
     const BenchUnits& u = m.units;
@@ -105,12 +55,8 @@ ModbusTransfer::ModbusTransfer(ModbusOptions options)
     }
   }
   ValidateRegisterMaps(o.maps, "modbus transfer: map");
-  std::vector<SettledReadingCheck::Limits> settled;
-  for (std::size_t k = 0; k < o.maps.size(); ++k) {
-    settled.push_back({o.following_errors.empty() ? *o.following_error : o.following_errors[k],
-                       *o.settle_tolerance});
-  }
-  settled_ = SettledReadingCheck(std::move(settled));
+  settled_ = SettledReadingCheck(
+      ResolveControllerOptions(options_, first.units, o.maps.size(), "modbus transfer"));
   maps_ = o.maps;
   writes_ = CommandWrites(maps_);
   reads_ = ReadoutBlocks(maps_);

@@ -71,6 +71,7 @@
 #include <string>
 #include <vector>
 
+#include "hybridtest/transfer/controller_options.h"
 #include "hybridtest/transfer/modbus/register_map.h"
 #include "hybridtest/transfer/transfer_system.h"
 #include "hybridtest/transfer/safety_settled_reading.h"
@@ -79,33 +80,15 @@ struct _modbus;  // libmodbus's context (modbus_t), kept out of this header
 
 namespace hybridtest::transfer::modbus {
 
-struct ModbusOptions {
+// The timeouts, the first exchange's plausibility, the settling window and the following
+// errors are the ControllerOptions (controller_options.h), in the unit of maps[0].
+struct ModbusOptions : ControllerOptions {
   std::string host = "127.0.0.1";
   std::uint16_t port = 502;
   int unit_id = 1;                     // Modbus unit identifier (0..247; 255 for "any")
   // One register map per actuator (register_map.h); by default one actuator on the default
   // profile. Units, word and byte order are the controller's: those of maps[0].
   std::vector<RegisterMap> maps{RegisterMap{}};
-  double connect_timeout = 5.0;        // longest wait for the TCP connection. Unit: [s].
-  double response_timeout = 1.0;       // longest wait for the answer to one request. Unit: [s].
-  double ack_timeout = 5.0;            // longest wait for the ack of one command. Unit: [s].
-  double hold_timeout = 0.5;           // longest wait for the answer to Hold()'s write. Unit: [s].
-  double poll_interval = 0.0;          // pause between two reads while waiting. Unit: [s].
-  // First exchange: the largest |position − command| and |force|. Unit: bench length and
-  // force units. Unset: 1 mm and 1 MN, converted to the map's units.
-  std::optional<double> position_tolerance;
-  std::optional<double> force_plausible;
-  // The controller's settling (in-position) window: |command − position| below which it
-  // reports a move settled. Unit: bench length unit. Unset: kDefaultSettleTolerance (0.05 mm)
-  // in the map's units.
-  std::optional<double> settle_tolerance;
-  // Every exchange: the largest |command − measured position| once the ack is in. Unit: bench
-  // length unit. Unset: DefaultFollowingError(settle_tolerance, SafetyLimits' max_increment)
-  // (0.2 mm); ParseModbusOptions caps it at the slot's safety.max_increment instead.
-  std::optional<double> following_error;
-  // Several actuators: one following error each (bench length unit); empty: following_error
-  // for every actuator.
-  std::vector<double> following_errors;
 };
 
 class ModbusTransfer final : public TransferSystem {
