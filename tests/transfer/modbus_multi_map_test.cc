@@ -209,8 +209,8 @@ TEST(ModbusMultiMap, TheTransferSectionGivesATransferOfNActuators) {
     following("[3, 1.5, 2]");
     ADD_FAILURE() << "three limits for two actuators";
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("run.yaml:1: transfer.following_error: 3 values for the "
-                                         "map's 2 actuators"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("run.yaml:1: transfer.following_error: 3 values for 2 "
+                                         "actuators: give one limit per actuator"), std::string::npos) << e.what();
   }
   EXPECT_THROW(following("[3, -1]"), ConfigError);
   // A hand-built options whose maps disagree on the units is refused.
