@@ -7,6 +7,8 @@
 #                             without tests and benchmarks, so their packages are not needed
 #   scripts/build.sh --python only the Python package (build/release/python/hybridtest)
 #   --print                   print the commands instead of running them
+# HYBRIDTEST_WERROR=ON (.ci/run sets it) configures the tree with warnings as errors in the
+# project's own files.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
@@ -21,28 +23,34 @@ for arg in "$@"; do
     *) echo "build.sh: unknown option '$arg'; expected --app, --python and/or --print" >&2; exit 2 ;;
   esac
 done
+# shellcheck source=scripts/lib/stage.sh
+source scripts/lib/stage.sh
+# run STAGE COMMAND...: runs (or, with --print, prints) COMMAND, timed as STAGE.
 run() {
-  if ((print_only)); then echo "$*"; else "$@"; fi
+  local name=$1
+  shift
+  if ((print_only)); then echo "$*"; else stage "$name" "$@"; fi
 }
 cache=build/release/CMakeCache.txt
 if ((app_only)); then
-  run scripts/install-deps.sh --app
+  run dependencies scripts/install-deps.sh --app
   if [[ ! -f build/release/build.ninja ]]; then
-    run cmake --preset release -DHYBRIDTEST_BUILD_TESTS=OFF -DHYBRIDTEST_BUILD_BENCH=OFF
+    run configure cmake --preset release -DHYBRIDTEST_BUILD_TESTS=OFF -DHYBRIDTEST_BUILD_BENCH=OFF
   fi
-  run cmake --build --preset release -j "${HYBRIDTEST_JOBS:-$(nproc)}" --target hybridtest hybridtest_example_fmus
+  run build cmake --build --preset release -j "${HYBRIDTEST_JOBS:-$(nproc)}" --target hybridtest hybridtest_example_fmus
   exit 0
 fi
 if ((python_only)); then
-  run scripts/install-deps.sh
-  [[ -f build/release/build.ninja ]] || run cmake --preset release
-  run cmake --build --preset release -j "${HYBRIDTEST_JOBS:-$(nproc)}" --target hybridtest_python
+  run dependencies scripts/install-deps.sh
+  [[ -f build/release/build.ninja ]] || run configure cmake --preset release
+  run build cmake --build --preset release -j "${HYBRIDTEST_JOBS:-$(nproc)}" --target hybridtest_python
   exit 0
 fi
-run scripts/install-deps.sh
+run dependencies scripts/install-deps.sh
 # A tree first configured by --app has the tests and benchmarks off: turn them on.
 if [[ ! -f build/release/build.ninja ]] || grep -q "^HYBRIDTEST_BUILD_TESTS:BOOL=OFF" "$cache" ||
    grep -q "^HYBRIDTEST_BUILD_BENCH:BOOL=OFF" "$cache"; then
-  run cmake --preset release -DHYBRIDTEST_BUILD_TESTS=ON -DHYBRIDTEST_BUILD_BENCH=ON
+  run configure cmake --preset release -DHYBRIDTEST_BUILD_TESTS=ON -DHYBRIDTEST_BUILD_BENCH=ON \
+    -DHYBRIDTEST_WERROR="${HYBRIDTEST_WERROR:-OFF}"
 fi
-run cmake --build --preset release -j "${HYBRIDTEST_JOBS:-$(nproc)}"
+run build cmake --build --preset release -j "${HYBRIDTEST_JOBS:-$(nproc)}"

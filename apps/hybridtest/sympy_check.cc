@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "hybridtest/common/error.h"
@@ -50,9 +51,12 @@ std::string RunScript(const std::string& command, double timeout_s, const std::s
   const std::string out =
       Capture(fmt::format("{}{} 2>{}", limit, command, Quote(errors_file.string())), status);
   {
+    // (Through rdbuf: GCC 12 flags istreambuf_iterator's inlined loop with a
+    // -Wnull-dereference false positive inside <streambuf>.)
     std::ifstream err(errors_file);
-    const std::string text{std::istreambuf_iterator<char>(err), std::istreambuf_iterator<char>()};
-    *errors = LastLines(text, 8);
+    std::ostringstream text;
+    if (err) text << err.rdbuf();
+    *errors = LastLines(text.str(), 8);
   }
   std::filesystem::remove(errors_file);
   if (timeout_s > 0.0 && WIFEXITED(*status) && WEXITSTATUS(*status) == 124) {

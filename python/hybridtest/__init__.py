@@ -13,7 +13,40 @@ whole API.
 """
 import enum
 import os
+import sys
+import sysconfig
 from collections.abc import Mapping
+
+from . import _build_info
+
+
+def _import_error(problem):
+    """An ImportError that names the interpreter the module was built for and this one."""
+    return ImportError(
+        f"{problem}: hybridtest's module was built for {_build_info.INTERPRETER} (Python "
+        f"{_build_info.VERSION}, {_build_info.SOABI}); this is {sys.executable} (Python "
+        f"{sys.version.split()[0]}, {sysconfig.get_config_var('SOABI')}). Run it with that "
+        "interpreter, or rebuild for this one: cmake -S . -B build/release "
+        "-DPython3_EXECUTABLE=$(command -v python3) (docs/python.md, \"Which interpreter\")")
+
+
+# numpy: the interpreter's own, else the one found at build time for the same ABI tag (Debian's
+# python3-numpy for a pyenv python3 of Debian's minor version), searched after every other path.
+try:
+    import numpy  # noqa: F401
+except ImportError:
+    if not _build_info.NUMPY_PATH or sysconfig.get_config_var("SOABI") != _build_info.SOABI:
+        raise _import_error("hybridtest needs numpy, and this interpreter has none") from None
+    sys.path.append(_build_info.NUMPY_PATH)
+    try:
+        import numpy  # noqa: F401
+    except ImportError as e:
+        raise _import_error(f"numpy from {_build_info.NUMPY_PATH} did not load ({e})") from None
+
+try:
+    from . import _core  # noqa: F401
+except ImportError as e:
+    raise _import_error(f"the module hybridtest._core did not load ({e})") from None
 
 from ._core import (  # noqa: F401
     ConfigError,

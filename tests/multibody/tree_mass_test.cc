@@ -139,7 +139,9 @@ TEST(TreeMassMatrix, ChainsTakeTheTreePathAndAgree) {
         const Model model = BuildChain(n, twist, bodies);
         ASSERT_TRUE(model.is_joint_tree()) << model.tree_mass_matrix_reason();
         // Large chains take the tree path; n = 1 or 2 may keep the cheaper pairwise sum.
-        if (n >= 12) EXPECT_TRUE(model.tree_mass_matrix()) << model.tree_mass_matrix_reason();
+        if (n >= 12) {
+          EXPECT_TRUE(model.tree_mass_matrix()) << model.tree_mass_matrix_reason();
+        }
         // Composite inertias about O carry m |p|² terms: rounding grows with the chain's
         // reach (12 m at n = 40), still far inside the oracle's 1e-10.
         ExpectPathsAgree(model, 1e-11);
@@ -152,7 +154,9 @@ TEST(TreeMassMatrix, ABranchedTreeWithPrismaticJointsAgrees) {
   for (int links : {1, 4}) {
     const Model model = BuildTurbine(links);
     ASSERT_TRUE(model.is_joint_tree()) << model.tree_mass_matrix_reason();
-    if (links == 4) EXPECT_TRUE(model.tree_mass_matrix()) << model.tree_mass_matrix_reason();
+    if (links == 4) {
+      EXPECT_TRUE(model.tree_mass_matrix()) << model.tree_mass_matrix_reason();
+    }
     ExpectPathsAgree(model, 1e-12);
   }
 }

@@ -51,7 +51,8 @@ Eigen::VectorXd Integrate(const SchemeConfig& c, double h, double k0, long stop_
   const multibody::Model model = ModelWithIntegrator();
   EXPECT_EQ(model.num_states(), 3);
   SlotInfo slots{Eigen::VectorXd::Constant(1, k0),
-                 Eigen::VectorXd::Constant(1, std::numeric_limits<double>::infinity())};
+                 Eigen::VectorXd::Constant(1, std::numeric_limits<double>::infinity()),
+                 Eigen::MatrixXd()};
   const long steps = std::lround(kEnd / h);
   auto make = [&] {
     return MakeScheme(c, integrators::FindTableau("rk4"), h, kEnd, steps, model, slots);

@@ -45,7 +45,8 @@ SchemeConfig Config(SchemeKind kind, bool adaptive = false) {
 std::unique_ptr<HybridScheme> Make(const multibody::Model& model, const SchemeConfig& c, double h,
                                    double k0) {
   SlotInfo slots{Eigen::VectorXd::Constant(1, k0),
-                 Eigen::VectorXd::Constant(1, std::numeric_limits<double>::infinity())};
+                 Eigen::VectorXd::Constant(1, std::numeric_limits<double>::infinity()),
+                 Eigen::MatrixXd()};
   return MakeScheme(c, integrators::FindTableau("rk4"), h, kEnd,
                     static_cast<long>(std::lround(kEnd / h)), model, slots);
 }

@@ -120,7 +120,8 @@ TEST(StabilityGuard, AdaptiveStepsStayInsideTheBoundWithAK0FourTimesTooSoft) {
     c.substep = 1e-3;
     const double bound = (kind == SchemeKind::kMrOs ? kMrOsStabilityConstant
                                                     : kAlphaOsStabilityConstant) / omega_delta;
-    SlotInfo slots{Eigen::VectorXd::Constant(1, k0), Eigen::VectorXd::Constant(1, kInf)};
+    SlotInfo slots{Eigen::VectorXd::Constant(1, k0), Eigen::VectorXd::Constant(1, kInf),
+                   Eigen::MatrixXd()};
     auto scheme = MakeScheme(c, integrators::FindTableau("rk4"), 0.01, duration, 600, model, slots);
     SpringSeam seam(o.k);
     CollectRows rows;

@@ -19,7 +19,7 @@ namespace {
 std::vector<int> PivotColumns(Eigen::MatrixXd a) {
   const int m = static_cast<int>(a.rows());
   std::vector<int> cols;
-  const double scale = a.cwiseAbs().maxCoeff();
+  const double scale = a.lpNorm<Eigen::Infinity>();  // 0 for an empty a
   for (int k = 0; k < m; ++k) {
     int bi = -1, bj = -1;
     double best = -1.0;

@@ -11,6 +11,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/tracking.h"
+#include "hybridtest/report/json_text.h"
 
 namespace hybridtest::report {
 namespace {
@@ -44,7 +45,7 @@ std::string SlotCoordinate(const io::RunData& run, const std::string& slot) {
   const nlohmann::json& meta = run.metadata;
   if (!meta.is_object() || !meta.contains("model") || !meta["model"].contains("slots")) return "";
   for (const auto& s : meta["model"]["slots"]) {
-    if (s.value("name", "") == slot) return s.value("coordinate", "");
+    if (TextMember(s, "name") == slot) return TextMember(s, "coordinate");
   }
   return "";
 }
