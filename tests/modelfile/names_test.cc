@@ -11,6 +11,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/modelfile/model_file.h"
 #include "hybridtest/modelfile/names.h"
+#include "support/model_file_error.h"
 
 namespace hybridtest::modelfile {
 namespace {
@@ -48,15 +49,7 @@ constexpr char kAll[] =
     "torques:\n"                                                             // 26
     "  - {name: spring, frame: A, value: [0, 0, -r1]}\n";                    // 27
 
-std::string ErrorOf(const std::string& text) {
-  try {
-    const ModelFile f = ParseModelFile(YamlInput::FromText(text, "m.yaml"));
-    BuildModelFile(f, f.parameters);
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "no error";
-}
+std::string ErrorOf(const std::string& text) { return ::test_support::ModelFileError(text); }
 
 // kAll with `from` (once, on its line) replaced by `to`.
 std::string With(const std::string& from, const std::string& to) {

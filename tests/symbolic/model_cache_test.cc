@@ -114,6 +114,15 @@ TEST(ModelCache, AReplacedLibraryIsRefusedBeforeItsConstructorRuns) {
   unsetenv("HYBRIDTEST_TEST_MARKER");
 }
 
+TEST(ModelCache, AnEditedSourceIsRefused) {
+  UseOwnCache();
+  CompileReport report;
+  CompileModel(Rotor().model, "rotor", &report);
+  std::ofstream(fs::path(report.library).replace_extension(".c"), std::ios::app) << "/* */\n";
+  const std::string error = ErrorOf(Rotor());
+  EXPECT_NE(error.find("digest mismatch: its source"), std::string::npos) << error;
+}
+
 TEST(ModelCache, ALibraryItsGroupMayWriteIsRefused) {
   UseOwnCache();
   CompileReport report;

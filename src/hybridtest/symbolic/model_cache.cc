@@ -35,6 +35,16 @@ std::string Ownership(const struct stat& st) {
   return {};
 }
 
+// Empty if the stat call that returned `rc` found a directory (or a regular file) of this
+// user writable by no one else; otherwise what is wrong.
+std::string Problem(int rc, const struct stat& st, bool directory) {
+  if (rc != 0) return OsError();
+  if (directory ? !S_ISDIR(st.st_mode) : !S_ISREG(st.st_mode)) {
+    return directory ? "it is not a directory" : "it is not a regular file";
+  }
+  return Ownership(st);
+}
+
 // The whole content of the open file `fd` (from its start).
 std::string ReadFd(int fd, const fs::path& path) {
   std::string bytes;
@@ -61,14 +71,7 @@ int OpenPrivateFile(const fs::path& path, const char* what) {
                                  "library and compile again", what, path.string(), OsError()));
   }
   struct stat st {};
-  std::string problem;
-  if (::fstat(fd, &st) != 0) {
-    problem = OsError();
-  } else if (!S_ISREG(st.st_mode)) {
-    problem = "it is not a regular file";
-  } else {
-    problem = Ownership(st);
-  }
+  const std::string problem = Problem(::fstat(fd, &st), st, false);
   if (!problem.empty()) {
     ::close(fd);
     throw ModelError(fmt::format("refusing to load the compiled model: its {} {}: {}; the cache "
@@ -107,14 +110,7 @@ void PreparePrivateDir(const fs::path& dir) {
     }
   }
   struct stat st {};
-  std::string problem;
-  if (::stat(dir.c_str(), &st) != 0) {
-    problem = OsError();
-  } else if (!S_ISDIR(st.st_mode)) {
-    problem = "it is not a directory";
-  } else {
-    problem = Ownership(st);
-  }
+  const std::string problem = Problem(::stat(dir.c_str(), &st), st, true);
   if (!problem.empty()) {
     throw Error(fmt::format(
         "refusing the cache of compiled models {}: {}; a library there is loaded into this "
