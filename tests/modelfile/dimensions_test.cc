@@ -5,6 +5,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/modelfile/model_file.h"
+#include "support/model_file_error.h"
 
 namespace hybridtest::modelfile {
 namespace {
@@ -34,15 +35,7 @@ std::string Model(const std::string& position, const std::string& rest = "") {
          + rest;
 }
 
-std::string ErrorOf(const std::string& text) {
-  try {
-    const ModelFile f = ParseModelFile(YamlInput::FromText(text, "m.yaml"));
-    BuildModelFile(f, f.parameters);
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "no error";
-}
+std::string ErrorOf(const std::string& text) { return ::test_support::ModelFileError(text); }
 
 TEST(ModelFileDimensions, ConsistentFormulasPass) {
   EXPECT_EQ(ErrorOf(Model("L * cos(th) + x")), "no error");

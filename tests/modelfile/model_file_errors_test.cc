@@ -7,6 +7,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/modelfile/model_file.h"
+#include "support/model_file_error.h"
 #include "support/multibody_helpers.h"
 
 namespace hybridtest::modelfile {
@@ -28,15 +29,7 @@ constexpr char kBase[] =
     "particles:\n"                                          // 10
     "  - {name: bob, point: P, mass: 2}\n";                 // 11
 
-std::string ErrorOf(const std::string& text) {
-  try {
-    const ModelFile f = ParseModelFile(YamlInput::FromText(text, "m.yaml"));
-    BuildModelFile(f, f.parameters);
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "no error";
-}
+std::string ErrorOf(const std::string& text) { return ::test_support::ModelFileError(text); }
 
 TEST(ModelFileErrorsTest, AValidFileBuilds) { EXPECT_EQ(ErrorOf(kBase), "no error"); }
 

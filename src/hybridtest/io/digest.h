@@ -1,16 +1,10 @@
 #pragma once
-// SHA-256 digests (OpenSSL's libcrypto) for the records that must not lie: the run state's
-// checksum, the journal's last row and the inputs a run read (docs/safety.md, "Resuming a
-// run"). Hex strings, lower case, 64 characters.
-#include <string>
-#include <string_view>
+// SHA-256 digests: in common/digest.h (the compiled-model cache, below io, uses them too).
+#include "hybridtest/common/digest.h"
 
 namespace hybridtest::io {
 
-std::string Sha256Hex(std::string_view bytes);
-
-// The digest of the file at `path`, read whole. Throws IoError naming the file if it cannot
-// be read or is not a regular file.
-std::string Sha256OfFile(const std::string& path);
+using hybridtest::Sha256Hex;
+using hybridtest::Sha256OfFile;
 
 }  // namespace hybridtest::io

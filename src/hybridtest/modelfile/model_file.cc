@@ -15,6 +15,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/modelfile/compiled_scalar.h"
 #include "hybridtest/modelfile/file_context.h"
+#include "hybridtest/modelfile/names.h"
 #include "hybridtest/modelfile/units.h"
 
 namespace hybridtest::modelfile {
@@ -63,8 +64,9 @@ std::vector<multibody::QuantityInfo> ReadQuantities(const YamlInput& in, const Y
     const std::string unit = in.String(items[i]["unit"], kp + ".unit",
                                        key == "coordinates" ? "m or rad" : "m/s or rad/s");
     CheckStateUnit(in, items[i]["unit"], kp + ".unit", unit, key == "coordinates");
-    out.push_back({in.String(items[i]["name"], kp + ".name", "a name such as q1 or theta"), unit,
-                   in.ReadString(items[i], kp, "description", "")});
+    const std::string name = in.String(items[i]["name"], kp + ".name", "a name such as q1 or theta");
+    CheckName(in, items[i]["name"], kp + ".name", name);
+    out.push_back({name, unit, in.ReadString(items[i], kp, "description", "")});
   }
   return out;
 }
@@ -80,13 +82,15 @@ ModelFile ParseModelFile(YamlInput input) {
                           "constraints", "dependent_speeds", "dependent_coordinates",
                           "constraint_stabilisation"});
   f.name = in.ReadString(root, "", "name",
-                         std::filesystem::path(in.path()).stem().string());
+                         LabelFromStem(std::filesystem::path(in.path()).stem().string()));
+  if (root["name"]) CheckName(in, root["name"], "name", f.name, NameKind::kLabel);
   f.description = in.ReadString(root, "", "description", "model file " + in.path());
   const YAML::Node params = in.Mapping(root, "parameters", "parameters", false);
   if (params.IsDefined()) {
     for (const auto& kv : params) {
       const std::string name = kv.first.as<std::string>();
       const std::string kp = "parameters." + name;
+      CheckName(in, kv.first, kp, name);
       if (kv.second.IsScalar()) {
         f.parameters.Add(name, in.Number(kv.second, kp, "a number in SI units"), "", "");
         continue;
@@ -191,6 +195,7 @@ models::BuiltModel BuildModelFile(const ModelFile& file, const models::Parameter
     int k = 0;
     for (const auto& kv : states) {
       const std::string name = kv.first.as<std::string>();
+      CheckName(in, kv.first, "states." + name, name);
       const YAML::Node unit = kv.second.IsMap() ? kv.second["unit"] : YAML::Node();
       declare(name, Op::kState, k++, 0.0, in.Where(kv.first, "states." + name),
               unit.IsDefined() && unit.IsScalar() ? unit.Scalar() : "1");

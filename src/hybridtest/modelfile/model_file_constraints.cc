@@ -9,6 +9,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/modelfile/expression_eval.h"
 #include "hybridtest/modelfile/file_context.h"
+#include "hybridtest/modelfile/names.h"
 #include "hybridtest/multibody/assembly.h"
 
 namespace hybridtest::modelfile::internal {
@@ -161,6 +162,7 @@ std::vector<YAML::Node> ReadConstraints(FileContext& c, const YAML::Node& root) 
                            "velocity_zero", "of_body", "through", "components", "expressed_in",
                            "record_force"});
     const std::string name = c.in.ReadString(s, kp, "name", kp);
+    if (s["name"]) CheckName(c.in, s["name"], kp + ".name", name, NameKind::kText);
     const int kinds = (s["holonomic"] ? 1 : 0) + (s["nonholonomic"] ? 1 : 0) +
                       (s["coincide"] ? 1 : 0) + (s["velocity_zero"] ? 1 : 0);
     if (kinds != 1) {

@@ -11,6 +11,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/modelfile/expression_eval.h"
 #include "hybridtest/modelfile/file_context.h"
+#include "hybridtest/modelfile/names.h"
 
 namespace hybridtest::modelfile::internal {
 
@@ -134,6 +135,7 @@ void ReadFrames(FileContext& c, const YAML::Node& root_frames) {
     c.in.RequireMapping(f, kp);
     c.in.CheckKeys(f, kp, {"name", "parent", "axis", "angle", "euler", "dcm"});
     const std::string name = c.in.String(f["name"], kp + ".name", "a frame name");
+    CheckName(c.in, f["name"], kp + ".name", name);
     if (c.frames.count(name) || c.points.count(name)) {
       throw ConfigError(fmt::format("{} = '{}': already declared; give every frame and point "
                                     "its own name", c.Where(f["name"], kp + ".name"), name));
@@ -223,6 +225,7 @@ void ReadPoints(FileContext& c, const YAML::Node& node) {
     c.in.RequireMapping(p, kp);
     c.in.CheckKeys(p, kp, {"name", "from", "frame", "position"});
     const std::string name = c.in.String(p["name"], kp + ".name", "a point name");
+    CheckName(c.in, p["name"], kp + ".name", name);
     if (c.frames.count(name) || c.points.count(name)) {
       throw ConfigError(fmt::format("{} = '{}': already declared; give every frame and point "
                                     "its own name", c.Where(p["name"], kp + ".name"), name));
@@ -258,6 +261,7 @@ void ReadMasses(FileContext& c, const YAML::Node& particles, const YAML::Node& b
     c.in.RequireMapping(ps[i], kp);
     c.in.CheckKeys(ps[i], kp, {"name", "point", "mass"});
     const std::string name = c.in.String(ps[i]["name"], kp + ".name", "a name");
+    CheckName(c.in, ps[i]["name"], kp + ".name", name, NameKind::kText);
     const PointId point = c.Point(ps[i]["point"], kp + ".point");
     const double mass = c.Constant(c.Require(ps[i], "mass", kp, "a positive mass in kg"),
                                    kp + ".mass", "a positive mass in kg", kMass);
@@ -271,6 +275,7 @@ void ReadMasses(FileContext& c, const YAML::Node& particles, const YAML::Node& b
     c.in.RequireMapping(bs[i], kp);
     c.in.CheckKeys(bs[i], kp, {"name", "frame", "mass_center", "mass", "inertia"});
     const std::string name = c.in.String(bs[i]["name"], kp + ".name", "a name");
+    CheckName(c.in, bs[i]["name"], kp + ".name", name, NameKind::kText);
     const FrameId frame = c.Frame(bs[i]["frame"], kp + ".frame");
     const PointId center = c.Point(bs[i]["mass_center"], kp + ".mass_center");
     // Mass and inertia are required: a forgotten `mass:` must not make a body massless.

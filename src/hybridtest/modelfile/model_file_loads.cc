@@ -11,6 +11,7 @@
 #include "hybridtest/common/input_file.h"
 #include "hybridtest/modelfile/compiled_scalar.h"
 #include "hybridtest/modelfile/file_context.h"
+#include "hybridtest/modelfile/names.h"
 
 namespace hybridtest::modelfile::internal {
 
@@ -119,6 +120,7 @@ void ReadTables(FileContext& c, const YAML::Node& node) {
     const std::string name = kv.first.as<std::string>();
     const std::string kp = "tables." + name;
     const std::string where = c.Where(kv.first, kp);
+    CheckName(c.in, kv.first, kp, name);
     if (IsFunctionName(name)) {
       throw ConfigError(fmt::format("{}: '{}' is a built-in function; give the table another "
                                     "name", where, name));
@@ -213,6 +215,7 @@ void ReadTimeFunctions(FileContext& c, const YAML::Node& node) {
   for (const auto& kv : node) {
     const std::string name = kv.first.as<std::string>();
     const std::string kp = "time_functions." + name;
+    CheckName(c.in, kv.first, kp, name);
     auto e = std::make_shared<const CompiledScalar>(c.Parse(kv.second, kp));
     if (e->expression.Uses(Op::kCoordinate) || e->expression.Uses(Op::kSpeed) ||
         e->expression.Uses(Op::kSlot) || e->expression.Uses(Op::kTimeFunction) ||
@@ -239,6 +242,7 @@ std::vector<double> ReadSlots(FileContext& c, const YAML::Node& node) {
     c.in.RequireMapping(s, kp);
     c.in.CheckKeys(s, kp, {"name", "unit", "description", "displacement", "stiffness"});
     const std::string name = c.in.String(s["name"], kp + ".name", "a slot name such as r1");
+    CheckName(c.in, s["name"], kp + ".name", name);
     std::string unit = c.in.ReadString(s, kp, "unit", "N");
     if (unit == "N*m" || unit == "Nm" || unit == "N m" || unit == "N.m") unit = "N·m";
     if (unit != "N" && unit != "N·m") {
@@ -279,6 +283,7 @@ void ReadLoadList(FileContext& c, const YAML::Node& node, const std::string& key
       c.in.CheckKeys(l, kp, {"name", "frame", "expressed_in", "value"});
     }
     const std::string name = c.in.String(l["name"], kp + ".name", "a name");
+    CheckName(c.in, l["name"], kp + ".name", name, NameKind::kText);
     const multibody::FrameId in =
         l["expressed_in"] ? c.Frame(l["expressed_in"], kp + ".expressed_in") : multibody::FrameId{0};
     const std::string expected = fmt::format("three components [x, y, z] in `expressed_in`, in {}",

@@ -4,6 +4,7 @@
 #include <fmt/core.h>
 #include <ginac/ginac.h>
 
+#include <algorithm>
 #include <cctype>
 #include <map>
 #include <string_view>
@@ -43,14 +44,24 @@ std::string CFunction(const std::string& name) {
   return it->second;
 }
 
-// A model's name as it may stand in a C comment and string: no quote, backslash or "*/".
-std::string Printable(const std::string& name) {
+// A name as it may stand in a C comment and string literal: letters, digits and " _-.,:()"
+// only, every other byte '_' (so no quote, backslash, newline or "*/").
+std::string CText(const std::string& name) {
   std::string s;
   for (char c : name) {
     const bool plain = std::isalnum(static_cast<unsigned char>(c)) || std::string_view(" _-.,:()").find(c) != std::string_view::npos;
     s += plain ? c : '_';
   }
   return s;
+}
+
+bool IsCIdentifier(const std::string& name) {
+  if (name.empty() || name.size() > 64 || std::isdigit(static_cast<unsigned char>(name[0]))) {
+    return false;
+  }
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+  });
 }
 
 class Emitter {
@@ -163,6 +174,11 @@ class Emitter {
 
 CCode WriteC(const multibody::Model& model, const RhsExpressions& rhs,
              const std::string& model_name, const std::string& function_name) {
+  if (!IsCIdentifier(function_name)) {
+    throw ModelError(fmt::format("cannot generate C: the function name '{}' is not a C "
+                                 "identifier (letters, digits and '_', not starting with a "
+                                 "digit)", CText(function_name)));
+  }
   const int n = model.num_coordinates();
   const int nz = model.num_extra_states();
   Emitter emit;
@@ -170,11 +186,11 @@ CCode WriteC(const multibody::Model& model, const RhsExpressions& rhs,
   std::string inputs;
   for (std::size_t k = 0; k < rhs.x.size(); ++k) {
     emit.Bind(rhs.x[k], fmt::format("x[{}]", k));
-    inputs += fmt::format(" *   x[{}] = {}\n", k, GiNaC::ex_to<GiNaC::symbol>(rhs.x[k]).get_name());
+    inputs += fmt::format(" *   x[{}] = {}\n", k, CText(GiNaC::ex_to<GiNaC::symbol>(rhs.x[k]).get_name()));
   }
   for (std::size_t k = 0; k < rhs.r.size(); ++k) {
     emit.Bind(rhs.r[k], fmt::format("r[{}]", k));
-    inputs += fmt::format(" *   r[{}] = {}\n", k, GiNaC::ex_to<GiNaC::symbol>(rhs.r[k]).get_name());
+    inputs += fmt::format(" *   r[{}] = {}\n", k, CText(GiNaC::ex_to<GiNaC::symbol>(rhs.r[k]).get_name()));
   }
   std::string outputs;
   auto assign = [&](const char* array, const std::vector<GiNaC::ex>& values) {
@@ -207,7 +223,7 @@ CCode WriteC(const multibody::Model& model, const RhsExpressions& rhs,
       "    double* zdot) {{\n"
       "  (void)t; (void)x; (void)r; (void)M; (void)g; (void)qdot; (void)zdot;\n"
       "{8}{9}}}\n",
-      Printable(model_name), f, n, model.num_slots(), nz, code.temporaries, code.operations, inputs,
+      CText(model_name), f, n, model.num_slots(), nz, code.temporaries, code.operations, inputs,
       emit.body(), outputs);
   return code;
 }

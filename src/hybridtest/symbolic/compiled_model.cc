@@ -16,12 +16,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <sstream>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/symbolic/codegen.h"
+#include "hybridtest/symbolic/model_cache.h"
 
 extern char** environ;
 
@@ -179,18 +181,15 @@ std::shared_ptr<const multibody::CompiledRhs> CompileModel(const multibody::Mode
   std::string command = compiler;
   for (const std::string& f : flags) command += " " + f;
   const fs::path dir = CompiledModelCacheDir();
+  PreparePrivateDir(dir);
   std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) {
-    throw Error(fmt::format("cannot create the cache of compiled models {}: {}; set "
-                            "HYBRIDTEST_CACHE_DIR to a writable directory", dir.string(),
-                            ec.message()));
-  }
   const std::string stem = fmt::format("{}-{:016x}", Stem(model_name), Fingerprint(model, command));
   const fs::path library = dir / (stem + ".so");
   CompileReport local;
   CompileReport& rep = report != nullptr ? *report : local;
   rep.library = library.string();
+  std::optional<CacheLock> lock;
+  lock.emplace(library, true);  // one process builds it; none checks it meanwhile
   rep.from_cache = fs::exists(library, ec);
   if (rep.from_cache) {
     ReadCounts(dir / (stem + ".c"), rep);
@@ -202,7 +201,7 @@ std::shared_ptr<const multibody::CompiledRhs> CompileModel(const multibody::Mode
     // compiling the same model at the same time never sees a half-written library.
     const std::string own = fmt::format("{}.{}", stem, getpid());
     const fs::path source = dir / (own + ".c"), built = dir / (own + ".so"),
-                   log = dir / (own + ".log");
+                   log = dir / (own + ".log"), record = dir / (own + ".sha256");
     {
       std::ofstream os(source, std::ios::trunc);
       os << code.source;
@@ -223,17 +222,34 @@ std::shared_ptr<const multibody::CompiledRhs> CompileModel(const multibody::Mode
           status < 0 ? "it did not start" : fmt::format("exit status {}", status),
           status < 0 ? "not found on the PATH" : messages));
     }
-    fs::rename(source, dir / (stem + ".c"), ec);
-    fs::rename(built, library, ec);
+    // Private whatever the umask (the loader refuses a file others may write), and the
+    // digests recorded beside it: the loader compares them before dlopen.
+    fs::permissions(source, fs::perms::owner_read | fs::perms::owner_write, ec);
+    fs::permissions(built, fs::perms::owner_all, ec);
+    WriteDigestRecord(built, source, record);
+    fs::rename(record, RecordOf(library), ec);
+    if (!ec) fs::rename(source, SourceOf(library), ec);
+    if (!ec) fs::rename(built, library, ec);
     if (ec) throw Error(fmt::format("cannot move {} into the cache: {}", built.string(), ec.message()));
   }
+  lock.reset();
   return LoadCompiledModel(model, library.string(), &rep.largest_difference);
 }
 
 std::shared_ptr<const multibody::CompiledRhs> LoadCompiledModel(const multibody::Model& model,
                                                                 const std::string& library,
                                                                 double* difference) {
-  void* handle = dlopen(library.c_str(), RTLD_NOW | RTLD_LOCAL);
+  // Checked (private, digests as recorded) on an open descriptor and loaded from it: the
+  // library's constructors run at dlopen, so nothing foreign may get that far.
+  const fs::path path(library);
+  PreparePrivateDir(path.parent_path().empty() ? fs::path(".") : path.parent_path());
+  int fd = -1;
+  {
+    CacheLock lock(path, false);
+    fd = OpenCheckedLibrary(path);
+  }
+  void* handle = dlopen(fmt::format("/proc/self/fd/{}", fd).c_str(), RTLD_NOW | RTLD_LOCAL);
+  ::close(fd);
   if (handle == nullptr) {
     throw ModelError(fmt::format("cannot load the compiled model {}: {}", library, dlerror()));
   }

@@ -18,8 +18,11 @@
 // (Debian: gcc, from build-essential). Flags: -O2 -fPIC -shared, and -lm; no -ffast-math, so
 // the arithmetic stays IEEE.
 // The cache: $HYBRIDTEST_CACHE_DIR if set, else $XDG_CACHE_HOME/hybridtest/compiled-models,
-// else $HOME/.cache/hybridtest/compiled-models. Each model leaves NAME-HASH.c (the source) and
-// NAME-HASH.so there; deleting the directory is always safe.
+// else $HOME/.cache/hybridtest/compiled-models. Each model leaves NAME-HASH.c (the source),
+// NAME-HASH.so, NAME-HASH.sha256 (their digests) and NAME-HASH.lock there; deleting the
+// directory is always safe. The cache is private (model_cache.h): created 0700, refused unless
+// owned by this user and writable by no one else, and a library is loaded only if its digests
+// equal the record written when it was built, checked before dlopen.
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -48,7 +51,8 @@ std::shared_ptr<const multibody::CompiledRhs> CompileModel(const multibody::Mode
                                                             const std::string& model_name,
                                                             CompileReport* report = nullptr);
 
-// Loads a shared library built from WriteC(…, kCompiledFunction) for `model` and checks it
+// Loads a shared library built from WriteC(…, kCompiledFunction) for `model` and checks it:
+// before dlopen, its directory, owner, mode and digests (OpenCheckedLibrary); after, its
 // (sizes, then M, g, q̇ and ż at kCheckStates random states within 1e-9 of each output's
 // largest entry). Returns the largest relative difference in *difference.
 std::shared_ptr<const multibody::CompiledRhs> LoadCompiledModel(const multibody::Model& model,

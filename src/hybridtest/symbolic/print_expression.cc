@@ -62,7 +62,13 @@ class Printer {
 
   Printed Symbol(const GiNaC::symbol& s) const {
     const auto it = names_.find(s.get_name());
-    return {it != names_.end() ? it->second : s.get_name(), kAtom};
+    if (it != names_.end()) return {it->second, kAtom};
+    // Not in the map: still printed safely in its dialect.
+    switch (d_) {
+      case Dialect::kSympy: return {PythonName(s.get_name()), kAtom};
+      case Dialect::kLatex: return {LatexName(s.get_name()), kAtom};
+      default: return {s.get_name(), kAtom};
+    }
   }
 
   Printed Function(const GiNaC::ex& e) const {
@@ -78,7 +84,7 @@ class Printer {
         if (kKnown.count(name)) return {fmt::format("sp.{}({})", name, joined), kAtom};
         if (name == "abs") return {fmt::format("sp.Abs({})", joined), kAtom};
         if (name == "csgn") return {fmt::format("sp.sign({})", joined), kAtom};
-        return {fmt::format("sp.Function('{}')({})", name, joined), kAtom};
+        return {fmt::format("sp.Function({})({})", PythonString(name), joined), kAtom};
       case Dialect::kLatex:
         if (name == "abs") return {fmt::format("\\left|{}\\right|", joined), kAtom};
         if (name == "sin" || name == "cos" || name == "tan" || name == "exp" || name == "log" ||
@@ -86,7 +92,7 @@ class Printer {
           return {fmt::format("\\{}{{\\left({}\\right)}}", name, joined), kAtom};
         }
         return {fmt::format("\\operatorname{{{}}}{{\\left({}\\right)}}",
-                            name == "csgn" ? "sgn" : name, joined), kAtom};
+                            name == "csgn" ? "sgn" : LatexText(name), joined), kAtom};
       default:
         return {fmt::format("{}({})", name == "csgn" ? "sign" : name, joined), kAtom};
     }
@@ -237,20 +243,62 @@ std::string LatexName(const std::string& name) {
   }
   auto escape = [&](std::string s) {
     if (kGreek.count(s)) return "\\" + s;
-    std::string out;
-    for (char c : s) {
-      if (c == '_' || c == '#' || c == '%' || c == '&') {
-        out += std::string("\\") + c;
-      } else {
-        out += c;
-      }
-    }
+    const std::string out = LatexText(s);
     return s.size() > 1 ? "\\mathrm{" + out + "}" : out;
   };
   std::string text = escape(base);
   if (dot) text = "\\dot{" + text + "}";
   if (!sub.empty()) text += "_{" + escape(sub) + "}";
   return text;
+}
+
+std::string LatexText(std::string_view text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '\\': out += "\\textbackslash{}"; break;
+      case '^': out += "\\textasciicircum{}"; break;
+      case '~': out += "\\textasciitilde{}"; break;
+      case '{': case '}': case '$': case '&': case '#': case '%': case '_':
+        out += '\\';
+        out += c;
+        break;
+      default:
+        out += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? ' ' : c;
+    }
+  }
+  return out;
+}
+
+std::string PythonStringBody(std::string_view text) {
+  std::string out;
+  for (char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '\\' || c == '\'' || c == '"') {
+      out += '\\';
+      out += c;
+    } else if (u < 0x20 || u == 0x7f) {
+      out += fmt::format("\\x{:02x}", static_cast<unsigned>(u));
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+std::string PythonString(std::string_view text) {
+  std::string out(1, '\'');
+  out += PythonStringBody(text);
+  out += '\'';
+  return out;
+}
+
+std::string PythonComment(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
+  }
+  return out;
 }
 
 std::string PythonName(const std::string& name) {

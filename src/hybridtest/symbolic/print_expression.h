@@ -12,6 +12,7 @@
 
 #include <map>
 #include <string>
+#include <string_view>
 
 namespace hybridtest::symbolic {
 
@@ -24,6 +25,19 @@ std::string PrintExpression(const GiNaC::ex& e, Dialect dialect, const NameMap& 
 // A name as LaTeX: Greek letters get their macro, a trailing number or `_x` part becomes a
 // subscript, `_dot` an over-dot ("theta2" → "\theta_{2}", "u1_dot" → "\dot{u}_{1}").
 std::string LatexName(const std::string& name);
+
+// `text` for LaTeX's text mode (inside \section, \paragraph, \texttt): its special characters
+// \ { } $ & # % _ ^ ~ written as their macros or escapes, control characters as spaces, so
+// that no text can open a macro (\input, \write18) or leave the group it is printed in.
+std::string LatexText(std::string_view text);
+
+// `text` as the inside of a Python string literal (single, double or triple quoted): \, ' and "
+// escaped, control characters as \xNN. PythonString adds the single quotes.
+std::string PythonStringBody(std::string_view text);
+std::string PythonString(std::string_view text);
+
+// `text` for a Python comment: control characters (a newline would end the comment) as spaces.
+std::string PythonComment(std::string_view text);
 
 // A valid Python identifier for `name`, distinct from the module's own names (sp, q, u, r, t,
 // M, f, parameters, ...): other characters become '_', a clash gets a trailing '_'.

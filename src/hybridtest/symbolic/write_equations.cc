@@ -155,11 +155,7 @@ std::string Latex(const multibody::Model& model, const Equations& eq, const Docu
   const auto symbols = Symbols(model);
   const NameMap names = Names(symbols, info, Dialect::kLatex);
   auto L = [&](const GiNaC::ex& e) { return PrintExpression(e, Dialect::kLatex, names); };
-  auto text = [](std::string s) {  // plain text for LaTeX
-    std::string out;
-    for (char c : s) out += (c == '_' || c == '&' || c == '%' || c == '#') ? std::string("\\") + c : std::string(1, c);
-    return out;
-  };
+  auto text = [](const std::string& s) { return LatexText(s); };
   const int n = model.num_coordinates();
   std::string s = "\\documentclass[10pt]{article}\n\\usepackage[utf8]{inputenc}\n"
                   "\\usepackage{amsmath}\n\\allowdisplaybreaks\n\\begin{document}\n";
@@ -224,15 +220,16 @@ std::string Sympy(const multibody::Model& model, const Equations& eq, const Docu
   };
   std::string s = fmt::format("\"\"\"Equations of motion of {}, from hybridtest's Kane engine "
                               "({}).\n\nConvention: {}\n\"\"\"\nimport sympy as sp\n\n",
-                              info.model_name, info.source, kConvention);
+                              PythonStringBody(info.model_name),
+                              PythonStringBody(info.source), kConvention);
   for (const Symbol& sym : symbols) {
-    s += fmt::format("{} = sp.Symbol('{}', real=True)  # {} [{}]\n", names.at(sym.name),
-                     sym.name, sym.kind, sym.unit);
+    s += fmt::format("{} = sp.Symbol({}, real=True)  # {} [{}]\n", names.at(sym.name),
+                     PythonString(sym.name), sym.kind, PythonComment(sym.unit));
   }
   for (const auto& p : info.parameters) {
     if (symbol_names.count(p.name) > 0) continue;
-    s += fmt::format("{} = sp.Symbol('{}', real=True)  # parameter [{}]\n", names.at(p.name),
-                     p.name, p.unit);
+    s += fmt::format("{} = sp.Symbol({}, real=True)  # parameter [{}]\n", names.at(p.name),
+                     PythonString(p.name), PythonComment(p.unit));
   }
   s += fmt::format("\nq = {}\nu = {}\nudot = {}\nr = {}\nz = {}\n", list(eq.q), list(eq.u),
                    list(eq.udot), list(eq.r), list(eq.z));

@@ -1,5 +1,5 @@
 // See digest.h.
-#include "hybridtest/io/digest.h"
+#include "hybridtest/common/digest.h"
 
 #include <fmt/format.h>
 #include <openssl/evp.h>
@@ -10,13 +10,15 @@
 
 #include <array>
 #include <cerrno>
+#include <cstring>
 #include <memory>
 
 #include "hybridtest/common/error.h"
-#include "hybridtest/io/atomic_file.h"
 
-namespace hybridtest::io {
+namespace hybridtest {
 namespace {
+
+std::string OsError() { return std::strerror(errno); }
 
 using Context = std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)>;
 
@@ -75,4 +77,4 @@ std::string Sha256OfFile(const std::string& path) {
   return Finish(ctx.get());
 }
 
-}  // namespace hybridtest::io
+}  // namespace hybridtest
