@@ -82,7 +82,7 @@ TEST(FmuLimits, AHighlyCompressibleMemberIsStoppedWhileItStreams) {
 void DeclareSize(const std::string& path, const std::string& name, std::uint32_t size) {
   std::string bytes = test_support::ReadText(path);
   const auto put = [&](std::size_t at) {
-    for (int k = 0; k < 4; ++k) bytes[at + static_cast<std::size_t>(k)] = static_cast<char>(size >> (8 * k));
+    for (std::size_t k = 0; k < 4; ++k) bytes[at + k] = static_cast<char>(size >> (8 * k));
   };
   int patched = 0;
   for (std::size_t at = 0; (at = bytes.find("PK", at)) != std::string::npos; ++at) {
@@ -99,7 +99,8 @@ void DeclareSize(const std::string& path, const std::string& name, std::uint32_t
 }
 
 TEST(FmuLimits, AMemberDeclaringFourGibibytesIsRefusedWithoutAllocating) {
-  const std::string fmu = SpringWith({{"resources/big.bin", "tiny"}}, "declares.fmu");
+  const std::string fmu =
+      SpringWith({{"resources/big.bin", std::string(4096, 'a')}}, "declares.fmu");
   DeclareSize(fmu, "resources/big.bin", 0xFFFFFFF0u);
   const std::string why = Refusal([&] { ReadMember(fmu, "resources/big.bin"); });
   EXPECT_NE(why.find("member 'resources/big.bin' declares 4294967280 bytes unpacked, more than "

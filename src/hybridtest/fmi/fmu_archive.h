@@ -12,11 +12,11 @@ namespace hybridtest::fmi {
 // never allocated up front): an archive that breaks a limit below is refused with a
 // ConfigError naming the FMU, the member, the limit and its value (docs/fmi.md, "Limits").
 // An FMU of a model is a few megabytes; these leave a wide margin.
-inline constexpr long long kMaxFmuMembers = 10000;                 // members of one archive
-inline constexpr long long kMaxFmuMemberBytes = 1LL << 30;         // one member unpacked. Unit: [bytes]
-inline constexpr long long kMaxFmuTotalBytes = 2LL << 30;          // all members unpacked. Unit: [bytes]
-inline constexpr long long kMaxFmuRatio = 200;                     // unpacked / compressed, one member
-inline constexpr long long kFmuRatioFloorBytes = 1LL << 20;        // the ratio is checked above this. Unit: [bytes]
+inline constexpr long long kMaxFmuMembers = 10000;          // members of one archive
+inline constexpr long long kMaxFmuMemberBytes = 1LL << 30;  // one member unpacked. Unit: [bytes]
+inline constexpr long long kMaxFmuTotalBytes = 2LL << 30;   // all members. Unit: [bytes]
+inline constexpr long long kMaxFmuRatio = 200;              // unpacked / compressed, one member
+inline constexpr long long kFmuRatioFloorBytes = 1LL << 20;  // ratio checked above. Unit: [bytes]
 
 // The names of the archive's members, in archive order. Throws ConfigError if `fmu` is not a
 // readable zip archive.
