@@ -90,6 +90,9 @@ void PyTransfer::Execute(std::span<const double> commands,
   // The call, on the worker: the GIL, the driver's execute(), its reply read.
   auto job = [call, n] {
     py::gil_scoped_acquire gil;
+    // The worker's thread state is kept between calls (not made and freed for each).
+    thread_local const bool kept = (gil.inc_ref(), true);
+    (void)kept;
     ExecuteCall& c = *call;
     InCallback inside("execute", c.slot, c.unit, c.commands);
     try {
