@@ -202,7 +202,7 @@ void AddModesCommand(CLI::App& root) {
                   "1e-10)")->check(CLI::PositiveNumber);
   cmd->add_option("--steady-iterations", opt->steady_options.max_iterations,
                   "steady state: most Gauss–Newton iterations (default 50)")
-      ->check(CLI::Range(1, 10000));
+      ->check(CLI::Range(1, multibody::kMaxSteadyIterations));
   cmd->add_flag("--json", opt->json,
                 "print one JSON object {model, states, operating_point, state_matrix, modes: "
                 "[{real, imag, frequency_hz, damped_frequency_hz, damping_ratio, shape_real, "

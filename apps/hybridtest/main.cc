@@ -111,7 +111,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "hybridtest: error: %s\n", e.what());  // a folder or file we cannot make
     return 1;
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "hybridtest: out of memory: check the sizes in the configuration\n");
+    std::fprintf(stderr, "hybridtest: out of memory: an input asked for more memory than this "
+                 "machine has; look for a size in the inputs of this command far beyond what it "
+                 "needs\n");
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hybridtest: internal error: %s\n", e.what());

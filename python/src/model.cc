@@ -48,8 +48,11 @@ class PyModel {
     Override(set, parameters, path);
     return PyModel(modelfile::BuildModelFile(file, set));
   }
-  static PyModel Builtin(const std::string& name, int blades,
+  // `blades` (a number: 2.5 and 10**9 reach the shared bound and are refused by it).
+  static PyModel Builtin(const std::string& name, double given,
                          const std::optional<py::dict>& parameters) {
+    const int blades =
+        name == "rotor" ? models::CheckRotorBlades(given, "Model.builtin('rotor').blades") : 0;
     models::ParameterSet set = models::DefaultParameters(name, blades);
     Override(set, parameters, "Model.builtin(" + name + ")");
     return PyModel(models::BuildModel(name, blades, set));
@@ -179,7 +182,7 @@ void BindModel(py::module_& m) {
                   py::arg("parameters") = py::none(),
                   "Loads a model file (docs/model-files.md); `parameters` overrides {name: SI "
                   "value}.")
-      .def_static("builtin", &PyModel::Builtin, py::arg("name"), py::arg("blades") = 3,
+      .def_static("builtin", &PyModel::Builtin, py::arg("name"), py::arg("blades") = 3.0,
                   py::arg("parameters") = py::none(),
                   "A built-in model: rotor (blades), double_pendulum, spinning_top.")
       .def_property_readonly("name", [](const PyModel& p) { return p.built().name; })

@@ -48,9 +48,10 @@ py::dict Modes(const std::string& path, const std::optional<py::dict>& at,
     throw ConfigError(fmt::format("modes(tolerance={}): expected a positive tolerance on |u̇| "
                                   "in the speed rates' units", tolerance));
   }
-  if (max_iterations < 1) {
-    throw ConfigError(fmt::format("modes(max_iterations={}): expected at least 1",
-                                  max_iterations));
+  if (max_iterations < 1 || max_iterations > multibody::kMaxSteadyIterations) {
+    throw ConfigError(fmt::format("modes(max_iterations={}): expected 1 to {}, as "
+                                  "`hybridtest modes --steady-iterations`", max_iterations,
+                                  multibody::kMaxSteadyIterations));
   }
   request.steady_options.tolerance = tolerance;
   request.steady_options.max_iterations = max_iterations;

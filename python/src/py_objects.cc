@@ -94,7 +94,9 @@ std::string FormatLengths(std::span<const double> values) {
   return out + "]";
 }
 
-const InCallback* g_callback = nullptr;                        // GIL held
+// Per thread: a driver's execute() runs on a thread of its own (bounded_call.h), and an
+// abandoned one may still be inside while the caller's thread runs hold().
+thread_local const InCallback* g_callback = nullptr;           // GIL held
 std::optional<py::error_already_set>* g_kept = nullptr;        // GIL held; never freed
 
 }  // namespace
@@ -268,116 +270,8 @@ void PyTransfer::Activate() {
   activated_ = std::chrono::steady_clock::now();
 }
 
-bool PyTransfer::ReadReply(const py::object& reply, std::span<transfer::Measurement> out,
-                           std::string& problem) const {
-  if (!py::isinstance<py::sequence>(reply) || py::isinstance<py::str>(reply)) {
-    throw py::cast_error("got " + std::string(py::repr(reply)));
-  }
-  const py::tuple values = py::tuple(reply);
-  const char* shape = n_ == 1 ? "(position, force[, lab_time])"
-                              : "(positions, forces[, lab_time]) with n values in each list";
-  if (values.size() != 2 && values.size() != 3) {
-    problem = fmt::format("returned {} values; expected {}", values.size(), shape);
-    return false;
-  }
-  if (n_ == 1) {
-    out[0].position = values[0].cast<double>();
-    out[0].force = values[1].cast<double>();
-  } else {
-    const char* names[] = {"positions", "forces"};
-    for (std::size_t i = 0; i < 2; ++i) {
-      const py::handle list = values[i];
-      if (!py::isinstance<py::sequence>(list) || py::isinstance<py::str>(list)) {
-        problem = fmt::format("returned {} {} for its {}; expected a list or array of {} numbers, "
-                              "one per actuator", names[i], std::string(py::repr(list)),
-                              names[i], n_);
-        return false;
-      }
-      const auto items = py::reinterpret_borrow<py::sequence>(list);
-      if (items.size() != n_) {
-        problem = fmt::format("returned {} {}; expected {}, one per actuator", items.size(),
-                              names[i], n_);
-        return false;
-      }
-      for (std::size_t k = 0; k < n_; ++k) {
-        const double v = items[k].cast<double>();
-        (i == 0 ? out[k].position : out[k].force) = v;
-      }
-    }
-  }
-  if (values.size() == 3) {
-    const double lab_time = values[2].cast<double>();
-    for (auto& m : out) m.lab_time = lab_time;
-  }
-  return values.size() == 3;
-}
-
-void PyTransfer::Execute(std::span<const double> commands,
-                         std::span<transfer::Measurement> out) {
-  if (commands.size() != n_ || out.size() != n_) {
-    throw TransferError(fmt::format("{}: {} commands for {} actuators", description_,
-                                    commands.size(), n_));
-  }
-  py::gil_scoped_acquire gil;
-  std::string problem;
-  bool lab_time_given = false;
-  InCallback inside("execute", slot_, units_.length_name, commands);
-  for (auto& m : out) m = {};
-  const auto started = std::chrono::steady_clock::now();
-  try {
-    // One actuator: a float; several: a fresh array the driver may keep or change.
-    const py::object argument =
-        n_ == 1 ? py::object(py::float_(commands[0]))
-                : py::object(py::array_t<double>(static_cast<py::ssize_t>(n_), commands.data()));
-    const py::object reply = driver_->get().attr("execute")(argument);
-    lab_time_given = ReadReply(reply, out, problem);
-  } catch (py::error_already_set& e) {
-    // Ctrl-C while the driver runs is not a transfer failure: the run holds after this step.
-    problem = "raised " + InterruptOrDescribe(
-        e, fmt::format("the Python transfer system's {} of slot {}", inside.Call(), slot_),
-        "the bench holds; every committed step is kept");
-    KeepCause(e);
-  } catch (const py::cast_error& e) {
-    problem = fmt::format("returned something that is not {} numbers ({})",
-                          n_ == 1 ? "(position, force[, lab_time])"
-                                  : "(positions, forces[, lab_time])",
-                          e.what());
-  }
-  const double took =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  if (!problem.empty()) {
-    throw TransferError(fmt::format("the Python transfer system's {} {}", inside.Call(),
-                                    problem));
-  }
-  // A reply that came after the slot's timeout is not trusted: the bench was not in control
-  // of the time (a call that never returns is stopped with Ctrl-C).
-  if (took > timeout_) {
-    throw TransferError(fmt::format(
-        "the Python transfer system's {} took {:.3f} s, longer than the slot's safety.timeout "
-        "{} s (substructures.{}.safety.timeout): its reply is not used and the run holds. Find "
-        "out why the bench answers that slowly; if a move really takes that long, raise the "
-        "timeout", inside.Call(), took, timeout_, slot_));
-  }
-  for (std::size_t k = 0; k < n_; ++k) {
-    const transfer::Measurement& m = out[k];
-    if (!std::isfinite(m.position) || !std::isfinite(m.force) || !std::isfinite(m.lab_time)) {
-      throw TransferError(fmt::format("the Python transfer system's {} returned a value that is "
-                                      "not finite{} (position {} {}, force {} {})", inside.Call(),
-                                      n_ == 1 ? "" : fmt::format(" for actuator {}", k + 1),
-                                      m.position, units_.length_name, m.force,
-                                      units_.force_name));
-    }
-    positions_[k] = m.position;
-    forces_[k] = m.force;
-  }
-  // The same check as a Modbus controller's ack: where it was sent, and not a stale reply.
-  commands_now_ = commands;
-  settled_.Check(commands, positions_, reply_source_);
-  if (!lab_time_given) {
-    const double lab_time =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - activated_).count();
-    for (auto& m : out) m.lab_time = lab_time;
-  }
+std::string PyTransfer::ExecuteText(std::span<const double> commands) const {
+  return fmt::format("execute({} {})", FormatLengths(commands), units_.length_name);
 }
 
 void PyTransfer::Hold() noexcept {

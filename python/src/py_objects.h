@@ -23,9 +23,15 @@
 //               windows). The driver may give `settle_tolerance` and `following_error` (its
 //               length unit); defaults 0.05 mm and four settling windows, at most the slot's
 //               safety.max_increment. A violation is a SafetyStop: the run holds.
-//               An execute() that returns after more than the slot's safety.timeout [s] is a
-//               TransferError naming the call and both times (a call that never returns is
-//               stopped with Ctrl-C). KeyboardInterrupt (or another BaseException that is not
+//               execute() runs on a thread of its own (bounded_call.h) and the run waits for
+//               it at most the slot's safety.timeout [s]: a call that has not returned by then
+//               is a TransferError naming the call and the timeout, the run stops and the bench
+//               is told to hold (hold() is called, while execute() may still be running: a
+//               Python call cannot be stopped; it is abandoned, its reply dropped, and a later
+//               execute() on this driver is refused while it runs). A hold() or deactivate()
+//               that needs the GIL waits for an abandoned call that holds it (one stuck in C
+//               code); one in time.sleep() or Python code lets them run. Ctrl-C while waiting
+//               stops the run as below, even when the call is stuck. KeyboardInterrupt (or another BaseException that is not
 //               an Exception, e.g. SystemExit) raised inside execute() stops the run as a
 //               hold (runner::Interrupted) and reaches the Python caller as itself, untouched
 //               (KeepForCaller below).
@@ -51,12 +57,14 @@
 #include "hybridtest/transfer/safety_settled_reading.h"
 #include "hybridtest/transfer/transfer_system.h"
 
+#include "bounded_call.h"
+
 namespace hybridtest::python {
 
 namespace py = pybind11;
 
-// Re-entry: the bench driver's call the run is inside now (GIL held); CurrentCallback() is
-// nullptr outside any. PySession refuses a call that changes the run (step, run, close, ...)
+// Re-entry: the bench driver's call the run is inside now on this thread (GIL held);
+// CurrentCallback() is nullptr outside any. PySession refuses a call that changes the run (step, run, close, ...)
 // from inside one, naming it. Cheap: nothing is formatted unless asked.
 class InCallback {  // sets CurrentCallback() for its scope (GIL held)
  public:
@@ -140,8 +148,9 @@ class PyTransfer final : public transfer::TransferSystem {
   void Call(const char* method, const std::string& what);
   // The driver's reply to execute(): n positions and forces, and the lab time if given. Throws
   // py::cast_error or sets `problem` (GIL held).
-  bool ReadReply(const py::object& reply, std::span<transfer::Measurement> out,
-                 std::string& problem) const;
+  static bool ReadReply(const py::object& reply, std::size_t n,
+                        std::span<transfer::Measurement> out, std::string& problem);
+  std::string ExecuteText(std::span<const double> commands) const;  // "execute(21.3 mm)"
   void KeepCause(const py::error_already_set& e);  // GIL held
   SharedPy driver_;
   std::string slot_;
@@ -157,6 +166,7 @@ class PyTransfer final : public transfer::TransferSystem {
   std::vector<double> positions_;         // scratch: the reply's positions (bench units)
   std::vector<double> forces_;            // its reply's forces (bench units)
   std::chrono::steady_clock::time_point activated_;
+  BoundedCall execute_call_;  // last: its destructor runs first (joins or detaches the worker)
 };
 
 class PyLaw final : public constitutive::RestoringForceLaw {

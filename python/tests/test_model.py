@@ -118,3 +118,19 @@ def test_errors_are_the_hierarchy_with_the_library_messages(rotor):
         ht.Model.builtin("no_such_model")
     with pytest.raises(ht.ConfigError, match="missing.yaml"):
         ht.Model.from_file("missing.yaml")
+
+
+@pytest.mark.parametrize("blades", [10**9, 0, 2.5, 32])
+def test_builtin_rotor_takes_the_blade_bound_of_a_run_config(blades):
+    """Model.builtin and a run config's model.blades are bounded by one rule, with one message
+    (issue 45: blades=10**9 used to take 24 GB before the kernel killed it)."""
+    expected = (rf"blades = {blades:.15g}: expected a whole number of blades from 1 to 31 "
+                r"\(the Kane engine takes at most 32 coordinates")
+    with pytest.raises(ht.ConfigError, match=expected):
+        ht.Model.builtin("rotor", blades=blades)
+    config = {"model": {"name": "rotor", "blades": blades},
+              "integrator": {"tableau": "heun", "dt": 0.001}, "duration": 0.01}
+    from_config = r"model\.blades[^=]* = " + expected.split(" = ", 1)[1]
+    with pytest.raises(ht.ConfigError, match=from_config):
+        ht.Session(config, command="simulate")
+    assert ht.Model.builtin("rotor", blades=31).num_coordinates == 32

@@ -146,3 +146,10 @@ def test_a_driven_rotor_balances_its_blade_tips():
     with pytest.raises(ht.ModelError, match="u̇ of speed 'u4'"):
         ht.modes(ROOT / "examples/models/rotor.yaml", time=t, at={"u": [0, 0, 0, omega]},
                  steady="q1,q2,q3")
+
+
+def test_modes_takes_the_iteration_bound_of_the_command_line():
+    """Issue 45: one bound for `modes --steady-iterations` and modes(max_iterations=)."""
+    with pytest.raises(ht.ConfigError, match=r"max_iterations=100000\): expected 1 to 10000, "
+                                             r"as `hybridtest modes --steady-iterations`"):
+        ht.modes(GOVERNOR, set={"Omega": 5.0}, steady="theta", max_iterations=10**5)

@@ -40,6 +40,22 @@ inline std::string EditedFmu(const std::string& id, const std::string& from,
   return path;
 }
 
+// A copy of the built FMU `id` (description and binary) with the members `extra` added,
+// written at `out_name` (a zip bomb, a forged member).
+inline std::string FmuWith(const std::string& id,
+                           const std::vector<std::pair<std::string, std::string>>& extra,
+                           const std::string& out_name) {
+  const std::string fmu = TestFmu(id);
+  const std::string so = "binaries/linux64/" + id + ".so";
+  std::vector<std::pair<std::string, std::string>> members{
+      {"modelDescription.xml", ReadMember(fmu, "modelDescription.xml")}, {so, ReadMember(fmu, so)}};
+  members.insert(members.end(), extra.begin(), extra.end());
+  static const auto dir = test_support::FreshTempDir("fmi_with");
+  const std::string path = (dir / out_name).string();
+  WriteArchive(path, members);
+  return path;
+}
+
 // The spec of `type: fmu` read from `yaml` (the substructure's mapping), slot "r1" or
 // `slots`.
 inline substructures::SubstructureSpec FmuSpec(const std::string& yaml,

@@ -159,7 +159,7 @@ TEST(FmuRun, FmuErrorStopsTheRunWithTheCommittedRowsOnDisk) {
   EXPECT_GE(lines, 500u) << csv.substr(0, 400);
 }
 
-// Every refusal of issue 35 through the binary: exit 2, naming the FMU file and the variable
+// Every refusal of issues 35 and 45 through the binary: exit 2, naming the FMU file and the variable
 // or capability (the messages themselves: fmu_refusal_test.cc).
 TEST(FmuRun, RefusalsExitTwoNamingTheFmuAndTheVariableOrCapability) {
   const auto dir = test_support::FreshTempDir("fmi_refusal_run");
@@ -174,7 +174,14 @@ TEST(FmuRun, RefusalsExitTwoNamingTheFmuAndTheVariableOrCapability) {
       {TestFmu("spring"), "x", "k", "variable 'k' has causality parameter"},
       {test::EditedFmu("spring", R"(<Unit name="m"><BaseUnit m="1"/></Unit>)",
                        R"(<Unit name="m"><BaseUnit s="1"/></Unit>)", "run_secs.fmu"),
-       "x", "F", "variable 'x' (a slot displacement) has unit 'm'"}};
+       "x", "F", "variable 'x' (a slot displacement) has unit 'm'"},
+      // Issue 45: bounded unpacking (a small zip bomb) and a variable declared twice.
+      {test::FmuWith("spring", {{"resources/zeros.bin", std::string(8u << 20, '\0')}},
+                     "run_zeros.fmu"),
+       "x", "F", "the limit of the compression ratio is 200"},
+      {test::EditedFmu("spring", R"(<ScalarVariable name="k")", R"(<ScalarVariable name="x")",
+                       "run_twice.fmu"),
+       "x", "F", "variable 'x' is declared twice"}};
   for (const Case& c : cases) {
     test_support::WriteText(dir / "refused.yaml",
                             Config(kHeun, "substructures:\n  r1: {type: fmu, fmu: " + c.fmu +

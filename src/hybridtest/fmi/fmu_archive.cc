@@ -4,9 +4,11 @@
 #include <fmt/core.h>
 #include <zip.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 
 #include "hybridtest/common/error.h"
@@ -19,6 +21,14 @@ struct ArchiveCloser {
 };
 using Archive = std::unique_ptr<zip_t, ArchiveCloser>;
 
+// The refusal of an archive that breaks a limit (fmu_archive.h): what, where, and the way on.
+[[noreturn]] void Refuse(const std::string& fmu, const std::string& what) {
+  throw ConfigError(fmt::format(
+      "{}: {}; the FMU is refused (limits of FMU unpacking: docs/fmi.md, \"Limits\"). An FMU "
+      "of a model is a few megabytes: re-export it from its tool, and look at what it holds "
+      "with `unzip -lv` before using it", fmu, what));
+}
+
 Archive OpenForReading(const std::string& fmu) {
   int error = 0;
   zip_t* z = zip_open(fmu.c_str(), ZIP_RDONLY, &error);
@@ -30,26 +40,76 @@ Archive OpenForReading(const std::string& fmu) {
     throw ConfigError(fmt::format("{}: cannot open the FMU ({}); expected a zip archive with "
                                   "modelDescription.xml at its root", fmu, why));
   }
-  return Archive(z);
+  Archive archive(z);
+  const zip_int64_t n = zip_get_num_entries(z, 0);
+  if (n > kMaxFmuMembers) {
+    Refuse(fmu, fmt::format("the archive holds {} members, more than the limit of {} members",
+                            n, kMaxFmuMembers));
+  }
+  return archive;
 }
 
-std::string ReadIndex(zip_t* z, zip_uint64_t index, const std::string& fmu,
-                      const std::string& name) {
+// Streams member `index` (named `name`) to `sink` in chunks, counting its bytes against the
+// limits as they come; *total counts the archive's unpacked bytes so far. The declared size
+// is checked first and never allocated.
+void StreamIndex(zip_t* z, zip_uint64_t index, const std::string& fmu, const std::string& name,
+                 long long* total, const std::function<void(const char*, std::size_t)>& sink) {
   zip_stat_t st;
   zip_stat_init(&st);
   if (zip_stat_index(z, index, 0, &st) != 0 || (st.valid & ZIP_STAT_SIZE) == 0) {
     throw ConfigError(fmt::format("{}: cannot read the size of member {}", fmu, name));
   }
+  if (st.size > static_cast<zip_uint64_t>(kMaxFmuMemberBytes)) {
+    Refuse(fmu, fmt::format("member '{}' declares {} bytes unpacked, more than the limit of {} "
+                            "bytes for one member", name, st.size, kMaxFmuMemberBytes));
+  }
+  const long long compressed =
+      (st.valid & ZIP_STAT_COMP_SIZE) != 0 ? static_cast<long long>(st.comp_size) : 0;
   std::unique_ptr<zip_file_t, int (*)(zip_file_t*)> file(zip_fopen_index(z, index, 0),
                                                          &zip_fclose);
   if (!file) {
     throw ConfigError(fmt::format("{}: cannot open member {} ({})", fmu, name, zip_strerror(z)));
   }
-  std::string bytes(static_cast<std::size_t>(st.size), '\0');
-  const zip_int64_t got = zip_fread(file.get(), bytes.data(), st.size);
-  if (got < 0 || static_cast<zip_uint64_t>(got) != st.size) {
-    throw ConfigError(fmt::format("{}: member {} is truncated or corrupt", fmu, name));
+  std::vector<char> chunk(64 * 1024);
+  long long got = 0;
+  for (;;) {
+    const zip_int64_t n = zip_fread(file.get(), chunk.data(), chunk.size());
+    if (n < 0) {
+      throw ConfigError(fmt::format("{}: member {} is truncated or corrupt ({})", fmu, name,
+                                    zip_file_strerror(file.get())));
+    }
+    if (n == 0) break;
+    got += n;
+    *total += n;
+    // Counted as read, whatever the archive declared.
+    if (got > kMaxFmuMemberBytes) {
+      Refuse(fmu, fmt::format("member '{}' unpacks to more than the limit of {} bytes for one "
+                              "member", name, kMaxFmuMemberBytes));
+    }
+    if (*total > kMaxFmuTotalBytes) {
+      Refuse(fmu, fmt::format("member '{}' takes the unpacked archive past the limit of {} bytes "
+                              "in all", name, kMaxFmuTotalBytes));
+    }
+    if (got > kFmuRatioFloorBytes && got > kMaxFmuRatio * std::max(compressed, 1LL)) {
+      Refuse(fmu, fmt::format("member '{}' expands more than {} times ({} compressed bytes gave "
+                              "{} bytes so far; the limit of the compression ratio "
+                              "is {} for a member above {} bytes): a zip bomb", name,
+                              kMaxFmuRatio, compressed, got, kMaxFmuRatio, kFmuRatioFloorBytes));
+    }
+    sink(chunk.data(), static_cast<std::size_t>(n));
   }
+  if (static_cast<zip_uint64_t>(got) != st.size) {
+    throw ConfigError(fmt::format("{}: member {} is truncated or corrupt (it declares {} bytes "
+                                  "and holds {})", fmu, name, st.size, got));
+  }
+}
+
+std::string ReadIndex(zip_t* z, zip_uint64_t index, const std::string& fmu,
+                      const std::string& name) {
+  std::string bytes;
+  long long total = 0;
+  StreamIndex(z, index, fmu, name, &total,
+              [&bytes](const char* data, std::size_t n) { bytes.append(data, n); });
   return bytes;
 }
 
@@ -81,6 +141,7 @@ void ExtractArchive(const std::string& fmu, const std::string& dir) {
   namespace fs = std::filesystem;
   Archive z = OpenForReading(fmu);
   fs::create_directories(dir);
+  long long total = 0;  // unpacked bytes so far [bytes]
   const zip_int64_t n = zip_get_num_entries(z.get(), 0);
   for (zip_int64_t i = 0; i < n; ++i) {
     const char* raw = zip_get_name(z.get(), static_cast<zip_uint64_t>(i), 0);
@@ -97,10 +158,12 @@ void ExtractArchive(const std::string& fmu, const std::string& dir) {
       continue;
     }
     fs::create_directories(target.parent_path());
-    const std::string bytes = ReadIndex(z.get(), static_cast<zip_uint64_t>(i), fmu, name);
     std::ofstream out(target, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!out) throw IoError(fmt::format("{}: cannot write {}", fmu, target.string()));
+    StreamIndex(z.get(), static_cast<zip_uint64_t>(i), fmu, name, &total,
+                [&out](const char* data, std::size_t size) {
+                  out.write(data, static_cast<std::streamsize>(size));
+                });
+    if (!out.flush()) throw IoError(fmt::format("{}: cannot write {}", fmu, target.string()));
   }
 }
 

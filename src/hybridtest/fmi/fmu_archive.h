@@ -8,16 +8,27 @@
 
 namespace hybridtest::fmi {
 
+// Every read is bounded, checked while the bytes stream (a declared size is never trusted and
+// never allocated up front): an archive that breaks a limit below is refused with a
+// ConfigError naming the FMU, the member, the limit and its value (docs/fmi.md, "Limits").
+// An FMU of a model is a few megabytes; these leave a wide margin.
+inline constexpr long long kMaxFmuMembers = 10000;          // members of one archive
+inline constexpr long long kMaxFmuMemberBytes = 1LL << 30;  // one member unpacked. Unit: [bytes]
+inline constexpr long long kMaxFmuTotalBytes = 2LL << 30;   // all members. Unit: [bytes]
+inline constexpr long long kMaxFmuRatio = 200;              // unpacked / compressed, one member
+inline constexpr long long kFmuRatioFloorBytes = 1LL << 20;  // ratio checked above. Unit: [bytes]
+
 // The names of the archive's members, in archive order. Throws ConfigError if `fmu` is not a
 // readable zip archive.
 std::vector<std::string> ListMembers(const std::string& fmu);
 
 // The bytes of member `name` ("modelDescription.xml"). Throws ConfigError if the archive
-// has no such member or cannot be read.
+// has no such member, cannot be read or breaks a limit above.
 std::string ReadMember(const std::string& fmu, const std::string& name);
 
 // Unpacks every member into `dir` (created if missing). A member whose name is absolute or
-// climbs out with ".." is refused (ConfigError): an archive must not write outside `dir`.
+// climbs out with ".." is refused (ConfigError): an archive must not write outside `dir`;
+// so is one that breaks a limit above (what was written so far stays in `dir`).
 void ExtractArchive(const std::string& fmu, const std::string& dir);
 
 // Writes a zip archive at `path` with these members (name, bytes), replacing any file there.

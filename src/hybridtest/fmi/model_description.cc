@@ -63,6 +63,13 @@ ModelVariable ReadVariable(const pugi::xml_node& node, bool fmi3, int index,
   return v;
 }
 
+// The 1-based line of byte `offset` of `text` (0 when pugixml gives no offset).
+int LineAt(const std::string& text, std::ptrdiff_t offset) {
+  if (offset < 0) return 0;
+  const auto end = text.begin() + std::min<std::ptrdiff_t>(offset, std::ssize(text));
+  return 1 + static_cast<int>(std::count(text.begin(), end, '\n'));
+}
+
 std::vector<int> ParseIndices(const std::string& text) {
   std::vector<int> out;
   std::istringstream in(text);
@@ -146,10 +153,23 @@ ModelDescription ParseModelDescription(const std::string& xml, const std::string
       declared_units[type.attribute("name").as_string()] = typed.attribute("unit").as_string();
     }
   }
+  // Each variable once: a config names variables, and a second one of the same name would be
+  // silently shadowed by the first (FMI 2.0 section 2.2.7, FMI 3.0 section 2.4.7: names are
+  // unique).
   int index = 0;
+  std::map<std::string, int> lines;  // name → line of its first declaration
   for (const auto& node : root.child("ModelVariables").children()) {
     if (node.type() != pugi::node_element) continue;
     md.variables.push_back(ReadVariable(node, fmi3, ++index, declared_units));
+    const int line = LineAt(xml, node.offset_debug());
+    const auto [first, inserted] = lines.emplace(md.variables.back().name, line);
+    if (!inserted) {
+      throw ConfigError(fmt::format(
+          "{}: modelDescription.xml:{}: variable '{}' is declared twice (lines {} and {}); "
+          "variable names of an FMU are unique (FMI 2.0 section 2.2.7, FMI 3.0 section 2.4.7): "
+          "re-export the FMU with one variable of each name", where, line,
+          md.variables.back().name, first->second, line));
+    }
   }
   // FMI 3 names dependencies by value reference: turned into indices here.
   auto index_of_reference = [&](int vr) {

@@ -62,7 +62,8 @@ struct ModelDescription {
 };
 
 // Parses `xml`; `where` names it in errors (the FMU file). Throws ConfigError for XML that is
-// not an FMI 2.0 or 3.0 model description, with the reason.
+// not an FMI 2.0 or 3.0 model description, with the reason, and for a variable name declared
+// twice (naming it and both lines of modelDescription.xml).
 ModelDescription ParseModelDescription(const std::string& xml, const std::string& where);
 
 }  // namespace hybridtest::fmi

@@ -11,7 +11,6 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/integrators/catalogue.h"
 #include "hybridtest/modelfile/model_file.h"
-#include "hybridtest/multibody/jet.h"
 #include "hybridtest/symbolic/compiled_model.h"
 
 namespace hybridtest::io {
@@ -92,10 +91,10 @@ models::BuiltModel ParseModel(const YamlInput& in, const YAML::Node& node, int* 
       throw ConfigError(fmt::format("{}: only the rotor model has blades; remove this key",
                                     in.Where(node["blades"], "model.blades")));
     }
-    // Bounded before anything is allocated: the engine takes at most kMaxJetCoordinates
-    // coordinates, the hub's and one per blade.
-    blades = static_cast<int>(in.Count(node["blades"], "model.blades", "a whole number of blades",
-                                       1, multibody::kMaxJetCoordinates - 1));
+    // Bounded before anything is allocated, by the bound every front shares.
+    blades = models::CheckRotorBlades(
+        in.Number(node["blades"], "model.blades", "a whole number of blades"),
+        in.Where(node["blades"], "model.blades"));
   } else if (name == "rotor") {
     blades = 3;
   }

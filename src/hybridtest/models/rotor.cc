@@ -8,6 +8,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/models/model_checks.h"
+#include "hybridtest/multibody/jet.h"
 
 namespace hybridtest::models {
 
@@ -32,10 +33,21 @@ constexpr BladeParameter kBladeParameters[] = {
 };
 }  // namespace
 
-ParameterSet RotorDefaultParameters(int blades) {
-  if (blades < 1) {
-    throw ConfigError(fmt::format("model.blades = {}: expected at least 1 blade", blades));
+static_assert(kMaxRotorBlades == multibody::kMaxJetCoordinates - 1,
+              "the hub's coordinate and one per blade");
+
+int CheckRotorBlades(double blades, std::string_view where) {
+  if (!(blades >= 1 && blades <= kMaxRotorBlades && blades == std::floor(blades))) {
+    throw ConfigError(fmt::format(
+        "{} = {:.15g}: expected a whole number of blades from 1 to {} (the Kane engine takes at "
+        "most {} coordinates, the hub's and one per blade)", where, blades, kMaxRotorBlades,
+        multibody::kMaxJetCoordinates));
   }
+  return static_cast<int>(blades);
+}
+
+ParameterSet RotorDefaultParameters(int blades) {
+  CheckRotorBlades(blades, "model.blades");
   ParameterSet p;
   p.Add("l_b", 0.5, "m", "blade length (all blades)");
   p.Add("m_b", 1.96, "kg", "blade tip mass (all blades)");
@@ -58,7 +70,7 @@ ParameterSet RotorDefaultParameters(int blades) {
 }
 
 BuiltModel BuildRotor(int blades, const ParameterSet& in) {
-  const int N = blades;
+  const int N = CheckRotorBlades(blades, "model.blades");
   // Resolve per-blade values: an unset (NaN) blade value inherits the all-blades value.
   ParameterSet p;
   for (const auto& param : in.all()) {

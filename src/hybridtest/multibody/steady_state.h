@@ -27,9 +27,13 @@
 
 namespace hybridtest::multibody {
 
+// The most Gauss–Newton iterations a front may ask for (`modes --steady-iterations`,
+// Python's modes(max_iterations=)): one bound for both.
+inline constexpr int kMaxSteadyIterations = 10000;
+
 struct SteadyStateOptions {
   double tolerance = 1e-10;   // on max |u̇_k| [the speed rates' units]
-  int max_iterations = 50;
+  int max_iterations = 50;    // 1 to kMaxSteadyIterations
   // Speeds held by a drive (a motor keeps the rotor at its speed): their rates are left out
   // of the equations (indices in u). Empty: every speed's rate must vanish.
   std::vector<int> driven_speeds;
