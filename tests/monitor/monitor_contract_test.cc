@@ -9,7 +9,6 @@
 //    never asserted (they depend on the machine's load).
 #include <atomic>
 #include <fstream>
-#include <iterator>
 #include <iostream>
 
 #include "monitor/monitor_process.h"
@@ -134,8 +133,7 @@ TEST_F(MonitorContract, DrippingAndPollingViewersDelayNeitherStopNorTheExit) {
 TEST_F(MonitorContract, TheRealTimeStoreyWithThirtyViewersCompletes) {
   // examples/real-time/storey-ats.yaml, except that it never holds on missed deadlines (this
   // machine's load is not the test's subject): the misses are recorded, not asserted.
-  std::ifstream in(kSource + "/examples/real-time/storey-ats.yaml");
-  std::string config((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string config = test_support::ReadText(kSource + "/examples/real-time/storey-ats.yaml");
   auto replace = [&](const std::string& from, const std::string& to) {
     const std::size_t at = config.find(from);
     ASSERT_NE(at, std::string::npos) << from;

@@ -12,7 +12,6 @@
 
 #include <fstream>
 #include <iostream>
-#include <iterator>
 
 #include "hybridtest/monitor/monitor_state.h"
 #include "monitor/monitor_process.h"
@@ -27,8 +26,7 @@ constexpr int kViewers = 100;
 // examples/real-time/storey-ats.yaml for 3 s (3072 ticks), never held on missed deadlines
 // (this machine misses anyway; what is checked is that viewers hold nothing).
 fs::path WriteConfig(const fs::path& dir) {
-  std::ifstream in(kSource + "/examples/real-time/storey-ats.yaml");
-  std::string config((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string config = test_support::ReadText(kSource + "/examples/real-time/storey-ats.yaml");
   for (const auto& [from, to] : {std::pair<std::string, std::string>{
                                      "file: storey.model.yaml",
                                      "file: " + kSource + "/examples/real-time/storey.model.yaml"},
