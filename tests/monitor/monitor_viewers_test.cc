@@ -1,5 +1,5 @@
-// Viewers never hold a paced run (issue 45, item 5): examples/real-time/storey-ats.yaml on
-// the wall clock, shortened to 3 s, with 100 viewers polling /api/state and /api/series on
+// Viewers never hold a paced run (issue 45, item 5): the real-time storey on the wall clock
+// for 3 s, with 100 viewers polling /api/state and /api/series on
 // 127.0.0.1 as the page does, finishes unheld with every tick; the deadline misses with 0 and
 // with 100 viewers are recorded (printed and as test properties), never asserted (the
 // machine's load decides them). And the viewers share one answer per change of the state:
@@ -23,21 +23,20 @@ namespace {
 
 constexpr int kViewers = 100;
 
-// examples/real-time/storey-ats.yaml for 3 s (3072 ticks), never held on missed deadlines
-// (this machine misses anyway; what is checked is that viewers hold nothing).
+// The storey of examples/real-time/ on the ideal plant for 3 s (3072 ticks at 1024 Hz),
+// never held on missed deadlines: this machine misses anyway, and what is checked is that
+// viewers hold nothing. (storey-ats.yaml's compensator, fed late ticks on a loaded machine,
+// can end in a safety stop that has nothing to do with viewers.)
 fs::path WriteConfig(const fs::path& dir) {
-  std::string config = test_support::ReadText(kSource + "/examples/real-time/storey-ats.yaml");
-  for (const auto& [from, to] : {std::pair<std::string, std::string>{
-                                     "file: storey.model.yaml",
-                                     "file: " + kSource + "/examples/real-time/storey.model.yaml"},
-                                 {"hold_after_misses: 10", "hold_after_misses: 0"},
-                                 {"duration: 10.0", "duration: 3.0"}}) {
-    const std::size_t at = config.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    if (at != std::string::npos) config.replace(at, from.size(), to);
-  }
-  const fs::path path = dir / "storey-ats-3s.yaml";
-  test_support::WriteText(path, config);
+  const fs::path path = dir / "storey-ideal-3s.yaml";
+  test_support::WriteText(
+      path, "model: {file: " + kSource + "/examples/real-time/storey.model.yaml}\n"
+            "integrator: {scheme: alpha-os, alpha: -0.05, dt: 0.0009765625}\n"
+            "duration: 3.0\nreal_time: {hold_after_misses: 0, lock_memory: false}\n"
+            "substructures:\n  r1:\n    type: physical\n    initial_stiffness: 1.19e6\n"
+            "    transfer: {type: rt_plant, plant: ideal, specimen: {stiffness: 1.19e6}}\n"
+            "    safety: {stroke_min: -0.05, stroke_max: 0.05, max_increment: 0.002, "
+            "force_soft: 40000, force_hard: 50000, timeout: 1}\n");
   return path;
 }
 
