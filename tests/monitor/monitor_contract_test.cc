@@ -9,10 +9,10 @@
 //    never asserted (they depend on the machine's load).
 #include <atomic>
 #include <fstream>
-#include <iterator>
 #include <iostream>
 
 #include "monitor/monitor_process.h"
+#include "monitor/polling_viewers.h"
 #include "monitor/raw_http.h"
 #include "support/listening_process.h"
 
@@ -46,68 +46,6 @@ class MonitorContract : public ::testing::Test {
             "--quiet", "--monitor", "127.0.0.1:0", "--token-file", (dir_ / "token").string()};
   }
   static inline fs::path dir_;
-};
-
-// Viewers on their own threads until `done`: pollers ask for the state and the series as the
-// page does (keep-alive, every 0.5 s); drippers send a request line, then one header line
-// every 2 s, and connect again when cut off.
-class Viewers {
- public:
-  Viewers(int port, int pollers, int drippers) {
-    for (int i = 0; i < pollers; ++i) {
-      threads_.emplace_back([this, port, i] {
-        httplib::Client client("127.0.0.1", port);
-        client.set_connection_timeout(5);
-        client.set_read_timeout(5);
-        for (long n = 0; !done_.load(); ++n) {
-          auto res = client.Get(n % 2 == 0 ? "/api/state" : "/api/series?since=-1");
-          if (res && res->status == 200) ++answered_;
-          Sleep(0.5 + 0.01 * i);
-        }
-      });
-    }
-    for (int i = 0; i < drippers; ++i) {
-      threads_.emplace_back([this, port] {
-        while (!done_.load()) {
-          const int fd = ConnectFrom("127.0.0.1", port);
-          if (fd < 0) {
-            Sleep(0.2);
-            continue;
-          }
-          bool open = SendAll(fd, "GET /api/state HTTP/1.1\r\n");
-          for (int line = 0; open && !done_.load() && line < 1000; ++line) {
-            Sleep(2.0);
-            open = !done_.load() && SendAll(fd, "X-Drip-" + std::to_string(line) + ": 1\r\n");
-            pollfd p{fd, POLLIN, 0};
-            if (open && ::poll(&p, 1, 0) > 0) open = false;  // answered (408) or closed
-          }
-          ::close(fd);
-          ++drips_cut_;
-        }
-      });
-    }
-  }
-  ~Viewers() { Join(); }
-  void Join() {
-    done_ = true;
-    for (auto& t : threads_) {
-      if (t.joinable()) t.join();
-    }
-  }
-  long answered() const { return answered_.load(); }
-  long drips_cut() const { return drips_cut_.load(); }
-
- private:
-  void Sleep(double s) const {
-    const auto until = SteadyClock::now() + std::chrono::duration<double>(s);
-    while (!done_.load() && SteadyClock::now() < until) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-  }
-  std::atomic<bool> done_{false};
-  std::atomic<long> answered_{0};
-  std::atomic<long> drips_cut_{0};
-  std::vector<std::thread> threads_;
 };
 
 TEST_F(MonitorContract, TheOperatorIsServedDuringAWrongTokenFloodFromRotatingAddresses) {
@@ -195,8 +133,7 @@ TEST_F(MonitorContract, DrippingAndPollingViewersDelayNeitherStopNorTheExit) {
 TEST_F(MonitorContract, TheRealTimeStoreyWithThirtyViewersCompletes) {
   // examples/real-time/storey-ats.yaml, except that it never holds on missed deadlines (this
   // machine's load is not the test's subject): the misses are recorded, not asserted.
-  std::ifstream in(kSource + "/examples/real-time/storey-ats.yaml");
-  std::string config((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string config = test_support::ReadText(kSource + "/examples/real-time/storey-ats.yaml");
   auto replace = [&](const std::string& from, const std::string& to) {
     const std::size_t at = config.find(from);
     ASSERT_NE(at, std::string::npos) << from;

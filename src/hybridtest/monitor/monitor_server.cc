@@ -18,7 +18,16 @@ HttpResponse Json(const nlohmann::json& body, int status = 200) {
   res.status = status;
   res.headers.emplace_back("Cache-Control", "no-store");
   res.content_type = "application/json";
-  res.body = body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  res.body = JsonText(body);
+  return res;
+}
+
+// A shared answer (MonitorState::StateBody, SeriesBody): built once, copied to each viewer.
+HttpResponse SharedJson(const std::shared_ptr<const std::string>& text) {
+  HttpResponse res;
+  res.headers.emplace_back("Cache-Control", "no-store");
+  res.content_type = "application/json";
+  res.body = *text;
   return res;
 }
 
@@ -125,11 +134,11 @@ void MonitorServer::Routes() {
     });
   }
   server_->Route("GET", "/api/state", [this](const HttpRequest&) {
-    return Json(state_.StateJson());
+    return SharedJson(state_.StateBody());
   });
   server_->Route("GET", "/api/series", [this](const HttpRequest& req) {
-    return Json(
-        state_.SeriesJson(ParamLong(req, "since", -1), ParamLong(req, "generation", -1)));
+    return SharedJson(
+        state_.SeriesBody(ParamLong(req, "since", -1), ParamLong(req, "generation", -1)));
   });
   const std::pair<const char*, OperatorAction> actions[] = {
       {"/api/hold", OperatorAction::kHold},

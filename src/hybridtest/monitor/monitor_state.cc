@@ -18,7 +18,15 @@ nlohmann::json LimitsJson(const transfer::SafetyLimits& l) {
           {"force_hard", l.force_hard}};
 }
 
+// Answers kept for different `since` of /api/series (viewers that poll at the same pace ask
+// for the same one); the oldest goes first.
+constexpr std::size_t kCachedBodies = 16;
+
 }  // namespace
+
+std::string JsonText(const nlohmann::json& value) {
+  return value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
 
 Margin CalcMargin(const transfer::SafetyLimits& limits, double position, double force) {
   Margin m;
@@ -40,6 +48,7 @@ MonitorState::MonitorState(std::size_t history_capacity)
 FrameLayout MonitorState::SetIdentity(RunIdentity identity, FrameLayout layout,
                                       std::vector<ActuatorInfo> actuators) {
   std::lock_guard lock(mutex_);
+  ++version_;
   realtime_.Configure(identity.real_time);
   layout.real_time = realtime_.columns();
   identity_ = std::move(identity);
@@ -52,6 +61,7 @@ FrameLayout MonitorState::SetIdentity(RunIdentity identity, FrameLayout layout,
 void MonitorState::SetStatus(const std::string& status, const std::string& reason,
                              const std::string& resume_command) {
   std::lock_guard lock(mutex_);
+  ++version_;
   if (status_ == "holding" && status == "running") window_wall_ = -1.0;  // a hold is no rate
   status_ = status;
   reason_ = reason;
@@ -65,6 +75,7 @@ std::string MonitorState::status() const {
 
 void MonitorState::AddFrame(std::span<const double> frame) {
   std::lock_guard lock(mutex_);
+  ++version_;
   if (frame.size() != layout_.width()) return;
   latest_.assign(frame.begin(), frame.end());
   if (status_ == "starting") status_ = "running";
@@ -101,32 +112,38 @@ void MonitorState::Thin() {
 
 void MonitorState::AddResume(double t) {
   std::lock_guard lock(mutex_);
+  ++version_;
   resumes_.push_back(t);
 }
 
 void MonitorState::AddAction(nlohmann::json action) {
   std::lock_guard lock(mutex_);
+  ++version_;
   actions_.push_back(std::move(action));
   if (actions_.size() > 100) actions_.erase(actions_.begin());  // the page shows the latest
 }
 
 void MonitorState::SetDropped(long frames) {
   std::lock_guard lock(mutex_);
+  ++version_;
   dropped_ = frames;
 }
 
 void MonitorState::SetActionsPolicy(const std::string& policy) {
   std::lock_guard lock(mutex_);
+  ++version_;
   actions_policy_ = policy;
 }
 
 void MonitorState::SetRealTime(nlohmann::json realtime) {
   std::lock_guard lock(mutex_);
+  ++version_;
   realtime_.SetRecorded(std::move(realtime));
 }
 
 void MonitorState::SetRecorded(const RecordedTotals& totals) {
   std::lock_guard lock(mutex_);
+  ++version_;
   recorded_ = totals;
 }
 
@@ -227,6 +244,66 @@ nlohmann::json MonitorState::SeriesJson(long since, long generation) const {
   }
   return {{"generation", generation_}, {"reset", all}, {"slots", layout_.slots},
           {"actuators", layout_.actuators}, {"columns", columns}};
+}
+
+std::shared_ptr<const std::string> MonitorState::Cached(const std::vector<CachedBody>& cache,
+                                                        long since, bool all, long version,
+                                                        BodyClock::time_point now) {
+  const auto interval = std::chrono::duration<double>(kBodyInterval);
+  for (const CachedBody& c : cache) {
+    if (c.since != since || c.all != all) continue;
+    if (c.version == version || now - c.built < interval) return c.text;
+  }
+  return nullptr;
+}
+
+void MonitorState::Store(std::vector<CachedBody>& cache, CachedBody body) {
+  std::erase_if(cache, [&](const CachedBody& c) { return c.since == body.since && c.all == body.all; });
+  if (cache.size() >= kCachedBodies) {
+    cache.erase(std::min_element(cache.begin(), cache.end(), [](const auto& a, const auto& b) {
+      return a.built < b.built;
+    }));
+  }
+  cache.push_back(std::move(body));
+}
+
+std::shared_ptr<const std::string> MonitorState::StateBody() const {
+  const std::lock_guard build(body_mutex_);
+  const auto now = BodyClock::now();
+  long version = 0;
+  {
+    const std::lock_guard lock(mutex_);
+    version = version_;
+  }
+  if (auto text = Cached(state_bodies_, 0, false, version, now)) return text;
+  auto text = std::make_shared<const std::string>(JsonText(StateJson()));
+  ++body_builds_;
+  Store(state_bodies_, {version, 0, false, now, text});
+  return text;
+}
+
+std::shared_ptr<const std::string> MonitorState::SeriesBody(long since, long generation) const {
+  const std::lock_guard build(body_mutex_);
+  const auto now = BodyClock::now();
+  long version = 0;
+  bool all = false;
+  {
+    const std::lock_guard lock(mutex_);
+    version = version_;
+    all = generation != generation_;
+  }
+  if (all) since = -1;  // the whole history, whatever the viewer had
+  if (auto text = Cached(series_bodies_, since, all, version, now)) return text;
+  auto text = std::make_shared<const std::string>(
+      JsonText(SeriesJson(since, all ? -1 : generation)));
+  ++body_builds_;
+  Store(series_bodies_, {version, since, all, now, text});
+  return text;
+}
+
+long MonitorState::body_builds() const {
+  const std::lock_guard build(body_mutex_);
+  return body_builds_;
 }
 
 }  // namespace hybridtest::monitor

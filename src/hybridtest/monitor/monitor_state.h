@@ -13,9 +13,18 @@
 // from then on, so a long run is shown whole at a bounded cost.
 //
 // Status: "starting" → "running" ⇄ "holding" → "stopped" | "finished".
+//
+// Viewers share one snapshot: StateBody() and SeriesBody() return the serialized answer of
+// /api/state and /api/series, built at most once per change of the state and at most once
+// per `kBodyInterval` (so at most 1/kBodyInterval builds per second whatever the number of
+// viewers), and handed to every viewer that asks until the next build. Building takes the
+// state's mutex only to copy what it reads into the JSON value; the text is written outside
+// it, so the collector (which feeds the state) never waits for a serialization.
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cstddef>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <span>
@@ -87,6 +96,12 @@ struct Margin {
 };
 Margin CalcMargin(const transfer::SafetyLimits& limits, double position, double force);
 
+// The monitor's JSON text (compact; invalid UTF-8 replaced).
+std::string JsonText(const nlohmann::json& value);
+
+// The shortest time between two builds of a shared answer (StateBody, SeriesBody). Unit: [s]
+inline constexpr double kBodyInterval = 0.05;
+
 class MonitorState {
  public:
   explicit MonitorState(std::size_t history_capacity = 4000);
@@ -114,8 +129,26 @@ class MonitorState {
   nlohmann::json SeriesJson(long since, long generation) const;
   long frames() const;  // frames received
 
+  // The same, as text shared by every viewer (see above). Thread-safe.
+  std::shared_ptr<const std::string> StateBody() const;
+  std::shared_ptr<const std::string> SeriesBody(long since, long generation) const;
+  long body_builds() const;  // answers built so far (for tests and the bench)
+
  private:
+  using BodyClock = std::chrono::steady_clock;
+  struct CachedBody {
+    long version = -1;
+    long since = 0;
+    bool all = false;
+    BodyClock::time_point built;
+    std::shared_ptr<const std::string> text;
+  };
   void Thin();  // with mutex_ held
+  // The cached answer matching (since, all) if it is current, or young enough to be reused.
+  static std::shared_ptr<const std::string> Cached(const std::vector<CachedBody>& cache,
+                                                   long since, bool all, long version,
+                                                   BodyClock::time_point now);
+  static void Store(std::vector<CachedBody>& cache, CachedBody body);
 
   mutable std::mutex mutex_;
   std::size_t capacity_;
@@ -133,6 +166,11 @@ class MonitorState {
   RecordedTotals recorded_;
   // ETA: simulated time per wall second, smoothed over windows of ≥ 0.5 s of wall time.
   double rate_ = 0.0, window_t_ = 0.0, window_wall_ = -1.0;
+  long version_ = 0;  // changes of anything a viewer sees (with mutex_ held)
+  // The shared answers (body_mutex_: one builder at a time; never held with mutex_ waiting).
+  mutable std::mutex body_mutex_;
+  mutable std::vector<CachedBody> state_bodies_, series_bodies_;
+  mutable long body_builds_ = 0;
 };
 
 }  // namespace hybridtest::monitor
