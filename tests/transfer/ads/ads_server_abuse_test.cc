@@ -7,6 +7,7 @@
 #include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
+#include <netinet/in.h>
 #include <unistd.h>
 
 #include <csignal>
@@ -44,6 +45,17 @@ Socket Connect(std::uint16_t port) {
   } catch (const Error&) {
     return Socket();
   }
+}
+
+// Starts a connection to 127.0.0.1:port without waiting for it (an idle client of a flood).
+Socket StartConnect(std::uint16_t port) {
+  Socket s(::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0));
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(port);
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  (void)::connect(s.fd(), reinterpret_cast<sockaddr*>(&to), sizeof to);
+  return s;
 }
 
 TEST(AdsServerAbuse, ARunFinishesWhileAnotherClientDripsOneByteEvery100ms) {
@@ -107,7 +119,7 @@ TEST(AdsServerAbuse, ARunFinishesWhileIdleClientsFloodAServerAtA64FileLimit) {
     ::_exit(0);
   }
   std::vector<Socket> idle;
-  for (int i = 0; i < 80; ++i) idle.push_back(Connect(server.port()));
+  for (int i = 0; i < 80; ++i) idle.push_back(StartConnect(server.port()));
   AdsOptions o;
   o.endpoint.tcp_port = server.port();
   o.profile = DefaultProfile(1);
