@@ -4,7 +4,7 @@
 //   hybridtest bench [--config FILE] [--listen HOST:PORT] [--token-file FILE]
 //                    [--heartbeat-timeout S] [--inject KIND@N]...
 //                    [--protocol hybridtest|openfresco|ads]
-//   hybridtest bench --protocol ads [--config FILE] [--listen HOST:PORT] [--route NETID]...
+//   hybridtest bench --protocol ads [--config FILE] [--listen HOST:PORT] [--route NETID[@ADDR]]...
 //                    [--ams-net-id NETID] [--plc-state run|stop] [--inject KIND@N]...
 //   hybridtest bench --real-time CONFIG [--tick S] [--listen HOST:PORT] ...
 //
@@ -20,7 +20,8 @@
 //
 // --protocol ads serves the bench as a TwinCAT PLC emulator over ADS (docs/ads.md): the
 // profile's GVL_Hybrid variables by symbol name on AMS/TCP (default 127.0.0.1:48898), AMS
-// port 851, only for the AmsNetIds given with --route (any on loopback without one);
+// port 851, only for the AmsNetIds given with --route, each from its address (any on
+// loopback without one);
 // --plc-state stop rehearses a PLC that is not running; --inject takes the ADS emulator's
 // test faults (fault, silence, close, ads_error, holding; transfer/ads/ads_server.h).
 //
@@ -147,7 +148,7 @@ void ServeAds(const BenchArgs& args, const transfer::EmulatedBenchSpec& spec) {
     return *id;
   };
   o.address.net_id = net_id(args.ams_net_id, "--ams-net-id");
-  for (const std::string& r : args.routes) o.routes.push_back(net_id(r, "--route"));
+  for (const std::string& r : args.routes) o.routes.push_back(ads::ParseAdsRoute(r, "--route"));
   o.ads_state = args.plc_state == "run" ? ads::kStateRun : ads::kStateStop;
   for (const std::string& f : args.inject) o.faults.push_back(ads::ParseAdsFault(f, "--inject"));
   ads::UseBenchSafety(o, spec);
@@ -285,7 +286,8 @@ void AddBenchCommand(CLI::App& root) {
                   "over ADS; docs/ads.md)")
       ->check(CLI::IsMember({"hybridtest", "openfresco", "ads"}));
   cmd->add_option("--route", args->routes,
-                  "--protocol ads: an AmsNetId the emulated PLC serves (repeat for several); "
+                  "--protocol ads: NETID[@ADDRESS], an AmsNetId the emulated PLC serves and the "
+                  "address it must come from (default: its first four numbers; repeat for several); "
                   "required off loopback, where a TwinCAT PLC serves only routed clients");
   cmd->add_option("--ams-net-id", args->ams_net_id,
                   "--protocol ads: the emulated PLC's AmsNetId (default 127.0.0.1.1.1)");

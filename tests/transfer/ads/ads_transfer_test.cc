@@ -128,7 +128,7 @@ TEST(AdsTransfer, APlcInStopIsRefusedWithItsState) {
 
 TEST(AdsTransfer, AnUnroutedClientIsClosedAndToldAboutRoutes) {
   ServedPlc plc(kIdealBench, [](AdsServerOptions& o) {
-    o.routes = {*ParseAmsNetId("192.168.0.5.1.1")};
+    o.routes = {ParseAdsRoute("192.168.0.5.1.1@127.0.0.1", "test")};
   });
   AdsTransfer ads(plc.Client());
   const std::string m = Message([&] { ads.Activate(); });

@@ -16,8 +16,14 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// A message that has begun must be complete within this time. Unit: [s].
-constexpr double kMessageTimeout = 2.0;
+// The longest AMS/TCP message served: a prefix and 64 KiB (sum commands included). [bytes]
+constexpr std::size_t kMaxMessage = kPrefixSize + (1u << 16);
+
+// The codec for the ServerLoop: a message is the 6-byte prefix and `length` bytes after it.
+std::size_t MessageSize(std::span<const std::uint8_t> bytes) {
+  if (bytes.size() < kPrefixSize) return kPrefixSize;
+  return kPrefixSize + DecodePrefix(bytes.first(kPrefixSize)).length;
+}
 
 const std::string& CheckedHost(const AdsServerOptions& o) {
   if (o.routes.empty() && !IsLoopbackHost(o.host)) {
@@ -30,6 +36,21 @@ const std::string& CheckedHost(const AdsServerOptions& o) {
 }
 
 }  // namespace
+
+AdsRoute ParseAdsRoute(const std::string& text, const std::string& where) {
+  const auto at = text.find('@');
+  const auto id = ParseAmsNetId(text.substr(0, at));
+  const std::string address = at == std::string::npos ? "" : text.substr(at + 1);
+  if (!id || (at != std::string::npos && address.empty())) {
+    throw ConfigError(fmt::format("{} {}: expected NETID or NETID@ADDRESS, an AmsNetId (six "
+                                  "numbers 0..255 joined by dots, e.g. 192.168.0.5.1.1) and the "
+                                  "client's numeric address (default: the AmsNetId's first four "
+                                  "numbers)", where, text));
+  }
+  if (!address.empty()) return {*id, address};
+  const auto& b = id->bytes;
+  return {*id, fmt::format("{}.{}.{}.{}", b[0], b[1], b[2], b[3])};
+}
 
 AdsFault ParseAdsFault(const std::string& text, const std::string& where) {
   static const std::pair<const char*, AdsFault::Kind> kKinds[] = {
@@ -73,7 +94,20 @@ AdsServer::AdsServer(TransferSystem& bench, AdsServerOptions options)
         return p;
       }()),
       gate_(std::vector<SafetyLimits>(static_cast<std::size_t>(bench.num_actuators()),
-                                      options_.limits)) {
+                                      options_.limits)),
+      loop_(listener_,
+            {.max_connections = options_.max_connections,
+             .max_frame_bytes = kMaxMessage,
+             .frame_timeout = options_.message_timeout,
+             .idle_timeout = options_.idle_timeout,
+             .send_timeout = options_.message_timeout},
+            MessageSize,
+            {.opened = [this](Client& c) { Log(fmt::format("client {} connected from {}", c.id, c.peer)); },
+             .frame = [this](Client& c, std::span<const std::uint8_t> m) { return HandleMessage(c, m); },
+             .closed = [this](const Client& c, const std::string& why, bool commander) {
+               Closed(c, why, commander);
+             }},
+            [this](const std::string& line) { Log(line); }) {
   options_.profile.actuators = bench.num_actuators();
   options_.profile.units = bench.bench_units();
   for (int k = 0; k < gate_.size(); ++k) {
@@ -88,7 +122,9 @@ AdsServer::~AdsServer() = default;
 
 std::string AdsServer::DescribeRoutes() const {
   std::string routes;
-  for (const AmsNetId& r : options_.routes) routes += (routes.empty() ? "" : ", ") + FormatAmsNetId(r);
+  for (const AdsRoute& r : options_.routes) {
+    routes += fmt::format("{}{} from {}", routes.empty() ? "" : ", ", FormatAmsNetId(r.net_id), r.address);
+  }
   return fmt::format("AmsNetId {}, AMS port {}, routes: {}", FormatAmsNetId(options_.address.net_id),
                      options_.address.port, routes.empty() ? "any (loopback)" : routes);
 }
@@ -117,37 +153,14 @@ void AdsServer::Serve() {
   image_.SetReals(kPosition, position);
   image_.SetReals(kForce, force);
   image_.SetReals(kCommand, position);
-  while (!stop_.load()) {
-    std::vector<pollfd> fds{{listener_.fd(), POLLIN, 0}};
-    for (const Client& c : clients_) fds.push_back({c.socket.fd(), POLLIN, 0});
-    if (::poll(fds.data(), fds.size(), 100) < 0) continue;  // EINTR: look at stop_ again
-    if (fds[0].revents & POLLIN) {
-      if (Socket s = listener_.Accept(0.0); s.is_open()) {
-        clients_.push_back({std::move(s), next_client_++, Clock::now()});
-        Log(fmt::format("client {} connected", clients_.back().id));
-      }
-    }
-    for (std::size_t i = 1; i < fds.size(); ++i) {
-      Client& c = clients_[i - 1];
-      if (fds[i].revents != 0 && c.socket.is_open() && !HandleMessage(c)) continue;
-      const double idle = std::chrono::duration<double>(Clock::now() - c.last_seen).count();
-      if (c.socket.is_open() && idle > options_.idle_timeout) {
-        Drop(c, fmt::format("silent for {} s", options_.idle_timeout));
-      }
-    }
-    std::erase_if(clients_, [](const Client& c) { return !c.socket.is_open(); });
-  }
-  for (Client& c : clients_) Drop(c, "the server stops");
-  clients_.clear();
+  loop_.Serve(stop_);
   bench_.Deactivate();
 }
 
-void AdsServer::Drop(Client& client, const std::string& why) {
+void AdsServer::Closed(const Client& client, const std::string& why, bool commander) {
   image_.ReleaseAll(client.id);
-  client.socket.Close();
   Log(fmt::format("client {} dropped: {}", client.id, why));
-  if (client.id == owner_) {
-    owner_ = 0;
+  if (commander) {
     image_.SetBool(kHold, true);
     image_.SetBool(kHolding, true);
     last_hold_ = true;
@@ -155,21 +168,9 @@ void AdsServer::Drop(Client& client, const std::string& why) {
   }
 }
 
-bool AdsServer::HandleMessage(Client& client) {
-  Prefix prefix;
-  std::vector<std::uint8_t> body;
-  ReadStatus status;
-  try {
-    status = ReadAmsMessage(client.socket.fd(), kMessageTimeout, prefix, body);
-  } catch (const TransferError& e) {
-    Drop(client, e.what());
-    return false;
-  }
-  if (status != ReadStatus::kFrame) {
-    Drop(client, status == ReadStatus::kClosed ? "connection closed" : "incomplete message");
-    return false;
-  }
-  client.last_seen = Clock::now();
+bool AdsServer::HandleMessage(Client& client, std::span<const std::uint8_t> message) {
+  const Prefix prefix = DecodePrefix(message.first(kPrefixSize));
+  const std::span<const std::uint8_t> body = message.subspan(kPrefixSize);
   std::vector<std::uint8_t> answer;
   bool close = false;
   if (prefix.reserved == kTcpPortConnect) {
@@ -182,33 +183,39 @@ bool AdsServer::HandleMessage(Client& client) {
     try {
       answer = Answer(client, DecodePacket(body), close);
     } catch (const TransferError& e) {
-      Drop(client, fmt::format("garbled AMS packet: {}", e.what()));
+      Log(fmt::format("client {}: garbled AMS packet: {}", client.id, e.what()));
       return false;
     }
   } else if (prefix.reserved == kTcpPortClose) {
-    Drop(client, "the client closed its AMS port");  // a router drops the connection then
+    Log(fmt::format("client {} closed its AMS port", client.id));  // a router drops it then
     return false;
   } else {
     return true;  // other router messages need no answer
   }
-  if (!answer.empty() && !SendAll(client.socket.fd(), answer, kMessageTimeout)) close = true;
-  if (close) {
-    Drop(client, "closed by the PLC");
-    return false;
-  }
-  return true;
+  if (!answer.empty() && !loop_.Send(client, answer)) close = true;
+  return !close;
 }
 
 std::vector<std::uint8_t> AdsServer::Answer(Client& client, const AmsPacket& request,
                                             bool& close) {
   const AmsHeader& h = request.header;
-  if (!options_.routes.empty() &&
-      std::find(options_.routes.begin(), options_.routes.end(), h.source.net_id) ==
-          options_.routes.end()) {
-    Log(fmt::format("refused AmsNetId {}: no route (give --route {} to serve it)",
-                    FormatAmsNetId(h.source.net_id), FormatAmsNetId(h.source.net_id)));
-    close = true;
-    return {};
+  if (!options_.routes.empty()) {
+    const auto route = std::find_if(options_.routes.begin(), options_.routes.end(),
+                                    [&](const AdsRoute& r) { return r.net_id == h.source.net_id; });
+    const std::string id = FormatAmsNetId(h.source.net_id);
+    if (route == options_.routes.end()) {
+      Log(fmt::format("refused AmsNetId {} from {}: no route (give --route {}@{} to serve it)",
+                      id, client.peer, id, client.peer));
+      close = true;
+      return {};
+    }
+    if (route->address != client.peer) {
+      Log(fmt::format("refused AmsNetId {} from {}: its route names address {} (a client "
+                      "claiming another's AmsNetId; --route {}@ADDRESS names the address)",
+                      id, client.peer, route->address, id));
+      close = true;
+      return {};
+    }
   }
   AmsPacket answer;
   answer.header = h;
@@ -239,8 +246,12 @@ std::vector<std::uint8_t> AdsServer::Answer(Client& client, const AmsPacket& req
       }
       case Command::kWrite: {
         const IndexRequest r = DecodeWriteRequest(request.data);
+        if (r.group != kGroupReleaseHandle && !MayWrite(client)) {
+          answer.data = EncodeResultResponse(kErrInvalidAccess);
+          break;
+        }
         std::uint32_t result = image_.Write(r.group, r.offset, r.data, client.id);
-        if (result == 0 && r.group != kGroupReleaseHandle) result = Cycle(client, close);
+        if (result == 0 && r.group != kGroupReleaseHandle) result = Cycle(close);
         answer.data = EncodeResultResponse(result);
         break;
       }
@@ -257,6 +268,13 @@ std::vector<std::uint8_t> AdsServer::Answer(Client& client, const AmsPacket& req
   return EncodePacket(answer);
 }
 
+bool AdsServer::MayWrite(const Client& client) {
+  if (loop_.Claim(client.id)) return true;
+  Log(fmt::format("refused a write from client {} ({}): client {} commands the PLC; others may "
+                  "only read", client.id, client.peer, loop_.commander()));
+  return false;
+}
+
 std::vector<std::uint8_t> AdsServer::AnswerReadWrite(Client& client, const IndexRequest& r,
                                                      bool& close) {
   if (r.group == kGroupSumRead) {
@@ -266,10 +284,11 @@ std::vector<std::uint8_t> AdsServer::AnswerReadWrite(Client& client, const Index
     return EncodeDataResponse(0, EncodeSumReadAnswer(answers, items));
   }
   if (r.group == kGroupSumWrite) {
+    if (!MayWrite(client)) return EncodeResultResponse(kErrInvalidAccess);
     const std::vector<SubRequest> items = DecodeSumWrite(r.offset, r.data);
     std::vector<std::uint32_t> results;
     for (const SubRequest& s : items) results.push_back(image_.Write(s.group, s.offset, s.data, client.id));
-    const std::uint32_t cycle = Cycle(client, close);
+    const std::uint32_t cycle = Cycle(close);
     if (cycle != 0) return EncodeResultResponse(cycle);
     return EncodeDataResponse(0, EncodeSumWriteAnswer(results));
   }

@@ -12,10 +12,11 @@
 // another AmsNetId is answered with error 0x7 (target machine not found), to another AMS port
 // with 0x6 (target port not found).
 //
-// Routes: as a TwinCAT router, it serves only source AmsNetIds in `routes`; a packet from any
-// other is logged and its connection closed without an answer (what an unrouted client of a
-// real PLC sees). On loopback an empty list serves every client; on any other address the
-// list is required.
+// Routes: as a TwinCAT router, it serves only the source AmsNetIds in `routes`, each from the
+// address its route names; a packet from any other AmsNetId, or a routed AmsNetId claimed from
+// another address, is logged and its connection closed without an answer (what an unrouted
+// client of a real PLC sees). On loopback an empty list serves every client; on any other
+// address the list is required.
 //
 // The PLC program it runs after every write (one "cycle"; in a sum write after all of it):
 //   - bEnabled = bEnable and not bFault; bHolding = bHold or bFault; a rising bHold, a fault
@@ -26,10 +27,15 @@
 //     fPosition, fForce and nAckSeq = nCommandSeq. A refused command or a bench error sets
 //     bFault (and holds); a command while not enabled or holding is ignored (no ack);
 //   - a fault is cleared by a rising edge of bEnable.
-// The client that last wrote bEnable or a command owns the drive: when its connection ends
-// (closed, reset, or silent for idle_timeout) the PLC holds (bHold and bHolding TRUE), as a
-// PLC's watchdog would. Any number of clients may be connected at once; one thread serves
-// them in turn, every read bounded.
+// One client commands: the first to write (a variable, bEnable, a command) owns the drive until
+// its connection ends; a write from any other client meanwhile is refused with ADS error 0x704
+// (reading or writing not permitted) and changes nothing; every client may read. When the
+// commander's connection ends (closed, reset, or silent for idle_timeout) the PLC holds (bHold
+// and bHolding TRUE), as a PLC's watchdog would.
+// Connections are served by the shared ServerLoop (server_loop.h) with its limits: up to
+// max_connections at once, a message complete within message_timeout of its first byte, at
+// most 64 KiB + the AMS/TCP prefix per message; a client that drips or idles never delays
+// another.
 #include <atomic>
 #include <chrono>
 #include <functional>
@@ -44,6 +50,7 @@
 #include "hybridtest/transfer/bench_spec.h"
 #include "hybridtest/transfer/safety.h"
 #include "hybridtest/transfer/safety_gate.h"
+#include "hybridtest/transfer/server_loop.h"
 #include "hybridtest/transfer/socket.h"
 #include "hybridtest/transfer/transfer_system.h"
 
@@ -65,14 +72,25 @@ struct AdsFault {
 // `where` and the kinds.
 AdsFault ParseAdsFault(const std::string& text, const std::string& where);
 
+// A route: the AmsNetId a client presents and the address (numeric IPv4/IPv6) it must come from.
+struct AdsRoute {
+  AmsNetId net_id;
+  std::string address;
+};
+// "NETID" (the address is the AmsNetId's first four numbers, TwinCAT's convention) or
+// "NETID@ADDRESS". Throws ConfigError naming `where` and the form.
+AdsRoute ParseAdsRoute(const std::string& text, const std::string& where);
+
 struct AdsServerOptions {
   std::string host = "127.0.0.1";  // address to bind; off loopback `routes` is required
   std::uint16_t port = kAdsTcpPort;  // 0 picks a free port (see port())
   AmsAddress address{{{127, 0, 0, 1, 1, 1}}, kPlcPort};  // the PLC's AmsNetId and AMS port
-  std::vector<AmsNetId> routes;    // AmsNetIds served; empty on loopback: all
+  std::vector<AdsRoute> routes;    // clients served; empty on loopback: all
   AdsProfile profile = DefaultProfile();  // symbol names and units (actuators: the bench's)
   std::uint16_t ads_state = kStateRun;    // what ReadState shows (kStateStop to rehearse)
   double idle_timeout = 30.0;      // a client silent this long is dropped. Unit: [s].
+  double message_timeout = 2.0;    // a begun message must be complete within. Unit: [s].
+  std::size_t max_connections = 16;  // clients at once (server_loop.h)
   SafetyLimits limits;             // checked before every command. SI.
   std::vector<double> start_positions;        // [m] per actuator, for the increment check
   std::optional<double> initial_stiffness;    // [N/m] one actuator's first force prediction
@@ -105,24 +123,23 @@ class AdsServer {
   void Stop() noexcept { stop_.store(true); }
 
   long commands_received() const { return commands_received_; }
+  long refused_connections() const { return loop_.refused_connections(); }
 
  private:
-  struct Client {
-    Socket socket;
-    int id = 0;
-    std::chrono::steady_clock::time_point last_seen = std::chrono::steady_clock::now();
-  };
-  // Handles one message of client i; false when its connection must end.
-  bool HandleMessage(Client& client);
+  using Client = ServerLoop::Connection;
+  // Handles one message (prefix and body) of `client`; false when its connection must end.
+  bool HandleMessage(Client& client, std::span<const std::uint8_t> message);
   std::vector<std::uint8_t> Answer(Client& client, const AmsPacket& request, bool& close);
   std::vector<std::uint8_t> AnswerReadWrite(Client& client, const IndexRequest& r, bool& close);
-  // The PLC program after a write by `client` (see above); `close` set when a test fault
+  // The PLC program after a write (see above); `close` set when a test fault
   // closes its connection. Returns 0, or the ADS error of a test fault for the write.
-  std::uint32_t Cycle(Client& client, bool& close);
+  std::uint32_t Cycle(bool& close);
   // Checks and executes the commands of sequence `sequence` (command number n).
   void Execute(std::uint32_t sequence, long n);
   void HoldBench(const std::string& why);
-  void Drop(Client& client, const std::string& why);
+  // Claims the drive for `client` (server_loop.h); false (logged) if another commands.
+  bool MayWrite(const Client& client);
+  void Closed(const Client& client, const std::string& why, bool commander);
   void Log(const std::string& line) const;
 
   TransferSystem& bench_;
@@ -130,9 +147,7 @@ class AdsServer {
   Listener listener_;
   PlcImage image_;
   SafetyGate gate_;
-  std::vector<Client> clients_;
-  int next_client_ = 1;
-  int owner_ = 0;             // the client that owns the drive (0: none)
+  ServerLoop loop_;  // connections, their limits and the commander
   bool bench_active_ = false;
   bool last_enable_ = false, last_hold_ = false;
   std::uint32_t last_sequence_ = 0;

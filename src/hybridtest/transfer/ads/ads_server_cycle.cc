@@ -13,13 +13,12 @@ void AdsServer::HoldBench(const std::string& why) {
   Log("hold: " + why);
 }
 
-std::uint32_t AdsServer::Cycle(Client& client, bool& close) {
+std::uint32_t AdsServer::Cycle(bool& close) {
   const AdsProfile& p = options_.profile;
   const bool enable = image_.Bool(kEnable);
   const bool hold = image_.Bool(kHold);
   bool fault = image_.Bool(kFault);
   if (enable && !last_enable_) {
-    owner_ = client.id;
     if (fault) {
       fault = false;
       image_.SetBool(kFault, false);
@@ -40,7 +39,6 @@ std::uint32_t AdsServer::Cycle(Client& client, bool& close) {
   const std::uint32_t previous = last_sequence_;
   last_sequence_ = sequence;
   const long n = ++commands_received_;
-  owner_ = client.id;
   if (!enabled || hold) {
     Log(fmt::format("command {} ({} = {}) ignored: the PLC is {}", n, p.symbols[kSequence],
                     sequence, !enabled ? "not enabled" : "holding"));
