@@ -37,7 +37,9 @@ std::vector<std::vector<double>> Trajectory(const std::vector<double>& start) {
   std::vector<std::vector<double>> out;
   for (int i = 1; i <= 20; ++i) {
     std::vector<double> c;
-    for (std::size_t k = 0; k < start.size(); ++k) c.push_back(start[k] + 0.1 * i * (k + 1) - 0.004 * i * i);
+    for (std::size_t k = 0; k < start.size(); ++k) {
+      c.push_back(start[k] + 0.1 * i * static_cast<double>(k + 1) - 0.004 * i * i);
+    }
     out.push_back(c);
   }
   return out;
