@@ -264,6 +264,21 @@ transfer::BenchAnnouncement PyTransfer::Announce() const {
   return a;
 }
 
+std::optional<std::vector<transfer::Measurement>> PyTransfer::ReadAll() const {
+  py::gil_scoped_acquire gil;
+  try {
+    const py::object& driver = driver_->get();
+    if (!py::hasattr(driver, "read")) return std::nullopt;
+    std::vector<transfer::Measurement> out(n_);
+    std::string problem;
+    ReadReply(driver.attr("read")(), out, problem);
+    if (!problem.empty()) return std::nullopt;
+    return out;
+  } catch (const std::exception&) {
+    return std::nullopt;  // py::error_already_set included: the run records "not read"
+  }
+}
+
 void PyTransfer::Activate() {
   Call("activate", "activate()");
   settled_.Reset();  // the actuator may have been moved while it was not ours

@@ -143,6 +143,10 @@ class PyTransfer final : public transfer::TransferSystem {
   transfer::BenchUnits bench_units() const override { return units_; }
   transfer::BenchAnnouncement Announce() const override;
   std::string Describe() const override { return description_; }
+  // The driver's optional read(), without moving: the same reply as execute()'s (positions
+  // and forces in its units); nullopt if it has none, raises, or replies otherwise (the start
+  // check then records that it could not read). Never throws.
+  std::optional<std::vector<transfer::Measurement>> ReadAll() const override;
 
  private:
   void Call(const char* method, const std::string& what);

@@ -282,3 +282,32 @@ def test_ctrl_c_inside_a_python_observer_is_a_keyboard_interrupt(tmp_path):
     s.close()
     saved = check_journal(out, rows)
     assert saved.num_rows >= 11 and saved["t"][10] == pytest.approx(0.010)
+
+
+class LeftAt(Spring):
+    """A driver that can read where its actuator is (read()), left at `at` [m] by a run."""
+
+    def __init__(self, at):
+        super().__init__()
+        self.at, self.moves = at, []
+
+    def read(self):
+        return self.at, self.k * (self.at - self.p0)
+
+    def execute(self, command):
+        self.moves.append(command)
+        self.at = command
+        return super().execute(command)
+
+
+def test_a_driver_left_off_p0_is_refused_before_it_moves_or_ramped_with_start_ramp():
+    # The start check (docs/safety.md): the driver's read() is compared with the first command.
+    bench = LeftAt(0.031)
+    with pytest.raises(ht.SafetyStop, match=r"the actuator is at 0\.031 m.*p0 = 0\.02 m.*start: "
+                                            r"ramp"):
+        ht.run(physical_short(), transfers={"r1": bench})
+    assert bench.moves == []
+    ramped = LeftAt(0.031)
+    ht.run(physical_short() | {"start": "ramp"}, transfers={"r1": ramped})
+    steps = np.abs(np.diff([0.031] + ramped.moves))
+    assert ramped.moves[2] == pytest.approx(0.02) and np.all(steps < 0.005)

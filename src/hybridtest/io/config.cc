@@ -270,7 +270,7 @@ nlohmann::json TestRecord(const YamlInput& in, const YAML::Node& node, const std
 SimulationConfig ParseSimulationConfig(const YamlInput& in) {
   const YAML::Node& root = in.root();
   in.CheckKeys(root, "", {"model", "initial_state", "integrator", "duration", "output",
-                          "substructures", "progress", "resume", "test", "real_time"});
+                          "substructures", "progress", "resume", "test", "real_time", "start"});
   int blades = 0;
   std::vector<RunInput> files;
   models::BuiltModel model =
@@ -380,6 +380,11 @@ SimulationConfig ParseSimulationConfig(const YamlInput& in) {
           resume["force_tolerance"], "resume.force_tolerance",
           "a positive force in newtons (largest |measured - committed force| on resume)");
     }
+  }
+  if (root["start"]) {
+    const std::string start = in.String(root["start"], "start", "check or ramp");
+    if (start != "check" && start != "ramp") in.ThrowValue(root["start"], "start", "check or ramp");
+    cfg.start_ramp = start == "ramp";
   }
   const YAML::Node test = in.Mapping(root, "test", "test", false);
   if (test.IsDefined()) cfg.test = TestRecord(in, test, "test");

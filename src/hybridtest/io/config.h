@@ -63,6 +63,10 @@ struct SimulationConfig {
   // resume.position_tolerance: largest |measured − committed position| accepted when `resume`
   // re-imposes the last committed command. Unit: [m]. Default: a quarter of max_increment.
   std::optional<double> resume_position_tolerance;
+  // start: ramp — a new run whose actuators are farther than max_increment from its first
+  // command ramps there in steps within max_increment instead of refusing (docs/safety.md,
+  // "The start of a run"). Default (`start: check`): refuse.
+  bool start_ramp = false;
   // test: the operator's record of the test (specimen, operator, notes, any keys), as written.
   nlohmann::json test = nlohmann::json::object();
   // The files read so far, in the order read: the config itself (when it was loaded from a

@@ -98,6 +98,7 @@ RunSpec CompileRunSpec(const SimulationConfig& cfg, const SubstructureOptions& o
   spec.scheme = {cfg.scheme, cfg.tableau, cfg.dt, cfg.duration, cfg.steps};
   spec.scheme.dt_where = cfg.input.Where(cfg.input.root()["integrator"]["dt"], "integrator.dt");
   spec.resume = {cfg.resume_force_tolerance, cfg.resume_position_tolerance};
+  spec.start_ramp = cfg.start_ramp;
   spec.source.config_path = cfg.input.path();
   spec.source.config_text = cfg.input.text();
   spec.source.name = std::filesystem::path(cfg.input.path()).stem().string();

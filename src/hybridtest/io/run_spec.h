@@ -86,6 +86,9 @@ struct RunSpec {
   std::vector<substructures::SubstructureSpec> substructures;  // one per slot
   OutputSpec output;
   ResumeSpec resume;
+  // `start: ramp`: a new run ramps from where its actuators are to its first command instead
+  // of refusing when they are farther than max_increment (docs/safety.md).
+  bool start_ramp = false;
   SourceSpec source;
   RealTimeSpec real_time;  // `real_time:`; disabled: the run is paced by its benches
   bool quiet = false;  // progress: {quiet: true}

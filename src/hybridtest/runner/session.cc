@@ -250,13 +250,15 @@ StepResult Session::Initialize() {
     if (resume_) {
       RestoreFromState();
     } else {
-      MeasureRequestedStiffness();
-      BuildScheme();
-      // The initial state: tried (stage 0 of step 0), committed, journalled.
       const int n = model().num_coordinates();
       multibody::Data<double> data(model());
       Eigen::VectorXd d0(model().num_slots());
       multibody::CalcSlotDisplacements<double>(model(), data, 0.0, spec_.x0.head(n), d0);
+      // Where every actuator is, against the first command, before anything moves.
+      CheckStart(d0);
+      MeasureRequestedStiffness();
+      BuildScheme();
+      // The initial state: tried (stage 0 of step 0), committed, journalled.
       seam_->Trial({0, 0, 0.0}, d0, r0_);
       for (auto& s : subs_) s->Commit();
       scheme_->Start(0.0, spec_.x0, r0_);
@@ -294,6 +296,19 @@ StepResult Session::Step() {
     return Fail(e);
   }
   return result_;
+}
+
+void Session::CheckStart(const Eigen::VectorXd& d0) {
+  start_record_ = nlohmann::json::array();
+  for (std::size_t s = 0; s < subs_.size(); ++s) {
+    const auto& slots = slot_of_[s];
+    d_slots_.resize(slots.size());
+    for (std::size_t k = 0; k < slots.size(); ++k) d_slots_[k] = d0(slots[k]);
+    substructures::Substructure::StartRequest request{slot_map_.substructures[s].name, d_slots_,
+                                                      spec_.start_ramp, {}};
+    nlohmann::json record = subs_[s]->CheckStart(request);
+    if (!record.is_null()) start_record_.push_back(std::move(record));
+  }
 }
 
 void Session::HoldBetweenSteps() noexcept {

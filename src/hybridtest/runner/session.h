@@ -246,6 +246,9 @@ class Session {
   const RunState* resume_state() const { return resume_ ? &*resume_ : nullptr; }
   // Every slot's K0 and its source, for the sidecar.
   const nlohmann::json& stiffness_record() const { return stiffness_record_; }
+  // What the start check found per physical substructure (Substructure::CheckStart), for the
+  // sidecar's statistics.start; empty for a resume and before Initialize().
+  const nlohmann::json& start_record() const { return start_record_; }
   // Steps still to go (estimate for adaptive schemes).
   long EstimatedStepsLeft() const;
   // The failure that stopped the run, if any.
@@ -255,6 +258,9 @@ class Session {
   class Seam;
   class Rows;
   void MeasureRequestedStiffness();
+  // The start check of every substructure (Substructure::CheckStart) at the initial slot
+  // displacements d0 (m) [m]; fills start_record_. Throws SafetyStop, TransferError.
+  void CheckStart(const Eigen::VectorXd& d0);
   void BuildScheme();
   void RestoreFromState();
   void ReimposeCommitted();
@@ -284,6 +290,7 @@ class Session {
   int physical_count_ = 0;
   RunStatistics stats_;
   nlohmann::json stiffness_record_ = nlohmann::json::array();
+  nlohmann::json start_record_ = nlohmann::json::array();
   std::exception_ptr error_;
   double t_now_ = 0.0;
   double wall_offset_ = 0.0;  // wall time of the sessions before a resume [s]

@@ -63,6 +63,7 @@ StepResult Session::Finish() {
   UpdateStatistics(t_now_);
   StopEvent event{SessionStatus::kFinished, "", ToJson(stats_)};
   event.statistics["initial_stiffness"] = stiffness_record_;
+  if (!resume_) event.statistics["start"] = start_record_;  // a resume records its checks
   event.statistics["benches"] = BenchRecords(subs_, spec_);
   result_ = {SessionStatus::kFinished, ""};
   try {
@@ -97,6 +98,7 @@ StepResult Session::Fail(const std::exception& e) {
   UpdateStatistics(t_now_);
   StopEvent event{result_.status, e.what(), ToJson(stats_)};
   event.statistics["initial_stiffness"] = stiffness_record_;
+  if (!resume_) event.statistics["start"] = start_record_;  // a resume records its checks
   event.statistics["benches"] = BenchRecords(subs_, spec_);
   event.statistics["stop"] = StopDetails(e, error_);
   // How many commands each in-process bench had received: a resume tells it, so that a test

@@ -48,29 +48,15 @@ PhysicalSubstructure::ResumeCheck PhysicalSubstructure::ReimposeCommitted(
     MoveAll(commands, {step, -1});
     if (on_move) on_move(reimposition);
   };
-  if (const auto read = transfer_->ReadAll(); read && read->size() == n) {
-    const transfer::BenchUnits units = transfer_->bench_units();
-    std::vector<double> measured(n);
-    int moves = 1;
+  std::vector<double> read_force;
+  if (const auto measured = ReadPositions(&read_force)) {
     for (std::size_t k = 0; k < n; ++k) {
-      ResumeCheck::Actuator& a = check.actuators[k];
-      measured[k] = (*read)[k].position * units.metres_per_length_unit;
-      a.read_position = measured[k];
-      a.read_force = (*read)[k].force * units.newtons_per_force_unit - zeros_[k];
-      // Every move from here is checked against where the actuator is, not where the state
-      // says it was: the increment limit then holds for the first move too.
-      gate_.monitor(static_cast<int>(k)).SetStartPosition(measured[k]);
-      moves = std::max(moves, ResumeMoves(committed[k] - measured[k],
-                                          gate_.monitor(static_cast<int>(k)).limits().max_increment));
+      check.actuators[k].read_position = (*measured)[k];
+      check.actuators[k].read_force = read_force[k];
     }
-    std::vector<double> ramp(n);
-    for (int j = 1; j < moves; ++j) {
-      for (std::size_t k = 0; k < n; ++k) {
-        ramp[k] = measured[k] + (committed[k] - measured[k]) * static_cast<double>(j) / moves;
-      }
-      move(ramp, false);
-      ++check.ramp_moves;
-    }
+    check.ramp_moves = WalkTo(*measured, committed, step, [&] {
+      if (on_move) on_move(false);
+    });
   }
   move(committed, true);
   for (std::size_t k = 0; k < n; ++k) {

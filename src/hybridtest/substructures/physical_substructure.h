@@ -91,6 +91,9 @@ class PhysicalSubstructure final : public Substructure {
   // ReimposeCommitted, one record per actuator (named `name` for one actuator, "NAME_aK" for
   // several).
   nlohmann::json ReimposeForResume(const ResumeRequest& request) override;
+  // The start check (substructure.h; physical_start.cc), through the same reading and walk
+  // as a resume (ReadPositions, WalkTo).
+  nlohmann::json CheckStart(const StartRequest& request) override;
 
   const ActuatorSetup& setup() const { return *setup_; }
   // Limits per slot (max_displacement [m], max_force [N]), checked on every trial. Throws
@@ -175,6 +178,17 @@ class PhysicalSubstructure final : public Substructure {
   // answer (also when its check throws); on any failure the bench holds and the error
   // propagates.
   void MoveAll(const std::vector<double>& commands, transfer::MoveLabel label);
+  // The one reading of where every actuator is before a run or a resume moves it
+  // (physical_start.cc): every position [m] (and force [N], after the load-cell zeros, into
+  // `forces` if given) read without moving (TransferSystem::ReadAll), and every monitor then
+  // checks the next move from there (SetStartPosition); nullopt if the transfer system cannot
+  // read every actuator so.
+  std::optional<std::vector<double>> ReadPositions(std::vector<double>* forces = nullptr);
+  // The one walk from `from` to `to` (n) [m]: every actuator together, in equal moves strictly
+  // within every max_increment (ResumeMoves), each through the gate, on_move() after each; the
+  // move onto `to` itself is left to the caller. Returns the moves made.
+  int WalkTo(const std::vector<double>& from, const std::vector<double>& to, long step,
+             const std::function<void()>& on_move);
   // Throws SafetyStop (after holding) if a slot displacement (before) or force (after) is
   // beyond its slot limit.
   void CheckSlotDisplacements(std::span<const double> d, const TrialContext& ctx);

@@ -129,6 +129,24 @@ class Substructure {
   virtual nlohmann::json ReimposeForResume(const ResumeRequest& /*request*/) {
     return nlohmann::json::array();
   }
+
+  // The start check of a new run (docs/safety.md, "The start of a run"), after Activate() and
+  // before any other move: every actuator's position is read through the transfer system
+  // (TransferSystem::ReadAll) and compared with the first command the run will send (the
+  // setup's command at `d0` (m) [m], or at d = 0 when a K0 ramp comes first). Within an
+  // actuator's max_increment the run starts from there; farther, SafetyStop (limit
+  // "start_position", nothing moved) unless `ramp` (`start: ramp`), which moves every actuator
+  // together from where it is to that command in equal moves within every max_increment, each
+  // through the safety gate (on_move() after each). Returns the sidecar's record (an object:
+  // slot, read (bool), per actuator the read position, the first command, p0, and the ramp
+  // moves); null for a substructure that moves nothing. Throws SafetyStop, TransferError.
+  struct StartRequest {
+    std::string name;
+    std::span<const double> d0;  // (m) [m]
+    bool ramp = false;
+    std::function<void()> on_move;
+  };
+  virtual nlohmann::json CheckStart(const StartRequest& /*request*/) { return nullptr; }
 };
 
 // A matrix as rows of numbers, for records.

@@ -183,6 +183,28 @@ void BenchClient::Heartbeat() {
            "HEARTBEAT_ACK", options_.reply_timeout);
 }
 
+std::optional<std::vector<Measurement>> BenchClient::ReadAll() const {
+  if (!socket_.is_open() || !welcome_) return std::nullopt;
+  // Reading moves nothing, hence const; the exchange uses the connection all the same.
+  auto& self = const_cast<BenchClient&>(*this);
+  try {
+    const Frame reply =
+        self.Exchange(EncodeEmpty(MessageType::kRead, self.next_sequence_++),
+                      MessageType::kMeasurement, "MEASUREMENT (the answer to READ)",
+                      options_.reply_timeout);
+    return DecodeMeasurements(reply, num_actuators());
+  } catch (const std::exception&) {
+    // A server that cannot read (or an older one that does not know READ and closed the
+    // session): connect again as before, and tell that nothing was read.
+    try {
+      if (!socket_.is_open()) self.Activate();
+    } catch (const std::exception&) {
+      // The next command reports the lost bench.
+    }
+    return std::nullopt;
+  }
+}
+
 void BenchClient::Deactivate() {
   if (!socket_.is_open()) return;
   Exchange(EncodeEmpty(MessageType::kHold, next_sequence_++), MessageType::kHoldAck,

@@ -72,6 +72,10 @@ class BenchClient final : public TransferSystem {
   std::string Describe() const override;
   // The limits of the WELCOME, after Activate(); empty before.
   BenchAnnouncement Announce() const override;
+  // READ → MEASUREMENT: every actuator's position and force without moving (after
+  // Activate()); nullopt when not connected, or when the server cannot read or does not know
+  // READ (an older server answers ERROR and may end the session). Never throws.
+  std::optional<std::vector<Measurement>> ReadAll() const override;
 
   // HEARTBEAT → HEARTBEAT_ACK round trip. Throws TransferError.
   void Heartbeat();

@@ -277,6 +277,14 @@ bool BenchServer::HandleFrame(Session& session, const Frame& frame) {
         DecodeEmpty(frame, MessageType::kHold);
         HoldBench("client asked for HOLD");
         return Send(session, EncodeEmpty(MessageType::kHoldAck, frame.sequence));
+      case MessageType::kRead:  // where the actuators are, nothing moves (the start check)
+        DecodeEmpty(frame, MessageType::kRead);
+        if (const auto now = bench_.ReadAll()) {
+          return Send(session, EncodeMeasurements(frame.sequence, *now));
+        }
+        SendError(session, frame.sequence, static_cast<int>(ErrorCode::kBench), "", 0, 0,
+                  "this bench cannot read its position without moving");
+        return true;
       case MessageType::kBye:
         HoldBench("client said BYE");
         Send(session, EncodeEmpty(MessageType::kBye, frame.sequence));

@@ -42,13 +42,13 @@ std::uint32_t Crc32(std::span<const std::uint8_t> bytes) {
 
 bool IsKnownMessageType(std::uint16_t type) {
   return type >= static_cast<std::uint16_t>(MessageType::kHello) &&
-         type <= static_cast<std::uint16_t>(MessageType::kBye);
+         type <= static_cast<std::uint16_t>(MessageType::kRead);
 }
 
 std::string MessageTypeName(std::uint16_t type) {
   static const char* const kNames[] = {"HELLO",         "WELCOME", "COMMAND",  "MEASUREMENT",
                                        "HEARTBEAT",     "HEARTBEAT_ACK", "HOLD", "HOLD_ACK",
-                                       "ERROR",         "BYE"};
+                                       "ERROR",         "BYE",     "READ"};
   if (!IsKnownMessageType(type)) return fmt::format("UNKNOWN({})", type);
   return kNames[type - 1];
 }
@@ -97,7 +97,7 @@ FrameHeader DecodeFrameHeader(std::span<const std::uint8_t> header) {
   const auto type = static_cast<std::uint16_t>(LoadU16(p + 6));
   if (!IsKnownMessageType(type)) {
     throw TransferError(fmt::format(
-        "unknown message type in frame header: expected 1..10 (HELLO..BYE), received {}", type));
+        "unknown message type in frame header: expected 1..11 (HELLO..READ), received {}", type));
   }
   FrameHeader result;
   result.type = static_cast<MessageType>(type);

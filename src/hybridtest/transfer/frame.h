@@ -41,6 +41,7 @@ enum class MessageType : std::uint16_t {
   kHoldAck = 8,       // server → client
   kError = 9,         // either way: code, limit, values, text
   kBye = 10,          // either way: end of session
+  kRead = 11,         // client → server: every actuator's position and force, no move
 };
 
 // "HELLO", "COMMAND", ...; "UNKNOWN(n)" for a value outside MessageType.
