@@ -79,7 +79,13 @@ class ProgressObserver final : public runner::SessionObserver {
                       session_.spec().scheme.duration, s.physical_evaluations, s.lab_time,
                       s.wall_time});
   }
-  void OnStop(const runner::StopEvent&) override { progress_.Finish(); }
+  // The last line tells how the run ended: "done" only when it finished.
+  void OnStop(const runner::StopEvent& e) override {
+    if (e.status == runner::SessionStatus::kFinished) return progress_.Finish("done");
+    progress_.Finish(fmt::format("{}: {}", e.status == runner::SessionStatus::kHeld ? "held"
+                                                                                    : "stopped",
+                                 e.reason));
+  }
 
  private:
   const runner::Session& session_;
