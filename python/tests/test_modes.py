@@ -146,3 +146,17 @@ def test_a_driven_rotor_balances_its_blade_tips():
     with pytest.raises(ht.ModelError, match="u̇ of speed 'u4'"):
         ht.modes(ROOT / "examples/models/rotor.yaml", time=t, at={"u": [0, 0, 0, omega]},
                  steady="q1,q2,q3")
+
+
+def test_modes_are_named_marked_and_an_equilibrium_is_checked():
+    """Issue 50: the same readout as the command line (labels, unstable, equilibrium)."""
+    slow = ht.modes(BICYCLE, set={"v": 3.0})
+    assert slow.equilibrium
+    weave = [m for m in slow.modes if m.label == "weave"]
+    assert len(weave) == 2 and all(m.unstable for m in weave)
+    capsize = [m for m in slow.modes if m.label == "capsize"]
+    assert len(capsize) == 1 and not capsize[0].unstable and capsize[0].dominant[0] == "q4"
+    fast = ht.modes(BICYCLE, set={"v": 5.0})
+    assert not any(m.unstable for m in fast.modes)
+    turning = ht.modes(ROOT / "examples/models/slider_crank.yaml", at={"u": [3.0, 0.0, 0.0]})
+    assert not turning.equilibrium and turning.residual > 1e-3
