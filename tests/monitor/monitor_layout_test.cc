@@ -48,7 +48,7 @@ TEST(MonitorLayout, MetersAndScopesAreOnTheFirstScreenAt1400x1000) {
   for (const char* asset : {"monitor.css", "monitor.js"}) {
     test_support::WriteText(dir / asset, test_support::ReadText(kWeb + "/" + asset));
   }
-  test_support::WriteText(dir / "fake.js", R"(window.fetch = async (url) => {
+  test_support::WriteText(dir / "fake.js", R"js(window.fetch = async (url) => {
   if (!String(url).startsWith("/api/series")) throw new Error("no server");
   const t = [...Array(50).keys()].map((i) => i * 0.01);
   const c = { seq: t.map((x, i) => i + 1), t };
@@ -56,8 +56,8 @@ TEST(MonitorLayout, MetersAndScopesAreOnTheFirstScreenAt1400x1000) {
                    "position1", "force1"]) c[k] = t.map((x) => Math.sin(7 * x));
   return { json: async () => ({ slots: 2, actuators: 2, generation: 1, reset: true, columns: c }) };
 };
-)");
-  test_support::WriteText(dir / "probe.js", R"(window.addEventListener("load", () => setTimeout(() => {
+)js");
+  test_support::WriteText(dir / "probe.js", R"js(window.addEventListener("load", () => setTimeout(() => {
   const b = document.body;
   for (const id of ["meters-panel", "scopes-panel"]) {
     const r = document.getElementById(id).getBoundingClientRect();
@@ -66,7 +66,7 @@ TEST(MonitorLayout, MetersAndScopesAreOnTheFirstScreenAt1400x1000) {
   }
   b.setAttribute("data-height", window.innerHeight);
 }, 500));
-)");
+)js");
   const auto [status, dom] = RunCommand(
       chromium + " --headless --no-sandbox --disable-gpu --no-first-run --user-data-dir=" +
           (dir / "profile").string() + " --window-size=1400,1000 --virtual-time-budget=3000 "
