@@ -10,6 +10,7 @@
 #include <regex>
 #include <string>
 
+#include "monitor/chromium.h"
 #include "support/run_command.h"
 #include "support/temp_dir.h"
 
@@ -18,14 +19,6 @@ namespace {
 
 const std::string kWeb = std::string(HYBRIDTEST_SOURCE_DIR) + "/src/hybridtest/monitor/web";
 
-std::string FindChromiumBinary() {
-  for (const char* name : {"chromium", "chromium-browser", "chromium-headless-shell"}) {
-    const auto [status, out] = RunCommand(std::string("sh -c 'command -v ") + name + "'", 10, false);
-    if (status == 0 && !out.empty()) return out.substr(0, out.find('\n'));
-  }
-  return "";
-}
-
 double Attribute(const std::string& dom, const std::string& name) {
   std::smatch m;
   if (!std::regex_search(dom, m, std::regex(name + "=\"(-?[0-9.]+)\""))) return -1.0;
@@ -33,7 +26,7 @@ double Attribute(const std::string& dom, const std::string& name) {
 }
 
 TEST(MonitorLayout, MetersAndScopesAreOnTheFirstScreenAt1400x1000) {
-  const std::string chromium = FindChromiumBinary();
+  const std::string chromium = FindChromium();
   if (chromium.empty()) GTEST_SKIP() << "chromium not found (scripts/install-deps.sh)";
   const auto dir = test_support::FreshTempDir("monitor_layout");
   // The page's own HTML, CSS and script from files, with a stand-in for the server's series
