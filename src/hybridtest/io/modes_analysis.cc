@@ -104,7 +104,10 @@ std::vector<ModeReadout> ReadModes(const multibody::Model& model,
       const bool oscillatory = std::abs(m.eigenvalue.imag()) > tol;
       for (const modelfile::ModeLabel& label : reading.labels) {
         if (label.oscillatory && *label.oscillatory != oscillatory) continue;
-        if (!label.dominant.empty() && label.dominant != r.dominant.front()) continue;
+        if (!label.dominant.empty() &&
+            (r.dominant.empty() || label.dominant != r.dominant.front())) {
+          continue;
+        }
         r.label = label.name;
         break;
       }
