@@ -212,13 +212,15 @@ void YamlInput::CheckKeys(const YAML::Node& node, std::string_view key_path,
     for (std::string_view a : allowed) known = known || a == key;
     if (known) continue;
     // `{description: a, b}`: in a {...} mapping a comma ends the value, so the rest of an
-    // unquoted text becomes a key without a value.
-    const bool cut_text = node.Style() == YAML::EmitterStyle::Flow && kv.second.IsNull();
+    // unquoted text becomes a key without a value. (The style is not tested: a node copied
+    // by the model file's repetition loses it.)
+    const bool cut_text = kv.second.IsNull();
     throw ConfigError(fmt::format(
         "{}: unknown key '{}'; expected one of: {} ({})",
         Where(kv.first, JoinKeyPath(key_path, key)), key, AllowedList(allowed),
-        cut_text ? "inside {...} a comma ends a value: if this is the rest of a text, put the "
-                   "whole text in quotes, e.g. description: \"a, b\"; else check the spelling"
+        cut_text ? "it has no value: inside {...} a comma ends a value, so if this is the rest "
+                   "of a text, put the whole text in quotes, e.g. description: \"a, b\"; else "
+                   "check the spelling and the indentation"
                  : "check the spelling and the indentation"));
   }
 }
