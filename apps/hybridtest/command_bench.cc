@@ -260,7 +260,9 @@ void RunBench(const BenchArgs& args) {
 void AddBenchCommand(CLI::App& root) {
   auto args = std::make_shared<BenchArgs>();
   CLI::App* cmd = root.add_subcommand(
-      "bench", "Serve the emulated test bench over TCP (bench protocol v1) until SIGINT/SIGTERM");
+      "bench", "Serve the emulated test bench over TCP until SIGINT/SIGTERM: the hybridtest "
+               "bench protocol (default), OpenFresco's generic TCP protocol or ADS (a TwinCAT "
+               "PLC emulator), chosen by --protocol");
   cmd->add_option("--config", args->config,
                   "YAML file with a `bench:` mapping (default: the seed paper's cantilever)")
       ->check(RegularInputFile());
@@ -277,10 +279,11 @@ void AddBenchCommand(CLI::App& root) {
                   "seconds without a frame after which a client is dropped and the bench holds")
       ->check(PositiveFiniteNumber());
   cmd->add_option("--inject", args->inject,
-                  "TEST FACILITY ONLY: inject a fault KIND@N at the N-th command "
-                  "(nan, spike, corrupt, stale_seq, duplicate, silence, close)");
+                  "TEST FACILITY ONLY: inject a fault KIND@N at the N-th command; "
+                  "--protocol hybridtest: nan, spike, corrupt, stale_seq, duplicate, silence, "
+                  "close; --protocol ads: fault, silence, close, ads_error, holding");
   cmd->add_option("--protocol", args->protocol,
-                  "hybridtest (bench protocol v1, default) or openfresco (OpenFresco's generic "
+                  "hybridtest (the hybridtest bench protocol, default) or openfresco (OpenFresco's generic "
                   "TCP protocol, for OpenSees genericClient elements; needs --config with an "
                   "`openfresco:` section; docs/openfresco.md) or ads (a TwinCAT PLC emulator "
                   "over ADS; docs/ads.md)")

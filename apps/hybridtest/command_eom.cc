@@ -102,14 +102,14 @@ void RunEom(const EomOptions& opt) {
     std::cout << out.dump() << "\n";
     return;
   }
-  fmt::print("model {} at t = {} s (convention M u̇ = forcing, x = [q; u])\n", cfg.model.name,
+  fmt::print("model {} at t = {} s (convention M u̇ = f, x = [q; u])\n", cfg.model.name,
              opt.time);
   fmt::print("mass matrix M:\n");
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) fmt::print(" {:>24.17g}", data.M(i, j));
     fmt::print("\n");
   }
-  fmt::print("forcing g:\n");
+  fmt::print("right-hand side f (the forcing):\n");
   for (int i = 0; i < n; ++i) fmt::print(" {:>24.17g}", data.g(i));
   // Each slot with its name and unit: a moment slot is in N·m, not N.
   fmt::print("\nrestoring forces r^s:\n");
@@ -118,7 +118,7 @@ void RunEom(const EomOptions& opt) {
     fmt::print(" {:>24.17g} [{}] {}\n", r(i), info.unit.empty() ? "N" : info.unit, info.name);
   }
   if (constrained) {
-    fmt::print("reduced equations [Cᵀ M; B] u̇ = [Cᵀ g; −(Ḃu + ċ)] (dependent speeds:");
+    fmt::print("reduced equations [Cᵀ M; B] u̇ = [Cᵀ f; −(Ḃu + ċ)] (dependent speeds:");
     for (int j : data.dependent) fmt::print(" {}", model.speeds()[j].name);
     fmt::print("):\n");
     for (int i = 0; i < n; ++i) {

@@ -122,9 +122,19 @@ void RunModes(const ModesOptions& opt) {
       for (Eigen::Index j = 0; j < lin.A.cols(); ++j) row[static_cast<std::size_t>(j)] = lin.A(i, j);
       out["state_matrix"].push_back(row);
     }
+    out["equilibrium"] = report.equilibrium;
+    if (!report.steady && report.residual.worst_speed >= 0) {
+      out["residual"] = report.residual.residual;
+      out["residual_speed"] = built.model.speeds()[static_cast<std::size_t>(
+          report.residual.worst_speed)].name;
+    }
     out["modes"] = nlohmann::json::array();
-    for (const multibody::Mode& m : a.modes) {
+    for (std::size_t k = 0; k < a.modes.size(); ++k) {
+      const multibody::Mode& m = a.modes[k];
       nlohmann::json j;
+      j["label"] = report.readouts[k].label;
+      j["dominant"] = report.readouts[k].dominant;
+      j["unstable"] = report.readouts[k].unstable;
       j["real"] = m.eigenvalue.real();
       j["imag"] = m.eigenvalue.imag();
       j["frequency_hz"] = m.frequency_hz;
@@ -144,6 +154,15 @@ void RunModes(const ModesOptions& opt) {
   fmt::print("model {}: linearised at t = {} s about x = [", built.name, opt.time);
   for (Eigen::Index i = 0; i < a.x.size(); ++i) fmt::print("{}{:.6g}", i ? ", " : "", a.x(i));
   fmt::print("]\n");
+  if (!report.equilibrium) {
+    const int k = report.residual.worst_speed;
+    fmt::print("warning: not an equilibrium: max |u̇| = {:.3g} {} (u̇ of {}), so these modes "
+               "describe the linearisation at this instant only, not motions about a steady "
+               "state; to find one, name the coordinates to solve for with --steady (and the "
+               "speeds a drive holds with --driven)\n", report.residual.residual,
+               multibody::SpeedRateUnit(built.model, k),
+               built.model.speeds()[static_cast<std::size_t>(k)].name);
+  }
   if (report.steady) {
     const multibody::SteadyState& st = *report.steady;
     fmt::print("steady state (u̇ = 0) in {} iteration(s), residual max |u̇| = {:.3g} {} (u̇ of "
@@ -163,19 +182,35 @@ void RunModes(const ModesOptions& opt) {
     for (Eigen::Index j = 0; j < lin.A.cols(); ++j) fmt::print(" {:>12.6g}", lin.A(i, j));
     fmt::print("\n");
   }
-  fmt::print("\n{:>4} {:>22} {:>22} {:>12} {:>12} {:>10}  mode shape (largest entries)\n", "#",
-             "Re λ [1/s]", "Im λ [1/s]", "f_n [Hz]", "f_d [Hz]", "ζ");
+  fmt::print("\n{:>4} {:>22} {:>22} {:>12} {:>12} {:>10}  {:<8} {:<20} mode shape (largest "
+             "entries)\n", "#", "Re λ [1/s]", "Im λ [1/s]", "f_n [Hz]", "f_d [Hz]", "ζ",
+             "stable?", "mode");
   int index = 0;
-  for (const multibody::Mode& m : a.modes) {
+  int unstable = 0;
+  for (std::size_t k = 0; k < a.modes.size(); ++k) {
+    const multibody::Mode& m = a.modes[k];
+    const io::ModeReadout& r = report.readouts[k];
+    unstable += r.unstable ? 1 : 0;
+    std::string name = r.label;
+    if (!r.dominant.empty()) {
+      std::string coords;
+      for (const std::string& c : r.dominant) coords += (coords.empty() ? "" : "+") + c;
+      name = name.empty() ? coords : fmt::format("{} ({})", name, coords);
+    }
+    if (name.empty()) name = "-";
     std::string shape;
     for (Eigen::Index i = 0; i < m.shape.size(); ++i) {
       if (std::abs(m.shape(i)) < 0.1) continue;
       shape += fmt::format(" {}:{:.3g}{:+.3g}i", lin.state_names[static_cast<std::size_t>(i)],
                            m.shape(i).real(), m.shape(i).imag());
     }
-    fmt::print("{:>4} {:>22.14g} {:>22.14g} {:>12.6g} {:>12.6g} {:>10.4g} {}\n", ++index,
-               m.eigenvalue.real(), m.eigenvalue.imag(), m.frequency_hz, m.damped_frequency_hz,
-               m.damping_ratio, shape);
+    fmt::print("{:>4} {:>22.14g} {:>22.14g} {:>12.6g} {:>12.6g} {:>10.4g}  {:<8} {:<20}{}\n",
+               ++index, m.eigenvalue.real(), m.eigenvalue.imag(), m.frequency_hz,
+               m.damped_frequency_hz, m.damping_ratio, r.unstable ? "UNSTABLE" : "stable", name,
+               shape);
+  }
+  if (unstable > 0) {
+    fmt::print("{} unstable mode(s): Re λ > 0, the motion grows as e^(Re λ t)\n", unstable);
   }
 }
 
@@ -204,8 +239,9 @@ void AddModesCommand(CLI::App& root) {
                   "steady state: most Gauss–Newton iterations (default 50)")
       ->check(CLI::Range(1, multibody::kMaxSteadyIterations));
   cmd->add_flag("--json", opt->json,
-                "print one JSON object {model, states, operating_point, state_matrix, modes: "
-                "[{real, imag, frequency_hz, damped_frequency_hz, damping_ratio, shape_real, "
+                "print one JSON object {model, states, operating_point, state_matrix, "
+                "equilibrium, residual, residual_speed, modes: [{real, imag, frequency_hz, "
+                "damped_frequency_hz, damping_ratio, label, dominant, unstable, shape_real, "
                 "shape_imag}], steady: {coordinates, values, iterations, residual, "
                 "residual_speed, residual_unit, converged, driven} (with --steady)}");
   cmd->callback([opt] { RunModes(*opt); });

@@ -79,7 +79,19 @@ class ProgressObserver final : public runner::SessionObserver {
                       session_.spec().scheme.duration, s.physical_evaluations, s.lab_time,
                       s.wall_time});
   }
-  void OnStop(const runner::StopEvent&) override { progress_.Finish(); }
+  // The last line tells how the run ended: "done" only when it finished; else the start of
+  // the reason (the whole of it follows in the error message).
+  void OnStop(const runner::StopEvent& e) override {
+    if (e.status == runner::SessionStatus::kFinished) return progress_.Finish("done");
+    std::string reason = e.reason;
+    if (reason.size() > 100) {
+      std::size_t cut = 100;
+      while (cut > 0 && (static_cast<unsigned char>(reason[cut]) & 0xC0) == 0x80) --cut;
+      reason = reason.substr(0, cut) + "…";
+    }
+    progress_.Finish(fmt::format(
+        "{}: {}", e.status == runner::SessionStatus::kHeld ? "held" : "stopped", reason));
+  }
 
  private:
   const runner::Session& session_;

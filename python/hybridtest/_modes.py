@@ -10,11 +10,17 @@ from ._core import modes as _core_modes
 class Mode:
     """One mode: eigenvalue λ [1/s] (complex), frequency_hz = |λ|/2π, damped_frequency_hz =
     |Im λ|/2π, damping_ratio = −Re λ/|λ|, shape (complex numpy array over the independent
-    states, largest entry 1)."""
+    states, its largest read coordinate 1), label (the model file's `modes.labels` name, or
+    ""), dominant (the read coordinates with |shape| ≥ ½), unstable (Re λ > 0 beyond
+    rounding)."""
 
-    __slots__ = ("eigenvalue", "frequency_hz", "damped_frequency_hz", "damping_ratio", "shape")
+    __slots__ = ("eigenvalue", "frequency_hz", "damped_frequency_hz", "damping_ratio", "shape",
+                 "label", "dominant", "unstable")
 
     def __init__(self, d):
+        self.label = d["label"]
+        self.dominant = list(d["dominant"])
+        self.unstable = bool(d["unstable"])
         self.eigenvalue = complex(d["eigenvalue"])
         self.frequency_hz = d["frequency_hz"]
         self.damped_frequency_hz = d["damped_frequency_hz"]
@@ -53,7 +59,8 @@ class ModeAnalysis:
     asked for, before assembly), x (the operating point used: steady, assembled; 2n + nz),
     states (names of the independent states), A (state matrix in them), modes (list of Mode,
     by ascending |λ|), eigenvalues (complex numpy array, the modes' order), steady
-    (SteadyState or None)."""
+    (SteadyState or None), equilibrium (False when max |u̇| at x, `residual`, exceeds 1e-8:
+    then the modes are of the instantaneous linearisation only; pass steady=)."""
 
     def __init__(self, d):
         self.model = d["model"]
@@ -64,6 +71,8 @@ class ModeAnalysis:
         self.A = np.asarray(d["A"], dtype=float)
         self.modes = [Mode(m) for m in d["modes"]]
         self.steady = SteadyState(d["steady"]) if d["steady"] is not None else None
+        self.equilibrium = bool(d["equilibrium"])
+        self.residual = d["residual"]
 
     @property
     def eigenvalues(self):

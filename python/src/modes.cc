@@ -2,8 +2,8 @@
 // (io::AnalyseModes: the file or config, the overrides, the operating point, the steady state,
 // the linearisation). Returns a dict that python/hybridtest/__init__.py wraps as ModeAnalysis:
 //
-//   {model, time, start, x, states, A, modes: [{eigenvalue, frequency_hz, damped_frequency_hz,
-//    damping_ratio, shape}], steady: None | {coordinates, values, iterations, residual,
+//   {model, time, start, x, states, A, equilibrium, residual, modes: [{label, dominant,
+//    unstable, eigenvalue, frequency_hz, damped_frequency_hz, damping_ratio, shape}], steady: None | {coordinates, values, iterations, residual,
 //    residual_speed, residual_unit, converged, driven}}
 //
 // Arrays are numpy (A float64, shape complex128); everything is SI.
@@ -72,8 +72,12 @@ py::dict Modes(const std::string& path, const std::optional<py::dict>& at,
   out["states"] = a.linearization.state_names;
   out["A"] = a.linearization.A;
   py::list modes;
-  for (const multibody::Mode& m : a.modes) {
+  for (std::size_t k = 0; k < a.modes.size(); ++k) {
+    const multibody::Mode& m = a.modes[k];
     py::dict d;
+    d["label"] = report.readouts[k].label;
+    d["dominant"] = report.readouts[k].dominant;
+    d["unstable"] = report.readouts[k].unstable;
     d["eigenvalue"] = m.eigenvalue;
     d["frequency_hz"] = m.frequency_hz;
     d["damped_frequency_hz"] = m.damped_frequency_hz;
@@ -82,6 +86,8 @@ py::dict Modes(const std::string& path, const std::optional<py::dict>& at,
     modes.append(d);
   }
   out["modes"] = modes;
+  out["equilibrium"] = report.equilibrium;
+  out["residual"] = report.residual.residual;  // max |u̇| at x (0 with steady=)
   out["steady"] = py::none();
   if (report.steady) {
     const multibody::SteadyState& s = *report.steady;

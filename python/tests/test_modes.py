@@ -153,3 +153,17 @@ def test_modes_takes_the_iteration_bound_of_the_command_line():
     with pytest.raises(ht.ConfigError, match=r"max_iterations=100000\): expected 1 to 10000, "
                                              r"as `hybridtest modes --steady-iterations`"):
         ht.modes(GOVERNOR, set={"Omega": 5.0}, steady="theta", max_iterations=10**5)
+
+
+def test_modes_are_named_marked_and_an_equilibrium_is_checked():
+    """Issue 50: the same readout as the command line (labels, unstable, equilibrium)."""
+    slow = ht.modes(BICYCLE, set={"v": 3.0})
+    assert slow.equilibrium
+    weave = [m for m in slow.modes if m.label == "weave"]
+    assert len(weave) == 2 and all(m.unstable for m in weave)
+    capsize = [m for m in slow.modes if m.label == "capsize"]
+    assert len(capsize) == 1 and not capsize[0].unstable and capsize[0].dominant[0] == "q4"
+    fast = ht.modes(BICYCLE, set={"v": 5.0})
+    assert not any(m.unstable for m in fast.modes)
+    turning = ht.modes(ROOT / "examples/models/slider_crank.yaml", at={"u": [3.0, 0.0, 0.0]})
+    assert not turning.equilibrium and turning.residual > 1e-3

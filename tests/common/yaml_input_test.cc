@@ -71,6 +71,22 @@ TEST(YamlInput, UnknownKeysListTheAllowedOnes) {
             "(no error)");
 }
 
+// Issue 50: `{description: rear contact x, in N}` cut the text at the comma and reported the
+// rest as an unknown key without saying why.
+TEST(YamlInput, AnUnknownKeyAfterACommaInsideBracesSuggestsQuotes) {
+  const YamlInput in = YamlInput::FromText(
+      "coordinates:\n  - {name: q1, description: rear contact x, in N}\n", "m.yaml");
+  const YAML::Node item = in.root()["coordinates"][0];
+  EXPECT_THAT(ErrorOf([&] { in.CheckKeys(item, "coordinates[0]", {"name", "description"}); }),
+              AllOf(HasSubstr("unknown key 'in N'"), HasSubstr("put the whole text in quotes"),
+                    HasSubstr("description: \"a, b\"")));
+  // A block mapping's typo keeps the spelling hint.
+  const YamlInput block = YamlInput::FromText("name: q1\ndescripton: x\n", "b.yaml");
+  EXPECT_THAT(ErrorOf([&] { block.CheckKeys(block.root(), "", {"name", "description"}); }),
+              AllOf(HasSubstr("check the spelling and the indentation"),
+                    testing::Not(HasSubstr("quotes"))));
+}
+
 TEST(YamlInput, FragmentsAppendTheLineToTheCallersKeyPath) {
   const YAML::Node node = YAML::Load("a: 1\nb: soon\nc: [1, x]\n");
   const YamlInput in = YamlInput::ForNode(node);

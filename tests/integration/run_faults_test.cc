@@ -71,9 +71,11 @@ struct FaultRun {
   std::string csv;
 };
 
-// Runs `hybridtest run CONFIG --bench ... --out ...` against a bench with `bench_args`.
+// Runs `hybridtest run CONFIG --bench ... --out ...` against a bench with `bench_args`
+// (with --quiet unless `quiet` is false: then the output has the progress lines).
 FaultRun RunAgainstBench(const std::string& name, const std::vector<std::string>& bench_args,
-                         const std::string& config = kFaultsConfig, double limit = 30.0) {
+                         const std::string& config = kFaultsConfig, double limit = 30.0,
+                         bool quiet = true) {
   const fs::path log = OutDir() / (name + ".bench.log");
   std::vector<std::string> args = {"--config", kIdealBench};
   args.insert(args.end(), bench_args.begin(), bench_args.end());
@@ -82,9 +84,11 @@ FaultRun RunAgainstBench(const std::string& name, const std::vector<std::string>
   r.csv = (OutDir() / (name + ".csv")).string();
   const auto start = Clock::now();
   {
-    Child run({HYBRIDTEST_BINARY, "run", config, "--quiet", "--bench",
-               fmt::format("127.0.0.1:{}", bench->port()), "--out", r.csv},
-              OutDir() / (name + ".out"));
+    std::vector<std::string> command = {HYBRIDTEST_BINARY, "run", config, "--bench",
+                                        fmt::format("127.0.0.1:{}", bench->port()), "--out",
+                                        r.csv};
+    if (quiet) command.push_back("--quiet");
+    Child run(command, OutDir() / (name + ".out"));
     r.status = run.WaitExit(limit);
     r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     r.output = run.output();
@@ -181,6 +185,18 @@ TEST(RunFaults, NanForceIsASafetyStopNamingTheStep) {
   EXPECT_EQ(stop.at("limit"), "force_finite");
   EXPECT_EQ(stop.at("step"), 50);
   ExpectContains(r.bench_log, "holding: client asked for HOLD");
+}
+
+// Issue 50: the last progress line of a failed run said "done".
+TEST(RunFaults, TheLastProgressLineOfAFailedRunTellsItsFailure) {
+  const FaultRun r = RunAgainstBench("progress_failure", {"--inject", "nan@20"}, kFaultsConfig,
+                                     30.0, false);
+  EXPECT_NE(r.status, 0) << r.output;
+  const std::size_t last = r.output.rfind("progress ");
+  ASSERT_NE(last, std::string::npos) << r.output;
+  const std::string line = r.output.substr(last, r.output.find('\n', last) - last);
+  EXPECT_NE(line.find("| stopped: "), std::string::npos) << line;
+  EXPECT_EQ(line.find("done"), std::string::npos) << line;
 }
 
 TEST(RunFaults, ForceSpikeHitsTheHardForceLimit) {

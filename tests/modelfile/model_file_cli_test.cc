@@ -67,6 +67,17 @@ TEST(ModelFileCliTest, EomOnTheRotorFileEqualsTheBuiltInRotor) {
   }
 }
 
+// Issue 50: `eom` called the right-hand side "forcing g" where `equations` calls it f.
+TEST(ModelFileCliTest, EomAndEquationsNameTheRightHandSideF) {
+  const std::string model = kSource + "/examples/01_rotor_model_file/numerical.yaml";
+  const auto [status, out] = Hybridtest(
+      fmt::format("eom {} --time 0 --state 0,0,0,0,0,0,0,0", model), false);
+  ASSERT_EQ(status, 0) << out;
+  EXPECT_NE(out.find("M u̇ = f"), std::string::npos) << out;
+  EXPECT_NE(out.find("right-hand side f"), std::string::npos) << out;
+  EXPECT_EQ(out.find("forcing g"), std::string::npos) << out;
+}
+
 TEST(ModelFileCliTest, CheckModelExitsZeroOnAValidFile) {
   const auto [status, out] =
       Hybridtest(fmt::format("check-model {}/examples/models/double_pendulum.yaml --no-sympy", kSource));

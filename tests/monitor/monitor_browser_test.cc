@@ -15,19 +15,11 @@
 #include "monitor/example_config.h"
 #include "monitor/monitor_process.h"
 #include "support/listening_process.h"
+#include "monitor/chromium.h"
 #include "support/run_command.h"
 
 namespace hybridtest::testing {
 namespace {
-
-// The first of chromium, chromium-browser, chromium-headless-shell on PATH, or "".
-std::string FindChromium() {
-  for (const char* name : {"chromium", "chromium-browser", "chromium-headless-shell"}) {
-    const auto [status, out] = RunCommand(std::string("sh -c 'command -v ") + name + "'", 10, false);
-    if (status == 0 && !out.empty()) return out.substr(0, out.find('\n'));
-  }
-  return "";
-}
 
 // The page's DOM once its scripts have run (their first polls answered).
 std::string DumpDom(const std::string& chromium, int port, const fs::path& profile) {

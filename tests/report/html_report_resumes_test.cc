@@ -26,5 +26,23 @@ TEST(HtmlReportResumes, OneRowPerResume) {
   EXPECT_EQ(ResumesSection(nlohmann::json{{"status", "completed"}}), "");
 }
 
+// Issue 50: the operator's Hold and Continue were in the sidecar only.
+TEST(HtmlReportResumes, TheOperatorsActionsAreListed) {
+  const nlohmann::json sidecar = {
+      {"operator_actions",
+       {{{"action", "hold"}, {"origin", "127.0.0.1 (<browser>)"},
+         {"asked_at", "2026-11-24T01:57:44Z"}, {"applied_at", "2026-11-24T01:57:45Z"},
+         {"step", 10710}, {"t", 10.71}},
+        {{"action", "continue"}, {"origin", "127.0.0.1"}, {"asked_at", "2026-11-24T01:58:00Z"},
+         {"applied_at", "2026-11-24T01:58:00Z"}, {"step", 10710}, {"t", 10.71}}}}};
+  const std::string html = OperatorActionsSection(sidecar);
+  EXPECT_NE(html.find("<h2>Operator actions</h2>"), std::string::npos) << html;
+  EXPECT_NE(html.find("<td>hold</td><td>10710</td><td>10.71</td><td>2026-11-24T01:57:44Z</td>"),
+            std::string::npos) << html;
+  EXPECT_NE(html.find("<td>continue</td>"), std::string::npos) << html;
+  EXPECT_NE(html.find("&lt;browser&gt;"), std::string::npos) << html;  // escaped
+  EXPECT_EQ(OperatorActionsSection(nlohmann::json{{"status", "completed"}}), "");
+}
+
 }  // namespace
 }  // namespace hybridtest::report

@@ -99,6 +99,18 @@ TEST(Progress, ShortRunStaysSilentUntilFinish) {
   EXPECT_EQ(unused.text(), "");
 }
 
+// Issue 50: a failed run's last line said "done".
+TEST(Progress, AFailedRunEndsWithItsFailureNotDone) {
+  Capture capture;
+  Progress progress({.stream = capture.stream(), .mode = ProgressMode::kLines});
+  for (long step = 1; step <= 100; ++step) progress.Update(SampleAt(step));
+  progress.Finish("stopped: slot 1: force 12 kN beyond force_hard");
+  const std::string text = capture.text();
+  EXPECT_NE(text.find("| stopped: slot 1: force 12 kN beyond force_hard\n"), std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("done"), std::string::npos) << text;
+}
+
 TEST(Progress, BarRedrawsInPlaceAndIsRateLimited) {
   Capture capture;
   Progress progress({.stream = capture.stream(), .mode = ProgressMode::kBar,

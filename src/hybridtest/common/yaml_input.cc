@@ -211,10 +211,17 @@ void YamlInput::CheckKeys(const YAML::Node& node, std::string_view key_path,
     bool known = false;
     for (std::string_view a : allowed) known = known || a == key;
     if (known) continue;
-    throw ConfigError(fmt::format("{}: unknown key '{}'; expected one of: {} (check the spelling "
-                                  "and the indentation)",
-                                  Where(kv.first, JoinKeyPath(key_path, key)), key,
-                                  AllowedList(allowed)));
+    // `{description: a, b}`: in a {...} mapping a comma ends the value, so the rest of an
+    // unquoted text becomes a key without a value. (The style is not tested: a node copied
+    // by the model file's repetition loses it.)
+    const bool cut_text = kv.second.IsNull();
+    throw ConfigError(fmt::format(
+        "{}: unknown key '{}'; expected one of: {} ({})",
+        Where(kv.first, JoinKeyPath(key_path, key)), key, AllowedList(allowed),
+        cut_text ? "it has no value: inside {...} a comma ends a value, so if this is the rest "
+                   "of a text, put the whole text in quotes, e.g. description: \"a, b\"; else "
+                   "check the spelling and the indentation"
+                 : "check the spelling and the indentation"));
   }
 }
 

@@ -10,6 +10,7 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/config.h"
 #include "hybridtest/modelfile/model_file.h"
+#include "hybridtest/modelfile/model_file_modes.h"
 
 namespace hybridtest::io {
 
@@ -26,6 +27,94 @@ void ApplyStart(const ModesRequest& request, int n, Eigen::VectorXd& x) {
     }
     for (int k = 0; k < n; ++k) x(part * n + k) = (*values)[static_cast<std::size_t>(k)];
   }
+}
+
+// The model file behind request.path (itself, or a run config's model.file); empty for a
+// built-in model.
+std::string ModelFileOf(const std::string& path) {
+  const YAML::Node root = YAML::LoadFile(path);
+  if (root.IsMap() && root["coordinates"]) return path;
+  if (root.IsMap() && root["model"] && root["model"]["file"]) {
+    return (std::filesystem::path(path).parent_path() / root["model"]["file"].as<std::string>())
+        .string();
+  }
+  return {};
+}
+
+// The index in the linearisation's states of coordinate `name`; ConfigError at `where` when it
+// is not an independent coordinate.
+std::size_t ReadIndex(const multibody::Model& model, const multibody::Linearization& lin,
+                      const std::string& name, const std::string& where) {
+  const int n = model.num_coordinates();
+  for (std::size_t i = 0; i < lin.states.size(); ++i) {
+    if (lin.states[i] < n && lin.state_names[i] == name) return i;
+  }
+  std::string list;
+  for (std::size_t i = 0; i < lin.states.size(); ++i) {
+    if (lin.states[i] < n) list += (list.empty() ? "" : ", ") + lin.state_names[i];
+  }
+  throw ConfigError(fmt::format("{}: '{}' is not an independent coordinate of the model; name "
+                                "one of {}", where, name, list));
+}
+
+// Normalises each shape on its largest read coordinate and fills the readouts.
+std::vector<ModeReadout> ReadModes(const multibody::Model& model,
+                                   const modelfile::ModeReading& reading,
+                                   multibody::ModeAnalysis& analysis) {
+  const multibody::Linearization& lin = analysis.linearization;
+  std::vector<std::size_t> read;
+  for (std::size_t i = 0; i < reading.coordinates.size(); ++i) {
+    read.push_back(ReadIndex(model, lin, reading.coordinates[i], reading.coordinates_where[i]));
+  }
+  if (read.empty()) {
+    for (std::size_t i = 0; i < lin.states.size(); ++i) {
+      if (lin.states[i] < model.num_coordinates()) read.push_back(i);
+    }
+  }
+  for (const modelfile::ModeLabel& label : reading.labels) {
+    if (!label.dominant.empty()) {
+      const std::size_t i = ReadIndex(model, lin, label.dominant, label.where + ".dominant");
+      if (std::find(read.begin(), read.end(), i) == read.end()) {
+        throw ConfigError(fmt::format("{}.dominant: '{}' is not among modes.coordinates; add it "
+                                      "there", label.where, label.dominant));
+      }
+    }
+  }
+  double scale = 1.0;
+  for (const multibody::Mode& m : analysis.modes) scale = std::max(scale, std::abs(m.eigenvalue));
+  const double tol = kModeTolerance * scale;
+  std::vector<ModeReadout> out;
+  for (multibody::Mode& m : analysis.modes) {
+    ModeReadout r;
+    r.unstable = m.eigenvalue.real() > tol;
+    std::vector<std::size_t> order = read;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return std::abs(m.shape(static_cast<Eigen::Index>(a))) >
+             std::abs(m.shape(static_cast<Eigen::Index>(b)));
+    });
+    const double top = order.empty() ? 0.0 : std::abs(m.shape(static_cast<Eigen::Index>(order[0])));
+    if (top > 1e-12 * m.shape.cwiseAbs().maxCoeff()) {
+      m.shape /= m.shape(static_cast<Eigen::Index>(order[0]));
+    }
+    if (std::abs(m.eigenvalue) > tol && top > 0.0) {
+      for (std::size_t i : order) {
+        if (std::abs(m.shape(static_cast<Eigen::Index>(i))) < 0.5) break;
+        r.dominant.push_back(lin.state_names[i]);
+      }
+      const bool oscillatory = std::abs(m.eigenvalue.imag()) > tol;
+      for (const modelfile::ModeLabel& label : reading.labels) {
+        if (label.oscillatory && *label.oscillatory != oscillatory) continue;
+        if (!label.dominant.empty() &&
+            (r.dominant.empty() || label.dominant != r.dominant.front())) {
+          continue;
+        }
+        r.label = label.name;
+        break;
+      }
+    }
+    out.push_back(std::move(r));
+  }
+  return out;
 }
 
 }  // namespace
@@ -118,7 +207,20 @@ ModesReport AnalyseModes(const ModesRequest& request) {
   } catch (const ModelError& e) {
     throw ModelError(fmt::format("modes {}: at the operating point: {}", request.path, e.what()));
   }
-  return ModesReport{std::move(built), std::move(start), std::move(steady), std::move(analysis)};
+  const std::string model_file = ModelFileOf(request.path);
+  const modelfile::ModeReading reading =
+      model_file.empty() ? modelfile::ModeReading{}
+                         : modelfile::ReadModeReading(modelfile::LoadModelFile(model_file).input);
+  std::vector<ModeReadout> readouts = ReadModes(model, reading, analysis);
+  ModesReport report{std::move(built), std::move(start), std::move(steady), std::move(analysis),
+                     std::move(readouts), {}, true};
+  if (!report.steady) {
+    report.residual = multibody::CalcSpeedRateResidual(report.built.model, request.time,
+                                                       report.analysis.x,
+                                                       report.built.slot_stiffness);
+    report.equilibrium = report.residual.residual <= kEquilibriumTolerance;
+  }
+  return report;
 }
 
 }  // namespace hybridtest::io

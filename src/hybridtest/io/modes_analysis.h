@@ -28,11 +28,33 @@ struct ModesRequest {
                                                      // is filled from `driven`)
 };
 
+// How a mode reads (one per ModeAnalysis::modes, same order). The coordinates read are the
+// model file's `modes.coordinates` (modelfile/model_file_modes.h), else every independent
+// coordinate; the mode's shape is normalised so that the largest of them is 1 (lean, not the
+// rear contact's drift, for the bicycle's capsize).
+struct ModeReadout {
+  std::string label;                  // the first matching `modes.labels` entry; empty: none
+  std::vector<std::string> dominant;  // read coordinates with |shape| ≥ ½ the largest, largest
+                                      // first (empty for λ = 0)
+  bool unstable = false;              // Re λ > kModeTolerance · max(1, max |λ|)
+};
+
+// Relative size below which Re λ, Im λ or |λ| count as zero (of max(1, max |λ|) [1/s]).
+inline constexpr double kModeTolerance = 1e-9;
+// Largest max |u̇| [the speed rates' units] at which the operating point counts as steady.
+inline constexpr double kEquilibriumTolerance = 1e-8;
+
 struct ModesReport {
   models::BuiltModel built;
   Eigen::VectorXd start;                             // the operating point asked for (2n + nz)
   std::optional<multibody::SteadyState> steady;      // when `steady` named coordinates
   multibody::ModeAnalysis analysis;                  // at the (steady, assembled) point
+  std::vector<ModeReadout> readouts;                 // one per analysis.modes
+  // max |u̇| at the operating point (every speed): above kEquilibriumTolerance the point is
+  // not an equilibrium and the modes describe only the instantaneous linearisation (the
+  // fronts warn and suggest --steady / steady=). Not computed with `steady` (it has its own).
+  multibody::SpeedRateResidual residual;
+  bool equilibrium = true;
 };
 
 // The model (overrides applied) and the operating point before assembly, in *x0. Throws

@@ -1,6 +1,7 @@
 // Model files: top level, parameters, coordinates and the expression helpers. See
 // model_file.h.
 #include "hybridtest/modelfile/model_file.h"
+#include "hybridtest/modelfile/model_file_modes.h"
 
 #include <fmt/core.h>
 
@@ -80,7 +81,8 @@ ModelFile ParseModelFile(YamlInput input) {
                           "kinematical_equations", "tables", "time_functions", "frames", "points",
                           "particles", "bodies", "slots", "states", "forces", "torques",
                           "constraints", "dependent_speeds", "dependent_coordinates",
-                          "constraint_stabilisation"});
+                          "constraint_stabilisation", "modes"});
+  ReadModeReading(in);  // checked on load; used by the modes analysis
   f.name = in.ReadString(root, "", "name",
                          LabelFromStem(std::filesystem::path(in.path()).stem().string()));
   if (root["name"]) CheckName(in, root["name"], "name", f.name, NameKind::kLabel);

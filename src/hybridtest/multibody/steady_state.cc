@@ -185,6 +185,18 @@ void CheckArguments(const Model& model, const std::vector<int>& free_coordinates
 
 }  // namespace
 
+SpeedRateResidual CalcSpeedRateResidual(const Model& model, double t, const Eigen::VectorXd& x,
+                                        const std::vector<double>& slot_stiffness) {
+  SpeedRateResidual out;
+  if (model.num_coordinates() == 0) return out;
+  SteadyEquations equations(model, t, {}, slot_stiffness, {});
+  const Eigen::VectorXd rates = equations.Residual(AssembleState(model, t, x).x);
+  Eigen::Index k = 0;
+  out.residual = rates.cwiseAbs().maxCoeff(&k);
+  out.worst_speed = static_cast<int>(k);
+  return out;
+}
+
 std::string SpeedRateUnit(const Model& model, int k) {
   const std::string& unit = model.speeds()[static_cast<std::size_t>(k)].unit;
   if (unit.size() > 2 && unit.compare(unit.size() - 2, 2, "/s") == 0) return unit + "²";

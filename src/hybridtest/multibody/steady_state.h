@@ -50,6 +50,15 @@ struct SteadyState {
   std::string message;                 // empty when converged; else why and what to try
 };
 
+// How far (t, x) is from a steady state: max_k |u̇_k| over every speed (x assembled first,
+// slots closed by r = k d(q) as in CalcModes). Fills residual and worst_speed.
+struct SpeedRateResidual {
+  double residual = 0.0;   // max_k |u̇_k| [the rates' units]
+  int worst_speed = -1;    // its k (index in u); -1 for a model without speeds
+};
+SpeedRateResidual CalcSpeedRateResidual(const Model& model, double t, const Eigen::VectorXd& x,
+                                        const std::vector<double>& slot_stiffness);
+
 // The unit of speed k's rate: "rad/s²" for "rad/s", "m/s²" for "m/s", else unit + "/s".
 std::string SpeedRateUnit(const Model& model, int k);
 

@@ -35,4 +35,29 @@ std::string ResumesSection(const nlohmann::json& sidecar) {
   return html + "</table>\n</section>\n";
 }
 
+std::string OperatorActionsSection(const nlohmann::json& sidecar) {
+  if (!sidecar.is_object() || !sidecar.contains("operator_actions") ||
+      !sidecar["operator_actions"].is_array() || sidecar["operator_actions"].empty()) {
+    return "";
+  }
+  auto E = [](const std::string& s) { return EscapeHtml(s); };
+  std::string html =
+      "<section id=\"operator-actions\"><h2>Operator actions</h2>\n<table><tr><th>#</th>"
+      "<th>action</th><th>at step</th><th>t [s]</th><th>asked at (UTC)</th><th>applied at "
+      "(UTC)</th><th>from</th></tr>\n";
+  int index = 0;
+  for (const auto& a : sidecar["operator_actions"]) {
+    if (!a.is_object()) continue;
+    std::string origin = a.value("origin", "");
+    if (a.contains("record_error")) {
+      origin += " (not recorded at once: " + a.value("record_error", "") + ")";
+    }
+    html += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
+                        "<td>{}</td></tr>\n", ++index, E(a.value("action", "?")),
+                        a.value("step", 0L), E(FormatNumber(a.value("t", 0.0))),
+                        E(a.value("asked_at", "")), E(a.value("applied_at", "")), E(origin));
+  }
+  return html + "</table>\n</section>\n";
+}
+
 }  // namespace hybridtest::report

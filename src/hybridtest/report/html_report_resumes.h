@@ -11,4 +11,10 @@ namespace hybridtest::report {
 
 std::string ResumesSection(const nlohmann::json& sidecar);
 
+// The report's "Operator actions" section: one row per entry of the sidecar's
+// `operator_actions` (docs/monitor.md: Hold, Continue, Stop from the monitor), with the action,
+// step, model time [s], when it was asked and applied (UTC) and from where. Empty string for a
+// run nobody intervened in.
+std::string OperatorActionsSection(const nlohmann::json& sidecar);
+
 }  // namespace hybridtest::report

@@ -47,17 +47,17 @@ Progress::Progress(ProgressOptions options)
   if (mode_ == ProgressMode::kLines) next_draw_time_ = options_.line_interval;
 }
 
-void Progress::Finish() {
+void Progress::Finish(std::string_view outcome) {
   if (finished_ || !has_sample_ || mode_ == ProgressMode::kQuiet) return;
-  Draw(true);
+  Draw(true, outcome);
   finished_ = true;
 }
 
-void Progress::Draw(bool final) {
+void Progress::Draw(bool final, std::string_view outcome) {
   if (mode_ == ProgressMode::kQuiet) return;
   const ProgressSample& s = last_;
   const double fraction = CalcProgressFraction(s);
-  const std::string eta = final ? "done" : "ETA " + FormatDuration(EstimateRemainingWallTime(s));
+  const std::string eta = final ? std::string(outcome) : "ETA " + FormatDuration(EstimateRemainingWallTime(s));
   const std::string steps = s.total_steps > 0 ? fmt::format("{}/{}", s.step, s.total_steps)
                                               : fmt::format("{}", s.step);
   if (mode_ == ProgressMode::kBar) {

@@ -10,10 +10,12 @@
 //     progress  50.0% | t 5.000/10.000 s | step 5000/10000 | physical evaluations 10000 |
 //     lab time 3h08m | elapsed 12s | ETA 12s
 //   quiet:              nothing.
-// Finish() draws the final state once (and ends the bar's line). Nothing is printed before
+// Finish() draws the final state once (and ends the bar's line), ending with how the run
+// ended: "done", or its failure ("stopped: <reason>") where the ETA was. Nothing is printed before
 // the first interval has passed, so a short run stays silent until it finishes.
 #include <cstdio>
 #include <string>
+#include <string_view>
 
 namespace hybridtest::runner {
 
@@ -54,14 +56,15 @@ class Progress {
     if (sample.wall_time >= next_draw_time_) Draw(false);
   }
 
-  // Draws the last sample as the final state. Idempotent; does nothing in quiet mode or if
+  // Draws the last sample as the final state, with `outcome` in place of the ETA ("done", or
+  // "stopped: <reason>" for a run that failed). Idempotent; does nothing in quiet mode or if
   // Update() was never called.
-  void Finish();
+  void Finish(std::string_view outcome = "done");
 
   ProgressMode mode() const { return mode_; }  // resolved: never kAuto
 
  private:
-  void Draw(bool final);
+  void Draw(bool final, std::string_view outcome = {});
 
   ProgressOptions options_;
   ProgressMode mode_;

@@ -107,7 +107,12 @@ void BenchClient::Activate() {
       socket_.Close();
     }
   }
-  socket_ = ConnectTcp(options_.host, options_.port, options_.connect_timeout);
+  try {
+    socket_ = ConnectTcp(options_.host, options_.port, options_.connect_timeout);
+  } catch (const TransferError& e) {
+    throw TransferError(fmt::format("{} (hybridtest bench protocol); is `hybridtest bench` "
+                                    "running there?", e.what()));
+  }
   HelloMessage hello;
   hello.token = options_.token;
   hello.client_name = options_.client_name;

@@ -149,7 +149,7 @@ Socket ConnectTcp(const std::string& host, std::uint16_t port, double timeout) {
   try {
     list = Resolve(host, port, false);
   } catch (const ConfigError& e) {
-    throw TransferError(fmt::format("cannot connect to the bench at {}:{}: {}", host, port,
+    throw TransferError(fmt::format("cannot connect to {}:{}: {}", host, port,
                                     e.what()));
   }
   std::string last_error = "no address";
@@ -186,9 +186,7 @@ Socket ConnectTcp(const std::string& host, std::uint16_t port, double timeout) {
     SetNoDelay(s.fd());
     return s;
   }
-  throw TransferError(fmt::format(
-      "cannot connect to the bench at {}:{}: {}; is `hybridtest bench` running there?", host,
-      port, last_error));
+  throw TransferError(fmt::format("cannot connect to {}:{}: {}", host, port, last_error));
 }
 
 Listener::Listener(const std::string& host, std::uint16_t port) : host_(host) {

@@ -108,7 +108,27 @@ TEST(AdsTransfer, AMissingSymbolIsRefusedBeforeAnythingMovesNamingItAndTheFix) {
   EXPECT_NE(m.find("0x710 (symbol not found)"), std::string::npos) << m;
   EXPECT_NE(m.find("fLoad : ARRAY [1..1] OF LREAL;"), std::string::npos) << m;
   EXPECT_NE(m.find("transfer.symbols.force"), std::string::npos) << m;
+  // Issue 50: the section the message names exists ("The GVL" did not), and a mismatch of
+  // the PLC project and the config is a configuration error (exit 2), not a transfer failure.
+  EXPECT_NE(m.find("docs/ads.md, \"The profile\""), std::string::npos) << m;
+  EXPECT_THROW(ads.Activate(), ConfigError);
   EXPECT_EQ(plc.server().commands_received(), 0);
+}
+
+// Issue 50: a PLC that does not answer was reported as "is `hybridtest bench` running there?".
+TEST(AdsTransfer, APlcThatIsDownIsNamedAsAnAdsTarget) {
+  AdsOptions o;
+  {
+    ServedPlc plc(kIdealBench);
+    o = plc.Client();
+  }  // the emulator is gone: its port refuses
+  o.connect_timeout = 1.0;
+  AdsTransfer ads(o);
+  const std::string m = Message([&] { ads.Activate(); });
+  EXPECT_NE(m.find("cannot connect to"), std::string::npos) << m;
+  EXPECT_NE(m.find("(ADS"), std::string::npos) << m;
+  EXPECT_NE(m.find("Routes and AmsNetIds"), std::string::npos) << m;
+  EXPECT_EQ(m.find("hybridtest bench"), std::string::npos) << m;
 }
 
 TEST(AdsTransfer, AWrongTypeIsRefusedNamingTheSymbolAndBothTypes) {
@@ -118,6 +138,7 @@ TEST(AdsTransfer, AWrongTypeIsRefusedNamingTheSymbolAndBothTypes) {
   EXPECT_NE(m.find("symbol GVL_Hybrid.fCommand is ARRAY [1..1] OF LREAL (8 bytes), expected "
                    "ARRAY [1..2] OF LREAL (16 bytes)"), std::string::npos) << m;
   EXPECT_NE(m.find("nothing was moved"), std::string::npos) << m;
+  EXPECT_THROW(ads.Activate(), ConfigError);  // issue 50: exit 2, the user's configuration
   EXPECT_EQ(plc.server().commands_received(), 0);
 }
 

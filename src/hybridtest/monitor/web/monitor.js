@@ -68,7 +68,7 @@ class CanvasPlot {
   // time plots: [x, y1, y2, ...]; xy plots: [[x1, y1], [x2, y2], ...]
   setData(data) {
     const pairs = this.xy ? data : data.slice(1).map((y) => [data[0], y]);
-    const c = this.canvas, w = c.clientWidth || 480, h = c.clientHeight || 240;
+    const c = this.canvas, w = c.clientWidth || 480, h = c.clientHeight || 160;
     c.width = w; c.height = h;
     const g = c.getContext("2d");
     g.clearRect(0, 0, w, h);
@@ -123,7 +123,7 @@ function makePlot(id, names, units, xy) {
   el.innerHTML = "";
   if (window.uPlot && !xy) {
     const yValues = (u, splits, axis, space, incr) => splits.map((v) => tickLabel(v, incr));
-    const opts = { width: Math.max(el.clientWidth, 400), height: 240, scales: { x: { time: false } },
+    const opts = { width: Math.max(el.clientWidth, 280), height: 170, scales: { x: { time: false } },
       axes: [{ label: units[0] }, { label: units[1], values: yValues, size: (u, values) => axisWidth(values) }],
       series: [{ label: units[0] }].concat(names.map((n, i) => ({ label: n, stroke: colours[i % colours.length], spanGaps: false }))) };
     return new window.uPlot(opts, [[]].concat(names.map(() => [])), el);

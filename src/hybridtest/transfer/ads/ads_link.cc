@@ -30,7 +30,13 @@ ReadStatus ReadAmsMessage(int fd, double timeout, Prefix& prefix, std::vector<st
 }
 
 void AdsLink::Connect(double timeout) {
-  socket_ = ConnectTcp(endpoint_.host, endpoint_.tcp_port, timeout);
+  try {
+    socket_ = ConnectTcp(endpoint_.host, endpoint_.tcp_port, timeout);
+  } catch (const TransferError& e) {
+    throw TransferError(fmt::format(
+        "{} (ADS, Beckhoff's AMS/TCP): is the PLC's TwinCAT router running and reachable on TCP "
+        "port {} there (docs/ads.md, \"Routes and AmsNetIds\")?", e.what(), endpoint_.tcp_port));
+  }
   source_ = {endpoint_.local_net_id.value_or(EndpointNetId(socket_.fd(), false)), endpoint_.local_port};
   answered_ = false;
 }

@@ -91,14 +91,15 @@ void AdsTransfer::CheckSymbol(Role role) {
                                             "the symbol info of " + name));
   } catch (const AdsError& e) {
     if (e.code() != kErrSymbolNotFound) throw;
-    throw TransferError(fmt::format(
+    // The PLC project and the run config disagree: the user's configuration (exit 2).
+    throw ConfigError(fmt::format(
         "{} has no symbol {} ({}, {}; ADS error {}): declare `{} : {};` in the PLC project "
-        "(docs/ads.md, \"The GVL\") and activate it, or set {} to the variable's name",
+        "(docs/ads.md, \"The profile\") and activate it, or set {} to the variable's name",
         Subject(), name, RoleKey(role), want.type, AdsErrorName(e.code()),
         name.substr(name.find('.') + 1), want.type, key));
   }
   if (NormaliseTypeName(info.type) != NormaliseTypeName(want.type) || info.size != want.size) {
-    throw TransferError(fmt::format(
+    throw ConfigError(fmt::format(
         "{}: symbol {} is {} ({} bytes), expected {} ({} bytes) for the {} of {} actuator{}: "
         "declare it as `{} : {};` in the PLC (docs/ads.md), or name a variable of that type in "
         "{}; nothing was moved", Subject(), name, info.type, info.size, want.type, want.size,

@@ -49,7 +49,13 @@ void Client::Fail(const std::string& message) {
 
 void Client::Activate() {
   if (socket_.is_open()) return;
-  socket_ = ConnectTcp(options_.host, options_.port, options_.connect_timeout);
+  try {
+    socket_ = ConnectTcp(options_.host, options_.port, options_.connect_timeout);
+  } catch (const TransferError& e) {
+    throw TransferError(fmt::format("{} (OpenFresco generic TCP protocol); is the OpenFresco "
+                                    "experimental site or `hybridtest bench --protocol "
+                                    "openfresco` running there?", e.what()));
+  }
   std::vector<std::uint8_t> opening;
   if (!options_.token.empty()) opening = EncodeTokenPreamble(options_.token);
   const std::vector<std::uint8_t> header = EncodeHeader(header_);
