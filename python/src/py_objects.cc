@@ -271,7 +271,7 @@ std::optional<std::vector<transfer::Measurement>> PyTransfer::ReadAll() const {
     if (!py::hasattr(driver, "read")) return std::nullopt;
     std::vector<transfer::Measurement> out(n_);
     std::string problem;
-    ReadReply(driver.attr("read")(), out, problem);
+    ReadReply(driver.attr("read")(), n_, out, problem);
     if (!problem.empty()) return std::nullopt;
     return out;
   } catch (const std::exception&) {
