@@ -17,6 +17,7 @@
 #include "hybridtest/substructures/law_block.h"
 #include "hybridtest/substructures/physical_substructure.h"
 #include "hybridtest/transfer/emulated_bench.h"
+#include "support/temp_dir.h"
 
 namespace hybridtest::runner {
 namespace {
@@ -84,8 +85,7 @@ TEST(MultiActuatorBoucWen, EmulatedSpecimenFollowsItsNumericalTwin) {
 io::RunSpec WithSafety(const std::string& safety, const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / fmt::format("hybridtest-multi-safety-{}", ::getpid());
   fs::create_directories(dir);
-  std::ifstream in(kExample + "emulated.yaml");
-  std::string text((std::istreambuf_iterator<char>(in)), {});
+  std::string text = test_support::ReadText(kExample + "emulated.yaml");
   text = text.substr(0, text.find("    safety:")) + "    safety: " + safety + "\noutput:\n  csv: x.csv\n";
   text.replace(text.find("file: blade_tip.yaml"), 20, "file: " + kExample + "blade_tip.yaml");
   text.replace(text.find("config: bench-2act.yaml"), 23, "config: " + kExample + "bench-2act.yaml");
