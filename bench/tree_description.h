@@ -7,6 +7,7 @@
 // Gravity acts along −z. Bodies are listed parents first and depth first, so body i's joint
 // is q_i in both engines (MuJoCo orders qpos the same way).
 #include <Eigen/Core>
+#include <fmt/core.h>
 
 #include <cmath>
 #include <numbers>
@@ -86,7 +87,7 @@ inline std::vector<BodyDescription> RotorTreeDescription(int links) {
 inline multibody::Model BuildKaneModel(const std::vector<BodyDescription>& bodies) {
   using multibody::ScalarField;
   std::vector<multibody::QuantityInfo> q;
-  for (std::size_t i = 0; i < bodies.size(); ++i) q.push_back({"q" + std::to_string(i + 1), "", ""});
+  for (std::size_t i = 0; i < bodies.size(); ++i) q.push_back({fmt::format("q{}", i + 1), "", ""});
   multibody::ModelBuilder b(q);
   std::vector<multibody::FrameId> frame;
   std::vector<multibody::PointId> origin;

@@ -1,6 +1,8 @@
 #pragma once
 // The test FMUs built by tests/fmi/CMakeLists.txt, variants of them written on the fly (a
 // description edited, a member left out), and FMU substructures made from a config snippet.
+#include <fmt/core.h>
+
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -16,7 +18,7 @@
 namespace hybridtest::fmi::test {
 
 inline std::string TestFmu(const std::string& id) {
-  return std::string(HYBRIDTEST_TEST_FMU_DIR) + "/" + id + ".fmu";
+  return fmt::format("{}/{}.fmu", HYBRIDTEST_TEST_FMU_DIR, id);
 }
 
 // A copy of the built FMU `id` whose description went through `edit` (first occurrence of

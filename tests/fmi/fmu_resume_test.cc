@@ -1,6 +1,7 @@
 // A run with a stateful FMU stopped (Ctrl-C) and resumed gives the uninterrupted journal: the
 // FMU state travels in the run state (fmi2SerializeFMUstate) and is restored into a fresh
 // instance. The Maxwell FMU's dashpot is soft, so a lost state would show in the journal.
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 
 #include <csignal>
@@ -15,9 +16,10 @@ TEST(FmuResume, StoppedAndResumedEqualsUninterrupted) {
   const fs::path dir = ResumeTestDir("fmu_resume");
   test_support::WriteText(
       dir / "maxwell.yaml",
-      "model: {name: rotor, blades: 3}\nintegrator: {tableau: heun, dt: 0.001}\nduration: 20\n"
-      "substructures:\n  r1: {type: fmu, fmu: " + fmi::test::TestFmu("maxwell") +
-      ", displacement: x, force: F, parameters: {k: 7200, c: 50}}\n");
+      fmt::format("model: {{name: rotor, blades: 3}}\nintegrator: {{tableau: heun, dt: 0.001}}\n"
+                  "duration: 20\nsubstructures:\n  r1: {{type: fmu, fmu: {}, displacement: x, "
+                  "force: F, parameters: {{k: 7200, c: 50}}}}\n",
+                  fmi::test::TestFmu("maxwell")));
   const std::string config = (dir / "maxwell.yaml").string();
   RunToEnd(RunArgs(config, dir / "whole.csv"), dir / "whole.log");
   const fs::path csv = dir / "stopped.csv";

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/run_command.h"
+#include "support/temp_dir.h"
 
 namespace hybridtest {
 namespace {
@@ -101,8 +102,7 @@ TEST(ModesReadout, ModeLabelsAreCheckedWhereTheyAreWritten) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "modes_readout_test";
   std::filesystem::create_directories(dir);
   const std::string good = kSource + "/examples/models/slider_crank.yaml";
-  std::ifstream in(good);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string text = test_support::ReadText(good);
   const auto run = [&](const std::string& extra) {
     const std::string path = (dir / "m.yaml").string();
     std::ofstream(path) << text << extra;

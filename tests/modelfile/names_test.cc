@@ -140,5 +140,19 @@ TEST(ModelFileNamesTest, AConstraintNameIsText) {
                                   HasSubstr("not a valid name")));
 }
 
+// A mode's label is printed by `modes` and kept in its JSON: text by the same rule.
+TEST(ModelFileNamesTest, AModeLabelIsText) {
+  const std::string base = With("name: spring, frame: A, value: [0, 0, -r1]}\n",
+                                "name: spring, frame: A, value: [0, 0, -r1]}\n"
+                                "modes:\n  labels:\n    - {name: LABEL}\n");
+  std::string good = base;
+  good.replace(good.find("LABEL"), 5, "first swing");
+  EXPECT_EQ(ErrorOf(good), "no error") << good;
+  std::string bad = base;
+  bad.replace(bad.find("LABEL"), 5, "'weave \\input{x}'");
+  EXPECT_THAT(ErrorOf(bad), AllOf(HasSubstr("m.yaml:30: modes.labels[0].name"),
+                                  HasSubstr("not a valid name")));
+}
+
 }  // namespace
 }  // namespace hybridtest::modelfile

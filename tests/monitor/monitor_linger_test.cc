@@ -38,7 +38,9 @@ TEST(MonitorLinger, ARealTimeRunShowsItsTicksMissesAndJAndLingers) {
   const bool finished = s["status"] == "finished";
   const nlohmann::json& rt = s["realtime"];
   EXPECT_EQ(rt["source"], "recorded");
-  if (finished) EXPECT_EQ(rt["ticks"], 2048);
+  if (finished) {
+    EXPECT_EQ(rt["ticks"], 2048);
+  }
   EXPECT_TRUE(rt["misses"].is_number());
   for (const char* j : {"J1_ms", "J2", "J3"}) EXPECT_TRUE(rt[j].is_number()) << j << rt.dump();
   const nlohmann::json sidecar = Sidecar(csv)["statistics"]["real_time"];

@@ -73,7 +73,12 @@ std::vector<Case> Cases() {
   Eigen::VectorXd pendulum(4), top(6);
   pendulum << 1.0, -0.5, 0.5, 1.0;
   top << 0.2, -0.3, 0.4, 1.0, -0.5, 8.0;
-  return {{"double_pendulum", pendulum}, {"spinning_top", top}};
+  // Moved, not copied: GCC 12 at -O1 misreads a copy of a fresh VectorXd
+  // (-Wmaybe-uninitialized inside Eigen's DenseStorage).
+  std::vector<Case> cases;
+  cases.push_back({"double_pendulum", std::move(pendulum)});
+  cases.push_back({"spinning_top", std::move(top)});
+  return cases;
 }
 
 EnergyFn EnergyOf(const models::BuiltModel& built) {

@@ -44,7 +44,7 @@ TEST(RenderFigures, HostileLabelsAreDrawnLiterally) {
   PlotSeries series{"r1_force \"quoted\" \\ @", Eigen::VectorXd::LinSpaced(5, 0, 1),
                     Eigen::VectorXd::LinSpaced(5, 1, 2)};
   PlotFigure figure{"odd", "Title with \"quotes\" and r1_force", {{"p", "x [m]", "y [N]", true,
-                                                                  {series}}}};
+                                                                  {series}, {}}}};
   const auto files = RenderFigures({figure}, dir.path());
   ASSERT_EQ(files.size(), 2u);
   const std::string svg = testing::Slurp(files[1]);

@@ -51,7 +51,9 @@ TEST(GeneratedText, CKeepsNamesInsideItsCommentAndString) {
   EXPECT_EQ(Count(c, "#include"), 1) << c;  // <math.h> only
   std::istringstream lines(c);
   for (std::string line; std::getline(lines, line);) {
-    if (line.find("_model[]") != std::string::npos) EXPECT_EQ(Count(line, "\""), 2) << line;
+    if (line.find("_model[]") != std::string::npos) {
+      EXPECT_EQ(Count(line, "\""), 2) << line;
+    }
   }
   EXPECT_THROW(WriteC(model, DeriveRhs(model), "m", "f(); int x"), ModelError);
 }

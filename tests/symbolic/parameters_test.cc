@@ -1,6 +1,7 @@
 // Parameters as symbols (issue 36 item 2): the rotor's M and f carry m_b, l_b, ζ_b, I_g where
 // the paper's Eq. (19)-(20) have them, and for the rotor and the example model files the
 // symbolic equations with the parameters' values substituted equal the numeric ones.
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 
 #include <random>
@@ -97,8 +98,8 @@ TEST(SymbolizeParameters, RotorCarriesThePapersParameters) {
 TEST(SymbolizeParameters, ExampleModelFilesKeepTheirValues) {
   for (const char* stem : {"double_pendulum", "wind_turbine"}) {
     SCOPED_TRACE(stem);
-    const auto file = modelfile::LoadModelFile(std::string(HYBRIDTEST_SOURCE_DIR) +
-                                               "/examples/models/" + stem + ".yaml");
+    const auto file = modelfile::LoadModelFile(
+        fmt::format("{}/examples/models/{}.yaml", HYBRIDTEST_SOURCE_DIR, stem));
     const auto build = [&file](const models::ParameterSet& set) {
       return modelfile::BuildModelFile(file, set).model;
     };

@@ -7,6 +7,7 @@
 #include <algorithm>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/modelfile/names.h"
 
 namespace hybridtest::modelfile {
 
@@ -55,6 +56,7 @@ ModeReading ReadModeReading(const YamlInput& in) {
       in.CheckKeys(list[i], kp, {"name", "oscillatory", "dominant"});
       ModeLabel label;
       label.name = in.String(list[i]["name"], kp + ".name", "the mode's name (weave, capsize)");
+      CheckName(in, list[i]["name"], kp + ".name", label.name, NameKind::kText);
       CheckUnique(in, list[i]["name"], kp + ".name", names, label.name);
       names.push_back(label.name);
       if (list[i]["oscillatory"]) {

@@ -9,11 +9,12 @@
 
 namespace hybridtest::report {
 
-// `object[key]` when `object` is an object whose `key` is a string; "" otherwise.
-inline std::string TextMember(const nlohmann::json& object, const char* key) {
-  if (!object.is_object()) return "";
+// `object[key]` when `object` is an object whose `key` is a string; `fallback` otherwise.
+inline std::string StringOr(const nlohmann::json& object, const char* key,
+                            const std::string& fallback = "") {
+  if (!object.is_object()) return fallback;
   const auto it = object.find(key);
-  if (it == object.end() || !it->is_string()) return "";
+  if (it == object.end() || !it->is_string()) return fallback;
   return it->get_ref<const std::string&>();
 }
 

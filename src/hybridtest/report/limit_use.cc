@@ -107,7 +107,7 @@ std::optional<transfer::SafetyLimits> FindActuatorLimits(const io::RunData& run,
   // The sidecar's own record of the limits.
   if (meta.contains("substructures") && meta["substructures"].is_array()) {
     for (const json& s : meta["substructures"]) {
-      if (!s.is_object() || TextMember(s, "slot") != substructure || !s.contains("safety") ||
+      if (!s.is_object() || StringOr(s, "slot") != substructure || !s.contains("safety") ||
           !s["safety"].is_object()) {
         continue;
       }
@@ -180,7 +180,7 @@ std::vector<SlotLimitUse> CalcSlotLimitUse(const io::RunData& run, const RunLayo
   }
   std::vector<std::string> slots;
   for (const json& s : meta["substructures"]) {
-    if (!s.is_object() || TextMember(s, "slot") != substructure || !s.contains("slots") ||
+    if (!s.is_object() || StringOr(s, "slot") != substructure || !s.contains("slots") ||
         !s["slots"].is_array()) {
       continue;
     }

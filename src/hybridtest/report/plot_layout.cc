@@ -7,6 +7,7 @@
 #include <fmt/core.h>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/report/json_text.h"
 
 namespace hybridtest::report {
 namespace {
@@ -20,13 +21,6 @@ bool IsIndexed(const std::string& name, char prefix) {
 std::string Lower(std::string text) {
   for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return text;
-}
-
-std::string StringOr(const nlohmann::json& object, const char* key, const std::string& fallback) {
-  if (object.is_object() && object.contains(key) && object[key].is_string()) {
-    return object[key].get<std::string>();
-  }
-  return fallback;
 }
 
 // The coordinate channel a slot acts on, from a "coordinate" entry: a name or a 0-based index.

@@ -45,7 +45,7 @@ std::string SlotCoordinate(const io::RunData& run, const std::string& slot) {
   const nlohmann::json& meta = run.metadata;
   if (!meta.is_object() || !meta.contains("model") || !meta["model"].contains("slots")) return "";
   for (const auto& s : meta["model"]["slots"]) {
-    if (TextMember(s, "name") == slot) return TextMember(s, "coordinate");
+    if (StringOr(s, "name") == slot) return StringOr(s, "coordinate");
   }
   return "";
 }
