@@ -9,7 +9,7 @@
 #include <cstdarg>
 #include <cstdio>
 #include <fstream>
-#include <iterator>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -45,7 +45,9 @@ TEST(FmuEntryPoints, AnFmuWithoutThemIsReportedByName) {
   EXPECT_TRUE(missing.empty());
   std::ifstream libm("/lib/x86_64-linux-gnu/libm.so.6", std::ios::binary);
   ASSERT_TRUE(libm.good());
-  const std::string bytes((std::istreambuf_iterator<char>(libm)), std::istreambuf_iterator<char>());
+  std::ostringstream read;
+  read << libm.rdbuf();
+  const std::string bytes = read.str();
   const std::string empty =
       (test_support::FreshTempDir("fmi_entry_missing") / "no_functions.fmu").string();
   WriteArchive(empty, {{"modelDescription.xml", ReadMember(fmu, "modelDescription.xml")},
