@@ -10,6 +10,7 @@
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -22,6 +23,7 @@
 #include "export_layout.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/fmi/fmu_archive.h"
+#include "hybridtest/io/atomic_file.h"
 #include "hybridtest/io/config.h"
 #include "hybridtest/io/digest.h"
 #include "hybridtest/io/output_guard.h"
@@ -134,6 +136,10 @@ void ExportFmu(const ExportFmuOptions& o) {
   for (const auto& f : cfg.files) inputs.push_back({f.path, "the " + f.role + " file"});
   inputs.push_back({o.config, "the config"});
   io::CheckOutputFile(o.out, inputs, "--out");
+  // The variable table beside the FMU: rotor.fmu -> rotor.variables.csv.
+  const std::string table = (fs::path(o.out).parent_path() /
+                             (fs::path(o.out).stem().string() + ".variables.csv")).string();
+  io::CheckOutputFile(table, inputs, "--out (its variable table)");
   const io::RunSpec full = io::CompileRunSpec(cfg);
   if (full.scheme.config.adaptive.enabled) {
     throw ConfigError(fmt::format("export-fmu: {}: integrator.adaptive is on; an FMU steps by a "
@@ -191,6 +197,7 @@ void ExportFmu(const ExportFmuOptions& o) {
     members.emplace_back("resources/hybridtest/tree/" + f.lexically_relative(base).string(), Slurp(f));
   }
   fmi::WriteArchive(o.out, members);
+  io::WriteFileAtomically(table, fmu_export::VariableTableCsv(layout));
   int inputs_n = 0, outputs_n = 0, parameters_n = 0;
   for (const auto& v : layout.variables) {
     using K = fmu_export::Variable::Kind;
@@ -199,6 +206,16 @@ void ExportFmu(const ExportFmuOptions& o) {
   fmt::print("wrote {}: FMI {}.0 co-simulation FMU '{}' ({} parameters, {} inputs, {} outputs; "
              "communication step {} s)\n", o.out, o.fmi_version, info.model_identifier,
              parameters_n, inputs_n, outputs_n, info.step);
+  // The variables a C master addresses by value reference (also in `table`).
+  std::size_t width = 4;
+  for (const auto& v : layout.variables) width = std::max(width, v.name.size());
+  fmt::print("{:<{}}  {:>5}  {:<9}  {}\n", "name", width, "vr", "causality", "unit");
+  for (std::size_t vr = 0; vr < layout.variables.size(); ++vr) {
+    const auto& v = layout.variables[vr];
+    fmt::print("{:<{}}  {:>5}  {:<9}  {}\n", v.name, width, vr, fmu_export::Causality(v),
+               v.unit.empty() ? "-" : v.unit);
+  }
+  fmt::print("variable table: {}\n", table);
 }
 
 void AddExportFmuCommand(CLI::App& root) {

@@ -100,10 +100,33 @@ Layout MakeLayout(const io::RunSpec& spec, std::vector<ExportedBlock> blocks) {
   layout.blocks = std::move(blocks);
   std::map<std::string, int> slot_index;
   for (int i = 0; i < model.num_slots(); ++i) slot_index[model.slots()[i].info.name] = i;
+  // Per-instance parameters ("blade1.f_w") of an all-instances one ("f_w"): the model gives an
+  // instance the config does not set the all-instances value. The FMU declares one kind per
+  // name so that each parameter has one meaning (issue 48): the all-instances one while every
+  // instance has its value, else the per-instance ones (the config gave them their own).
+  const auto& parameters = spec.model.parameters;
+  std::map<std::string, bool> uniform;  // all-instances name -> every instance has its value
+  const auto base_of = [&](const std::string& name) {
+    const auto dot = name.find('.');
+    return dot != std::string::npos && parameters.Has(name.substr(dot + 1)) ? name.substr(dot + 1)
+                                                                          : std::string();
+  };
+  for (const auto& p : parameters.all()) {
+    const std::string base = base_of(p.name);
+    if (base.empty()) continue;
+    const bool same = p.value == parameters.Get(base);
+    const auto [it, added] = uniform.emplace(base, same);
+    if (!added) it->second = it->second && same;
+  }
   int index = 0;
-  for (const auto& p : spec.model.parameters.all()) {
+  for (const auto& p : parameters.all()) {
+    const int i = index++;  // into parameters.all(), declared or not
+    const std::string base = base_of(p.name);
+    const bool hidden = base.empty() ? uniform.contains(p.name) && !uniform.at(p.name)
+                                     : uniform.at(base);
+    if (hidden) continue;
     layout.variables.push_back({Variable::Kind::kParameter, p.name, p.unit, p.description,
-                                p.value, index++});
+                                p.value, i});
   }
   std::vector<int> exported;
   for (const auto& block : layout.blocks) {
@@ -165,6 +188,29 @@ std::vector<ExportedBlock> BlocksFromJson(const nlohmann::json& j) {
   return blocks;
 }
 
+const char* Causality(const Variable& v) {
+  switch (v.kind) {
+    case Variable::Kind::kParameter: return "parameter";
+    case Variable::Kind::kInput: return "input";
+    default: return "output";
+  }
+}
+
+std::string VariableTableCsv(const Layout& layout) {
+  std::string csv = "name,value_reference,causality,unit,start,description\n";
+  const auto quoted = [](const std::string& text) {
+    std::string q = "\"";
+    for (char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return q + "\"";
+  };
+  for (std::size_t vr = 0; vr < layout.variables.size(); ++vr) {
+    const Variable& v = layout.variables[vr];
+    csv += fmt::format("{},{},{},{},{},{}\n", quoted(v.name), vr, Causality(v), quoted(v.unit),
+                       Number(v.start), quoted(v.description));
+  }
+  return csv;
+}
+
 std::string ModelDescriptionXml(const Layout& layout, const DescriptionInfo& info) {
   const bool v3 = info.fmi_version == 3;
   std::ostringstream x;
@@ -205,7 +251,7 @@ std::string ModelDescriptionXml(const Layout& layout, const DescriptionInfo& inf
     const Variable& v = layout.variables[vr];
     const bool parameter = v.kind == Variable::Kind::kParameter;
     const bool input = v.kind == Variable::Kind::kInput;
-    const std::string causality = parameter ? "parameter" : input ? "input" : "output";
+    const std::string causality = Causality(v);
     const std::string variability = parameter ? "fixed" : "continuous";
     const std::string unit = v.unit.empty() ? "" : " unit=\"" + Escape(v.unit) + "\"";
     // An output's start is given only where FMI allows it (initial="exact").

@@ -5,8 +5,11 @@
 // references cannot disagree.
 //
 //   value references, in this order:
-//     parameters   every model parameter (its name, e.g. "k_b", "blade1.k_b"; SI unit;
-//                  start = its value in the config), causality parameter, variability fixed
+//     parameters   the model's parameters (their names, e.g. "k_b", "blade1.psi"; SI unit;
+//                  start = the value in the config), causality parameter, variability fixed;
+//                  of an all-instances parameter ("f_w") and its per-instance ones
+//                  ("blade1.f_w"), only the all-instances one while the config gives every
+//                  instance its value, else only the per-instance ones: one meaning each
 //     inputs       the restoring force of each exported slot (the slots the config's
 //                  `substructures:` section names), named after the slot ("r1") [N or N·m]
 //     outputs      each exported slot's displacement "d_<slot>" [m or rad], then the model's
@@ -61,6 +64,14 @@ struct DescriptionInfo {
   std::string description;
   double step = 0.0;            // the scheme's dt: the FMU's communication step [s]
 };
+
+// "parameter", "input" or "output": the variable's causality in the description.
+const char* Causality(const Variable& v);
+// The variable table a C master needs (export-fmu writes it beside the FMU as
+// <name>.variables.csv): one row per variable, in value-reference order, with the columns
+// name, value_reference, causality, unit (the description's unit name; "" dimensionless),
+// start and description (text fields quoted).
+std::string VariableTableCsv(const Layout& layout);
 
 // modelDescription.xml for the layout: every variable named with its unit (UnitDefinitions
 // give each unit's SI base-unit exponents), co-simulation with get/set and serialized state.

@@ -270,6 +270,17 @@ void ExportedModel::RestoreState(const std::string& bytes) {
   const nlohmann::json j = nlohmann::json::parse(bytes);
   const auto values = j.at("values").get<std::vector<double>>();
   if (values.size() != values_.size()) throw Error("the FMU state is of another model");
+  // The parameters in effect travel with the state (issue 48): the session is rebuilt with
+  // every parameter of the state written into the config (its start value gives the start run
+  // bit for bit, so writing all of them is exact).
+  for (std::size_t vr = 0; vr < layout_.variables.size(); ++vr) {
+    const Variable& v = layout_.variables[vr];
+    if (v.kind == Variable::Kind::kParameter) {
+      values_[vr] = values[vr];
+      parameter_set_[v.index] = true;
+    }
+  }
+  spec_.emplace(Compile());
   const auto force = j.at("force").get<std::vector<double>>();
   const auto about = j.at("about").get<std::vector<double>>();
   for (std::size_t k = 0; k < force.size(); ++k) {

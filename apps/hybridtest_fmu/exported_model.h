@@ -1,6 +1,6 @@
 #pragma once
 // ExportedModel: the inside of an FMU written by `hybridtest export-fmu`, free of FMI types
-// (fmi2_functions.cc and fmi3_functions.cc wrap it). It reads resources/hybridtest/ (the
+// (exported_fmu.cc wraps it for the shared entry points fmi/fmu_entry.c). It reads resources/hybridtest/ (the
 // reduced config and export.json, export_layout.h), and at the end of initialization builds
 // a Session (runner/session.h) of that config, in memory (no file), with the model parameters
 // the master set, every exported slot served by a FedSlots substructure below, and every
@@ -19,7 +19,9 @@
 // configured scheme by h = a whole number of its steps dt.
 //
 // The FMU state (get/set/serialize) is the Session's RunState (what `resume` continues from)
-// with the inputs and the feed; setting it builds a fresh Session continued from that state.
+// with every variable's value (the parameters in effect among them) and the feed; setting it,
+// in this instance or a fresh one, puts those parameters in effect and builds a fresh Session
+// continued from that state.
 // Errors throw hybridtest::Error, which the C functions turn into fmi2Error with a log line.
 #include <Eigen/Core>
 

@@ -34,8 +34,11 @@ inline std::string EditedFmu(const std::string& id, const std::string& from,
     xml.replace(at, from.size(), to);
   }
   std::vector<std::pair<std::string, std::string>> members{{"modelDescription.xml", xml}};
-  const std::string so = "binaries/linux64/" + id + ".so";
-  if (keep_binary) members.emplace_back(so, ReadMember(fmu, so));
+  for (const auto& member : ListMembers(fmu)) {  // the binary, whatever its platform
+    if (keep_binary && member.rfind("binaries/", 0) == 0 && member.back() != '/') {
+      members.emplace_back(member, ReadMember(fmu, member));
+    }
+  }
   static const auto dir = test_support::FreshTempDir("fmi_variants");
   const std::string path = (dir / out_name).string();
   WriteArchive(path, members);

@@ -2,13 +2,16 @@
 // FMU (FMI 2.0 and 3.0), loaded by the project's own importer (fmi/fmu_instance.h) and stepped
 // at 1 ms with the restoring force of a linear blade (k_b d) fed back, reproduces `simulate
 // examples/rotor/numerical.yaml` within 1e-9 m; every variable of its description has a unit
-// with a definition; get/set FMU state (and its serialized form) continues exactly.
+// with a definition; get/set FMU state (and its serialized form) continues exactly; its binary
+// exports every function the standard's header declares for co-simulation (issue 48).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
+#include "fmi/fmi_entry_points.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/fmi/fmu_archive.h"
 #include "hybridtest/fmi/fmu_instance.h"
@@ -33,23 +36,32 @@ struct Exported {
   }
 };
 
-Exported Export(const fs::path& dir, int version,
-               const std::vector<std::pair<std::string, double>>& parameters = {}) {
+// An instance of the FMU at `fmu` (unpacked in `unpacked`), initialized with `parameters`.
+Exported Load(const fs::path& fmu, const fs::path& unpacked,
+              const std::vector<std::pair<std::string, double>>& parameters = {}) {
   Exported e;
-  fs::create_directories(dir);
-  e.fmu = dir / ("rotor" + std::to_string(version) + ".fmu");
-  RunToEnd({"export-fmu", kSource + "/examples/rotor/dummy.yaml", "--out", e.fmu.string(),
-            "--fmi-version", std::to_string(version)},
-           dir / "export.log");
-  const fs::path unpacked = dir / ("unpacked" + std::to_string(version));
-  fmi::ExtractArchive(e.fmu.string(), unpacked.string());
+  e.fmu = fmu;
+  if (!fs::exists(unpacked)) fmi::ExtractArchive(e.fmu.string(), unpacked.string());
   e.md = fmi::ParseModelDescription(fmi::ReadMember(e.fmu.string(), "modelDescription.xml"),
                                     e.fmu.string());
   e.instance = fmi::LoadFmu(unpacked.string(), e.md, e.fmu.string(), "rotor", fmi::StderrLog());
   std::vector<fmi::FmuInstance::Value> values;
-  for (const auto& [name, value] : parameters) values.push_back({e.md.Find(name), value});
+  for (const auto& [name, value] : parameters) {
+    EXPECT_NE(e.md.Find(name), nullptr) << "the FMU declares no parameter " << name;
+    if (e.md.Find(name) != nullptr) values.push_back({e.md.Find(name), value});
+  }
   e.instance->Initialize(0.0, values);
   return e;
+}
+
+Exported Export(const fs::path& dir, int version,
+               const std::vector<std::pair<std::string, double>>& parameters = {}) {
+  fs::create_directories(dir);
+  const fs::path fmu = dir / ("rotor" + std::to_string(version) + ".fmu");
+  RunToEnd({"export-fmu", kSource + "/examples/rotor/dummy.yaml", "--out", fmu.string(),
+            "--fmi-version", std::to_string(version)},
+           dir / "export.log");
+  return Load(fmu, dir / ("unpacked" + std::to_string(version)), parameters);
 }
 
 // One communication step of 1 ms with r1 = k_b d_r1 fed back; returns q.
@@ -69,6 +81,8 @@ TEST_P(FmuExport, LinearBladeFedBackReproducesSimulateAndEveryVariableHasAUnit) 
   const fs::path dir = ResumeTestDir("fmu_export_" + std::to_string(GetParam()));
   Exported e = Export(dir, GetParam());
   ASSERT_EQ(e.md.fmi_version, GetParam() == 3 ? "3.0" : "2.0");
+  // Its binary exports every function a strict importer requires (issue 48).
+  fmi::test::ExpectEveryEntryPoint(e.fmu.string());
   RunToEnd({"simulate", kSource + "/examples/rotor/numerical.yaml", "--out",
             (dir / "numerical.csv").string(), "--quiet"},
            dir / "simulate.log");
@@ -143,6 +157,67 @@ TEST_P(FmuExport, GetSetAndSerializedStateContinueExactlyAndBadStepsAreRefused) 
   } catch (const hybridtest::TransferError& error) {
     EXPECT_NE(std::string(error.what()).find("whole number"), std::string::npos) << error.what();
   }
+}
+
+// Issue 48: each parameter has one meaning. dummy.yaml gives no blade its own f_w, so the FMU
+// declares the all-blades f_w and no blade<i>.f_w; a master that applies every declared start
+// value gets the start run bit for bit, and with f_w = 50 the f_w = 50 run; f_w reads back
+// the value in effect. A state serialized at t = 1 s of the f_w = 50 run and set into a fresh
+// instance (f_w = 100) continues as the original did: the state brings its parameters.
+TEST(FmuExportParameters, StartValuesChangeNothingAndTheStateCarriesTheParameters) {
+  const fs::path dir = ResumeTestDir("fmu_export_meaning");
+  Exported start = Export(dir, 3);
+  const fs::path unpacked = dir / "unpacked3";
+  // export-fmu wrote the variable table beside the FMU (and printed it): r1's value reference.
+  const auto table = ReadLines(dir / "rotor3.variables.csv");
+  ASSERT_FALSE(table.empty());
+  EXPECT_EQ(table[0], "name,value_reference,causality,unit,start,description");
+  const std::string r1 = "\"r1\"," + std::to_string(start.vr("r1")) + ",input,\"N\",";
+  EXPECT_EQ(std::count_if(table.begin(), table.end(),
+                          [&](const std::string& line) { return line.rfind(r1, 0) == 0; }),
+            1) << r1;
+  EXPECT_EQ(table.size(), start.md.variables.size() + 1);
+  EXPECT_EQ(start.md.Find("blade1.f_w"), nullptr) << "blade1.f_w and f_w would both be declared";
+  ASSERT_NE(start.md.Find("blade2.psi"), nullptr);  // a per-blade parameter of its own
+  std::vector<std::pair<std::string, double>> starts, blade_starts;
+  for (const auto& v : start.md.variables) {
+    if (v.causality != "parameter") continue;
+    starts.emplace_back(v.name, std::stod(v.start.value()));
+    if (v.name.rfind("blade", 0) == 0) blade_starts.emplace_back(v.name, starts.back().second);
+  }
+  Exported all_starts = Load(start.fmu, unpacked, starts);
+  std::vector<std::pair<std::string, double>> fifty_all = blade_starts;
+  fifty_all.emplace_back("f_w", 50.0);
+  Exported fifty = Load(start.fmu, unpacked, {{"f_w", 50.0}});
+  Exported fifty_with_starts = Load(start.fmu, unpacked, fifty_all);
+  std::vector<double> f_w(1);
+  fifty_with_starts.instance->GetReal({fifty.vr("f_w")}, f_w);
+  EXPECT_EQ(f_w[0], 50.0);  // the value in effect
+  const std::vector<unsigned> q_vr{start.vr("q1"), start.vr("q2"), start.vr("q4")};
+  std::vector<double> q_start, q_fifty;
+  int starts_differ = 0, fifty_differ = 0;  // steps whose q is not bit-identical
+  for (int n = 0; n < 1000; ++n) {
+    q_start = Step(start, n * 0.001, q_vr);
+    starts_differ += Step(all_starts, n * 0.001, q_vr) != q_start;
+    q_fifty = Step(fifty, n * 0.001, q_vr);
+    fifty_differ += Step(fifty_with_starts, n * 0.001, q_vr) != q_fifty;
+  }
+  EXPECT_EQ(starts_differ, 0) << "every parameter set to its start value";
+  EXPECT_EQ(fifty_differ, 0) << "f_w = 50 and every per-blade start value";
+  EXPECT_GT(std::abs(q_fifty[0] - q_start[0]), 1e-6);  // f_w reached the model
+  // The state of the f_w = 50 run at t = 1 s, set into a fresh f_w = 100 instance.
+  fifty.instance->SnapshotState();
+  const std::string bytes = fifty.instance->SerializeSnapshot();
+  Exported fresh = Load(start.fmu, unpacked);
+  fresh.instance->DeserializeIntoSnapshot(bytes);
+  fresh.instance->RestoreSnapshot();
+  fresh.instance->GetReal({fresh.vr("f_w")}, f_w);
+  EXPECT_EQ(f_w[0], 50.0);
+  int continued_differ = 0;
+  for (int n = 1000; n < 1300; ++n) {
+    continued_differ += Step(fresh, n * 0.001, q_vr) != Step(fifty, n * 0.001, q_vr);
+  }
+  EXPECT_EQ(continued_differ, 0) << "the deserialized state continued otherwise";
 }
 
 // What export-fmu refuses, with exit 2 and the reason: an FMI version other than 2 or 3, an

@@ -54,6 +54,21 @@ TEST(FmuRefusal, WrongCausality) {
   EXPECT_HAS(p, "variable 'F' has causality output, not parameter; the FMU's parameters are: k");
 }
 
+// Issue 48: an FMI 3 array is refused at config time (not at the first fmi3SetFloat64),
+// naming the variable and its dimensions; FMI 3 types are named as FMI 3 names them.
+TEST(FmuRefusal, Fmi3ArraysAndTypesInFmi3Words) {
+  const std::string array = EditedFmu("maxwell3", R"(unit="m"
+        start="0"/>)", R"(unit="m" start="0 0 0"><Dimension start="3"/></Float64>)",
+                                      "array3.fmu");
+  const std::string e = Refusal(Yaml(array));
+  EXPECT_HAS(e, "array3.fmu: variable 'x' is an array [3] (FMI 3 <Dimension>)");
+  EXPECT_HAS(e, "test.yaml:1: substructures.r1.displacement");
+  const std::string int32 = EditedFmu("maxwell3", R"(<Float64 name="F")", R"(<Int32 name="F")",
+                                      "int3.fmu");
+  EXPECT_HAS(Refusal(Yaml(int32)), "variable 'F' is of type Int32; a restoring force must be a "
+                                   "Float64");
+}
+
 TEST(FmuRefusal, UnitMismatch) {
   const std::string seconds = EditedFmu("spring", R"(<Unit name="m"><BaseUnit m="1"/></Unit>)",
                                         R"(<Unit name="m"><BaseUnit s="1"/></Unit>)", "secs.fmu");

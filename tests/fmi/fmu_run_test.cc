@@ -181,7 +181,12 @@ TEST(FmuRun, RefusalsExitTwoNamingTheFmuAndTheVariableOrCapability) {
        "x", "F", "the limit of the compression ratio is 200"},
       {test::EditedFmu("spring", R"(<ScalarVariable name="k")", R"(<ScalarVariable name="x")",
                        "run_twice.fmu"),
-       "x", "F", "variable 'x' is declared twice"}};
+       "x", "F", "variable 'x' is declared twice"},
+      // Issue 48: an FMI 3 array input is refused before the run (not at its first step).
+      {test::EditedFmu("maxwell3", R"(unit="m"
+        start="0"/>)", R"(unit="m" start="0 0 0"><Dimension start="3"/></Float64>)",
+                       "run_array3.fmu"),
+       "x", "F", "variable 'x' is an array [3]"}};
   for (const Case& c : cases) {
     test_support::WriteText(dir / "refused.yaml",
                             Config(kHeun, "substructures:\n  r1: {type: fmu, fmu: " + c.fmu +

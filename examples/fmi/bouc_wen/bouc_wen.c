@@ -13,18 +13,18 @@
  * fmi2SetFMUstate (so every trial starts from the committed state) and serializing its state
  * (so `hybridtest resume` can restore it).
  *
+ * This file is the model only: the FMI functions (all of them, FMI 2.0 and 3.0) are
+ * hybridtest's shared src/hybridtest/fmi/fmu_entry.c, built with it, which calls the table
+ * `fmu_model` at the end of this file.
+ *
  * Value references (modelDescription.xml beside this file): 0 x [m] input, 1 F [N] output,
  * 2 k [N/m], 3 alpha [-], 4 x_y [m], 5 n [-], 6 z [m] local.
  * Built by examples/fmi/CMakeLists.txt into build/release/examples/fmi/bouc_wen.fmu.
  */
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
 
-#include "hybridtest/fmi/fmi2_api.h"
-
-#define EXPORT __attribute__((visibility("default")))
-#define GUID "{hybridtest-example-bouc-wen}"
+#include "hybridtest/fmi/fmu_entry.h"
 
 typedef struct {      /* the FMU state: everything that changes in a step */
   double t, x, x_last, z;
@@ -33,15 +33,8 @@ typedef struct {      /* the FMU state: everything that changes in a step */
 
 typedef struct {
   State s;
-  fmi2CallbackFunctions cb;
-  char name[64];
+  const FmuHost* host;
 } BoucWen;
-
-static void Log(BoucWen* b, fmi2Status status, const char* message) {
-  if (b->cb.logger != NULL) {
-    b->cb.logger(b->cb.componentEnvironment, b->name, status, "logStatusError", message);
-  }
-}
 
 static double Force(const State* s) { return s->alpha * s->k * s->x + (1.0 - s->alpha) * s->k * s->z; }
 
@@ -51,26 +44,11 @@ static double Slope(const State* s, double z, double dx) {
   return 1.0 - pow(fabs(z / s->x_y), s->n) * (0.5 + 0.5 * sign);
 }
 
-EXPORT const char* fmi2GetTypesPlatform(void) { return "default"; }
-EXPORT const char* fmi2GetVersion(void) { return "2.0"; }
-
-EXPORT fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean on, size_t n,
-                                      const fmi2String categories[]) {
-  (void)c; (void)on; (void)n; (void)categories;
-  return fmi2OK;
-}
-
-EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid,
-                                     fmi2String resources, const fmi2CallbackFunctions* cb,
-                                     fmi2Boolean visible, fmi2Boolean logging) {
-  (void)resources; (void)visible; (void)logging;
-  if (cb == NULL || type != fmi2CoSimulation || guid == NULL || strcmp(guid, GUID) != 0) {
-    return NULL;
-  }
+static void* Instantiate(const FmuHost* host, const char* token, const char* resources) {
+  (void)token; (void)resources;
   BoucWen* b = (BoucWen*)calloc(1, sizeof(BoucWen));
   if (b == NULL) return NULL;
-  memcpy((void*)&b->cb, cb, sizeof(fmi2CallbackFunctions)); /* its members are const */
-  strncpy(b->name, name != NULL ? name : "", sizeof b->name - 1);
+  b->host = host;
   b->s.k = 7200.0;
   b->s.alpha = 0.5;
   b->s.x_y = 0.01;
@@ -78,32 +56,26 @@ EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String 
   return b;
 }
 
-EXPORT void fmi2FreeInstance(fmi2Component c) { free(c); }
+static void FreeInstance(void* self) { free(self); }
 
-EXPORT fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tol_defined, fmi2Real tol,
-                                      fmi2Real start, fmi2Boolean stop_defined, fmi2Real stop) {
-  (void)tol_defined; (void)tol; (void)stop_defined; (void)stop;
-  ((BoucWen*)c)->s.t = start;
-  return fmi2OK;
+static int Setup(void* self, double start, int stop_defined, double stop) {
+  (void)stop_defined; (void)stop;
+  ((BoucWen*)self)->s.t = start;
+  return FMU_OK;
 }
 
-EXPORT fmi2Status fmi2EnterInitializationMode(fmi2Component c) { (void)c; return fmi2OK; }
-
-EXPORT fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
-  BoucWen* b = (BoucWen*)c;
+static int ExitInitialization(void* self) {
+  BoucWen* b = (BoucWen*)self;
   if (!(b->s.k > 0.0) || !(b->s.x_y > 0.0) || !(b->s.n >= 1.0) || b->s.alpha < 0.0 ||
       b->s.alpha > 1.0) {
-    Log(b, fmi2Error, "parameters out of range: need k > 0, x_y > 0, n >= 1, 0 <= alpha <= 1");
-    return fmi2Error;
+    fmu_log(b->host, FMU_ERROR, "parameters out of range: need k > 0, x_y > 0, n >= 1, 0 <= alpha <= 1");
+    return FMU_ERROR;
   }
   b->s.x_last = b->s.x;
-  return fmi2OK;
+  return FMU_OK;
 }
 
-EXPORT fmi2Status fmi2Terminate(fmi2Component c) { (void)c; return fmi2OK; }
-EXPORT fmi2Status fmi2Reset(fmi2Component c) { (void)c; return fmi2OK; }
-
-static double* Variable(State* s, fmi2ValueReference vr) {
+static double* Variable(State* s, unsigned vr) {
   switch (vr) {
     case 0: return &s->x;
     case 2: return &s->k;
@@ -115,9 +87,8 @@ static double* Variable(State* s, fmi2ValueReference vr) {
   }
 }
 
-EXPORT fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
-                              fmi2Real value[]) {
-  BoucWen* b = (BoucWen*)c;
+static int Get(void* self, const unsigned vr[], size_t n, double value[]) {
+  BoucWen* b = (BoucWen*)self;
   for (size_t i = 0; i < n; ++i) {
     const double* v = Variable(&b->s, vr[i]);
     if (vr[i] == 1) {
@@ -125,39 +96,32 @@ EXPORT fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], si
     } else if (v != NULL) {
       value[i] = *v;
     } else {
-      Log(b, fmi2Error, "fmi2GetReal: unknown value reference");
-      return fmi2Error;
+      fmu_log(b->host, FMU_ERROR, "get: no variable has value reference %u", vr[i]);
+      return FMU_ERROR;
     }
   }
-  return fmi2OK;
+  return FMU_OK;
 }
 
-EXPORT fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
-                              const fmi2Real value[]) {
-  BoucWen* b = (BoucWen*)c;
+static int Set(void* self, const unsigned vr[], size_t n, const double value[]) {
+  BoucWen* b = (BoucWen*)self;
   for (size_t i = 0; i < n; ++i) {
     double* v = Variable(&b->s, vr[i]);
     if (v == NULL || vr[i] == 6) {
-      Log(b, fmi2Error, "fmi2SetReal: this variable cannot be set");
-      return fmi2Error;
+      fmu_log(b->host, FMU_ERROR, "set: value reference %u cannot be set", vr[i]);
+      return FMU_ERROR;
     }
     *v = value[i];
   }
-  return fmi2OK;
+  return FMU_OK;
 }
 
-EXPORT fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Integer v[]) { (void)c; (void)vr; (void)v; return n == 0 ? fmi2OK : fmi2Error; }
-EXPORT fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Integer v[]) { (void)c; (void)vr; (void)v; return n == 0 ? fmi2OK : fmi2Error; }
-EXPORT fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Boolean v[]) { (void)c; (void)vr; (void)v; return n == 0 ? fmi2OK : fmi2Error; }
-EXPORT fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Boolean v[]) { (void)c; (void)vr; (void)v; return n == 0 ? fmi2OK : fmi2Error; }
-
-EXPORT fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_set) {
-  (void)no_set;
-  BoucWen* b = (BoucWen*)c;
+static int DoStep(void* self, double t, double h, double* time) {
+  BoucWen* b = (BoucWen*)self;
   State* s = &b->s;
   if (h <= 0.0 || fabs(t - s->t) > 1e-9 * (1.0 + fabs(t))) {
-    Log(b, fmi2Error, "fmi2DoStep: the step must start at the FMU's time and be positive");
-    return fmi2Error;
+    fmu_log(b->host, FMU_ERROR, "DoStep: the step must start at the FMU's time and be positive");
+    return FMU_ERROR;
   }
   const int substeps = 16;
   const double dx = (s->x - s->x_last) / substeps;
@@ -172,48 +136,28 @@ EXPORT fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolea
   s->z = z;
   s->x_last = s->x;
   s->t = t + h;
-  return fmi2OK;
+  *time = s->t;
+  return FMU_OK;
 }
 
-EXPORT fmi2Status fmi2CancelStep(fmi2Component c) { (void)c; return fmi2Error; }
-
-EXPORT fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate* state) {
-  BoucWen* b = (BoucWen*)c;
-  if (*state == NULL) *state = b->cb.allocateMemory(1, sizeof(State));
-  if (*state == NULL) return fmi2Error;
-  memcpy(*state, &b->s, sizeof(State));
-  return fmi2OK;
+static int SaveState(void* self, void** bytes, size_t* size) {
+  return fmu_save_record(&((BoucWen*)self)->s, sizeof(State), bytes, size);
 }
 
-EXPORT fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate state) {
-  if (state == NULL) return fmi2Error;
-  memcpy(&((BoucWen*)c)->s, state, sizeof(State));
-  return fmi2OK;
+static int RestoreState(void* self, const void* bytes, size_t size) {
+  BoucWen* b = (BoucWen*)self;
+  return fmu_restore_record(b->host, &b->s, sizeof(State), bytes, size);
 }
 
-EXPORT fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate* state) {
-  ((BoucWen*)c)->cb.freeMemory(*state);
-  *state = NULL;
-  return fmi2OK;
-}
-
-EXPORT fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate s, size_t* size) {
-  (void)c; (void)s;
-  *size = sizeof(State);
-  return fmi2OK;
-}
-
-EXPORT fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate s, fmi2Byte bytes[],
-                                        size_t size) {
-  (void)c;
-  if (s == NULL || size != sizeof(State)) return fmi2Error;
-  memcpy(bytes, s, sizeof(State));
-  return fmi2OK;
-}
-
-EXPORT fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte bytes[], size_t size,
-                                          fmi2FMUstate* s) {
-  if (size != sizeof(State) || fmi2GetFMUstate(c, s) != fmi2OK) return fmi2Error;
-  memcpy(*s, bytes, size);
-  return fmi2OK;
-}
+const FmuModel fmu_model = {
+    .token = "{hybridtest-example-bouc-wen}",
+    .instantiate = Instantiate,
+    .free_instance = FreeInstance,
+    .setup = Setup,
+    .exit_initialization = ExitInitialization,
+    .get = Get,
+    .set = Set,
+    .do_step = DoStep,
+    .save_state = SaveState,
+    .restore_state = RestoreState,
+};

@@ -60,6 +60,20 @@ std::optional<Eigen::MatrixXd> ReadStiffness(const YamlInput& in, const YAML::No
 
 }  // namespace
 
+namespace {
+
+// FMI 3 arrays are refused at config time, naming the variable and its dimensions (issue 48).
+void RequireScalar(const YamlInput& in, const YAML::Node& node, const std::string& kp,
+                   const std::string& fmu, const ModelVariable& v) {
+  if (v.dimensions.empty()) return;
+  throw ConfigError(fmt::format(
+      "{}: {}: variable '{}' is an array {} (FMI 3 <Dimension>); hybridtest binds scalar "
+      "variables only, one per slot or parameter: give the FMU one scalar variable per value "
+      "(or wrap it in an FMU that does)", in.Where(node, kp), fmu, v.name, v.DimensionsText()));
+}
+
+}  // namespace
+
 const ModelVariable& Require(const YamlInput& in, const YAML::Node& node, const std::string& kp,
                              const std::string& fmu, const ModelDescription& md,
                              const std::string& name, const char* causality, const char* role) {
@@ -74,10 +88,12 @@ const ModelVariable& Require(const YamlInput& in, const YAML::Node& node, const 
                                   "of the FMU (its {}s are: {})", in.Where(node, kp), fmu, name,
                                   v->causality, role, causality, causality, Known(md, causality)));
   }
-  if (v->type != "Real" && v->type != "Float64") {
-    throw ConfigError(fmt::format("{}: {}: variable '{}' is of type {}; {} must be a Real",
-                                  in.Where(node, kp), fmu, name, v->type, role));
+  const char* real = md.is_fmi3() ? "Float64" : "Real";
+  if (v->type != real) {
+    throw ConfigError(fmt::format("{}: {}: variable '{}' is of type {}; {} must be a {}",
+                                  in.Where(node, kp), fmu, name, v->type, role, real));
   }
+  RequireScalar(in, node, kp, fmu, *v);
   return *v;
 }
 
@@ -103,6 +119,7 @@ std::vector<FmuInstance::Value> ReadParameters(const YamlInput& in, const YAML::
       throw ConfigError(fmt::format("{}: {}: parameter '{}' is {} and cannot be set",
                                     in.Where(kv.second, key), fmu, name, v->variability));
     }
+    RequireScalar(in, kv.second, key, fmu, *v);
     double value = 0.0;
     if (v->type == "Boolean" && kv.second.IsScalar() &&
         (kv.second.Scalar() == "true" || kv.second.Scalar() == "false")) {

@@ -57,6 +57,14 @@ ModelVariable ReadVariable(const pugi::xml_node& node, bool fmi3, int index,
     if (it != declared_units.end()) v.unit = it->second;
   }
   if (const auto s = typed.attribute("start")) v.start = s.as_string();
+  if (fmi3) {
+    for (const auto& d : node.children("Dimension")) {
+      v.dimensions.push_back(d.attribute("start")
+                                 ? std::string(d.attribute("start").as_string())
+                                 : "valueReference " +
+                                       std::string(d.attribute("valueReference").as_string()));
+    }
+  }
   if (!fmi3 && v.type != "Real" && v.variability == "continuous" && !node.attribute("variability")) {
     v.variability = "discrete";  // FMI 2: only Real variables may be continuous
   }
@@ -79,6 +87,12 @@ std::vector<int> ParseIndices(const std::string& text) {
 }
 
 }  // namespace
+
+std::string ModelVariable::DimensionsText() const {
+  std::string text;
+  for (const auto& d : dimensions) text += "[" + d + "]";
+  return text;
+}
 
 const ModelVariable* ModelDescription::Find(const std::string& name) const {
   for (const auto& v : variables) {

@@ -30,6 +30,11 @@ struct ModelVariable {
   std::string unit;                        // empty: none declared (own or through declaredType)
   std::optional<std::string> start;
   int index = 0;                           // 1-based position in ModelVariables
+  // FMI 3 arrays: one entry per <Dimension>, its size ("3") or, for a size a structural
+  // parameter gives, "valueReference 7". Empty: a scalar.
+  std::vector<std::string> dimensions;
+  // "[3]", "[2][valueReference 7]": the dimensions as FMI 3 writes an array's size.
+  std::string DimensionsText() const;
 };
 
 struct ModelDescription {

@@ -1,46 +1,44 @@
 /* A small FMI 2.0 co-simulation FMU for hybridtest's tests: two coupled linear springs,
- * F = K x with K = [[k11, k12], [k21, k22]], no state (it exports no FMU-state functions and
- * its description declares F1, F2 dependent on x1, x2 only). It serves a substructure of two
- * slots (`slots: [r1, r2]`).
+ * F = K x with K = [[k11, k12], [k21, k22]], no state (its table has no state functions, so the
+ * shared entry points refuse get/set FMU state, and its description declares F1, F2 dependent
+ * on x1, x2 only). It serves a substructure of two slots (`slots: [r1, r2]`).
  * Value references: 0 x1, 1 x2 [m] inputs; 2 F1, 3 F2 [N] outputs; 4 k11, 5 k12, 6 k21,
- * 7 k22 [N/m] parameters. FMU_GUID is defined by the build.
+ * 7 k22 [N/m] parameters. FMU_GUID is defined by the build; the FMI functions are the shared
+ * src/hybridtest/fmi/fmu_entry.c.
  */
 #include <stdlib.h>
-#include <string.h>
 
-#include "hybridtest/fmi/fmi2_api.h"
-
-#define EXPORT __attribute__((visibility("default")))
+#include "hybridtest/fmi/fmu_entry.h"
 
 typedef struct {
   double v[8]; /* by value reference; v[2], v[3] computed on demand */
+  const FmuHost* host;
 } Instance;
 
-EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid,
-                                     fmi2String resources, const fmi2CallbackFunctions* cb,
-                                     fmi2Boolean visible, fmi2Boolean logging) {
-  (void)name; (void)resources; (void)cb; (void)visible; (void)logging;
-  if (type != fmi2CoSimulation || guid == NULL || strcmp(guid, FMU_GUID) != 0) return NULL;
+static void* Instantiate(const FmuHost* host, const char* token, const char* resources) {
+  (void)token; (void)resources;
   Instance* in = (Instance*)calloc(1, sizeof(Instance));
-  if (in != NULL) in->v[4] = in->v[7] = 1000.0;
+  if (in == NULL) return NULL;
+  in->host = host;
+  in->v[4] = in->v[7] = 1000.0;
   return in;
 }
 
-EXPORT void fmi2FreeInstance(fmi2Component c) { free(c); }
-EXPORT fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean a, fmi2Real b, fmi2Real t0,
-                                      fmi2Boolean d, fmi2Real e) {
-  (void)c; (void)a; (void)b; (void)t0; (void)d; (void)e;
-  return fmi2OK;
-}
-EXPORT fmi2Status fmi2EnterInitializationMode(fmi2Component c) { (void)c; return fmi2OK; }
-EXPORT fmi2Status fmi2ExitInitializationMode(fmi2Component c) { (void)c; return fmi2OK; }
-EXPORT fmi2Status fmi2Terminate(fmi2Component c) { (void)c; return fmi2OK; }
+static void FreeInstance(void* self) { free(self); }
 
-EXPORT fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
-                              fmi2Real value[]) {
-  const double* v = ((Instance*)c)->v;
+static int Setup(void* self, double start, int stop_defined, double stop) {
+  (void)self; (void)start; (void)stop_defined; (void)stop;
+  return FMU_OK;
+}
+
+static int Get(void* self, const unsigned vr[], size_t n, double value[]) {
+  const Instance* in = (const Instance*)self;
+  const double* v = in->v;
   for (size_t i = 0; i < n; ++i) {
-    if (vr[i] > 7) return fmi2Error;
+    if (vr[i] > 7) {
+      fmu_log(in->host, FMU_ERROR, "no variable has value reference %u", vr[i]);
+      return FMU_ERROR;
+    }
     if (vr[i] == 2) {
       value[i] = v[4] * v[0] + v[5] * v[1];
     } else if (vr[i] == 3) {
@@ -49,23 +47,33 @@ EXPORT fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], si
       value[i] = v[vr[i]];
     }
   }
-  return fmi2OK;
+  return FMU_OK;
 }
 
-EXPORT fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
-                              const fmi2Real value[]) {
-  double* v = ((Instance*)c)->v;
+static int Set(void* self, const unsigned vr[], size_t n, const double value[]) {
+  Instance* in = (Instance*)self;
   for (size_t i = 0; i < n; ++i) {
-    if (vr[i] > 7 || vr[i] == 2 || vr[i] == 3) return fmi2Error;
-    v[vr[i]] = value[i];
+    if (vr[i] > 7 || vr[i] == 2 || vr[i] == 3) {
+      fmu_log(in->host, FMU_ERROR, "value reference %u cannot be set", vr[i]);
+      return FMU_ERROR;
+    }
+    in->v[vr[i]] = value[i];
   }
-  return fmi2OK;
+  return FMU_OK;
 }
 
-EXPORT fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Integer v[]) { (void)c; (void)vr; (void)v; return n == 0 ? fmi2OK : fmi2Error; }
-EXPORT fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Boolean v[]) { (void)c; (void)vr; (void)v; return n == 0 ? fmi2OK : fmi2Error; }
-
-EXPORT fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_set) {
-  (void)c; (void)t; (void)no_set;
-  return h > 0.0 ? fmi2OK : fmi2Error;
+static int DoStep(void* self, double t, double h, double* time) {
+  (void)self;
+  *time = t + h;
+  return h > 0.0 ? FMU_OK : FMU_ERROR;
 }
+
+const FmuModel fmu_model = {
+    .token = FMU_GUID,
+    .instantiate = Instantiate,
+    .free_instance = FreeInstance,
+    .setup = Setup,
+    .get = Get,
+    .set = Set,
+    .do_step = DoStep,
+};
