@@ -175,8 +175,9 @@ void ExportFmu(const ExportFmuOptions& o) {
 
   fmu_export::DescriptionInfo info;
   info.fmi_version = o.fmi_version;
-  info.model_name = fs::path(o.config).stem().string();
   info.model_identifier = ModelIdentifier(o.out);
+  info.model_name = info.model_identifier;  // one name in an importer's list (the config's is
+                                            // in the description)
   info.step = spec.scheme.dt;
   info.description = fmt::format("{} ({}), exported by hybridtest export-fmu", spec.model.name,
                                  spec.model.description);

@@ -58,7 +58,7 @@ std::vector<ExportedBlock> BlocksFromJson(const nlohmann::json& j);
 
 struct DescriptionInfo {
   int fmi_version = 2;          // 2 or 3
-  std::string model_name;       // the config's stem
+  std::string model_name;       // modelName: export-fmu writes the identifier
   std::string model_identifier; // the binary's name (binaries/<platform>/<id>.so)
   std::string guid;             // FMI 2 guid / FMI 3 instantiationToken
   std::string description;

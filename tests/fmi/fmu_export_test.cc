@@ -61,7 +61,12 @@ Exported Export(const fs::path& dir, int version,
   RunToEnd({"export-fmu", kSource + "/examples/rotor/dummy.yaml", "--out", fmu.string(),
             "--fmi-version", std::to_string(version)},
            dir / "export.log");
-  return Load(fmu, dir / ("unpacked" + std::to_string(version)), parameters);
+  Exported e = Load(fmu, dir / ("unpacked" + std::to_string(version)), parameters);
+  // One name for the model: modelName is the identifier (the binary's and the --out stem), not
+  // the config's stem (dummy), as an importer's list of models shows it.
+  EXPECT_EQ(e.md.model_name, "rotor" + std::to_string(version));
+  EXPECT_EQ(e.md.model_identifier, e.md.model_name);
+  return e;
 }
 
 // One communication step of 1 ms with r1 = k_b d_r1 fed back; returns q.
