@@ -6,6 +6,7 @@
 //                    [--protocol hybridtest|openfresco|ads]
 //   hybridtest bench --protocol ads [--config FILE] [--listen HOST:PORT] [--route NETID[@ADDR]]...
 //                    [--ams-net-id NETID] [--plc-state run|stop] [--inject KIND@N]...
+//                    [--plc-program instant|p_hybrid] [--watchdog S]
 //   hybridtest bench --real-time CONFIG [--tick S] [--listen HOST:PORT] ...
 //
 // --real-time serves the emulated real-time plant (rt_plant) of the run config's first
@@ -23,7 +24,9 @@
 // port 851, only for the AmsNetIds given with --route, each from its address (any on
 // loopback without one);
 // --plc-state stop rehearses a PLC that is not running; --inject takes the ADS emulator's
-// test faults (fault, silence, close, ads_error, holding; transfer/ads/ads_server.h).
+// test faults (fault, silence, close, ads_error, holding; transfer/ads/ads_server.h);
+// --plc-program p_hybrid runs docs/ads.md's Structured Text P_Hybrid cyclically, its heartbeat
+// watchdog (--watchdog S, tWatchdog's PT) included.
 //
 // The token comes from --token-file or the environment (HYBRIDTEST_BENCH_TOKEN), never from
 // the command line, which every user of the machine can read in /proc/PID/cmdline.
@@ -73,6 +76,8 @@ struct BenchArgs {
   std::vector<std::string> routes;  // ads: AmsNetIds served
   std::string ams_net_id = "127.0.0.1.1.1";  // ads: the emulated PLC's AmsNetId
   std::string plc_state = "run";             // ads: what ReadState shows
+  std::string plc_program = "instant";       // ads: instant or p_hybrid (docs/ads.md)
+  double watchdog = 2.0;                     // ads, p_hybrid: tWatchdog's PT [s]
 };
 
 // The server the signal handlers stop. Stop() only stores an atomic flag.
@@ -151,13 +156,17 @@ void ServeAds(const BenchArgs& args, const transfer::EmulatedBenchSpec& spec) {
   for (const std::string& r : args.routes) o.routes.push_back(ads::ParseAdsRoute(r, "--route"));
   o.ads_state = args.plc_state == "run" ? ads::kStateRun : ads::kStateStop;
   for (const std::string& f : args.inject) o.faults.push_back(ads::ParseAdsFault(f, "--inject"));
+  if (args.plc_program == "p_hybrid") o.program = ads::PlcProgram::kPHybrid;
+  o.watchdog = args.watchdog;
   ads::UseBenchSafety(o, spec);
   o.log = [](const std::string& line) { std::fprintf(stderr, "hybridtest bench: %s\n", line.c_str()); };
   std::unique_ptr<TransferSystem> bench = MakeEmulatedBench(spec);
   ads::AdsServer server(*bench, o);
-  std::printf("hybridtest bench: listening on %s (ADS, TwinCAT PLC emulator: %s; PLC in %s; %s%s)\n",
+  const std::string program = o.program == ads::PlcProgram::kPHybrid
+      ? fmt::format("P_Hybrid of docs/ads.md, watchdog {} s", o.watchdog) : "instant program";
+  std::printf("hybridtest bench: listening on %s (ADS, TwinCAT PLC emulator: %s; PLC in %s, %s; %s%s)\n",
               server.address().c_str(), server.DescribeRoutes().c_str(),
-              args.plc_state == "run" ? "RUN" : "STOP", bench->Describe().c_str(),
+              args.plc_state == "run" ? "RUN" : "STOP", program.c_str(), bench->Describe().c_str(),
               args.inject.empty() ? "" : "; TEST FAULTS INJECTED");
   std::fflush(stdout);
   ServeUntilSignal(server, g_ads_server);
@@ -298,6 +307,15 @@ void AddBenchCommand(CLI::App& root) {
                   "--protocol ads: the PLC state ReadState shows (run, or stop to rehearse a "
                   "PLC that is not running)")
       ->check(CLI::IsMember({"run", "stop"}));
+  cmd->add_option("--plc-program", args->plc_program,
+                  "--protocol ads: the PLC program the emulator runs: instant (after every "
+                  "write; the default, and the one --inject needs) or p_hybrid (docs/ads.md's "
+                  "Structured Text, every 10 ms, with its heartbeat watchdog)")
+      ->check(CLI::IsMember({"instant", "p_hybrid"}));
+  cmd->add_option("--watchdog", args->watchdog,
+                  "--plc-program p_hybrid: seconds without a heartbeat before the PLC holds "
+                  "(tWatchdog, default 2)")
+      ->check(FiniteRange(0.01, 3600.0));
   cmd->add_option("--real-time", args->real_time,
                   "serve the emulated real-time plant (rt_plant) of this run config's first "
                   "physical slot on the server's own clock (docs/real-time.md)")

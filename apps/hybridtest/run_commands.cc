@@ -208,6 +208,10 @@ void ExecuteResume(const ResumeCommandOptions& options) {
                                       options.force_tolerance, options.position_tolerance};
   const runner::ResumePlan plan = runner::PlanResume(request);
   for (const std::string& note : plan.notes) fmt::print(stderr, "hybridtest resume: {}\n", note);
+  if (!options.bench && !plan.bench_address.empty()) {
+    fmt::print(stderr, "hybridtest resume: the bench the run recorded, --bench {} (give --bench "
+               "to name another)\n", plan.bench_address);
+  }
   runner::ResumeSetup setup =
       runner::PrepareResume(plan, request, options.set, command_line(), options.bench);
   if (!options.quiet) {

@@ -103,6 +103,7 @@ RunSpec CompileRunSpec(const SimulationConfig& cfg, const SubstructureOptions& o
   spec.source.config_text = cfg.input.text();
   spec.source.name = std::filesystem::path(cfg.input.path()).stem().string();
   spec.source.blades = cfg.blades;
+  spec.source.bench_address = options.bench_address.value_or("");
   spec.output.csv_path =
       !cfg.output_csv.empty() ? cfg.output_csv : "results/" + spec.source.name + ".csv";
   spec.quiet = cfg.quiet;

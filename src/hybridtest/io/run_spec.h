@@ -75,6 +75,9 @@ struct SourceSpec {
   // the resolved output path, every input file but a token verbatim with its sha256. Filled
   // by the front door (runner/open_run.h); the sidecar keeps it as it is.
   nlohmann::json provenance = nlohmann::json::object();
+  // The --bench HOST:PORT the run's remote transfer systems were pointed at ("" none). The
+  // front door records it (provenance "bench"); resume uses it unless given another.
+  std::string bench_address;
 };
 
 struct RunSpec {

@@ -102,6 +102,7 @@ OpenedRun OpenRun(io::RunSpec& spec, OpenRunOptions options) {
   spec.source.inputs = io::RecordRunInputs(inputs, csv);
   // 5. Where the record comes from.
   spec.source.provenance = Provenance(csv, inputs, options);
+  if (!spec.source.bench_address.empty()) spec.source.provenance["bench"] = spec.source.bench_address;
   return OpenedRun(std::move(*lock));
 }
 

@@ -6,6 +6,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
+#include <tuple>
+#include <utility>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/journal.h"
@@ -51,6 +53,22 @@ std::vector<std::optional<long>> CommandsReceivedAtStop(const nlohmann::json& si
                                             : std::nullopt);
   }
   return out;
+}
+
+// The --bench of the run's latest resume that gave one, else of its start ("" none); and
+// whether the start's command line gave one its record does not hold.
+std::pair<std::string, bool> RecordedBench(const nlohmann::json& sidecar) {
+  const nlohmann::json none = nlohmann::json::object();
+  const auto resumes = sidecar.value("resumes", nlohmann::json::array());
+  for (auto r = resumes.rbegin(); r != resumes.rend(); ++r) {
+    if (r->is_object() && r->value("bench", std::string()) != "") return {r->value("bench", ""), false};
+  }
+  const nlohmann::json extra = sidecar.value("extra", none);
+  const nlohmann::json provenance = extra.is_object() ? extra.value("provenance", none) : none;
+  if (!provenance.is_object()) return {"", false};
+  const std::string bench = provenance.value("bench", std::string());
+  const std::string line = provenance.value("command_line", std::string());
+  return {bench, bench.empty() && line.find("--bench") != std::string::npos};
 }
 
 // Why a run has no run state, from what its journal and sidecar say. A real-time run keeps its
@@ -147,7 +165,8 @@ ResumePlan PlanResumeChecked(const ResumeRequest& options) {
   cfg.files.insert(cfg.files.begin(), io::RunInput{"config", config_path});
   ResumePlan plan{.cfg = std::move(cfg), .command = command, .state = std::move(state),
                   .step = 0, .t = 0.0, .previous_status = status, .record = {},
-                  .commands_received_at_stop = {}, .notes = {}};
+                  .commands_received_at_stop = {}, .notes = {}, .bench_address = {},
+                  .bench_unrecorded = false};
   plan.step = plan.state.scheme.value("step", 0L);
   plan.t = plan.state.scheme.value("t", 0.0);
   plan.record = nlohmann::json::object();
@@ -157,6 +176,7 @@ ResumePlan PlanResumeChecked(const ResumeRequest& options) {
   }
   if (options.after_safety_stop) plan.record["after_safety_stop"] = true;
   plan.commands_received_at_stop = CommandsReceivedAtStop(sidecar);
+  std::tie(plan.bench_address, plan.bench_unrecorded) = RecordedBench(sidecar);
   if (!note.empty()) plan.notes.push_back(note);
   return plan;
 }
@@ -178,8 +198,16 @@ ResumeSetup PrepareResume(const ResumePlan& plan, const ResumeRequest& request,
                           const std::vector<std::string>& set, const std::string& command_line,
                           std::optional<std::string> bench_address,
                           const std::function<void(io::RunSpec&)>& edit) {
+  if (!bench_address && !plan.bench_address.empty()) bench_address = plan.bench_address;
+  if (!bench_address && plan.bench_unrecorded) {
+    throw ConfigError(fmt::format(
+        "{}: the run was started with --bench HOST:PORT (its sidecar's extra.provenance."
+        "command_line), but its record does not say which bench: give the same one again, "
+        "`hybridtest resume {} --bench HOST:PORT`; nothing was moved", request.csv,
+        request.csv));
+  }
   io::SubstructureOptions options;
-  options.bench_address = std::move(bench_address);
+  options.bench_address = bench_address;
   options.allow_physical = plan.command != "simulate";
   options.physical_hint = "`simulate` is numerical only: use `hybridtest run` for a hybrid test";
   ResumeSetup setup{io::CompileRunSpec(plan.cfg, options), {}};
@@ -193,6 +221,7 @@ ResumeSetup PrepareResume(const ResumePlan& plan, const ResumeRequest& request,
   setup.options.resume_record = plan.record;
   if (!set.empty()) setup.options.resume_record["changes"] = ApplyResumeChanges(spec, set);
   setup.options.resume_record["command_line"] = command_line;
+  if (bench_address) setup.options.resume_record["bench"] = *bench_address;
   setup.options.commands_received_at_stop = plan.commands_received_at_stop;
   return setup;
 }

@@ -39,6 +39,10 @@ struct ResumePlan {
   // What was repaired on the way, for the operator (e.g. a sidecar whose publication was
   // interrupted, completed).
   std::vector<std::string> notes;
+  // The --bench HOST:PORT of the run's start or of its latest resume that gave one ("" none),
+  // and whether its start gave one that was not recorded (a run written before it was).
+  std::string bench_address;
+  bool bench_unrecorded = false;
 };
 
 // Reads and checks the run (holding its lock is the caller's part). Throws ConfigError
@@ -47,7 +51,9 @@ struct ResumePlan {
 ResumePlan PlanResume(const ResumeRequest& request);
 
 // What a resume runs, for every caller (the command line, Python): the run's own config
-// compiled (physical slots refused if the run was a `simulate`), the journal as its output, the
+// compiled (physical slots refused if the run was a `simulate`) against `bench_address`, else
+// the bench the run recorded (a run that gave --bench unrecorded is refused: ConfigError
+// naming --bench), the journal as its output, the
 // request's tolerances and the `set` changes (KEY=VALUE, resume_changes.h) applied, and the
 // session options that record them with `command_line`. `edit`, if given, changes the spec
 // before the changes apply (a caller's own transfer systems in place of the configured ones).

@@ -29,6 +29,7 @@ void RunFiles::OnStart(const Session& session) {
     rows_cut_ = CutJournalToRows(csv, resume->rows);
     journal_.emplace(io::kReopenForAppend, csv, policy);
     state_rows_ = resume->rows;
+    resume_uncommitted_ = true;
   } else {
     io::JournalMetadata metadata = JournalMetadataFor(spec_, subs, spec_.output.command);
     metadata.extra["inputs"] = spec_.source.inputs;
@@ -65,6 +66,7 @@ void RunFiles::OnTrial(const TrialEvent& event) {
 }
 
 void RunFiles::OnCommit(const CommitEvent& event) {
+  if (event.kind == RowKind::kCommitted) resume_uncommitted_ = false;
   if (spec_.real_time.enabled) {
     journal_->Append(event.row, event.kind == RowKind::kCommitted);
     if (event.kind == RowKind::kCommitted) {
@@ -132,6 +134,7 @@ void RunFiles::OnResume(const ResumeEvent& event) {
                                {"message", stop.value("message", "")}};
   }
   record["checks"] = event.checks;
+  resume_recorded_ = true;
   if (event.phase == ResumeEvent::kRefused) record["refused"] = event.refused;
   nlohmann::json resumes = sidecar.value("resumes", nlohmann::json::array());
   resumes.push_back(record);
@@ -167,6 +170,7 @@ void RunFiles::OnStop(const StopEvent& event) {
       if (event.status == SessionStatus::kFinished) throw;
     }
   }
+  if (KeepPreviousStop(event)) return;
   const std::string status =
       event.status == SessionStatus::kFinished ? "completed" : "stopped: " + event.reason;
   if (event.status == SessionStatus::kFinished) {
@@ -182,6 +186,30 @@ void RunFiles::OnStop(const StopEvent& event) {
     if (stages_) stages_->Finish(event.statistics, status);
   } catch (const std::exception&) {
   }
+}
+
+bool RunFiles::KeepPreviousStop(const StopEvent& event) {
+  const nlohmann::json none = nlohmann::json::object();
+  const nlohmann::json stop = event.statistics.is_object() ? event.statistics.value("stop", none) : none;
+  if (!resume_uncommitted_ || event.status == SessionStatus::kFinished ||
+      !journal_->published() || (stop.is_object() && stop.value("kind", "") == "safety")) {
+    return false;
+  }
+  const nlohmann::json& sidecar = journal_->sidecar();
+  nlohmann::json resumes = sidecar.value("resumes", nlohmann::json::array());
+  if (!resume_recorded_ || resumes.empty()) {
+    nlohmann::json record = resume_record_;
+    record.update({{"time", io::UtcNowIso8601()}, {"previous_status", journal_->previous_status()}});
+    resumes.push_back(record);
+  }
+  resumes.back()["stopped"] = {{"status", "stopped: " + event.reason}, {"stop", stop}};
+  try {
+    journal_->SetSidecarEntry("resumes", resumes);
+    journal_->Finish(sidecar.value("statistics", none), journal_->previous_status());
+  } catch (const std::exception&) {
+    // The run's own error is the one reported; the earlier record stays as it was.
+  }
+  return true;
 }
 
 void RunFiles::OnOperatorAction(const nlohmann::json& action) {

@@ -11,7 +11,11 @@
 //   resume:              the journal is cut to the state's rows and reopened before anything
 //                        moves; a row the crash lost is rewritten from the state; the resume
 //                        and its checks go to the sidecar's "resumes"
-//   stop:                the sidecar gets the statistics and the status
+//   stop:                the sidecar gets the statistics and the status; but a resume that
+//                        stops before it commits a step, other than on a safety limit (a
+//                        bench it cannot reach, a refused connection, an interrupt), leaves
+//                        the status and statistics of the stop it was to continue: its
+//                        failure goes to its own entry of "resumes" ("stopped")
 //
 // The state is saved at every commit of a run with a physical slot, else every 1,000 rows
 // and at the end. A real-time run (a `real_time:` block) saves it at its stop only (finished,
@@ -44,6 +48,8 @@ class RunFiles final : public SessionObserver {
  private:
   void SaveState(bool always, long rows_after, std::span<const double> row);
   void SaveRealTimeState();
+  // The stop of a resume that committed nothing (see above); false if it is not that.
+  bool KeepPreviousStop(const StopEvent& event);
 
   const io::RunSpec& spec_;
   nlohmann::json resume_record_;
@@ -53,6 +59,8 @@ class RunFiles final : public SessionObserver {
   std::string state_path_;
   long state_rows_ = 0;        // rows of the last saved state
   long rows_cut_ = 0;          // resume: journal rows after the state's, cut before reopening
+  bool resume_uncommitted_ = false;  // a resume that has committed no step yet
+  bool resume_recorded_ = false;     // ... whose entry of "resumes" is written
   bool row_rewritten_ = false; // resume: the state's row was lost and written again
   Eigen::VectorXd stage_values_;
   // A real-time run: the last committed row written, its step and the rows through it.

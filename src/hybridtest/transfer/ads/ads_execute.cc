@@ -49,8 +49,9 @@ void AdsTransfer::Execute(std::span<const double> commands, std::span<Measuremen
   // 1. The commands, then their sequence, in one sum write (the PLC takes the command when
   // the sequence changes, after the array is in place).
   try {
-    const Role roles[] = {kCommand, kSequence};
-    const std::vector<std::uint8_t> values[] = {EncodeReals(commands), EncodeUdint(sequence)};
+    const Role roles[] = {kCommand, kSequence, kHeartbeat};
+    const std::vector<std::uint8_t> values[] = {EncodeReals(commands), EncodeUdint(sequence),
+                                                NextHeartbeat()};
     WriteSymbols(roles, values, options_.response_timeout,
                  fmt::format("{} with {} = {}", sent, p.symbols[kSequence], sequence));
   } catch (const AdsError& e) {
@@ -88,6 +89,7 @@ void AdsTransfer::Execute(std::span<const double> commands, std::span<Measuremen
                               Subject(), options_.ack_timeout, waiting, Describe(r),
                               p.symbols[kHold]));
     }
+    BeatWhileWaiting();  // the PLC's watchdog sees hybridtest wait
     if (options_.poll_interval > 0.0) {
       std::this_thread::sleep_for(std::chrono::duration<double>(options_.poll_interval));
     }

@@ -19,7 +19,7 @@ constexpr RoleText kRoles[kNumRoles] = {
     {"command", "fCommand"}, {"sequence", "nCommandSeq"}, {"position", "fPosition"},
     {"force", "fForce"},     {"ack", "nAckSeq"},          {"enable", "bEnable"},
     {"hold", "bHold"},       {"enabled", "bEnabled"},     {"fault", "bFault"},
-    {"holding", "bHolding"},
+    {"holding", "bHolding"}, {"heartbeat", "nHeartbeat"},
 };
 
 }  // namespace
@@ -29,7 +29,8 @@ const char* RoleKey(Role role) { return kRoles[role].key; }
 std::string DefaultSymbol(Role role) { return std::string("GVL_Hybrid.") + kRoles[role].symbol; }
 
 ExpectedSymbol Expected(Role role, int actuators) {
-  const bool writes = role == kCommand || role == kSequence || role == kEnable || role == kHold;
+  const bool writes = role == kCommand || role == kSequence || role == kEnable ||
+                      role == kHold || role == kHeartbeat;
   switch (role) {
     case kCommand:
     case kPosition:
@@ -38,6 +39,7 @@ ExpectedSymbol Expected(Role role, int actuators) {
               static_cast<std::uint32_t>(8 * actuators), writes};
     case kSequence:
     case kAck:
+    case kHeartbeat:
       return {"UDINT", 4, writes};
     default:
       return {"BOOL", 1, writes};

@@ -14,6 +14,9 @@
 //   enabled   GVL_Hybrid.bEnabled        BOOL                    –     PLC
 //   fault     GVL_Hybrid.bFault          BOOL                    –     PLC
 //   holding   GVL_Hybrid.bHolding        BOOL                    –     PLC
+//   heartbeat GVL_Hybrid.nHeartbeat      UDINT                   –     hybridtest (+1 with every
+//                                                                        command and while it waits;
+//                                                                        the PLC's watchdog)
 //
 // Every name and both units are configurable (`transfer.symbols`, `transfer.units`). The PLC
 // takes a command when nCommandSeq changes, and one sequence serves every actuator.
@@ -29,7 +32,7 @@ namespace hybridtest::transfer::ads {
 
 enum Role : std::size_t {
   kCommand, kSequence, kPosition, kForce, kAck, kEnable, kHold, kEnabled, kFault, kHolding,
-  kNumRoles
+  kHeartbeat, kNumRoles
 };
 
 // The config key of a role under `transfer.symbols` ("command", "sequence", …).

@@ -26,6 +26,17 @@ std::size_t MessageSize(std::span<const std::uint8_t> bytes) {
 }
 
 const std::string& CheckedHost(const AdsServerOptions& o) {
+  if (o.program == PlcProgram::kPHybrid) {
+    if (!(o.cycle_time >= 1e-3 && o.cycle_time <= 1.0) || !(o.watchdog > 0.0)) {
+      throw ConfigError(fmt::format("ADS emulator: cycle time {} s and watchdog {} s: expected a "
+                                    "cycle of 0.001 to 1 s and a watchdog above 0 s",
+                                    o.cycle_time, o.watchdog));
+    }
+    if (!o.faults.empty()) {
+      throw ConfigError("--inject: test faults apply to the instant PLC program only; leave "
+                        "out --plc-program p_hybrid, or --inject");
+    }
+  }
   if (o.routes.empty() && !IsLoopbackHost(o.host)) {
     throw ConfigError(fmt::format(
         "--listen {}: an ADS server off loopback serves only the AmsNetIds it is told to route, "
@@ -100,7 +111,10 @@ AdsServer::AdsServer(TransferSystem& bench, AdsServerOptions options)
              .max_frame_bytes = kMaxMessage,
              .frame_timeout = options_.message_timeout,
              .idle_timeout = options_.idle_timeout,
-             .send_timeout = options_.message_timeout},
+             .send_timeout = options_.message_timeout,
+             .poll_ms = options_.program == PlcProgram::kPHybrid
+                            ? static_cast<int>(options_.cycle_time * 1000.0)
+                            : 100},
             MessageSize,
             {.opened = [this](Client& c) { Log(fmt::format("client {} connected from {}", c.id, c.peer)); },
              .frame = [this](Client& c, std::span<const std::uint8_t> m) { return HandleMessage(c, m); },
@@ -153,14 +167,23 @@ void AdsServer::Serve() {
   image_.SetReals(kPosition, position);
   image_.SetReals(kForce, force);
   image_.SetReals(kCommand, position);
-  loop_.Serve(stop_);
+  actual_ = {position, force};
+  if (options_.program == PlcProgram::kPHybrid) {
+    while (!stop_.load()) {  // the PLC task: its cycle after what the clients sent meanwhile
+      loop_.Turn();
+      ProgramCycle();
+    }
+    loop_.CloseAll("the server stops");
+  } else {
+    loop_.Serve(stop_);
+  }
   bench_.Deactivate();
 }
 
 void AdsServer::Closed(const Client& client, const std::string& why, bool commander) {
   image_.ReleaseAll(client.id);
   Log(fmt::format("client {} dropped: {}", client.id, why));
-  if (commander) {
+  if (commander && options_.program == PlcProgram::kInstant) {  // P_Hybrid: its watchdog
     image_.SetBool(kHold, true);
     image_.SetBool(kHolding, true);
     last_hold_ = true;

@@ -18,10 +18,19 @@
 // client of a real PLC sees). On loopback an empty list serves every client; on any other
 // address the list is required.
 //
-// The PLC program it runs after every write (one "cycle"; in a sum write after all of it):
+// Two PLC programs (AdsServerOptions::program). kPHybrid runs docs/ads.md's P_Hybrid, the
+// program a PLC engineer writes from the docs, cyclically every cycle_time
+// (ads_server_program.cc): live fPosition/fForce every cycle, a command taken when nCommandSeq
+// differs from nAckSeq while enabled and not holding, acknowledged the cycle after the move,
+// and the heartbeat watchdog (bHold := TRUE when nHeartbeat has not changed for `watchdog`
+// seconds while enabled and not held); a connection that ends does not hold it, only the
+// watchdog does, as on a PLC. kInstant (the default, for test faults) runs after every write:
+//
+// The instant program it runs after every write (one "cycle"; in a sum write after all of it):
 //   - bEnabled = bEnable and not bFault; bHolding = bHold or bFault; a rising bHold, a fault
 //     or a falling bEnabled puts the bench on Hold();
-//   - when nCommandSeq differs from the last one seen, and the PLC is enabled and not holding:
+//   - when nCommandSeq differs from the last one seen and from nAckSeq (hybridtest sets
+//     nCommandSeq := nAckSeq as it releases a hold), and the PLC is enabled and not holding:
 //     every command of fCommand is checked (SafetyGate: stroke, increment, predicted force,
 //     coupled with several actuators) and the bench moves all actuators at once; then
 //     fPosition, fForce and nAckSeq = nCommandSeq. A refused command or a bench error sets
@@ -81,6 +90,9 @@ struct AdsRoute {
 // "NETID@ADDRESS". Throws ConfigError naming `where` and the form.
 AdsRoute ParseAdsRoute(const std::string& text, const std::string& where);
 
+// The PLC program the emulator runs (see above).
+enum class PlcProgram { kInstant, kPHybrid };
+
 struct AdsServerOptions {
   std::string host = "127.0.0.1";  // address to bind; off loopback `routes` is required
   std::uint16_t port = kAdsTcpPort;  // 0 picks a free port (see port())
@@ -95,7 +107,10 @@ struct AdsServerOptions {
   std::vector<double> start_positions;        // [m] per actuator, for the increment check
   std::optional<double> initial_stiffness;    // [N/m] one actuator's first force prediction
   std::optional<Eigen::MatrixXd> actuator_stiffness;  // [N/m] (n × n) coupled prediction
-  std::vector<AdsFault> faults;    // TEST FACILITY ONLY
+  PlcProgram program = PlcProgram::kInstant;
+  double cycle_time = 0.01;        // kPHybrid: the PLC task's cycle. Unit: [s].
+  double watchdog = 2.0;           // kPHybrid: tWatchdog's PT. Unit: [s].
+  std::vector<AdsFault> faults;    // TEST FACILITY ONLY (kInstant only)
   std::function<void(const std::string&)> log;  // one line per event; may be empty
 };
 
@@ -136,6 +151,11 @@ class AdsServer {
   std::uint32_t Cycle(bool& close);
   // Checks and executes the commands of sequence `sequence` (command number n).
   void Execute(std::uint32_t sequence, long n);
+  // Checks fCommand and moves the bench (command number n): true with the actual position and
+  // force in actual_; false when refused (bFault set, the bench held).
+  bool Move(long n);
+  // One cycle of docs/ads.md's P_Hybrid (ads_server_program.cc).
+  void ProgramCycle();
   void HoldBench(const std::string& why);
   // Claims the drive for `client` (server_loop.h); false (logged) if another commands.
   bool MayWrite(const Client& client);
@@ -153,6 +173,18 @@ class AdsServer {
   std::uint32_t last_sequence_ = 0;
   bool silenced_ = false;     // a silence fault fired
   long commands_received_ = 0;
+  struct Actual {
+    std::vector<double> position, force;  // bench units, what the PLC's axes read now
+  } actual_;
+  struct PHybrid {  // P_Hybrid's own variables (docs/ads.md)
+    bool last_enable = false;     // rEnable
+    bool moving = false;          // bMoving
+    std::uint32_t taken = 0;      // nTaken
+    std::uint32_t last_heartbeat = 0;  // nLastHeartbeat
+    bool watchdog_in = false;     // tWatchdog.IN and when it became TRUE
+    std::chrono::steady_clock::time_point watchdog_since{};
+    bool held = false;            // HoldAllAxes() called since the last move
+  } program_;
   std::atomic<bool> stop_{false};
 };
 

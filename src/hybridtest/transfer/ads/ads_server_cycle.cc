@@ -14,6 +14,7 @@ void AdsServer::HoldBench(const std::string& why) {
 }
 
 std::uint32_t AdsServer::Cycle(bool& close) {
+  if (options_.program == PlcProgram::kPHybrid) return 0;  // it runs on its own cycle
   const AdsProfile& p = options_.profile;
   const bool enable = image_.Bool(kEnable);
   const bool hold = image_.Bool(kHold);
@@ -36,6 +37,10 @@ std::uint32_t AdsServer::Cycle(bool& close) {
   // A new command: the sequence changed.
   const std::uint32_t sequence = image_.Udint(kSequence);
   if (sequence == last_sequence_) return 0;
+  if (sequence == image_.Udint(kAck)) {  // the release of a hold drops a pending command
+    last_sequence_ = sequence;
+    return 0;
+  }
   const std::uint32_t previous = last_sequence_;
   last_sequence_ = sequence;
   const long n = ++commands_received_;
@@ -83,7 +88,7 @@ std::uint32_t AdsServer::Cycle(bool& close) {
   return 0;
 }
 
-void AdsServer::Execute(std::uint32_t sequence, long n) {
+bool AdsServer::Move(long n) {
   const std::vector<double> commands = image_.Reals(kCommand);
   std::vector<GatedMove> moves;
   try {
@@ -100,15 +105,21 @@ void AdsServer::Execute(std::uint32_t sequence, long n) {
     image_.SetBool(kEnabled, false);
     HoldBench(fmt::format("command {} refused, {} set: {}", n, options_.profile.symbols[kFault],
                           e.what()));
-    return;
+    return false;
   }
-  std::vector<double> position, force;
+  actual_.position.clear();
+  actual_.force.clear();
   for (const GatedMove& m : moves) {
-    position.push_back(m.raw.position);
-    force.push_back(m.raw.force);
+    actual_.position.push_back(m.raw.position);
+    actual_.force.push_back(m.raw.force);
   }
-  image_.SetReals(kPosition, position);
-  image_.SetReals(kForce, force);
+  return true;
+}
+
+void AdsServer::Execute(std::uint32_t sequence, long n) {
+  if (!Move(n)) return;
+  image_.SetReals(kPosition, actual_.position);
+  image_.SetReals(kForce, actual_.force);
   image_.SetUdint(kAck, sequence);
 }
 

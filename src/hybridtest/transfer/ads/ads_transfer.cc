@@ -45,6 +45,9 @@ AdsTransfer::AdsTransfer(AdsOptions options) : options_(std::move(options)), lin
                                     DefaultSymbol(static_cast<Role>(r))));
     }
   }
+  // The heartbeat starts from the clock: almost surely not where an earlier client (the run
+  // this one resumes) left it, so that its first write is a change the watchdog sees.
+  heartbeat_ = static_cast<std::uint32_t>(Clock::now().time_since_epoch().count());
   settled_ = SettledReadingCheck(ResolveControllerOptions(
       o, o.profile.units, static_cast<std::size_t>(o.profile.actuators), "ads transfer"));
 }
@@ -218,8 +221,11 @@ void AdsTransfer::Activate() {
   const AdsProfile& p = options_.profile;
   Readout r = ReadOutputs("the state before enabling");
   CheckFault(r, "before the test starts");
-  const Role roles[] = {kHold, kEnable};
-  const std::vector<std::uint8_t> values[] = {EncodeBool(false), EncodeBool(true)};
+  // nCommandSeq := nAckSeq with the release: a command sent before a hold (and not
+  // acknowledged) is never executed after it.
+  const Role roles[] = {kSequence, kHeartbeat, kHold, kEnable};
+  const std::vector<std::uint8_t> values[] = {EncodeUdint(r.ack), NextHeartbeat(),
+                                              EncodeBool(false), EncodeBool(true)};
   WriteSymbols(roles, values, options_.response_timeout, "release the hold and enable");
   // Wait until the PLC shows enabled and not holding.
   const auto deadline = Clock::now() + std::chrono::duration<double>(options_.ack_timeout);
@@ -232,6 +238,7 @@ void AdsTransfer::Activate() {
                               "{} was set: {}", Subject(), p.symbols[kEnabled], p.symbols[kHolding],
                               options_.ack_timeout, p.symbols[kEnable], Describe(r)));
     }
+    BeatWhileWaiting();
     std::this_thread::sleep_for(std::chrono::duration<double>(options_.poll_interval));
   }
   for (double x : r.position) {
@@ -283,6 +290,7 @@ void AdsTransfer::Deactivate() {
 
 std::optional<std::vector<Measurement>> AdsTransfer::ReadAll() const {
   try {
+    BeatIfDue();
     const Readout r = ReadOutputs("a read without moving");
     std::string problem;
     if (r.fault) problem = "reports a fault (" + options_.profile.symbols[kFault] + ")";

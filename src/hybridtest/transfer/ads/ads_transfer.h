@@ -23,11 +23,17 @@
 // for following error and stale acknowledgement (safety_settled_reading.h; SafetyStop after
 // setting bHold).
 //
-// ReadAll() reads position and force once without writing (no move); it never throws, and
+// The heartbeat (nHeartbeat, the PLC's watchdog; docs/ads.md "The watchdog"): +1 (mod 2^32)
+// in the sum write of every command and of Activate's release, and written alone at most every
+// kHeartbeatPeriod while Execute waits for an ack, Activate waits for the enable and with every
+// ReadAll (resume's reads). Probe writes nothing, not even the heartbeat.
+//
+// ReadAll() reads position and force once, writing only the heartbeat (no move); it never throws, and
 // when it cannot read, or the PLC shows a fault, no enable or holding, it returns nullopt and
 // the next Execute() refuses to move until the next Activate() (resume must see the actuator).
-// Activate() checks for a fault, writes bHold = FALSE and bEnable = TRUE (one sum write) and
-// waits until bEnabled and not bHolding. Hold() writes bHold = TRUE within hold_timeout and
+// Activate() checks for a fault, writes bHold = FALSE, bEnable = TRUE and nCommandSeq = nAckSeq
+// (one sum write: a command sent before a hold is never executed after it) and waits until
+// bEnabled and not bHolding. Hold() writes bHold = TRUE within hold_timeout and
 // never throws. Deactivate() writes bHold = TRUE, bEnable = FALSE, releases the handles and
 // closes. Probe() connects (the checks above) and reads once: nothing moves.
 #include <chrono>
@@ -54,6 +60,9 @@ struct AdsOptions : ControllerOptions {
 
 class AdsTransfer final : public TransferSystem {
  public:
+  // The longest gap between two heartbeats while hybridtest waits on the PLC. Unit: [s].
+  static constexpr double kHeartbeatPeriod = 0.1;
+
   // Does not connect. Throws ConfigError for bad timeouts, tolerances or profile.
   explicit AdsTransfer(AdsOptions options);
   ~AdsTransfer() override;
@@ -90,6 +99,12 @@ class AdsTransfer final : public TransferSystem {
   void WriteSymbols(std::span<const Role> roles, std::span<const std::vector<std::uint8_t>> values,
                     double timeout, const std::string& what);
   Readout ReadOutputs(const std::string& what) const;
+  // The heartbeat (ads_heartbeat.cc): the next nHeartbeat as bytes, for a sum write that
+  // carries it; BeatIfDue() writes it alone if kHeartbeatPeriod has passed since the last;
+  // BeatWhileWaiting() too, an ADS error setting bHold and throwing TransferError.
+  std::vector<std::uint8_t> NextHeartbeat() const;
+  void BeatIfDue() const;
+  void BeatWhileWaiting();
   std::string Describe(const Readout& r) const;
   std::string Subject() const;  // "the PLC at … (AmsNetId …)"
   // Sets bHold (best effort) and throws TransferError `message`.
@@ -108,6 +123,8 @@ class AdsTransfer final : public TransferSystem {
   std::chrono::steady_clock::time_point activated_at_{};
   bool clock_started_ = false;
   mutable std::string read_failure_;
+  mutable std::uint32_t heartbeat_ = 0;
+  mutable std::chrono::steady_clock::time_point last_beat_{};
 };
 
 }  // namespace hybridtest::transfer::ads

@@ -17,6 +17,7 @@ const profile = {
   'GVL_Hybrid.nAckSeq': ['UDINT', 4], 'GVL_Hybrid.bEnable': ['BOOL', 1],
   'GVL_Hybrid.bHold': ['BOOL', 1], 'GVL_Hybrid.bEnabled': ['BOOL', 1],
   'GVL_Hybrid.bFault': ['BOOL', 1], 'GVL_Hybrid.bHolding': ['BOOL', 1],
+  'GVL_Hybrid.nHeartbeat': ['UDINT', 4],
 };
 
 function check(condition, message) {
