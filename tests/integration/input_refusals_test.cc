@@ -221,8 +221,8 @@ TEST_P(InputRefusal, ExitsTwoWithinFiveSecondsNamingTheKey) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Issue33, InputRefusal, ::testing::ValuesIn(Cases()),
-                         [](const ::testing::TestParamInfo<Case>& info) {
-                           return info.param.name;
+                         [](const ::testing::TestParamInfo<Case>& param) {
+                           return param.param.name;
                          });
 
 }  // namespace

@@ -16,6 +16,7 @@
 
 #include "hybridtest/io/run_reader.h"
 #include "integration/bench_process.h"
+#include "support/temp_dir.h"
 #include "transfer/openfresco/raw_peer.h"
 
 namespace hybridtest {
@@ -246,9 +247,7 @@ TEST(OpenFrescoBenchProcess, TokenNeverInTheConfigNorInAnyOutput) {
   for (const auto& entry : fs::recursive_directory_iterator(dir / "out")) {
     if (!entry.is_regular_file()) continue;
     ++files;
-    std::ifstream in(entry.path(), std::ios::binary);
-    const std::string content((std::istreambuf_iterator<char>(in)),
-                              std::istreambuf_iterator<char>());
+    const std::string content = test_support::ReadText(entry.path());
     EXPECT_EQ(content.find(token), std::string::npos) << "the token is in " << entry.path();
   }
   EXPECT_GE(files, 3);  // at least the CSV, its sidecar, the report

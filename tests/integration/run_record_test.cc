@@ -10,6 +10,7 @@
 #include "hybridtest/io/digest.h"
 #include "integration/child_process.h"
 #include "integration/resume_support.h"
+#include "support/temp_dir.h"
 
 namespace hybridtest::testing {
 namespace {
@@ -17,8 +18,7 @@ namespace {
 // examples/rotor/emulated-fast.yaml with the bench file named absolutely, the runner's force
 // limits replaced, and a `test:` block.
 fs::path WriteConfig(const fs::path& dir, double force_soft, double force_hard) {
-  std::ifstream in(kSource + "/examples/rotor/emulated-fast.yaml");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string text = test_support::ReadText(kSource + "/examples/rotor/emulated-fast.yaml");
   auto replace = [&](const std::string& from, const std::string& to) {
     const auto at = text.find(from);
     ASSERT_NE(at, std::string::npos) << from;
@@ -54,8 +54,7 @@ TEST(RunRecord, TheSidecarHoldsTheTestBlockAndTheProvenance) {
   ASSERT_TRUE(inputs.count("config") && inputs.count("bench")) << p["inputs"].dump();
   for (const char* role : {"config", "bench"}) {
     const std::string path = inputs[role]["path"].get<std::string>();
-    std::ifstream f(path, std::ios::binary);
-    const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    const std::string text = test_support::ReadText(path);
     EXPECT_EQ(inputs[role]["text"], text) << role;
     EXPECT_EQ(inputs[role]["sha256"], io::Sha256Hex(text)) << role;
   }
