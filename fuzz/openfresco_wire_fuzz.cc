@@ -1,5 +1,5 @@
 // libFuzzer target: the OpenFresco server's parsing of what a network peer sends (wire.h): the
-// opening (optional token preamble, 44-byte header) as the HandshakeQueue measures and the
+// opening (optional token preamble, 44-byte header) as the ServerLoop measures and the
 // server decodes it, the header's validation, then messages of dataSize float64 words and
 // their action word. Any input must either parse or raise a TransferError; a crash, a
 // sanitizer report, another exception, or an opening whose measured size shrinks as its bytes
@@ -16,7 +16,7 @@ using namespace hybridtest::transfer::openfresco;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::span<const std::uint8_t> bytes(data, size);
-  // The opening, measured as its bytes arrive one at a time (HandshakeQueue::ReadOpening).
+  // The opening, measured as its bytes arrive one at a time (ServerLoop::Read).
   std::size_t have = 0;
   std::size_t needed = 0;
   try {

@@ -88,7 +88,7 @@ TEST(BenchServerHardening, AFloodOfConnectionsEvictsTheOldestAndTheClientGetsThr
   FakeBench bench;
   BenchServerOptions o;
   o.handshake_timeout = 60.0;
-  o.max_pending = 4;
+  o.max_connections = 4;
   LogLines log;
   o.log = log.Sink();
   ServerThread server(bench, o);
@@ -98,7 +98,7 @@ TEST(BenchServerHardening, AFloodOfConnectionsEvictsTheOldestAndTheClientGetsThr
   client.Activate();
   EXPECT_EQ(ExecuteOne(client, 1.0).force, 5.0);
   bool evicted = false;
-  for (const auto& line : log.Get()) evicted |= line.find("dropped the oldest") != std::string::npos;
+  for (const auto& line : log.Get()) evicted |= line.find("to make room") != std::string::npos;
   EXPECT_TRUE(evicted);
 }
 
@@ -125,11 +125,15 @@ TEST(BenchServerHardening, APendingHelloCannotTakeOverASession) {
   Socket early = ConnectTcp("127.0.0.1", server.port(), 2.0);  // pending before the session
   BenchClient client(ClientFor(server, kReplyTimeout));
   client.Activate();
-  // The pending connection was told BUSY when the session opened.
+  EXPECT_EQ(ExecuteOne(client, 1.0).force, 5.0);  // the client commands from now on
+  // The pending connection's session may open, but its COMMAND is refused: nothing moves.
+  ASSERT_EQ(RawHello(early).type, MessageType::kWelcome);
+  ASSERT_TRUE(SendAll(early.fd(), EncodeFrame(EncodeCommands(2, std::array<double, 1>{4.0})), 2.0));
   Frame reply;
   ASSERT_EQ(ReadFrame(early.fd(), 5.0, reply), ReadStatus::kFrame);
   EXPECT_EQ(DecodeError(reply).code, ErrorCode::kBusy);
-  EXPECT_EQ(ExecuteOne(client, 1.0).force, 5.0);
+  EXPECT_EQ(ExecuteOne(client, 2.0).force, 10.0);
+  EXPECT_EQ(bench.commands(), (std::vector<double>{1.0, 2.0}));
 }
 
 // A second COMMAND with sequence `replayed` after COMMAND 2 is refused and never executed.

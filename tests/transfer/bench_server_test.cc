@@ -186,14 +186,17 @@ TEST(BenchServer, SecondClientIsToldTheBenchIsBusy) {
   ServerThread server(bench, {});
   BenchClient first(ClientFor(server));
   first.Activate();
+  EXPECT_EQ(ExecuteOne(first, 1.0).force, 5.0);  // the first client commands
   BenchClient second(ClientFor(server));
+  second.Activate();  // a second session opens: it may read
   try {
-    second.Activate();
+    ExecuteOne(second, 3.0);
     FAIL() << "expected TransferError";
   } catch (const TransferError& e) {
     EXPECT_NE(std::string(e.what()).find("BUSY"), std::string::npos) << e.what();
   }
-  EXPECT_EQ(ExecuteOne(first, 1.0).force, 5.0);
+  EXPECT_EQ(ExecuteOne(first, 2.0).force, 10.0);
+  EXPECT_EQ(bench.commands(), (std::vector<double>{1.0, 2.0}));
 }
 
 TEST(BenchServer, ClientDisconnectHoldsTheBench) {

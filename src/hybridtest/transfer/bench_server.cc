@@ -1,7 +1,6 @@
 #include "hybridtest/transfer/bench_server.h"
 
 #include <fmt/core.h>
-#include <poll.h>
 
 #include <chrono>
 #include <cmath>
@@ -15,7 +14,6 @@ namespace hybridtest::transfer {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr int kPollIntervalMs = 100;
 
 // The bind policy (auth.h) and positive timeouts.
 const std::string& CheckOptions(const BenchServerOptions& options) {
@@ -30,18 +28,14 @@ const std::string& CheckOptions(const BenchServerOptions& options) {
   return options.host;
 }
 
-}  // namespace
+// The codec for the ServerLoop: a frame is its header, the payload it announces and the CRC.
+std::size_t MeasureFrame(const ServerLoop::Connection&, std::span<const std::uint8_t> bytes) {
+  if (bytes.size() < kFrameHeaderSize) return kFrameHeaderSize;
+  const FrameHeader header = DecodeFrameHeader(bytes.first(kFrameHeaderSize));
+  return kFrameHeaderSize + header.payload_length + kFrameTrailerSize;
+}
 
-struct BenchServer::Session {
-  explicit Session(Socket socket, std::string peer_address = {})
-      : client(std::move(socket)), peer(std::move(peer_address)) {}
-  Socket client;
-  std::string peer;                 // the client's address (for the auth throttle and logs)
-  std::uint64_t last_sequence = 0;  // of the last request accepted; the next must be + 1
-  bool refused = false;       // a safety refusal latched: every further COMMAND is refused
-  std::string refused_limit;  // the limit of that refusal
-  std::string refused_text;
-};
+}  // namespace
 
 void SetStartPositions(SafetyGate& gate, const BenchServerOptions& options) {
   for (int k = 0; k < gate.size(); ++k) {
@@ -61,7 +55,23 @@ BenchServer::BenchServer(TransferSystem& bench, BenchServerOptions options)
       gate_(std::vector<SafetyLimits>(static_cast<std::size_t>(bench.num_actuators()),
                                       options_.limits)),
       listener_(CheckOptions(options_), options_.port),
-      handshakes_(options_.max_pending, options_.handshake_timeout) {
+      loop_(listener_,
+            {.max_connections = options_.max_connections,
+             .max_frame_bytes = kFrameHeaderSize + kMaxPayloadLength + kFrameTrailerSize,
+             .max_opening_bytes = kFrameHeaderSize + kMaxHelloPayload + kFrameTrailerSize,
+             .handshake_timeout = options_.handshake_timeout,
+             .frame_timeout = options_.heartbeat_timeout,
+             .idle_timeout = options_.heartbeat_timeout,
+             .send_timeout = options_.send_timeout},
+            MeasureFrame,
+            {.opened = [this](Connection& c) { return sessions_.try_emplace(c.id).second; },
+             .frame = [this](Connection& c, std::span<const std::uint8_t> bytes) {
+               return HandleBytes(c, bytes);
+             },
+             .closed = [this](Connection& c, const ServerLoop::Closing& closing) {
+               Closed(c, closing);
+             }},
+            [this](const std::string& line) { Log(line); }) {
   SetStartPositions(gate_, options_);
   for (int k = 0; k < gate_.size(); ++k) {
     if (options_.initial_stiffness) gate_.monitor(k).SetInitialStiffness(*options_.initial_stiffness);
@@ -85,66 +95,17 @@ void BenchServer::HoldBench(const std::string& why) {
 void BenchServer::Serve() {
   bench_.Activate();
   Log(fmt::format("serving {} on {}", bench_.Describe(), address()));
-  while (!stop_.load()) {
-    ServeOpeningsTurn(
-        listener_, handshakes_, kPollIntervalMs, stop_,
-        [this](std::size_t i) { return AdvanceHandshake(i); },
-        [this] { DropExpiredHandshakes(); },
-        [this](const std::string& evicted) {
-          Log(fmt::format("{} connections await HELLO: dropped the oldest, from {}",
-                          options_.max_pending, evicted));
-        });
-  }
-  handshakes_.TakeAll();
+  loop_.Serve(stop_);
   HoldBench("server stopping");
   bench_.Deactivate();
   Log("stopped");
 }
 
-bool BenchServer::AdvanceHandshake(std::size_t i) {
-  Frame hello;
-  HandshakeQueue::Progress progress = HandshakeQueue::Progress::kWaiting;
-  try {
-    progress = handshakes_.Read(i, hello);
-  } catch (const TransferError& e) {
-    HandshakeQueue::Pending p = handshakes_.Take(i);
-    Session rejected(std::move(p.socket), p.peer);
-    SendError(rejected, 0, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
-              fmt::format("expected HELLO: {}", e.what()));
-    return false;
-  }
-  if (progress == HandshakeQueue::Progress::kWaiting) return false;
-  HandshakeQueue::Pending p = handshakes_.Take(i);
-  if (progress == HandshakeQueue::Progress::kClosed) {
-    Log(fmt::format("a connection from {} left before HELLO", p.peer));
-    return false;
-  }
-  Session session(std::move(p.socket), p.peer);
-  if (!Handshake(session, hello)) return false;
-  // One session at a time: whoever else is waiting is told the bench is busy.
-  for (HandshakeQueue::Pending& other : handshakes_.TakeAll()) {
-    Session busy(std::move(other.socket), other.peer);
-    SendError(busy, 0, static_cast<int>(ErrorCode::kBusy), "", 0, 0,
-              "the bench is serving another client; try again when it has disconnected");
-  }
-  ServeSession(session);
-  return true;
+bool BenchServer::Send(Connection& c, const Frame& frame) {
+  return loop_.Send(c, EncodeFrame(frame));
 }
 
-void BenchServer::DropExpiredHandshakes() {
-  for (HandshakeQueue::Pending& p : handshakes_.TakeExpired(Clock::now())) {
-    Session late(std::move(p.socket), p.peer);
-    SendError(late, 0, static_cast<int>(ErrorCode::kTimeout), "", 0, 0,
-              fmt::format("no complete HELLO within {} s of connecting (handshake timeout)",
-                          options_.handshake_timeout));
-  }
-}
-
-bool BenchServer::Send(Session& session, const Frame& frame) {
-  return SendAll(session.client.fd(), EncodeFrame(frame), options_.send_timeout);
-}
-
-void BenchServer::SendError(Session& session, std::uint32_t sequence, int code,
+void BenchServer::SendError(Connection& c, std::uint32_t sequence, int code,
                             const std::string& limit, double value, double limit_value,
                             const std::string& text) {
   ErrorMessage m;
@@ -155,67 +116,101 @@ void BenchServer::SendError(Session& session, std::uint32_t sequence, int code,
   m.text = text.size() > 4000 ? text.substr(0, 4000) : text;
   Log(fmt::format("ERROR {} (sequence {}): {}", ErrorCodeName(static_cast<std::uint16_t>(code)),
                   sequence, m.text));
-  Send(session, EncodeError(sequence, m));
+  Send(c, EncodeError(sequence, m));
 }
 
-void BenchServer::RefuseBusyClient() {
-  Session other(listener_.Accept(0.0));
-  if (!other.client.is_open()) return;
-  SendError(other, 0, static_cast<int>(ErrorCode::kBusy), "", 0, 0,
-            "the bench is serving another client; try again when it has disconnected");
+bool BenchServer::HandleBytes(Connection& c, std::span<const std::uint8_t> bytes) {
+  Session& session = sessions_[c.id];
+  Frame frame;
+  try {
+    frame = DecodeFrame(bytes);
+  } catch (const TransferError& e) {
+    SendError(c, 0, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
+              c.established ? std::string(e.what()) : fmt::format("expected HELLO: {}", e.what()));
+    session.end = "protocol error";
+    return false;
+  }
+  if (!c.established) {
+    c.established = Handshake(c, session, frame);
+    return c.established;
+  }
+  // Strict sequence: each request takes the next number; anything else (a replay, a stale or
+  // skipped number) is refused before it is decoded and ends the session.
+  const std::uint64_t expected = session.last_sequence + 1;
+  if (frame.sequence != expected) {
+    SendError(c, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
+              fmt::format("{} with sequence number {}: expected {} (each request takes the next "
+                          "number); a duplicate or stale request is never executed",
+                          MessageTypeName(static_cast<std::uint16_t>(frame.type)),
+                          frame.sequence, expected));
+    session.end = "duplicate, stale or skipped sequence number";
+    return false;
+  }
+  session.last_sequence = frame.sequence;
+  return HandleFrame(c, session, frame);
 }
 
-void BenchServer::ServeSession(Session& session) {
-  const auto hold = [&](const std::string& why) { HoldBench(why); };
-  const auto timeout = std::chrono::duration<double>(options_.heartbeat_timeout);
-  auto last_frame = Clock::now();
-  while (!stop_.load()) {
-    pollfd fds[2] = {{session.client.fd(), POLLIN, 0}, {listener_.fd(), POLLIN, 0}};
-    poll(fds, 2, kPollIntervalMs);
-    if (fds[1].revents & POLLIN) RefuseBusyClient();
-    if (fds[0].revents & (POLLIN | POLLHUP | POLLERR)) {
-      Frame frame;
-      ReadStatus status;
-      try {
-        status = ReadFrame(session.client.fd(), options_.heartbeat_timeout, frame);
-      } catch (const TransferError& e) {
-        SendError(session, 0, static_cast<int>(ErrorCode::kProtocol), "", 0, 0, e.what());
-        return hold("protocol error");
+void BenchServer::Closed(Connection& c, const ServerLoop::Closing& closing) {
+  const auto timeout = static_cast<int>(ErrorCode::kTimeout);
+  const auto protocol = static_cast<int>(ErrorCode::kProtocol);
+  std::string hold;  // why the bench holds (a session ended); empty: it does not
+  switch (closing.cause) {
+    case CloseCause::kPeerLeft:
+      if (c.established) {
+        hold = "client disconnected";
+      } else {
+        Log(fmt::format("a connection from {} left before HELLO", c.peer));
       }
-      if (status == ReadStatus::kClosed) return hold("client disconnected");
-      if (status == ReadStatus::kTimeout) {
-        SendError(session, 0, static_cast<int>(ErrorCode::kTimeout), "", 0, 0,
-                  "incomplete frame: the rest did not arrive within the heartbeat timeout");
-        return hold("client timed out mid-frame");
-      }
-      last_frame = Clock::now();
-      // Strict sequence: each request takes the next number; anything else (a replay, a
-      // stale or skipped number) is refused before it is decoded and ends the session.
-      const std::uint64_t expected = session.last_sequence + 1;
-      if (frame.sequence != expected) {
-        SendError(session, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
-                  fmt::format("{} with sequence number {}: expected {} (each request takes the "
-                              "next number); a duplicate or stale request is never executed",
-                              MessageTypeName(static_cast<std::uint16_t>(frame.type)),
-                              frame.sequence, expected));
-        return hold("duplicate, stale or skipped sequence number");
-      }
-      session.last_sequence = frame.sequence;
-      if (!HandleFrame(session, frame)) return hold("session ended");
-      continue;
-    }
-    if (Clock::now() - last_frame > timeout) {
-      SendError(session, 0, static_cast<int>(ErrorCode::kTimeout), "", 0, 0,
+      break;
+    case CloseCause::kHandshakeTimeout:
+      SendError(c, 0, timeout, "", 0, 0,
+                fmt::format("no complete HELLO within {} s of connecting (handshake timeout)",
+                            options_.handshake_timeout));
+      break;
+    case CloseCause::kFrameTimeout:
+      SendError(c, 0, timeout, "", 0, 0, closing.why);
+      hold = "client timed out mid-frame";
+      break;
+    case CloseCause::kIdleTimeout:
+      SendError(c, 0, timeout, "", 0, 0,
                 fmt::format("no frame for {} s (heartbeat_timeout); send HEARTBEAT when idle",
                             options_.heartbeat_timeout));
-      return hold("client silent beyond the heartbeat timeout");
-    }
+      hold = "client silent beyond the heartbeat timeout";
+      break;
+    case CloseCause::kGarbled:
+    case CloseCause::kTooLong:
+      SendError(c, 0, protocol, "", 0, 0,
+                c.established ? closing.why : fmt::format("expected HELLO: {}", closing.why));
+      hold = "protocol error";
+      break;
+    case CloseCause::kMakeRoom:
+      SendError(c, 0, static_cast<int>(ErrorCode::kBusy), "", 0, 0, closing.why);
+      Log(fmt::format("closed a connection from {}: {}", c.peer, closing.why));
+      break;
+    case CloseCause::kRefused:
+      break;
+    case CloseCause::kByHandler:
+      hold = sessions_[c.id].end.empty() ? "session ended" : sessions_[c.id].end;
+      break;
+    case CloseCause::kStopping:
+      if (c.established) Send(c, EncodeEmpty(MessageType::kBye, 0));
+      break;
   }
-  Send(session, EncodeEmpty(MessageType::kBye, 0));
-  hold("server stopping");
+  // A reader's end never holds the bench another client commands.
+  if (!hold.empty() && c.established && !closing.another_commands) HoldBench(hold);
+  sessions_.erase(c.id);
 }
 
-bool BenchServer::Handshake(Session& session, const Frame& frame) {
+bool BenchServer::Commands(Connection& c, const Frame& frame) {
+  if (loop_.Claim(c.id)) return true;
+  SendError(c, frame.sequence, static_cast<int>(ErrorCode::kBusy), "", 0, 0,
+            fmt::format("another client (connection {}) commands the bench; this session may "
+                        "READ and HEARTBEAT only; try again when it has disconnected",
+                        loop_.commander()));
+  return false;
+}
+
+bool BenchServer::Handshake(Connection& c, Session& session, const Frame& frame) {
   const auto auth = static_cast<int>(ErrorCode::kAuth);
   try {
     if (frame.type != MessageType::kHello) {
@@ -224,79 +219,82 @@ bool BenchServer::Handshake(Session& session, const Frame& frame) {
     }
     const HelloMessage hello = DecodeHello(frame);
     if (hello.version != kProtocolVersion) {
-      SendError(session, frame.sequence, static_cast<int>(ErrorCode::kVersion), "", 0, 0,
+      SendError(c, frame.sequence, static_cast<int>(ErrorCode::kVersion), "", 0, 0,
                 fmt::format("protocol version {} is not supported; this bench speaks {}",
                             hello.version, kProtocolVersion));
       return false;
     }
     const auto now = Clock::now();
-    if (const auto verdict = auth_.Check(session.peer, now);
+    if (const auto verdict = auth_.Check(c.peer, now);
         verdict != AuthThrottle::Verdict::kAllowed) {
-      SendError(session, frame.sequence, auth, "", 0, 0,
-                AuthThrottle::RefusalText(verdict, session.peer));
+      SendError(c, frame.sequence, auth, "", 0, 0,
+                AuthThrottle::RefusalText(verdict, c.peer));
       return false;
     }
     if (!TokensEqual(hello.token, options_.token)) {
-      if (auth_.RecordFailure(session.peer, now)) {
+      if (auth_.RecordFailure(c.peer, now)) {
         Log(fmt::format("auth lockout: {} wrong tokens from block {} (last from {}); its HELLOs "
                         "are refused for {} s", AuthThrottle::kMaxFailures,
-                        AddressBlock(session.peer), session.peer,
+                        AddressBlock(c.peer), c.peer,
                         AuthThrottle::kLockout.count()));
       }
-      SendError(session, frame.sequence, auth, "", 0, 0,
+      SendError(c, frame.sequence, auth, "", 0, 0,
                 "wrong or missing token: the client's token does not match the bench's "
                 "(--token-file / HYBRIDTEST_BENCH_TOKEN)");
       return false;
     }
-    auth_.RecordSuccess(session.peer);
+    auth_.RecordSuccess(c.peer);
     WelcomeMessage welcome;
     welcome.description = bench_.Describe();
     welcome.units = units_;
     welcome.limits = options_.limits;
     welcome.heartbeat_timeout = options_.heartbeat_timeout;
     welcome.actuators = bench_.num_actuators();
-    Log(fmt::format("client '{}' connected from {}", hello.client_name, session.peer));
+    Log(fmt::format("client '{}' connected from {}", hello.client_name, c.peer));
     session.last_sequence = frame.sequence;
-    return Send(session, EncodeWelcome(frame.sequence, welcome));
+    return Send(c, EncodeWelcome(frame.sequence, welcome));
   } catch (const TransferError& e) {
-    SendError(session, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
+    SendError(c, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
               fmt::format("expected HELLO: {}", e.what()));
     return false;
   }
 }
 
-bool BenchServer::HandleFrame(Session& session, const Frame& frame) {
+bool BenchServer::HandleFrame(Connection& c, Session& session, const Frame& frame) {
   try {
     switch (frame.type) {
       case MessageType::kCommand:
-        return HandleCommand(session, frame);
+        return HandleCommand(c, session, frame);
       case MessageType::kHeartbeat:
         DecodeEmpty(frame, MessageType::kHeartbeat);
-        return Send(session, EncodeEmpty(MessageType::kHeartbeatAck, frame.sequence));
+        return Send(c, EncodeEmpty(MessageType::kHeartbeatAck, frame.sequence));
       case MessageType::kHold:
         DecodeEmpty(frame, MessageType::kHold);
+        if (!Commands(c, frame)) return true;  // a reader never holds the commander's run
         HoldBench("client asked for HOLD");
-        return Send(session, EncodeEmpty(MessageType::kHoldAck, frame.sequence));
+        return Send(c, EncodeEmpty(MessageType::kHoldAck, frame.sequence));
       case MessageType::kRead:  // where the actuators are, nothing moves (the start check)
         DecodeEmpty(frame, MessageType::kRead);
         if (const auto now = bench_.ReadAll()) {
-          return Send(session, EncodeMeasurements(frame.sequence, *now));
+          return Send(c, EncodeMeasurements(frame.sequence, *now));
         }
-        SendError(session, frame.sequence, static_cast<int>(ErrorCode::kBench), "", 0, 0,
+        SendError(c, frame.sequence, static_cast<int>(ErrorCode::kBench), "", 0, 0,
                   "this bench cannot read its position without moving");
         return true;
       case MessageType::kBye:
-        HoldBench("client said BYE");
-        Send(session, EncodeEmpty(MessageType::kBye, frame.sequence));
+        if (loop_.commander() == 0 || loop_.commander() == c.id) {
+          HoldBench("client said BYE");
+        }
+        Send(c, EncodeEmpty(MessageType::kBye, frame.sequence));
         return false;
       default:
-        SendError(session, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
+        SendError(c, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
                   fmt::format("unexpected {} frame from a client in session",
                               MessageTypeName(static_cast<std::uint16_t>(frame.type))));
         return false;
     }
   } catch (const TransferError& e) {
-    SendError(session, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
+    SendError(c, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
               e.what());
     return false;
   }
@@ -305,7 +303,8 @@ bool BenchServer::HandleFrame(Session& session, const Frame& frame) {
 // Called from a catch block after a failed gated move: a safety refusal holds the bench,
 // latches the refusal and answers ERROR safety (the session goes on); a bench failure holds
 // and answers ERROR bench (the session ends).
-bool BenchServer::AnswerFailedMove(Session& session, const Frame& frame, long n) {
+bool BenchServer::AnswerFailedMove(Connection& c, Session& session, const Frame& frame,
+                                   long n) {
   try {
     throw;
   } catch (const SafetyStop& e) {
@@ -313,33 +312,34 @@ bool BenchServer::AnswerFailedMove(Session& session, const Frame& frame, long n)
     session.refused = true;
     session.refused_limit = e.limit();
     session.refused_text = e.what();
-    SendError(session, frame.sequence, static_cast<int>(ErrorCode::kSafety), e.limit(),
+    SendError(c, frame.sequence, static_cast<int>(ErrorCode::kSafety), e.limit(),
               e.value(), e.limit_value(), e.what());
     return true;
   } catch (const Error& e) {
     HoldBench(fmt::format("bench failure at command {}", n));
-    SendError(session, frame.sequence, static_cast<int>(ErrorCode::kBench), "", 0, 0,
+    SendError(c, frame.sequence, static_cast<int>(ErrorCode::kBench), "", 0, 0,
               fmt::format("the bench failed to execute command {}: {}", n, e.what()));
     return false;
   }
 }
 
-bool BenchServer::HandleCommand(Session& session, const Frame& frame) {
+bool BenchServer::HandleCommand(Connection& c, Session& session, const Frame& frame) {
   // One position per actuator; a COMMAND of another count is not received (nothing moves).
   const std::vector<double> commands = DecodeCommands(frame);
   if (static_cast<int>(commands.size()) != gate_.size()) {
-    SendError(session, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
+    SendError(c, frame.sequence, static_cast<int>(ErrorCode::kProtocol), "", 0, 0,
               fmt::format("COMMAND with {} positions for a bench of {} actuators; send one per "
                           "actuator", commands.size(), gate_.size()));
     return false;
   }
+  if (!Commands(c, frame)) return true;  // nothing moves; the session may still read
   const long n = ++commands_received_;
   const auto fault = [&](FaultKind kind) { return HasFault(options_.faults, kind, n); };
   const auto safety = static_cast<int>(ErrorCode::kSafety);
 
   // Latched refusal: nothing moves until the client reconnects.
   if (session.refused) {
-    SendError(session, frame.sequence, safety, session.refused_limit, commands[0], 0,
+    SendError(c, frame.sequence, safety, session.refused_limit, commands[0], 0,
               "the bench is holding after a safety refusal (" + session.refused_text +
                   "); reconnect to resume");
     return true;
@@ -363,7 +363,7 @@ bool BenchServer::HandleCommand(Session& session, const Frame& frame) {
       }
     });
   } catch (const Error&) {
-    return AnswerFailedMove(session, frame, n);
+    return AnswerFailedMove(c, session, frame, n);
   }
   // Test faults on the answer.
   measured_.clear();
@@ -378,10 +378,10 @@ bool BenchServer::HandleCommand(Session& session, const Frame& frame) {
   if (fault(FaultKind::kCorrupt)) bytes[kFrameHeaderSize] ^= 0xFF;
   if (fault(FaultKind::kDuplicate)) {
     const auto& again = previous_measurement_.empty() ? clean : previous_measurement_;
-    if (!SendAll(session.client.fd(), again, options_.send_timeout)) return false;
+    if (!loop_.Send(c, again)) return false;
   }
   previous_measurement_ = clean;
-  return SendAll(session.client.fd(), bytes, options_.send_timeout);
+  return loop_.Send(c, bytes);
 }
 
 }  // namespace hybridtest::transfer

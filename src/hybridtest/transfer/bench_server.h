@@ -1,6 +1,6 @@
 #pragma once
 // BenchServer: serves one TransferSystem over TCP with the hybridtest bench protocol v1
-// (docs/protocol.md), to one client at a time.
+// (docs/protocol.md): one client commands, others may read.
 //
 // Safety rules, in the order they are applied:
 //  - It binds 127.0.0.1 by default and refuses to bind any non-loopback address unless a
@@ -8,10 +8,16 @@
 //    HELLO carrying another token is refused (compared in constant time; five wrong tokens
 //    from one address block — IPv4 /24, IPv6 /64 — lock that block out for a minute, logged,
 //    and a global budget bounds wrong tokens from all addresses together; see auth.h).
-//  - Connections are authenticated concurrently (HandshakeQueue): every accepted connection has
-//    handshake_timeout to deliver its HELLO, read without blocking, so an idle or slow peer
-//    never delays a real client. Once a session is open, every other connection is answered
-//    ERROR(BUSY) and closed: a session in progress is never taken over.
+//  - Connections are served by the shared ServerLoop (server_loop.h) with its limits: every
+//    accepted connection has handshake_timeout to deliver its HELLO (of at most
+//    kMaxHelloPayload bytes of payload), read without blocking, so an idle, slow or dripping
+//    peer never delays a real client; a begun frame must be complete within heartbeat_timeout;
+//    at most max_connections at once (one more closes the connection that waited longest for
+//    its HELLO, else the longest-silent reader); the process's file limit never makes it spin.
+//  - One client commands: the first session to send a COMMAND (or HOLD) holds the bench until
+//    its connection ends; meanwhile another session's COMMAND or HOLD is answered ERROR(BUSY)
+//    and changes nothing (its session goes on), while READ and HEARTBEAT are served to every
+//    session. A session in progress is never taken over.
 //  - Every request of a session must carry the sequence number after the previous one's
 //    (HELLO's + 1, + 2, ...). A duplicate, stale or skipped number (a replayed COMMAND) is
 //    refused with ERROR(PROTOCOL) before it is looked at, never executed, and ends the session.
@@ -24,8 +30,9 @@
 //  - Every measurement is checked too (finite, |force| ≤ force_hard); a violation is
 //    answered with ERROR(SAFETY) and latches in the same way.
 //  - On a silent client (no frame for heartbeat_timeout), a malformed frame, an unexpected
-//    message or a disconnect, the bench is put in Hold() — it never moves to a new position
-//    and never returns to zero — and the server waits for the next client.
+//    message or a disconnect of the commanding session (or of any session while none
+//    commands), the bench is put in Hold() — it never moves to a new position and never
+//    returns to zero — and the server goes on serving.
 //  - Log lines carry client-supplied text (names) with control characters escaped.
 //
 // Lifecycle: the constructor binds and listens (so port() is known at once); Serve() calls
@@ -35,7 +42,9 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -43,14 +52,16 @@
 
 #include "hybridtest/transfer/auth.h"
 #include "hybridtest/transfer/bench_faults.h"
-#include "hybridtest/transfer/handshake_queue.h"
 #include "hybridtest/transfer/frame.h"
 #include "hybridtest/transfer/safety.h"
 #include "hybridtest/transfer/safety_gate.h"
+#include "hybridtest/transfer/server_loop.h"
 #include "hybridtest/transfer/socket.h"
 #include "hybridtest/transfer/transfer_system.h"
 
 namespace hybridtest::transfer {
+
+inline constexpr std::uint32_t kMaxHelloPayload = 4096;  // a HELLO's payload. Unit: [bytes].
 
 struct BenchServerOptions {
   std::string host = "127.0.0.1";  // address to bind; non-loopback needs `token`
@@ -59,7 +70,8 @@ struct BenchServerOptions {
                                    // on loopback
   double heartbeat_timeout = 10.0; // a client silent this long is dropped. Unit: [s].
   double handshake_timeout = 2.0;  // a connection has this long to complete HELLO. Unit: [s].
-  std::size_t max_pending = 16;    // connections awaiting HELLO at once; the oldest is dropped
+  std::size_t max_connections = 16;  // connections at once, sessions and openings together
+                                     // (server_loop.h; OpenFresco too)
   double send_timeout = 2.0;       // longest wait to write one frame. Unit: [s].
   SafetyLimits limits;             // checked before every command. SI.
   // Actuator k's position before the first command, so that its increment is checked [m];
@@ -103,23 +115,30 @@ class BenchServer {
   void Stop() noexcept { stop_.store(true); }
 
   long commands_received() const { return commands_received_.load(); }  // lifetime count
+  long loop_turns() const { return loop_.turns(); }  // the loop's wake-ups (server_loop.h)
 
  private:
-  struct Session;
-  // Reads pending connection i; runs its session if its HELLO completes one. Returns true if
-  // a session ran (the queue was emptied).
-  bool AdvanceHandshake(std::size_t i);
-  void DropExpiredHandshakes();
-  void ServeSession(Session& session);
-  bool Handshake(Session& session, const Frame& hello);
+  struct Session {  // the state of one connection's session
+    std::uint64_t last_sequence = 0;  // of the last request accepted; the next must be + 1
+    bool refused = false;       // a safety refusal latched: every further COMMAND is refused
+    std::string refused_limit;  // the limit of that refusal
+    std::string refused_text;
+    std::string end;            // why the session ended, if its handler ended it (the log)
+  };
+  using Connection = ServerLoop::Connection;
+  // One complete frame of connection `c` (the codec's answer); false when it must end.
+  bool HandleBytes(Connection& c, std::span<const std::uint8_t> bytes);
+  void Closed(Connection& c, const ServerLoop::Closing& closing);
+  bool Handshake(Connection& c, Session& session, const Frame& hello);
   // Handles one frame of an open session; returns false when the session must end.
-  bool HandleFrame(Session& session, const Frame& frame);
-  bool AnswerFailedMove(Session& session, const Frame& frame, long n);
+  bool HandleFrame(Connection& c, Session& session, const Frame& frame);
+  bool AnswerFailedMove(Connection& c, Session& session, const Frame& frame, long n);
   // A COMMAND: one position per actuator.
-  bool HandleCommand(Session& session, const Frame& frame);
-  void RefuseBusyClient();
-  bool Send(Session& session, const Frame& frame);
-  void SendError(Session& session, std::uint32_t sequence, int code, const std::string& limit,
+  bool HandleCommand(Connection& c, Session& session, const Frame& frame);
+  // True if `c` may command (it claims the bench); else answers ERROR(BUSY).
+  bool Commands(Connection& c, const Frame& frame);
+  bool Send(Connection& c, const Frame& frame);
+  void SendError(Connection& c, std::uint32_t sequence, int code, const std::string& limit,
                  double value, double limit_value, const std::string& text);
   void Log(const std::string& line) const;
   void HoldBench(const std::string& why);  // bench_.Hold(), remembered in bench_held_
@@ -133,8 +152,9 @@ class BenchServer {
   Listener listener_;
   std::atomic<bool> stop_{false};
   std::atomic<long> commands_received_{0};
-  HandshakeQueue handshakes_;
   AuthThrottle auth_;
+  std::map<int, Session> sessions_;  // by connection id
+  ServerLoop loop_;  // connections, their limits and the commander
   bool bench_held_ = false;  // a COMMAND after a hold resumes the bench with Activate()
   std::vector<std::uint8_t> previous_measurement_;  // encoded, for the `duplicate` fault
 };

@@ -11,7 +11,6 @@
 #include <cerrno>
 
 #include "hybridtest/common/error.h"
-#include "hybridtest/transfer/handshake_queue.h"
 
 namespace hybridtest::transfer {
 namespace {
@@ -19,13 +18,22 @@ namespace {
 using Seconds = std::chrono::duration<double>;
 
 const ServerLoopLimits& Checked(const ServerLoopLimits& l) {
-  if (l.max_connections < 1 || l.max_frame_bytes < 1 || !(l.frame_timeout > 0.0) ||
-      !(l.idle_timeout > 0.0) || !(l.send_timeout > 0.0) || l.poll_ms < 1) {
+  if (l.max_connections < 1 || l.max_frame_bytes < 1 || !(l.handshake_timeout > 0.0) ||
+      !(l.frame_timeout > 0.0) || !(l.idle_timeout > 0.0) || !(l.send_timeout > 0.0) ||
+      l.poll_ms < 1) {
     throw ConfigError(fmt::format(
-        "server limits: max_connections = {}, max_frame_bytes = {}, frame_timeout = {} s, "
-        "idle_timeout = {} s, send_timeout = {} s, poll interval = {} ms: expected all positive",
-        l.max_connections, l.max_frame_bytes, l.frame_timeout, l.idle_timeout, l.send_timeout,
-        l.poll_ms));
+        "server limits: max_connections = {}, max_frame_bytes = {}, handshake_timeout = {} s, "
+        "frame_timeout = {} s, idle_timeout = {} s, send_timeout = {} s, poll interval = {} ms: "
+        "expected all positive",
+        l.max_connections, l.max_frame_bytes, l.handshake_timeout, l.frame_timeout,
+        l.idle_timeout, l.send_timeout, l.poll_ms));
+  }
+  return l;
+}
+
+ServerLoopLimits WithOpeningBound(ServerLoopLimits l) {
+  if (l.max_opening_bytes == 0 || l.max_opening_bytes > l.max_frame_bytes) {
+    l.max_opening_bytes = l.max_frame_bytes;
   }
   return l;
 }
@@ -35,7 +43,7 @@ const ServerLoopLimits& Checked(const ServerLoopLimits& l) {
 ServerLoop::ServerLoop(Listener& listener, ServerLoopLimits limits, Measure measure,
                        Handler handler, std::function<void(const std::string&)> log)
     : listener_(listener),
-      limits_(Checked(limits)),
+      limits_(WithOpeningBound(Checked(limits))),
       measure_(std::move(measure)),
       handler_(std::move(handler)),
       log_(std::move(log)) {}
@@ -50,8 +58,14 @@ void ServerLoop::Serve(const std::atomic<bool>& stop) {
 }
 
 void ServerLoop::CloseAll(const std::string& why) {
-  for (Connection& c : connections_) Close(c, why);
+  for (Connection& c : connections_) Close(c, CloseCause::kStopping, why);
   connections_.clear();
+}
+
+void ServerLoop::CloseWaiting(int except, const std::string& why) {
+  for (Connection& c : connections_) {
+    if (!c.established && c.id != except) Close(c, CloseCause::kByHandler, why);
+  }
 }
 
 bool ServerLoop::Send(Connection& c, const std::vector<std::uint8_t>& bytes) const {
@@ -67,26 +81,36 @@ void ServerLoop::Release(int id) {
   if (commander_ == id) commander_ = 0;
 }
 
-void ServerLoop::Close(Connection& c, const std::string& why) {
+void ServerLoop::Close(Connection& c, CloseCause cause, const std::string& why) {
   if (!c.socket.is_open()) return;
+  Closing closing;
+  closing.cause = cause;
+  closing.why = why;
+  closing.commander = c.id == commander_;
+  if (closing.commander) commander_ = 0;
+  closing.another_commands = commander_ != 0;
+  if (handler_.closed) handler_.closed(c, closing);
   c.socket.Close();
-  const bool commander = c.id == commander_;
-  if (commander) commander_ = 0;
-  if (handler_.closed) handler_.closed(c, why, commander);
 }
 
 bool ServerLoop::Evict(const std::string& why) {
-  Connection* oldest = nullptr;
+  // Waiting for its opening first (oldest accept), else the longest-silent reader.
+  Connection* victim = nullptr;
+  const auto before = [](const Connection& a, const Connection& b) {
+    if (a.established != b.established) return !a.established;
+    return a.established ? a.last_seen < b.last_seen : a.accepted < b.accepted;
+  };
   for (Connection& c : connections_) {
     if (!c.socket.is_open() || c.id == commander_) continue;
-    if (oldest == nullptr || c.last_seen < oldest->last_seen) oldest = &c;
+    if (victim == nullptr || before(c, *victim)) victim = &c;
   }
-  if (oldest == nullptr) return false;
-  Close(*oldest, why);
+  if (victim == nullptr) return false;
+  Close(*victim, CloseCause::kMakeRoom, why);
   return true;
 }
 
 void ServerLoop::Turn() {
+  ++turns_;
   const auto now0 = Clock::now();
   const bool listen = now0 >= accept_paused_until_;
   std::vector<pollfd> fds;
@@ -101,11 +125,18 @@ void ServerLoop::Turn() {
     Connection& c = connections_[i - 1];
     if (fds[i].revents != 0 && c.socket.is_open()) Read(c, now);
     if (!c.socket.is_open()) continue;
-    if (!c.buffer.empty() && Seconds(now - c.frame_started).count() > limits_.frame_timeout) {
-      Close(c, fmt::format("incomplete frame: {} bytes arrived, the rest not within {} s of the "
-                           "first (frame timeout)", c.buffer.size(), limits_.frame_timeout));
+    if (!c.established && Seconds(now - c.accepted).count() > limits_.handshake_timeout) {
+      Close(c, CloseCause::kHandshakeTimeout,
+            fmt::format("no complete opening within {} s of connecting ({} bytes arrived; "
+                        "handshake timeout)", limits_.handshake_timeout, c.buffer.size()));
+    } else if (!c.buffer.empty() &&
+               Seconds(now - c.frame_started).count() > limits_.frame_timeout) {
+      Close(c, CloseCause::kFrameTimeout,
+            fmt::format("incomplete frame: {} bytes arrived, the rest not within {} s of the "
+                        "first (frame timeout)", c.buffer.size(), limits_.frame_timeout));
     } else if (Seconds(now - c.last_seen).count() > limits_.idle_timeout) {
-      Close(c, fmt::format("silent for {} s (idle timeout)", limits_.idle_timeout));
+      Close(c, CloseCause::kIdleTimeout,
+            fmt::format("silent for {} s (idle timeout)", limits_.idle_timeout));
     }
   }
   std::erase_if(connections_, [](const Connection& c) { return !c.socket.is_open(); });
@@ -115,9 +146,9 @@ void ServerLoop::Turn() {
 void ServerLoop::Accept(Clock::time_point now) {
   int fd = ::accept4(listener_.fd(), nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
   if (fd < 0 && (errno == EMFILE || errno == ENFILE)) {
-    // The file limit: make room by closing the longest-silent reader, else leave the listener
+    // The file limit: make room (Evict), else leave the listener
     // alone for one poll interval (polling it again at once would spin).
-    if (Evict("closed to make room: the server is at its file limit")) {
+    if (Evict("closed to make room: the server is at its file limit (EMFILE)")) {
       fd = ::accept4(listener_.fd(), nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
     }
     if (fd < 0) {
@@ -134,8 +165,8 @@ void ServerLoop::Accept(Clock::time_point now) {
   ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
   std::erase_if(connections_, [](const Connection& c) { return !c.socket.is_open(); });
   if (connections_.size() >= limits_.max_connections &&
-      !Evict(fmt::format("closed to make room: {} connections at once (the bound)",
-                         limits_.max_connections))) {
+      !Evict(fmt::format("closed to make room: {} connections at once (the bound); this one "
+                         "waited longest", limits_.max_connections))) {
     ++refused_;
     Log(fmt::format("refused a connection from {}: {} connections at once (the bound)",
                     PeerAddress(fd), limits_.max_connections));
@@ -146,20 +177,30 @@ void ServerLoop::Accept(Clock::time_point now) {
   c.socket = std::move(s);
   c.id = next_id_++;
   c.peer = PeerAddress(fd);
+  c.accepted = now;
   c.last_seen = now;
   connections_.push_back(std::move(c));
-  if (handler_.opened) handler_.opened(connections_.back());
+  Connection& added = connections_.back();
+  if (handler_.opened && !handler_.opened(added)) {
+    ++refused_;
+    Close(added, CloseCause::kRefused, "refused when it opened");
+  }
 }
 
 void ServerLoop::Read(Connection& c, Clock::time_point now) {
   // At most up to the bound: the buffer never holds more than max_frame_bytes.
   std::uint8_t chunk[4096];
-  const std::size_t room = limits_.max_frame_bytes - c.buffer.size();
+  const std::size_t bound = c.established ? limits_.max_frame_bytes : limits_.max_opening_bytes;
+  const std::size_t room = bound - std::min(bound, c.buffer.size());
+  if (room == 0) {
+    return Close(c, CloseCause::kTooLong,
+                 fmt::format("{} bytes buffered without a complete frame (the bound)", bound));
+  }
   const ssize_t got = ::recv(c.socket.fd(), chunk, std::min(room, sizeof chunk), 0);
-  if (got == 0) return Close(c, "connection closed");
+  if (got == 0) return Close(c, CloseCause::kPeerLeft, "connection closed by the client");
   if (got < 0) {
     if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return;
-    return Close(c, "connection reset");
+    return Close(c, CloseCause::kPeerLeft, "connection reset by the client");
   }
   if (c.buffer.empty()) c.frame_started = now;
   c.last_seen = now;
@@ -167,20 +208,22 @@ void ServerLoop::Read(Connection& c, Clock::time_point now) {
   while (!c.buffer.empty() && c.socket.is_open()) {
     std::size_t size = 0;
     try {
-      size = measure_(c.buffer);
+      size = measure_(c, c.buffer);
     } catch (const TransferError& e) {
-      return Close(c, fmt::format("garbled frame: {}", e.what()));
+      return Close(c, CloseCause::kGarbled, e.what());
     }
-    if (size > limits_.max_frame_bytes) {
-      return Close(c, fmt::format("a frame of {} bytes: longer than the {} bytes a frame may "
-                                  "have", size, limits_.max_frame_bytes));
+    const std::size_t most = c.established ? limits_.max_frame_bytes : limits_.max_opening_bytes;
+    if (size > most) {
+      return Close(c, CloseCause::kTooLong,
+                   fmt::format("a {} of {} bytes: longer than the {} bytes it may have",
+                               c.established ? "frame" : "opening", size, most));
     }
     if (c.buffer.size() < size) return;  // the rest has not arrived yet
     const std::vector<std::uint8_t> frame(c.buffer.begin(),
                                           c.buffer.begin() + static_cast<std::ptrdiff_t>(size));
     c.buffer.erase(c.buffer.begin(), c.buffer.begin() + static_cast<std::ptrdiff_t>(size));
     c.frame_started = now;
-    if (!handler_.frame(c, frame)) return Close(c, "closed by the server");
+    if (!handler_.frame(c, frame)) return Close(c, CloseCause::kByHandler, "closed by the server");
   }
 }
 

@@ -19,6 +19,23 @@
 #include "hybridtest/common/error.h"
 
 namespace hybridtest::transfer {
+
+std::string PeerAddress(int fd) {
+  sockaddr_storage address{};
+  socklen_t length = sizeof(address);
+  if (getpeername(fd, reinterpret_cast<sockaddr*>(&address), &length) != 0) return "unknown";
+  char text[INET6_ADDRSTRLEN] = {};
+  const void* raw = nullptr;
+  if (address.ss_family == AF_INET) {
+    raw = &reinterpret_cast<const sockaddr_in*>(&address)->sin_addr;
+  } else if (address.ss_family == AF_INET6) {
+    raw = &reinterpret_cast<const sockaddr_in6*>(&address)->sin6_addr;
+  }
+  if (raw == nullptr || inet_ntop(address.ss_family, raw, text, sizeof(text)) == nullptr) {
+    return "unknown";
+  }
+  return text;
+}
 namespace {
 
 using Clock = std::chrono::steady_clock;

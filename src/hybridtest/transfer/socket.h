@@ -64,6 +64,10 @@ class Listener {
   std::uint16_t port_ = 0;
 };
 
+// The numeric address of the peer of a connected socket ("127.0.0.1", "::1"); "unknown" if it
+// cannot be read.
+std::string PeerAddress(int fd);
+
 enum class ReadStatus { kFrame, kTimeout, kClosed };
 
 // Writes all bytes, waiting up to `timeout` [s] in total. Returns false if the peer closed the

@@ -440,13 +440,13 @@ TEST(OpenFrescoServer, PendingConnectionsAreBounded) {
   FakeBench bench;
   BenchServerOptions o;
   o.handshake_timeout = 30.0;
-  o.max_pending = 2;
+  o.max_connections = 2;
   ServerThread server(bench, UnitSetup(), o);
   RawPeer first(server.port());
   RawPeer second(server.port());
   RawPeer third(server.port());
   EXPECT_TRUE(first.ClosedByPeer());  // the oldest makes room
-  EXPECT_TRUE(server.Logged("2 connections await their header: dropped the oldest"));
+  EXPECT_TRUE(server.Logged("to make room: 2 connections at once"));
   ClientOptions co;
   co.port = server.port();
   Client client(co);

@@ -20,7 +20,7 @@ using Clock = std::chrono::steady_clock;
 constexpr std::size_t kMaxMessage = kPrefixSize + (1u << 16);
 
 // The codec for the ServerLoop: a message is the 6-byte prefix and `length` bytes after it.
-std::size_t MessageSize(std::span<const std::uint8_t> bytes) {
+std::size_t MessageSize(const ServerLoop::Connection&, std::span<const std::uint8_t> bytes) {
   if (bytes.size() < kPrefixSize) return kPrefixSize;
   return kPrefixSize + DecodePrefix(bytes.first(kPrefixSize)).length;
 }
@@ -116,10 +116,15 @@ AdsServer::AdsServer(TransferSystem& bench, AdsServerOptions options)
                             ? static_cast<int>(options_.cycle_time * 1000.0)
                             : 100},
             MessageSize,
-            {.opened = [this](Client& c) { Log(fmt::format("client {} connected from {}", c.id, c.peer)); },
+            {.opened =
+                 [this](Client& c) {
+                   c.established = true;  // ADS has no opening: every packet stands alone
+                   Log(fmt::format("client {} connected from {}", c.id, c.peer));
+                   return true;
+                 },
              .frame = [this](Client& c, std::span<const std::uint8_t> m) { return HandleMessage(c, m); },
-             .closed = [this](const Client& c, const std::string& why, bool commander) {
-               Closed(c, why, commander);
+             .closed = [this](const Client& c, const ServerLoop::Closing& closing) {
+               Closed(c, closing.why, closing.commander);
              }},
             [this](const std::string& line) { Log(line); }) {
   options_.profile.actuators = bench.num_actuators();

@@ -139,6 +139,7 @@ class AdsServer {
 
   long commands_received() const { return commands_received_; }
   long refused_connections() const { return loop_.refused_connections(); }
+  long loop_turns() const { return loop_.turns(); }  // the loop's wake-ups (server_loop.h)
 
  private:
   using Client = ServerLoop::Connection;

@@ -3,21 +3,19 @@
 
 #include <Eigen/Core>
 #include <fmt/core.h>
-#include <poll.h>
 
 #include <chrono>
 #include <cmath>
 #include <cstring>
 
 #include "hybridtest/common/error.h"
-#include "hybridtest/transfer/handshake_queue.h"
 #include "hybridtest/transfer/openfresco/server_session.h"
+#include "hybridtest/transfer/openfresco/wire.h"
 
 namespace hybridtest::transfer::openfresco {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr int kPollIntervalMs = 100;
 
 // The bind policy of BenchServer (auth.h), positive timeouts, no test faults.
 BenchServerOptions CheckOptions(BenchServerOptions options) {
@@ -47,7 +45,31 @@ Server::Server(TransferSystem& bench, ExpSetup setup, BenchServerOptions options
       gate_(std::vector<SafetyLimits>(static_cast<std::size_t>(std::max(setup_.actuators, 1)),
                                       options_.limits)),
       listener_(options_.host, options_.port),
-      handshakes_(options_.max_pending, options_.handshake_timeout, OpeningSize) {
+      loop_(listener_,
+            {.max_connections = options_.max_connections,
+             .max_frame_bytes = static_cast<std::size_t>(kMaxDataSize) * 8,
+             .max_opening_bytes = 8 + kMaxTokenBytes + kHeaderBytes,
+             .handshake_timeout = options_.handshake_timeout,
+             .frame_timeout = options_.heartbeat_timeout,
+             .idle_timeout = options_.heartbeat_timeout,
+             .send_timeout = options_.send_timeout},
+            [this](const Connection& c, std::span<const std::uint8_t> bytes) {
+              return Measure(c, bytes);
+            },
+            {.opened =
+                 [this](Connection& c) {
+                   if (loop_.commander() == 0) return true;
+                   Log(fmt::format("refused a second client from {}: one OpenFresco session at "
+                                   "a time", c.peer));
+                   return false;
+                 },
+             .frame = [this](Connection& c, std::span<const std::uint8_t> bytes) {
+               return HandleBytes(c, bytes);
+             },
+             .closed = [this](Connection& c, const ServerLoop::Closing& closing) {
+               Closed(c, closing);
+             }},
+            [this](const std::string& line) { Log(line); }) {
   ValidateSetup(setup_);
   if (bench_.num_actuators() != setup_.actuators) {
     throw ConfigError(fmt::format("openfresco: the transform has {} rows, the bench moves {} "
@@ -78,157 +100,152 @@ void Server::HoldBench(const std::string& why) {
   Log(fmt::format("holding: {}", why));
 }
 
+Server::~Server() = default;
+
 void Server::Serve() {
   bench_.Activate();
   Log(fmt::format("serving {} to OpenFresco clients on {} (n = {})", bench_.Describe(),
                   address(), setup_.dofs()));
-  while (!stop_.load()) {
-    ServeOpeningsTurn(
-        listener_, handshakes_, kPollIntervalMs, stop_,
-        [this](std::size_t i) { return AdvanceHandshake(i); },
-        [this] { DropExpiredHandshakes(); },
-        [this](const std::string& evicted) {
-          Log(fmt::format("{} connections await their header: dropped the oldest, from {}",
-                          options_.max_pending, evicted));
-        });
-  }
-  handshakes_.TakeAll();
+  loop_.Serve(stop_);
   HoldBench("server stopping");
   bench_.Deactivate();
   Log("stopped");
 }
 
-bool Server::AdvanceHandshake(std::size_t i) {
-  std::vector<std::uint8_t> opening;
-  HandshakeQueue::Progress progress = HandshakeQueue::Progress::kWaiting;
-  try {
-    progress = handshakes_.ReadOpening(i, opening);
-  } catch (const TransferError& e) {
-    const HandshakeQueue::Pending p = handshakes_.Take(i);
-    Log(fmt::format("ERROR: {} (from {})", e.what(), p.peer));
-    HoldBench("session not opened");
+std::size_t Server::Measure(const Connection& c, std::span<const std::uint8_t> bytes) const {
+  if (!c.established) return OpeningSize(bytes);
+  return static_cast<std::size_t>(session_->header.data_size) * 8;
+}
+
+bool Server::HandleBytes(Connection& c, std::span<const std::uint8_t> bytes) {
+  if (c.established) return HandleMessage(c, *session_, DecodeMessage(bytes));
+  std::unique_ptr<Session> opened = OpenSession(c, bytes);
+  if (opened == nullptr) {
+    if (loop_.commander() == 0) HoldBench("session not opened");
     return false;
   }
-  if (progress == HandshakeQueue::Progress::kWaiting) return false;
-  HandshakeQueue::Pending p = handshakes_.Take(i);
-  if (progress == HandshakeQueue::Progress::kClosed) {
-    Log(fmt::format("a connection from {} left before its header was complete ({} bytes)",
-                    p.peer, p.bytes.size()));
+  if (!loop_.Claim(c.id)) {  // its opening completed while another session is open
+    Log(fmt::format("refused a second client from {}: one OpenFresco session at a time",
+                    c.peer));
     return false;
   }
-  Session session(std::move(p.socket), p.peer);
-  if (!OpenSession(session, opening)) {
-    HoldBench("session not opened");
-    return false;
-  }
-  // One session at a time: whoever else is waiting is closed.
-  for (const HandshakeQueue::Pending& other : handshakes_.TakeAll()) {
-    Log(fmt::format("refused a waiting connection from {}: one OpenFresco session at a time",
-                    other.peer));
-  }
+  session_ = std::move(opened);
+  session_id_ = c.id;
+  c.established = true;
   ++sessions_;
-  ServeClient(session);
+  // One session at a time: whoever else is waiting is closed.
+  loop_.CloseWaiting(c.id, "one OpenFresco session at a time");
   return true;
 }
 
-void Server::DropExpiredHandshakes() {
-  for (const HandshakeQueue::Pending& p : handshakes_.TakeExpired(Clock::now())) {
-    Log(fmt::format("ERROR: incomplete header from {}: {} bytes of the opening arrived within "
-                    "{} s of connecting (handshake timeout); closed",
-                    p.peer, p.bytes.size(), options_.handshake_timeout));
-  }
-}
-
-void Server::RefuseBusyClient() {
-  Socket other = listener_.Accept(0.0);
-  if (other.is_open()) {
-    Log(fmt::format("refused a second client from {}: one OpenFresco session at a time",
-                    PeerAddress(other.fd())));
-  }
-}
-
-bool Server::Reply(Session& session, const std::vector<double>& values) {
-  return SendAll(session.client.fd(), EncodeMessage(values, session.header.data_size),
-                 options_.send_timeout);
-}
-
-void Server::ServeClient(Session& session) {
-  const double timeout = options_.heartbeat_timeout;
-  const std::size_t message_bytes = static_cast<std::size_t>(session.header.data_size) * 8;
-  auto last_message = Clock::now();
-  while (!stop_.load()) {
-    pollfd fds[2] = {{session.client.fd(), POLLIN, 0}, {listener_.fd(), POLLIN, 0}};
-    poll(fds, 2, kPollIntervalMs);
-    if (fds[1].revents & POLLIN) RefuseBusyClient();
-    if (fds[0].revents & (POLLIN | POLLHUP | POLLERR)) {
-      std::vector<std::uint8_t> bytes(message_bytes);
-      const ReadStatus status = ReadBytes(session.client.fd(), timeout, bytes);
-      if (status == ReadStatus::kClosed) return HoldBench("client disconnected");
-      if (status == ReadStatus::kTimeout) {
-        Log(fmt::format("ERROR: incomplete message: {} bytes (dataSize {} × 8) did not arrive "
-                        "within {} s", message_bytes, session.header.data_size, timeout));
-        return HoldBench("client timed out mid-message");
+void Server::Closed(Connection& c, const ServerLoop::Closing& closing) {
+  std::string hold;  // why the bench holds; empty: it does not
+  switch (closing.cause) {
+    case CloseCause::kPeerLeft:
+      if (c.established) {
+        hold = "client disconnected";
+      } else {
+        Log(fmt::format("a connection from {} left before its header was complete ({} bytes)",
+                        c.peer, c.buffer.size()));
       }
-      last_message = Clock::now();
-      if (!HandleMessage(session, DecodeMessage(bytes))) return;
-      continue;
-    }
-    if (Clock::now() - last_message > std::chrono::duration<double>(timeout)) {
-      Log(fmt::format("ERROR: no message for {} s (--heartbeat-timeout)", timeout));
-      return HoldBench("client silent beyond the heartbeat timeout");
-    }
+      break;
+    case CloseCause::kHandshakeTimeout:
+    case CloseCause::kFrameTimeout:
+      if (c.established) {
+        Log(fmt::format("ERROR: incomplete message: {} bytes (dataSize {} × 8) did not arrive "
+                        "within {} s", static_cast<std::size_t>(session_->header.data_size) * 8,
+                        session_->header.data_size, options_.heartbeat_timeout));
+        hold = "client timed out mid-message";
+      } else {
+        Log(fmt::format("ERROR: incomplete header from {}: {} bytes of the opening arrived "
+                        "within {} s of connecting (handshake timeout); closed",
+                        c.peer, c.buffer.size(), options_.handshake_timeout));
+      }
+      break;
+    case CloseCause::kIdleTimeout:
+      Log(fmt::format("ERROR: no message for {} s (--heartbeat-timeout)",
+                      options_.heartbeat_timeout));
+      hold = "client silent beyond the heartbeat timeout";
+      break;
+    case CloseCause::kGarbled:
+    case CloseCause::kTooLong:
+      Log(fmt::format("ERROR: {} (from {})", closing.why, c.peer));
+      hold = "session not opened";
+      break;
+    case CloseCause::kMakeRoom:
+      Log(fmt::format("closed a connection from {}: {}", c.peer, closing.why));
+      break;
+    case CloseCause::kByHandler:
+      if (!c.established && closing.why == "one OpenFresco session at a time") {
+        Log(fmt::format("refused a waiting connection from {}: {}", c.peer, closing.why));
+      }
+      break;  // the handler logged and held
+    case CloseCause::kRefused:
+    case CloseCause::kStopping:
+      break;
   }
-  HoldBench("server stopping");
+  // A connection that never opened a session never holds the bench another client commands.
+  if (!hold.empty() && !closing.another_commands) HoldBench(hold);
+  if (c.id == session_id_) {
+    session_.reset();
+    session_id_ = 0;
+  }
 }
 
-bool Server::OpenSession(Session& session, const std::vector<std::uint8_t>& bytes) {
+bool Server::Reply(Connection& c, Session& session, const std::vector<double>& values) {
+  return loop_.Send(c, EncodeMessage(values, session.header.data_size));
+}
+
+std::unique_ptr<Server::Session> Server::OpenSession(const Connection& c,
+                                                    std::span<const std::uint8_t> bytes) {
   Opening opening;
   try {
     opening = DecodeOpening(bytes);
   } catch (const TransferError& e) {
-    Log(fmt::format("ERROR: {} (from {})", e.what(), session.peer));
-    return false;
+    Log(fmt::format("ERROR: {} (from {})", e.what(), c.peer));
+    return nullptr;
   }
   // The token rules of BenchServer (auth.h): constant-time comparison, lockout per address
   // block, a global budget of wrong tokens.
   const auto now = Clock::now();
-  if (const auto verdict = auth_.Check(session.peer, now);
+  if (const auto verdict = auth_.Check(c.peer, now);
       verdict != AuthThrottle::Verdict::kAllowed) {
-    Log("ERROR: " + AuthThrottle::RefusalText(verdict, session.peer));
-    return false;
+    Log("ERROR: " + AuthThrottle::RefusalText(verdict, c.peer));
+    return nullptr;
   }
   if (!TokensEqual(opening.token, options_.token)) {
     ++auth_failures_;
-    if (auth_.RecordFailure(session.peer, now)) {
+    if (auth_.RecordFailure(c.peer, now)) {
       Log(fmt::format("auth lockout: {} wrong tokens from block {} (last from {}); its sessions "
                       "are refused for {} s", AuthThrottle::kMaxFailures,
-                      AddressBlock(session.peer), session.peer, AuthThrottle::kLockout.count()));
+                      AddressBlock(c.peer), c.peer, AuthThrottle::kLockout.count()));
     }
     Log(opening.token.empty()
             ? fmt::format("ERROR: this bench requires a token and the client sent none (from "
                           "{}; the hybridtest token preamble; see docs/openfresco.md)",
-                          session.peer)
+                          c.peer)
             : fmt::format("ERROR: wrong token from {}: the client's token does not match the "
-                          "bench's (--token-file / HYBRIDTEST_BENCH_TOKEN)", session.peer));
-    return false;
+                          "bench's (--token-file / HYBRIDTEST_BENCH_TOKEN)", c.peer));
+    return nullptr;
   }
-  auth_.RecordSuccess(session.peer);
-  session.header = opening.header;
+  auth_.RecordSuccess(c.peer);
+  auto session = std::make_unique<Session>();
+  session->header = opening.header;
   try {
-    ValidateHeader(session.header);
+    ValidateHeader(session->header);
   } catch (const TransferError& e) {
     Log(fmt::format("ERROR: {}", e.what()));
-    return false;
+    return nullptr;
   }
-  if (session.header.dofs() != setup_.dofs()) {
+  if (session->header.dofs() != setup_.dofs()) {
     Log(fmt::format("ERROR: the client's element has n = {} degrees of freedom, the setup's "
                     "transform has {} columns (openfresco.transform)",
-                    session.header.dofs(), setup_.dofs()));
-    return false;
+                    session->header.dofs(), setup_.dofs()));
+    return nullptr;
   }
-  Log(fmt::format("OpenFresco client connected from {}: n = {}, dataSize = {}", session.peer,
-                  setup_.dofs(), session.header.data_size));
-  return true;
+  Log(fmt::format("OpenFresco client connected from {}: n = {}, dataSize = {}", c.peer,
+                  setup_.dofs(), session->header.data_size));
+  return session;
 }
 
 }  // namespace hybridtest::transfer::openfresco

@@ -26,12 +26,14 @@
 //    wrong or missing tokens from one address block — IPv4 /24, IPv6 /64 — lock that block out
 //    for a minute, and a global budget bounds wrong tokens from all addresses together; see
 //    auth.h). OpenSees sends no preamble: reach a remote bench through a tunnel.
-//  - openings are read concurrently and without blocking (HandshakeQueue): every accepted
-//    connection has handshake_timeout [s] to deliver its preamble and header, so an idle or
-//    slow peer never delays another client; at most max_pending wait at once (the oldest is
-//    dropped). When one opening completes and is accepted, its session starts and every other
-//    waiting connection is closed: one session at a time; a connection during a session is
-//    logged and closed at once.
+//  - connections are served by the shared ServerLoop (server_loop.h) with its limits: every
+//    accepted connection has handshake_timeout [s] to deliver its preamble and header, read
+//    without blocking, so an idle, slow or dripping peer never delays another client; a begun
+//    message must be complete within heartbeat_timeout; at most max_connections at once (one
+//    more closes the one that waited longest for its header); the process's file limit never
+//    makes it spin. The session whose opening is accepted commands (the protocol has no
+//    reads without a session): every other waiting connection is then closed, and a
+//    connection during a session is logged and closed at once — one session at a time.
 //  - a trial is executed only while its client is still connected: a trial read after the
 //    client has closed or reset its end (it gave up waiting, or vanished) is logged, never
 //    executed, and puts the bench in Hold().
@@ -51,16 +53,17 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "hybridtest/transfer/auth.h"
 #include "hybridtest/transfer/bench_server.h"
-#include "hybridtest/transfer/handshake_queue.h"
 #include "hybridtest/transfer/openfresco/setup.h"
 #include "hybridtest/transfer/openfresco/wire.h"
 #include "hybridtest/transfer/safety.h"
 #include "hybridtest/transfer/safety_gate.h"
+#include "hybridtest/transfer/server_loop.h"
 #include "hybridtest/transfer/socket.h"
 #include "hybridtest/transfer/transfer_system.h"
 
@@ -69,7 +72,7 @@ namespace hybridtest::transfer::openfresco {
 class Server {
  public:
   // Binds and listens. Uses host, port, token, heartbeat_timeout, handshake_timeout,
-  // max_pending, send_timeout, limits, start_position(s), initial_stiffness (default: the
+  // max_connections, send_timeout, limits, start_position(s), initial_stiffness (default: the
   // setup's K0), actuator_stiffness (default: the setup's K_a) and log of `options`.
   // Throws ConfigError for a non-loopback host without a token, an invalid setup, inconsistent
   // limits or test faults (they belong to the hybridtest protocol); TransferError if the
@@ -77,6 +80,7 @@ class Server {
   Server(TransferSystem& bench, ExpSetup setup, BenchServerOptions options);
   Server(const Server&) = delete;
   Server& operator=(const Server&) = delete;
+  ~Server();
 
   std::uint16_t port() const { return listener_.port(); }
   std::string address() const;  // "HOST:PORT"
@@ -91,20 +95,22 @@ class Server {
   long sessions_served() const { return sessions_.load(); }      // lifetime count
   long trials_executed() const { return trials_.load(); }        // lifetime count
   long auth_failures() const { return auth_failures_.load(); }   // wrong tokens compared
+  long loop_turns() const { return loop_.turns(); }  // the loop's wake-ups (server_loop.h)
 
  private:
   struct Session;
-  // Reads pending connection i; runs its session if its opening is accepted. Returns true if
-  // a session ran (the queue was emptied).
-  bool AdvanceHandshake(std::size_t i);
-  void DropExpiredHandshakes();
-  void ServeClient(Session& session);
-  bool OpenSession(Session& session, const std::vector<std::uint8_t>& opening);  // token, header
-  bool HandleMessage(Session& session, const std::vector<double>& message);
-  bool HandleTrial(Session& session, const std::vector<double>& message);
-  bool Reply(Session& session, const std::vector<double>& values);
+  using Connection = ServerLoop::Connection;
+  // The codec: the opening's size (wire.h), then dataSize × 8 bytes per message.
+  std::size_t Measure(const Connection& c, std::span<const std::uint8_t> bytes) const;
+  // One complete opening or message of `c`; false when its connection must end.
+  bool HandleBytes(Connection& c, std::span<const std::uint8_t> bytes);
+  void Closed(Connection& c, const ServerLoop::Closing& closing);
+  // Token and header; the session, or null (logged) when the opening is refused.
+  std::unique_ptr<Session> OpenSession(const Connection& c, std::span<const std::uint8_t> bytes);
+  bool HandleMessage(Connection& c, Session& session, const std::vector<double>& message);
+  bool HandleTrial(Connection& c, Session& session, const std::vector<double>& message);
+  bool Reply(Connection& c, Session& session, const std::vector<double>& values);
   std::vector<double> DaqResponse(const Session& session) const;
-  void RefuseBusyClient();
   void HoldBench(const std::string& why);
   void Log(const std::string& line) const;
 
@@ -121,8 +127,10 @@ class Server {
   std::atomic<long> sessions_{0};
   std::atomic<long> trials_{0};
   std::atomic<long> auth_failures_{0};
-  HandshakeQueue handshakes_;
   AuthThrottle auth_;
+  std::unique_ptr<Session> session_;  // the open session (its connection commands), or null
+  int session_id_ = 0;                // its connection's id
+  ServerLoop loop_;  // connections, their limits and the commander
   bool bench_held_ = false;
 };
 

@@ -21,38 +21,39 @@ bool PeerHasLeft(int fd) {
 
 }  // namespace
 
-bool Server::HandleMessage(Session& session, const std::vector<double>& message) {
+bool Server::HandleMessage(Connection& c, Session& session,
+                           const std::vector<double>& message) {
   const int n = setup_.dofs();
   const int action = ActionOf(message);
   switch (action) {
     case static_cast<int>(Action::kSetTrialResponse):
-      return HandleTrial(session, message);
+      return HandleTrial(c, session, message);
     case static_cast<int>(Action::kCommitState):
       return true;
     case static_cast<int>(Action::kGetDaqResponse):
-      return Reply(session, DaqResponse(session));
+      return Reply(c, session, DaqResponse(session));
     case static_cast<int>(Action::kGetDisp):
-      if (!session.measured) return Reply(session, std::vector<double>(n, 0.0));
-      return Reply(session, ElementDisplacement(setup_, session.offsets));
+      if (!session.measured) return Reply(c, session, std::vector<double>(n, 0.0));
+      return Reply(c, session, ElementDisplacement(setup_, session.offsets));
     case static_cast<int>(Action::kGetVel):
-      return Reply(session, session.trial_vel.empty()
+      return Reply(c, session, session.trial_vel.empty()
                                 ? std::vector<double>(n, 0.0)
                                 : ProjectOnActuators(setup_, session.trial_vel));
     case static_cast<int>(Action::kGetAccel):
-      return Reply(session, session.trial_accel.empty()
+      return Reply(c, session, session.trial_accel.empty()
                                 ? std::vector<double>(n, 0.0)
                                 : ProjectOnActuators(setup_, session.trial_accel));
     case static_cast<int>(Action::kGetForce):
-      return Reply(session, session.measured ? ElementForces(setup_, session.forces)
+      return Reply(c, session, session.measured ? ElementForces(setup_, session.forces)
                                              : std::vector<double>(n, 0.0));
     case static_cast<int>(Action::kGetTime):
-      return Reply(session, {session.lab_time});
+      return Reply(c, session, {session.lab_time});
     case static_cast<int>(Action::kGetInitialStiff):
     case static_cast<int>(Action::kGetTangentStiff):
-      return Reply(session, ElementStiffness(setup_));
+      return Reply(c, session, ElementStiffness(setup_));
     case static_cast<int>(Action::kGetDamp):
     case static_cast<int>(Action::kGetMass):
-      return Reply(session, std::vector<double>(static_cast<std::size_t>(n) * n, 0.0));
+      return Reply(c, session, std::vector<double>(static_cast<std::size_t>(n) * n, 0.0));
     case static_cast<int>(Action::kShutdown):
       HoldBench("client sent shutdown (98)");
       return false;
@@ -67,13 +68,14 @@ bool Server::HandleMessage(Session& session, const std::vector<double>& message)
   }
 }
 
-bool Server::HandleTrial(Session& session, const std::vector<double>& message) {
+bool Server::HandleTrial(Connection& c, Session& session,
+                         const std::vector<double>& message) {
   const auto& size = session.header.size_ctrl;
   // A trial whose client is gone (it gave up waiting, or vanished) is stale: never executed.
-  if (PeerHasLeft(session.client.fd())) {
+  if (PeerHasLeft(c.socket.fd())) {
     Log(fmt::format("ERROR: trial {} not executed: the client at {} has closed its connection "
                     "(a trial whose client is gone never moves the bench)", trials_.load() + 1,
-                    session.peer));
+                    c.peer));
     HoldBench("client left before its trial was executed");
     return false;
   }

@@ -1,6 +1,6 @@
 #pragma once
 // The state of one OpenFresco session (server.h), shared by the server's files: server.cc
-// (openings, the session loop) and server_messages.cc (the actions of a session). Internal.
+// (openings, the connections) and server_messages.cc (the actions of a session). Internal.
 #include <string>
 #include <vector>
 
@@ -9,10 +9,6 @@
 namespace hybridtest::transfer::openfresco {
 
 struct Server::Session {
-  Session(Socket socket, std::string peer_address)
-      : client(std::move(socket)), peer(std::move(peer_address)) {}
-  Socket client;
-  std::string peer;                  // the client's address (auth throttle, logs)
   Header header;
   std::vector<double> trial_vel;     // last trial velocities (wire units), n or empty
   std::vector<double> trial_accel;   // last trial accelerations (wire units), n or empty

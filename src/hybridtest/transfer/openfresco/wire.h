@@ -113,7 +113,7 @@ struct Opening {
 
 // The total number of bytes of the opening that begins with `bytes` (which may be incomplete):
 // 4 until the first word is known, then 44 (no preamble) or 8 + L + 44 once L is known. A
-// server reads that many bytes without blocking (HandshakeQueue::Measure). Throws
+// server reads that many bytes without blocking (ServerLoop::Measure). Throws
 // TransferError for a preamble length outside 1..kMaxTokenBytes.
 std::size_t OpeningSize(std::span<const std::uint8_t> bytes);
 
