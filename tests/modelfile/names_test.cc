@@ -2,6 +2,7 @@
 // name a model file declares is checked where it is read, and one that could carry C, Python
 // or LaTeX into generated text is refused at its file:line with the rule and a fix. Before
 // the rule these files built (and check-model passed them).
+#include <fmt/core.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -18,6 +19,7 @@ namespace {
 
 using ::testing::AllOf;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 // Every kind of declared name, one per line.
 constexpr char kAll[] =
@@ -130,28 +132,27 @@ TEST(ModelFileNamesTest, CPythonAndLatexInNamesAreRefusedAtTheirLine) {
   EXPECT_EQ(newline.find('\n'), std::string::npos) << newline;
 }
 
-TEST(ModelFileNamesTest, AConstraintNameIsText) {
-  const std::string base = With("name: spring, frame: A, value: [0, 0, -r1]}\n",
-                                "name: spring, frame: A, value: [0, 0, -r1]}\n"
-                                "constraints:\n  - {name: LABEL, holonomic: \"th - 0\"}\n");
-  std::string bad = base;
-  bad.replace(bad.find("LABEL"), 5, "'c\\input{x}'");
-  EXPECT_THAT(ErrorOf(bad), AllOf(HasSubstr("m.yaml:29: constraints[0].name"),
-                                  HasSubstr("not a valid name")));
+// kAll with `section` appended (after the torques, line 27), its LABEL replaced by `label`.
+std::string WithSection(const std::string& section, const std::string& label) {
+  std::string s = With("name: spring, frame: A, value: [0, 0, -r1]}\n",
+                       fmt::format("name: spring, frame: A, value: [0, 0, -r1]}}\n{}", section));
+  s.replace(s.find("LABEL"), 5, label);
+  return s;
 }
 
-// A mode's label is printed by `modes` and kept in its JSON: text by the same rule.
-TEST(ModelFileNamesTest, AModeLabelIsText) {
-  const std::string base = With("name: spring, frame: A, value: [0, 0, -r1]}\n",
-                                "name: spring, frame: A, value: [0, 0, -r1]}\n"
-                                "modes:\n  labels:\n    - {name: LABEL}\n");
-  std::string good = base;
-  good.replace(good.find("LABEL"), 5, "first swing");
-  EXPECT_EQ(ErrorOf(good), "no error") << good;
-  std::string bad = base;
-  bad.replace(bad.find("LABEL"), 5, "'weave \\input{x}'");
-  EXPECT_THAT(ErrorOf(bad), AllOf(HasSubstr("m.yaml:30: modes.labels[0].name"),
-                                  HasSubstr("not a valid name")));
+// Constraint names and modes' labels are text (spaces allowed), by the same rule: a label is
+// printed by `modes` and kept in its JSON.
+TEST(ModelFileNamesTest, ConstraintNamesAndModeLabelsAreText) {
+  const std::string constraint = "constraints:\n  - {name: LABEL, holonomic: \"th - 0\"}\n";
+  const std::string mode = "modes:\n  labels:\n    - {name: LABEL}\n";
+  // (This one-speed model cannot take a constraint; the name itself passes the rule.)
+  EXPECT_THAT(ErrorOf(WithSection(constraint, "closing loop")),
+              Not(HasSubstr("not a valid name")));
+  EXPECT_EQ(ErrorOf(WithSection(mode, "first swing")), "no error");
+  EXPECT_THAT(ErrorOf(WithSection(constraint, "'c\\input{x}'")),
+              AllOf(HasSubstr("m.yaml:29: constraints[0].name"), HasSubstr("not a valid name")));
+  EXPECT_THAT(ErrorOf(WithSection(mode, "'weave \\input{x}'")),
+              AllOf(HasSubstr("m.yaml:30: modes.labels[0].name"), HasSubstr("not a valid name")));
 }
 
 }  // namespace
