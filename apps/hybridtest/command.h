@@ -1,6 +1,8 @@
 #pragma once
-// Self-registration of CLI subcommands. A command file defines
-//   static const hybridtest::app::CommandRegistration kReg{"name", &AddNameCommand};
+// Self-registration of CLI subcommands. A command file command_name.cc defines
+//   const hybridtest::app::CommandRegistration kCommandNameRegistration{"name", &AddNameCommand};
+// (a name of its own: the executable is a unity build, several command files per translation
+// unit; cmake/HybridtestUnity.cmake)
 // where AddNameCommand(CLI::App& root) adds the subcommand and its callback. Callbacks report
 // failures by throwing hybridtest::Error; main() turns them into a message and an exit status.
 #include <CLI/CLI.hpp>

@@ -104,7 +104,7 @@ void AddCampaignCommand(CLI::App& root) {
   cmd->callback([opt] { ExecuteCampaign(*opt); });
 }
 
-const CommandRegistration kRegistration{"campaign", &AddCampaignCommand};
+const CommandRegistration kCommandCampaignRegistration{"campaign", &AddCampaignCommand};
 
 }  // namespace
 }  // namespace hybridtest::app

@@ -241,7 +241,7 @@ void AddCheckModelCommand(CLI::App& root) {
   cmd->callback([opt] { RunCheckModel(*opt); });
 }
 
-const CommandRegistration kRegistration{"check-model", &AddCheckModelCommand};
+const CommandRegistration kCommandCheckModelRegistration{"check-model", &AddCheckModelCommand};
 
 }  // namespace
 }  // namespace hybridtest::app

@@ -85,7 +85,7 @@ void AddCompareCommand(CLI::App& root) {
   });
 }
 
-const CommandRegistration kRegistration{"compare", &AddCompareCommand};
+const CommandRegistration kCommandCompareRegistration{"compare", &AddCompareCommand};
 
 }  // namespace
 }  // namespace hybridtest::app

@@ -151,7 +151,7 @@ void AddEomCommand(CLI::App& root) {
   cmd->callback([opt] { RunEom(*opt); });
 }
 
-const CommandRegistration kRegistration{"eom", &AddEomCommand};
+const CommandRegistration kCommandEomRegistration{"eom", &AddEomCommand};
 
 }  // namespace
 }  // namespace hybridtest::app

@@ -88,7 +88,7 @@ void AddCompileModelCommand(CLI::App& root) {
   cmd->callback([opt] { RunCompileModel(*opt); });
 }
 
-const CommandRegistration kRegistration{"equations", &AddEquationsCommand};
+const CommandRegistration kCommandEquationsRegistration{"equations", &AddEquationsCommand};
 const CommandRegistration kCompileRegistration{"compile-model", &AddCompileModelCommand};
 
 }  // namespace

@@ -88,7 +88,7 @@ void AddExportCommand(CLI::App& root) {
   });
 }
 
-const CommandRegistration kRegistration{"export", &AddExportCommand};
+const CommandRegistration kCommandExportRegistration{"export", &AddExportCommand};
 
 }  // namespace
 }  // namespace hybridtest::app

@@ -47,7 +47,7 @@ void AddModelsCommand(CLI::App& root) {
   });
 }
 
-const CommandRegistration kRegistration{"models", &AddModelsCommand};
+const CommandRegistration kCommandModelsRegistration{"models", &AddModelsCommand};
 
 }  // namespace
 }  // namespace hybridtest::app

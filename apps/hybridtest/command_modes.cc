@@ -247,7 +247,7 @@ void AddModesCommand(CLI::App& root) {
   cmd->callback([opt] { RunModes(*opt); });
 }
 
-const CommandRegistration kRegistration{"modes", &AddModesCommand};
+const CommandRegistration kCommandModesRegistration{"modes", &AddModesCommand};
 
 }  // namespace
 }  // namespace hybridtest::app

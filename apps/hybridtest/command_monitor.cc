@@ -87,7 +87,7 @@ void AddMonitorCommand(CLI::App& root) {
   });
 }
 
-const CommandRegistration kRegistration{"monitor", &AddMonitorCommand};
+const CommandRegistration kCommandMonitorRegistration{"monitor", &AddMonitorCommand};
 
 }  // namespace
 }  // namespace hybridtest::app

@@ -227,7 +227,7 @@ void AddPlanCommand(CLI::App& root) {
   cmd->callback([opt] { ExecutePlan(*opt); });
 }
 
-const CommandRegistration kRegistration{"plan", &AddPlanCommand};
+const CommandRegistration kCommandPlanRegistration{"plan", &AddPlanCommand};
 
 }  // namespace
 }  // namespace hybridtest::app

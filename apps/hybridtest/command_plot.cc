@@ -56,7 +56,7 @@ void AddPlotCommand(CLI::App& root) {
   });
 }
 
-const CommandRegistration kRegistration{"plot", &AddPlotCommand};
+const CommandRegistration kCommandPlotRegistration{"plot", &AddPlotCommand};
 
 }  // namespace
 }  // namespace hybridtest::app

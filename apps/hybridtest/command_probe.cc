@@ -159,7 +159,7 @@ void AddProbeCommand(CLI::App& root) {
   command->callback([options] { RunProbe(*options); });
 }
 
-const CommandRegistration kRegistration{"probe", &AddProbeCommand};
+const CommandRegistration kCommandProbeRegistration{"probe", &AddProbeCommand};
 
 }  // namespace
 }  // namespace hybridtest::app

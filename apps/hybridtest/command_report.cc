@@ -114,7 +114,7 @@ void AddReportCommand(CLI::App& root) {
   });
 }
 
-const CommandRegistration kRegistration{"report", &AddReportCommand};
+const CommandRegistration kCommandReportRegistration{"report", &AddReportCommand};
 
 }  // namespace
 }  // namespace hybridtest::app

@@ -46,7 +46,7 @@ void AddResumeCommand(CLI::App& root) {
   });
 }
 
-const CommandRegistration kRegistration{"resume", &AddResumeCommand};
+const CommandRegistration kCommandResumeRegistration{"resume", &AddResumeCommand};
 
 }  // namespace
 }  // namespace hybridtest::app

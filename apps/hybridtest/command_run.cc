@@ -31,7 +31,7 @@ void AddRunCommand(CLI::App& root) {
   });
 }
 
-const CommandRegistration kRegistration{"run", &AddRunCommand};
+const CommandRegistration kCommandRunRegistration{"run", &AddRunCommand};
 
 }  // namespace
 }  // namespace hybridtest::app

@@ -21,7 +21,7 @@ void AddSimulateCommand(CLI::App& root) {
   cmd->callback([opt] { ExecuteRun(*opt); });
 }
 
-const CommandRegistration kRegistration{"simulate", &AddSimulateCommand};
+const CommandRegistration kCommandSimulateRegistration{"simulate", &AddSimulateCommand};
 
 }  // namespace
 }  // namespace hybridtest::app
