@@ -8,7 +8,10 @@
 #include "hybridtest/common/error.h"
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/runner/constraint_force_recorder.h"
+#include "hybridtest/runner/delay_stability.h"
+#include "hybridtest/runner/paced_loop.h"
 #include "hybridtest/runner/pre_move_checks.h"
+#include "hybridtest/runner/real_time_setup.h"
 #include "hybridtest/runner/run_files.h"
 #include "hybridtest/runner/run_record.h"
 #include "hybridtest/runner/slot_info.h"
@@ -109,6 +112,40 @@ Session::Session(io::RunSpec spec, SessionOptions options)
     files_ = std::make_unique<RunFiles>(spec_, options_.resume_record);
     observers_.push_back(files_.get());
   }
+  BuildPacer();
+}
+
+void Session::Note(const std::string& message) const {
+  if (options_.note) options_.note(message);
+}
+
+void Session::BuildPacer() {
+  const io::RealTimeSpec& rt = spec_.real_time;
+  if (!rt.enabled) {
+    if (!rt.clock.empty()) {
+      throw ConfigError(fmt::format("clock {}: this config has no `real_time:` block; the clock "
+                                    "chooses the time of a real-time run only "
+                                    "(docs/real-time.md)", rt.clock));
+    }
+    return;
+  }
+  if (options_.clock != nullptr) {
+    clock_ = options_.clock;
+  } else {
+    own_clock_ = MakeClock(rt.clock);
+    clock_ = own_clock_.get();
+  }
+  // Refuses a scheme or a transfer system that cannot run paced (nothing has moved).
+  paced_loop_.reset(new PacedLoop(*this, *clock_));
+  pacer_ = paced_loop_.get();
+  // Before anything moves: the delay each physical slot can bear (delay_stability.h).
+  const std::vector<SlotDelayMargin> margins = CheckDelayStability(*this);
+  for (const SlotDelayMargin& g : margins) {
+    Note(fmt::format("real time: {}{}", Describe(g),
+                     g.unstable() ? (rt.force ? " — UNSTABLE, run forced" : " — UNSTABLE") : ""));
+  }
+  paced_loop_->SetStability(ToJson(margins));
+  RefuseUnstable(*this, margins);
 }
 
 Session::~Session() {
@@ -241,6 +278,8 @@ void Session::BuildScheme() {
 
 StepResult Session::Initialize() {
   if (initialized_) throw Error("Session::Initialize: called twice");
+  // A real-time run's stepping thread writes no file (real_time_setup.h).
+  if (paced_loop_ != nullptr) queue_ = QueueObservers(*this, *paced_loop_);
   initialized_ = true;
   wall_start_ = std::chrono::steady_clock::now();
   try {
@@ -346,11 +385,19 @@ void Session::RecordOperatorAction(const nlohmann::json& action) {
 StepResult Session::Run() {
   StepResult r = initialized_ ? result_ : Initialize();
   if (r.status == SessionStatus::kWorking && pacer_ != nullptr && !paced_) {
+    if (!clock_->is_virtual()) {
+      for (const std::string& note : PrepareRealTimeProcess(spec_.real_time)) {
+        paced_loop_->AddSetupNote(note);
+        Note("real time: " + note);
+      }
+    }
     // Every transfer system runs paced from here; one that cannot refuses before any tick.
     try {
       pacer_->Start();
     } catch (const std::exception&) {
       for (auto& s : subs_) s->Hold();
+      // Every queued event delivered before the caller's observers may go.
+      if (queue_ != nullptr) queue_->Drain();
       throw;
     }
     paced_ = true;
