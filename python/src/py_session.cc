@@ -256,7 +256,8 @@ bool PySession::done() const {
   return initialized_ && session().result().status != runner::SessionStatus::kWorking;
 }
 
-runner::StepResult PySession::Advance(const std::function<runner::StepResult(runner::Session&)>& call) {
+runner::StepResult PySession::AdvanceWith(
+    const std::function<runner::StepResult(runner::Session&)>& call) {
   runner::Session& s = session();
   runner::StepResult result;
   {
@@ -277,9 +278,9 @@ runner::StepResult PySession::Advance(const std::function<runner::StepResult(run
 }
 
 std::string PySession::Advance(bool initialize) {
-  return runner::StatusName(
-      Advance([initialize](runner::Session& s) { return initialize ? s.Initialize() : s.Step(); })
-          .status);
+  return runner::StatusName(AdvanceWith([initialize](runner::Session& s) {
+                              return initialize ? s.Initialize() : s.Step();
+                            }).status);
 }
 
 std::string PySession::Initialize() {
@@ -316,7 +317,8 @@ std::string PySession::Run() {
     runner::Session& session;
     ~Unhook() { session.SetBetweenSteps({}); }
   } unhook{s};
-  const runner::StepResult result = Advance([](runner::Session& session) { return session.Run(); });
+  const runner::StepResult result =
+      AdvanceWith([](runner::Session& session) { return session.Run(); });
   if (interrupt) throw *interrupt;
   return runner::StatusName(result.status);
 }

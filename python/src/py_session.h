@@ -110,7 +110,8 @@ class PySession {
   void StartResume(const SessionArguments& args);  // py_resume.cc
   std::string Advance(bool initialize);
   // `call` on the session without the GIL, then what a callback kept for the caller raised.
-  runner::StepResult Advance(const std::function<runner::StepResult(runner::Session&)>& call);
+  runner::StepResult AdvanceWith(
+      const std::function<runner::StepResult(runner::Session&)>& call);
   // Throws hybridtest::Error (and stops the run) if called from inside the run's own step.
   void RefuseReentry(const char* call);
   bool advancing_ = false;              // the C++ step is on the stack (GIL released)

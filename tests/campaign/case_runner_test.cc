@@ -95,19 +95,13 @@ TEST(CaseRunner, AnUnfinishedAttemptIsMovedAsideNotDestroyed) {
 }
 
 // The real-time storey (ATS on the servo-hydraulic plant) for 0.25 s, with real_time.clock
-// from the grid ("none": the example's block as it is).
+// from the grid.
 Campaign RealTimeCampaign(const fs::path& dir, const std::string& clocks) {
   WriteText(dir / "c.yaml",
-            "base: " HYBRIDTEST_SOURCE_DIR "/examples/real-time/storey-ats.yaml
-"
-            "command: run
-set: {duration: 0.25, real_time.lock_memory: false}
-"
-            "grid: {real_time.clock: " + clocks + "}
-"
-            "metrics: [max_abs(q1)]
-figures: false
-");
+            "base: " HYBRIDTEST_SOURCE_DIR "/examples/real-time/storey-ats.yaml\n"
+            "command: run\nset: {duration: 0.25, real_time.lock_memory: false}\n"
+            "grid: {real_time.clock: " + clocks + "}\n"
+            "metrics: [max_abs(q1)]\nfigures: false\n");
   return LoadCampaign((dir / "c.yaml").string());
 }
 
