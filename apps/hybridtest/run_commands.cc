@@ -18,7 +18,6 @@
 #include "hybridtest/runner/open_run.h"
 #include "hybridtest/runner/paced_loop.h"
 #include "hybridtest/runner/progress.h"
-#include "hybridtest/runner/real_time_run.h"
 #include "hybridtest/runner/resume_plan.h"
 #include "hybridtest/runner/session.h"
 #include "hybridtest/transfer/safety.h"
@@ -112,8 +111,17 @@ void RunAndReport(io::RunSpec spec,
   if (quiet || spec.quiet) progress.mode = runner::ProgressMode::kQuiet;
   const std::string command = spec.output.command;
   const std::string csv = spec.output.csv_path;
+  // --clock chooses the clock of a real-time run (the session refuses it without `real_time:`).
+  if (!clock.empty()) spec.real_time.clock = clock;
+  // The delay margins and the process setup of a real-time run, as the session finds them.
+  if (progress.mode != runner::ProgressMode::kQuiet) {
+    session_options.note = [](const std::string& note) {
+      fmt::print(stderr, "hybridtest: {}\n", note);
+    };
+  }
   // The session refuses an unstable step, and a p0 or limits that disagree with what a bench
-  // announces (after any --set), before anything is opened or sent (runner/pre_move_checks.h).
+  // announces (after any --set), before anything is opened or sent (runner/pre_move_checks.h);
+  // a real-time run's pacer is built from its spec (the same Session::Run as every run).
   runner::Session session(std::move(spec), std::move(session_options));
   if (resume_from != nullptr) session.SetState(*resume_from);
   ProgressObserver progress_observer(session, progress);
@@ -122,11 +130,10 @@ void RunAndReport(io::RunSpec spec,
   // --monitor: one more observer, and the operator's Hold/Continue/Stop between two steps.
   std::optional<LiveMonitor> live;
   if (monitor.enabled()) live.emplace(monitor, session);
-  // A `real_time:` config paces the session on its clock (runner/real_time_run.h). One loop
-  // drives every run, paced or not, and the monitor's actions act on each the same way.
-  runner::RealTimeRun real_time(session, clock, quiet || session.spec().quiet);
-  if (live) live->SetPacedLoop(real_time.loop());
-  const runner::StepResult result = real_time.Run();
+  // One loop drives every run, paced or not, and the monitor's actions act on each the same
+  // way.
+  if (live) live->SetPacedLoop(session.paced_loop());
+  const runner::StepResult result = session.Run();
   if (live) live->Linger(session);
   if (result.status != runner::SessionStatus::kFinished) {
     // How to go on comes first: every committed step is kept, and resume continues from it.
@@ -148,7 +155,7 @@ void RunAndReport(io::RunSpec spec,
     std::rethrow_exception(session.error());
   }
   if (quiet) return;
-  const runner::PacedLoop* paced = real_time.loop();
+  const runner::PacedLoop* paced = session.paced_loop();
   const runner::RunStatistics& s = session.statistics();
   const io::SchemeSpec& scheme = session.spec().scheme;
   fmt::print("hybridtest {}: {} steps with {}, t = {} s, {} rows -> {}\n", command, s.steps,

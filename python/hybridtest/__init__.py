@@ -217,10 +217,10 @@ def _finish(session):
     return status
 
 
-def _execute(config, command, transfers, laws, out, overwrite, observers):
+def _execute(config, command, transfers, laws, out, overwrite, observers, clock=None):
     out = None if out is None else os.fspath(out)
     with Session(config, transfers=dict(transfers or {}), laws=dict(laws or {}), out=out,
-                 overwrite=overwrite, command=command) as session:
+                 overwrite=overwrite, command=command, clock=clock) as session:
         for observer in observers:
             session.add_observer(observer)
         _finish(session)
@@ -239,14 +239,18 @@ def simulate(config, *, laws=None, out=None, overwrite=False, observers=()):
     return _execute(config, "simulate", None, laws, out, overwrite, observers)
 
 
-def run(config, *, transfers=None, laws=None, out=None, overwrite=False, observers=()):
+def run(config, *, transfers=None, laws=None, out=None, overwrite=False, observers=(),
+        clock=None):
     """A hybrid test of `config`; transfers: {slot: bench driver} serves physical slots.
 
     A bench driver has activate(), execute(command) -> (position, force[, lab_time]), hold()
     and deactivate(), in SI unless it has units = ("mm", "kN"). Raises the error that stopped
     the run (its .result holds every committed row). Returns a Result.
+
+    A config with `real_time:` is paced as on the command line, on its real_time.clock or
+    clock ("virtual" or "wall", as `hybridtest run --clock`).
     """
-    return _execute(config, "run", transfers, laws, out, overwrite, observers)
+    return _execute(config, "run", transfers, laws, out, overwrite, observers, clock)
 
 
 def resume(csv_path, *, transfers=None, laws=None, changes=None, after_safety_stop=False,

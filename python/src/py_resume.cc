@@ -31,7 +31,7 @@ void PySession::StartResume(const SessionArguments& args) {
   runner::ResumeSetup setup = runner::PrepareResume(
       plan, request, r.set, "python: hybridtest.resume(...)", std::nullopt,
       [&](io::RunSpec& spec) {
-        RefuseRealTime(spec, "resume()");
+        if (args.clock) spec.real_time.clock = *args.clock;  // a real-time run's clock
         Substitute(spec, args.transfers, args.laws, cause_);
       });
   // The front door, as `hybridtest resume`'s: output guards, disk budget, the files the

@@ -158,15 +158,6 @@ void PyObserver::OnStop(const runner::StopEvent& e) {
   CallObserver(on_stop_, "on_stop", runner::StatusName(e.status), e.reason);
 }
 
-void RefuseRealTime(const io::RunSpec& spec, const char* caller) {
-  if (!spec.real_time.enabled) return;
-  throw ConfigError(fmt::format(
-      "{}: the config has a `real_time:` block; a real-time run is paced, and its delay "
-      "stability checked, by the command line only: run `hybridtest run CONFIG` (docs/real-time.md), "
-      "or remove `real_time:` to run the test pseudo-dynamically from Python",
-      caller));
-}
-
 PySession::PySession(const SessionArguments& args) {
   if (args.resume) {
     StartResume(args);
@@ -195,7 +186,9 @@ PySession::PySession(const SessionArguments& args) {
     throw ConfigError("simulate(): transfers are for a hybrid test: use hybridtest.run()");
   }
   io::RunSpec spec = io::CompileRunSpec(cfg, options);
-  RefuseRealTime(spec, "Session()");
+  // A `real_time:` run is paced by the Session on the clock the spec names, or this one (the
+  // Session refuses a clock without the block).
+  if (args.clock) spec.real_time.clock = *args.clock;
   Substitute(spec, args.transfers, args.laws, cause_);
   spec.output.command = args.command;
   spec.output.files = args.out.has_value();
@@ -263,7 +256,8 @@ bool PySession::done() const {
   return initialized_ && session().result().status != runner::SessionStatus::kWorking;
 }
 
-std::string PySession::Advance(bool initialize) {
+runner::StepResult PySession::AdvanceWith(
+    const std::function<runner::StepResult(runner::Session&)>& call) {
   runner::Session& s = session();
   runner::StepResult result;
   {
@@ -273,14 +267,20 @@ std::string PySession::Advance(bool initialize) {
       ~Advancing() { flag = false; }
     } advancing{advancing_};
     py::gil_scoped_release release;
-    result = initialize ? s.Initialize() : s.Step();
+    result = call(s);
   }
   initialized_ = true;
   // What a callback raised for the caller (KeyboardInterrupt), or a refused re-entry: raised
   // as itself, the run already held and stopped.
   if (std::optional<py::error_already_set> kept = TakeKeptForCaller()) throw std::move(*kept);
   if (reentry_) throw Error(*std::exchange(reentry_, std::nullopt));
-  return runner::StatusName(result.status);
+  return result;
+}
+
+std::string PySession::Advance(bool initialize) {
+  return runner::StatusName(AdvanceWith([initialize](runner::Session& s) {
+                              return initialize ? s.Initialize() : s.Step();
+                            }).status);
 }
 
 std::string PySession::Initialize() {
@@ -290,23 +290,37 @@ std::string PySession::Initialize() {
 
 std::string PySession::Step() {
   RefuseReentry("step()");
+  if (initialized_ && session().paced_loop() != nullptr) {
+    throw ConfigError(
+        "Session.step(): a real-time run (real_time:) is paced by run(), one step per tick of "
+        "its clock; call run() (initialize() first if you like)");
+  }
   return Advance(!initialized_);
 }
 
 std::string PySession::Run() {
   RefuseReentry("run()");
   runner::Session& s = session();
-  if (!initialized_) Advance(true);
+  // The Session's one loop, paced on a real-time run; Ctrl-C is checked between two steps
+  // (with the GIL): the run holds there, every committed step kept, and KeyboardInterrupt is
+  // raised.
   std::optional<py::error_already_set> interrupt;
-  while (s.result().status == runner::SessionStatus::kWorking) {
-    Advance(false);
+  s.SetBetweenSteps([&interrupt](runner::Session& session) {
+    const py::gil_scoped_acquire gil;
     if (!interrupt && PyErr_CheckSignals() != 0) {
-      interrupt.emplace();  // fetched: the run holds after this step
-      s.RequestStop();
+      interrupt.emplace();  // fetched
+      return session.InterruptBetweenSteps();
     }
-  }
+    return session.result();
+  });
+  struct Unhook {  // the hook refers to this frame
+    runner::Session& session;
+    ~Unhook() { session.SetBetweenSteps({}); }
+  } unhook{s};
+  const runner::StepResult result =
+      AdvanceWith([](runner::Session& session) { return session.Run(); });
   if (interrupt) throw *interrupt;
-  return runner::StatusName(s.result().status);
+  return runner::StatusName(result.status);
 }
 
 void PySession::RaiseError() const {

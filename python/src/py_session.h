@@ -5,11 +5,14 @@
 // as the command line: one master per run, results never replaced without overwrite).
 //
 // The C++ loop runs without the GIL (initialize, step, run); Python code (transfer systems,
-// laws, observers) takes it when called. run() checks for Ctrl-C after every step: the run
+// laws, observers) takes it when called. run() is the Session's one loop (Session::Run: paced on
+// the config's real_time.clock, or clock=, for a config with `real_time:`; step() is refused
+// there) and checks for Ctrl-C between two steps: the run
 // holds after the step in progress, every committed step is kept, and KeyboardInterrupt is
 // raised (also when it arrives inside a bench driver's call: py_objects.h). step(), run(),
 // initialize() and close() called from inside the run's own callbacks are refused
 // (hybridtest.Error): the run stops after the step in progress, every committed row kept.
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -75,16 +78,14 @@ struct SessionArguments {
   bool overwrite = false;
   std::string command = "run";  // "run" or "simulate" (numerical only)
   std::optional<ResumeArguments> resume;
+  // A real-time run's clock ("virtual" or "wall"), over the config's real_time.clock.
+  std::optional<std::string> clock;
 };
 
 // Python transfer systems and laws in place of the spec's slots. Throws ConfigError.
 // A driver's exception is kept in `cause` (see DriverCause).
 void Substitute(io::RunSpec& spec, const py::dict& transfers, const py::dict& laws,
                 const DriverCauseSlot& cause);
-
-// Refuses a run with a `real_time:` block: the paced loop and its delay-stability check are the
-// command line's (`hybridtest run`); from Python the run would go unpaced and unchecked.
-void RefuseRealTime(const io::RunSpec& spec, const char* caller);
 
 class PySession {
  public:
@@ -108,6 +109,9 @@ class PySession {
  private:
   void StartResume(const SessionArguments& args);  // py_resume.cc
   std::string Advance(bool initialize);
+  // `call` on the session without the GIL, then what a callback kept for the caller raised.
+  runner::StepResult AdvanceWith(
+      const std::function<runner::StepResult(runner::Session&)>& call);
   // Throws hybridtest::Error (and stops the run) if called from inside the run's own step.
   void RefuseReentry(const char* call);
   bool advancing_ = false;              // the C++ step is on the stack (GIL released)

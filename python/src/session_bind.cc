@@ -38,9 +38,11 @@ void BindSession(py::module_& m) {
                        std::optional<std::string> out, bool overwrite, std::string command,
                        std::optional<std::string> resume, bool after_safety_stop,
                        std::optional<double> force_tolerance,
-                       std::optional<double> position_tolerance, std::vector<std::string> set) {
+                       std::optional<double> position_tolerance, std::vector<std::string> set,
+                       std::optional<std::string> clock) {
              SessionArguments args{std::move(config), std::move(transfers), std::move(laws),
-                                   std::move(out), overwrite, std::move(command), std::nullopt};
+                                   std::move(out), overwrite, std::move(command), std::nullopt,
+                                   std::move(clock)};
              if (resume) {
                args.resume = ResumeArguments{*resume, after_safety_stop, force_tolerance,
                                              position_tolerance, std::move(set)};
@@ -52,7 +54,7 @@ void BindSession(py::module_& m) {
            py::arg("overwrite") = false, py::arg("command") = "run",
            py::arg("resume") = py::none(), py::arg("after_safety_stop") = false,
            py::arg("force_tolerance") = py::none(), py::arg("position_tolerance") = py::none(),
-           py::arg("set") = std::vector<std::string>{})
+           py::arg("set") = std::vector<std::string>{}, py::arg("clock") = py::none())
       .def("add_observer", &PySession::AddObserver, py::arg("observer"))
       .def("initialize", &PySession::Initialize,
            "Activates the substructures and commits row 0; returns the status")

@@ -9,6 +9,7 @@
 #include "hybridtest/campaign/campaign_file.h"
 #include "hybridtest/campaign/case_runner.h"
 #include "hybridtest/campaign/summary.h"
+#include "hybridtest/io/journal.h"
 #include "hybridtest/io/run_reader.h"
 #include "support/temp_dir.h"
 
@@ -91,6 +92,45 @@ TEST(CaseRunner, AnUnfinishedAttemptIsMovedAsideNotDestroyed) {
   const CaseResult r = RunCase(c, 0, (dir / "out").string(), {}, "test");
   EXPECT_EQ(r.status, "finished") << r.error;
   EXPECT_EQ(test_support::ReadText(case_dir / "interrupted-1" / "run.csv.partial"), "t,q1\n0,0\n");
+}
+
+// The real-time storey (ATS on the servo-hydraulic plant) for 0.25 s, with real_time.clock
+// from the grid.
+Campaign RealTimeCampaign(const fs::path& dir, const std::string& clocks) {
+  WriteText(dir / "c.yaml",
+            "base: " HYBRIDTEST_SOURCE_DIR "/examples/real-time/storey-ats.yaml\n"
+            "command: run\nset: {duration: 0.25, real_time.lock_memory: false}\n"
+            "grid: {real_time.clock: " + clocks + "}\n"
+            "metrics: [max_abs(q1)]\nfigures: false\n");
+  return LoadCampaign((dir / "c.yaml").string());
+}
+
+TEST(CaseRunner, ARealTimeCaseRunsPacedInVirtualTime) {
+  const fs::path dir = FreshTempDir("case_runner_real_time");
+  const Campaign c = RealTimeCampaign(dir, "[virtual]");
+  const std::string out = (dir / "out").string();
+  const CaseResult r = RunCase(c, 0, out, {}, "test");
+  ASSERT_EQ(r.status, "finished") << r.error;
+  // Paced by the session on the virtual clock: its deadlines are in the sidecar.
+  const nlohmann::json rt = io::ReadSidecar(CaseJournal(out, c, 0))["statistics"]["real_time"];
+  ASSERT_TRUE(rt.is_object()) << rt.dump();
+  EXPECT_EQ(rt["clock"], "virtual");
+  EXPECT_EQ(rt["ticks"], 256);
+  EXPECT_EQ(rt["misses"], 0);
+  EXPECT_TRUE(rt.contains("compensation")) << rt.dump();
+  EXPECT_GT(r.metrics.at(0), 0.0);
+}
+
+TEST(CaseRunner, AWallClockCaseIsRefusedWithTheReasonAndTheWayOn) {
+  const fs::path dir = FreshTempDir("case_runner_wall_clock");
+  const Campaign c = RealTimeCampaign(dir, "[wall]");
+  const std::string out = (dir / "out").string();
+  const CaseResult r = RunCase(c, 0, out, {}, "test");
+  EXPECT_EQ(r.status, "failed");
+  EXPECT_NE(r.error.find("real_time.clock: wall"), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find("virtual time"), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find("hybridtest run"), std::string::npos) << r.error;
+  EXPECT_FALSE(fs::exists(CaseJournal(out, c, 0)));  // refused before anything was written
 }
 
 TEST(Summary, RowsInCampaignOrderWithQuotedTextAndPendingCases) {

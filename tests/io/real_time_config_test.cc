@@ -38,6 +38,15 @@ TEST(RealTimeConfig, NamesTheKeyThatIsWrong) {
   EXPECT_NE(Message("real_time: {priorty: 80}\n").find("priorty"), std::string::npos);
   EXPECT_NE(Message("real_time: {priority: 120}\n").find("real_time.priority"), std::string::npos);
   EXPECT_NE(Message("real_time: {force: maybe}\n").find("true or false"), std::string::npos);
+  EXPECT_NE(Message("real_time: {clock: sundial}\n").find("real_time.clock"), std::string::npos);
+}
+
+TEST(RealTimeConfig, TheClockIsTheBlocksOrUnsetForTheDefault) {
+  EXPECT_EQ(ReadRealTime(YamlInput::FromText("real_time: {clock: virtual}\n", "rt.yaml")).clock,
+            "virtual");
+  EXPECT_EQ(ReadRealTime(YamlInput::FromText("real_time: {clock: wall}\n", "rt.yaml")).clock,
+            "wall");
+  EXPECT_EQ(ReadRealTime(YamlInput::FromText("real_time: true\n", "rt.yaml")).clock, "");
 }
 
 TEST(RealTimeConfig, CompensatedNeedsItsInnerTransfer) {

@@ -14,7 +14,7 @@
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/monitor/monitor_observer.h"
 #include "hybridtest/monitor/real_time_panel.h"
-#include "hybridtest/runner/real_time_run.h"
+#include "hybridtest/runner/paced_loop.h"
 #include "monitor/example_config.h"
 
 namespace hybridtest::testing {
@@ -84,16 +84,16 @@ TEST(MonitorRealTimePanel, ThePanelIsThePacedLoopsLiveAndTheRecordAtTheEnd) {
       {"storey.model.yaml"});
   io::RunSpec spec = io::LoadRunSpec(config.string());
   spec.output.files = false;
+  spec.real_time.clock = "virtual";
   runner::Session session(std::move(spec));
   monitor::MonitorState state(100000);
   monitor::MonitorObserver observer(state);
   session.AddObserver(observer);
   Snapshot snapshot(state, session, 600);
   session.AddObserver(snapshot);
-  runner::RealTimeRun run(session, "virtual", /*quiet=*/true);
-  ASSERT_NE(run.loop(), nullptr);
-  observer.SetPacedLoop(run.loop());
-  ASSERT_EQ(run.Run().status, runner::SessionStatus::kFinished);
+  ASSERT_NE(session.paced_loop(), nullptr);
+  observer.SetPacedLoop(session.paced_loop());
+  ASSERT_EQ(session.Run().status, runner::SessionStatus::kFinished);
 
   // Mid-run: the paced loop's counts, and J2, J3 of the rows so far.
   const nlohmann::json& live = snapshot.json["realtime"];
@@ -125,7 +125,7 @@ TEST(MonitorRealTimePanel, ThePanelIsThePacedLoopsLiveAndTheRecordAtTheEnd) {
 
   // At the end: the run's own record.
   const nlohmann::json end = state.StateJson()["realtime"];
-  const nlohmann::json record = run.loop()->ToJson();
+  const nlohmann::json record = session.paced_loop()->ToJson();
   EXPECT_EQ(end["source"], "recorded");
   EXPECT_EQ(end["ticks"], 1024);
   EXPECT_EQ(end["ticks"], record["ticks"]);

@@ -9,7 +9,6 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/run_spec_yaml.h"
-#include "hybridtest/runner/real_time_run.h"
 
 namespace hybridtest::runner {
 namespace {
@@ -33,11 +32,12 @@ const std::string kIdealPlant =
     "    safety: {stroke_min: -0.1, stroke_max: 0.1, max_increment: 0.01, force_soft: 1e6, "
     "force_hard: 2e6, timeout: 1}\n";
 
-io::RunSpec Spec(const std::string& text) {
+io::RunSpec Spec(const std::string& text, const std::string& clock = "") {
   io::RunSpec spec = io::CompileRunSpec(io::ParseSimulationConfig(
       YamlInput::FromText(text, std::string(HYBRIDTEST_SOURCE_DIR) + "/tests/paced.yaml")));
   spec.output.files = false;
   spec.quiet = true;
+  spec.real_time.clock = clock;
   return spec;
 }
 
@@ -51,15 +51,18 @@ class States final : public SessionObserver {
 
 std::vector<std::vector<double>> RunPaced(const std::string& text, PacedStatistics* stats = nullptr,
                                           nlohmann::json* json = nullptr) {
-  Session session(Spec(text));
+  // The Session builds its pacer from the spec: the virtual clock it names.
+  Session session(Spec(text, "virtual"));
   States states;
   session.AddObserver(states);
-  VirtualClock clock;
-  PacedLoop loop(session, clock);
-  const StepResult r = loop.Run();
+  const StepResult r = session.Run();
   EXPECT_EQ(r.status, SessionStatus::kFinished) << r.reason;
-  if (stats != nullptr) *stats = loop.statistics();
-  if (json != nullptr) *json = loop.ToJson();
+  const PacedLoop* loop = session.paced_loop();
+  EXPECT_NE(loop, nullptr);
+  if (loop == nullptr) return states.x;
+  EXPECT_EQ(loop->clock_name(), "virtual");
+  if (stats != nullptr) *stats = loop->statistics();
+  if (json != nullptr) *json = loop->ToJson();
   return states.x;
 }
 
@@ -127,9 +130,8 @@ TEST(PacedLoop, ServoHydraulicRunIsBitReproducible) {
 }
 
 TEST(PacedLoop, RefusesASchemeWithSeveralEvaluationsPerStep) {
-  Session session(Spec(Config(kIdealPlant, true, "{tableau: heun, dt: 0.001}")));
-  VirtualClock clock;
-  EXPECT_THROW(PacedLoop(session, clock), ConfigError);
+  EXPECT_THROW(Session(Spec(Config(kIdealPlant, true, "{tableau: heun, dt: 0.001}"), "virtual")),
+               ConfigError);
 }
 
 TEST(PacedLoop, ATransferThatCannotRunPacedIsRefusedNamingIt) {
@@ -139,21 +141,24 @@ TEST(PacedLoop, ATransferThatCannotRunPacedIsRefusedNamingIt) {
       "    transfer: {type: loopback, law: {type: linear, stiffness: 1.19e6}}\n"
       "    safety: {stroke_min: -0.1, stroke_max: 0.1, max_increment: 0.01, force_soft: 1e6, "
       "force_hard: 2e6, timeout: 1}\n";
-  Session session(Spec(Config(loopback, true)));
-  VirtualClock clock;
-  // Refused when the loop is set up, before anything moves (decision 0016).
+  // Refused when the session builds its pacer, before anything moves (decision 0016).
   try {
-    PacedLoop loop(session, clock);
+    Session session(Spec(Config(loopback, true), "virtual"));
     FAIL() << "expected a ConfigError";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("loopback"), std::string::npos) << e.what();
   }
 }
 
-TEST(RealTimeRun, ClockWithoutRealTimeBlockIsRefused) {
-  Session session(Spec(Config(kIdealPlant, false)));
-  EXPECT_THROW(RealTimeRun(session, "virtual", true), ConfigError);
-  EXPECT_FALSE(RealTimeRun(session, "", true).enabled());
+TEST(PacedLoop, ClockWithoutRealTimeBlockIsRefused) {
+  EXPECT_THROW(Session(Spec(Config(kIdealPlant, false), "virtual")), ConfigError);
+  EXPECT_EQ(Session(Spec(Config(kIdealPlant, false))).paced_loop(), nullptr);
+}
+
+TEST(PacedLoop, TheSpecsClockIsTheSessionsAndWallIsTheDefault) {
+  EXPECT_EQ(Session(Spec(Config(kIdealPlant, true))).paced_loop()->clock_name(), "wall");
+  EXPECT_EQ(Session(Spec(Config(kIdealPlant, true), "wall")).paced_loop()->clock_name(), "wall");
+  EXPECT_THROW(Session(Spec(Config(kIdealPlant, true), "sundial")), ConfigError);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #pragma once
-// A transfer system of two actuators, each an ideal rt_plant with a linear specimen (SI): the
-// paced bench of a two-actuator specimen for the real-time tests. It counts StartPaced calls
+// A transfer system of two (or n) actuators, each an ideal rt_plant with a linear specimen and
+// an optional pure delay (SI): the paced bench of a specimen on several actuators for the
+// real-time tests. It counts StartPaced calls
 // so that a test sees that every actuator was paced.
 #include <memory>
 #include <span>
@@ -13,13 +14,16 @@ namespace hybridtest::runner::test {
 
 class PlantPair final : public transfer::TransferSystem {
  public:
-  // stiffness k_k [N/m] and zero-force position p0_k [m] of each actuator's specimen.
-  PlantPair(std::vector<double> stiffness, std::vector<double> p0, int* paced = nullptr)
+  // stiffness k_k [N/m], zero-force position p0_k [m] and pure delay τ_k [s] (none: 0) of
+  // each actuator's plant and specimen.
+  PlantPair(std::vector<double> stiffness, std::vector<double> p0, int* paced = nullptr,
+            std::vector<double> delay = {})
       : paced_(paced) {
     for (std::size_t k = 0; k < stiffness.size(); ++k) {
       transfer::RtPlantConfig c;
       c.kind = transfer::PlantKind::kIdeal;
       c.p0 = p0[k];
+      c.delay = k < delay.size() ? delay[k] : 0.0;
       c.specimen.stiffness = stiffness[k];
       plants_.push_back(std::make_unique<transfer::RtPlant>(c));
     }

@@ -15,7 +15,6 @@
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/runner/delay_stability.h"
 #include "hybridtest/runner/paced_loop.h"
-#include "hybridtest/runner/real_time_run.h"
 #include "runner/plant_pair.h"
 
 namespace hybridtest::runner {
@@ -33,7 +32,8 @@ std::string Replace(std::string text, const std::string& from, const std::string
 
 // examples/06_blade_two_actuators/<file> with α-OS, `duration` and (optionally) a real_time
 // block.
-io::RunSpec Spec(const std::string& file, double duration, bool real_time) {
+io::RunSpec Spec(const std::string& file, double duration, bool real_time,
+               const std::string& clock = "virtual") {
   std::ifstream in(kExample + file);
   std::stringstream text;
   text << in.rdbuf();
@@ -46,6 +46,7 @@ io::RunSpec Spec(const std::string& file, double duration, bool real_time) {
       YamlInput::FromText(config, kExample + "real-time-" + file)));
   spec.output.files = false;
   spec.quiet = true;
+  if (real_time) spec.real_time.clock = clock;
   return spec;
 }
 
@@ -58,8 +59,8 @@ Eigen::MatrixXd TwinStiffness() {
 }
 
 // The example's specimen on two ideal paced plants instead of the lab-time bench.
-io::RunSpec PlantSpec(double duration, int* paced) {
-  io::RunSpec spec = Spec("emulated.yaml", duration, true);
+io::RunSpec PlantSpec(double duration, int* paced, const std::string& clock = "virtual") {
+  io::RunSpec spec = Spec("emulated.yaml", duration, true, clock);
   auto& physical = *spec.substructures.at(0).physical;
   physical.transfer = {"plant pair", [paced]() -> std::unique_ptr<transfer::TransferSystem> {
                          return std::make_unique<test::PlantPair>(kActuatorK,
@@ -83,7 +84,7 @@ class States final : public SessionObserver {
 
 TEST(RealTimeBlock, TheDelayCheckGivesAMarginForEachSlotOfTheBlock) {
   // One substructure serves both slots: the check once indexed substructures by slot (SIGSEGV).
-  Session lab(Spec("emulated.yaml", 1.0, true));
+  Session lab(Spec("emulated.yaml", 1.0, false));  // a lab-time bench: no real-time run
   const auto lab_margins = CheckDelayStability(lab);
   ASSERT_EQ(lab_margins.size(), 2u);
   EXPECT_EQ(lab_margins[0].slot, "r_flap");
@@ -106,20 +107,15 @@ TEST(RealTimeBlock, TheDelayCheckGivesAMarginForEachSlotOfTheBlock) {
 }
 
 TEST(RealTimeBlock, ALabTimeBenchOfTwoActuatorsIsRefusedBeforeAnythingMoves) {
-  Session session(Spec("emulated.yaml", 1.0, true));
-  VirtualClock clock;
+  // Refused as the session builds its pacer: nothing is activated or sent before that.
   try {
-    RealTimeRun run(session, "virtual", true);
+    Session session(Spec("emulated.yaml", 1.0, true));
     FAIL() << "expected a ConfigError";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("substructures.blade1"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("cannot run in real time"), std::string::npos);
   }
-  EXPECT_THROW(PacedLoop(session, clock), ConfigError);
-  // Nothing was sent to the bench.
-  const transfer::TransferSystem* bench = session.substructures()[0]->transfer_system();
-  ASSERT_NE(bench, nullptr);
-  EXPECT_EQ(bench->commands_received().value_or(-1), 0);
+  EXPECT_THROW(Session(Spec("emulated.yaml", 1.0, true, "wall")), ConfigError);
 }
 
 TEST(RealTimeBlock, IdealPlantsInVirtualTimeEqualTheNumericalTwin) {
@@ -127,12 +123,10 @@ TEST(RealTimeBlock, IdealPlantsInVirtualTimeEqualTheNumericalTwin) {
   Session session(PlantSpec(2.0, &paced));
   States states;
   session.AddObserver(states);
-  VirtualClock clock;
-  PacedLoop loop(session, clock);
-  const StepResult r = loop.Run();
+  const StepResult r = session.Run();
   ASSERT_EQ(r.status, SessionStatus::kFinished) << r.reason;
   EXPECT_EQ(paced, 2);  // both actuators
-  EXPECT_EQ(loop.statistics().ticks, 2000);
+  EXPECT_EQ(session.paced_loop()->statistics().ticks, 2000);
 
   io::RunSpec twin = Spec("dummy.yaml", 2.0, false);
   twin.substructures.at(0).law.reset();
@@ -157,10 +151,10 @@ TEST(RealTimeBlock, IdealPlantsInVirtualTimeEqualTheNumericalTwin) {
 
 TEST(RealTimeBlock, TheWallClockPacesEveryActuator) {
   int paced = 0;
-  Session session(PlantSpec(0.2, &paced));
-  MonotonicClock clock;
-  PacedLoop loop(session, clock);
-  const StepResult r = loop.Run();
+  Session session(PlantSpec(0.2, &paced, "wall"));
+  const StepResult r = session.Run();
+  const PacedLoop& loop = *session.paced_loop();
+  EXPECT_EQ(loop.clock_name(), "wall");
   ASSERT_EQ(r.status, SessionStatus::kFinished) << r.reason;
   EXPECT_EQ(paced, 2);
   EXPECT_EQ(loop.statistics().ticks, 200);

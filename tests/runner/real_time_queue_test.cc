@@ -1,10 +1,12 @@
-// A real-time run's files behind the lock-free queue (real_time_run.h): the journal, the stage
-// record and the state are those of the same run with the files on the stepping thread, byte
-// for byte (virtual clock); they are written on another thread; and a queue the files cannot
-// keep up with holds the run with every committed row kept, instead of blocking the loop.
+// A real-time run's files behind the lock-free queue (real_time_setup.h): the journal and the
+// state hold the rows an observer on the stepping thread saw, bit for bit (virtual clock); they
+// are written on another thread; and a queue the files cannot keep up with holds the run with
+// every committed row kept, instead of blocking the loop.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <sstream>
 #include <atomic>
 #include <chrono>
 #include <filesystem>
@@ -15,7 +17,7 @@
 
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/runner/paced_loop.h"
-#include "hybridtest/runner/real_time_run.h"
+#include "hybridtest/runner/real_time_setup.h"
 #include "hybridtest/runner/run_state.h"
 #include "support/temp_dir.h"
 
@@ -34,7 +36,36 @@ io::RunSpec StoreySpec(const fs::path& csv, double duration) {
       io::ParseSimulationConfig(YamlInput::FromText(text, kDir + "storey-ats.yaml")));
   spec.output.csv_path = csv.string();
   spec.quiet = true;
+  spec.real_time.clock = "virtual";
   return spec;
+}
+
+// Keeps every committed row, on the stepping thread (real_time_safe: never queued).
+class RowsOnLoop final : public SessionObserver {
+ public:
+  void OnCommit(const CommitEvent& e) override {
+    rows.emplace_back(e.row.begin(), e.row.end());
+    thread = std::this_thread::get_id();
+  }
+  bool real_time_safe() const override { return true; }
+  std::vector<std::vector<double>> rows;
+  std::thread::id thread;
+};
+
+// The journal's rows (the header skipped; shortest round-trip numbers, so exact).
+std::vector<std::vector<double>> JournalRows(const fs::path& csv) {
+  std::istringstream in(test_support::ReadText(csv));
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    std::istringstream cells(line);
+    std::string cell;
+    while (std::getline(cells, cell, ',')) row.push_back(std::strtod(cell.c_str(), nullptr));
+    rows.push_back(std::move(row));
+  }
+  return rows;
 }
 
 // Records the steps it sees, the thread it sees them on, and may be slow.
@@ -62,44 +93,31 @@ long CsvRows(const fs::path& csv) {
   return lines - 1;  // the header
 }
 
-TEST(RealTimeQueue, TheQueuedFilesAreTheFilesOfTheSteppingThread) {
+TEST(RealTimeQueue, TheQueuedFilesHoldTheRowsOfTheSteppingThread) {
   const fs::path dir = test_support::FreshTempDir("rt_queue_same");
-  // The files on the stepping thread: the paced loop without RealTimeRun's routing.
-  Session direct(StoreySpec(dir / "direct.csv", 0.5));
-  Recorder on_loop;
-  direct.AddObserver(on_loop);
-  VirtualClock clock;
-  PacedLoop loop(direct, clock);
-  ASSERT_EQ(loop.Run().status, SessionStatus::kFinished);
-  // The files behind the queue.
-  Session queued(StoreySpec(dir / "queued.csv", 0.5));
+  // The session builds its pacer and puts the files (and `behind`) behind its queue.
+  Session session(StoreySpec(dir / "queued.csv", 0.5));
+  RowsOnLoop on_loop;
   Recorder behind;
-  queued.AddObserver(behind);
-  RealTimeRun run(queued, "virtual", true);
-  const StepResult r = run.Run();
+  session.AddObserver(on_loop);
+  session.AddObserver(behind);
+  const StepResult r = session.Run();
   ASSERT_EQ(r.status, SessionStatus::kFinished) << r.reason;
-  ASSERT_NE(run.queue(), nullptr);
+  ASSERT_NE(session.paced_loop(), nullptr);
 
-  const std::string a = test_support::ReadText(dir / "direct.csv");
-  EXPECT_GT(a.size(), 1000u);
-  EXPECT_EQ(a, test_support::ReadText(dir / "queued.csv"));
-  EXPECT_EQ(CsvRows(dir / "queued.csv"), 513);  // rows 0..512
-  EXPECT_EQ(test_support::ReadText(dir / "direct.stages.csv"),
-            test_support::ReadText(dir / "queued.stages.csv"));
-  // The state, saved at the stop, belongs to the last row in both.
-  const RunState sa = LoadRunState((dir / "direct.state.json").string());
-  const RunState sb = LoadRunState((dir / "queued.state.json").string());
-  EXPECT_EQ(sa.rows, 513);
-  EXPECT_EQ(sb.rows, 513);
-  EXPECT_EQ(sa.row, sb.row);
-  EXPECT_EQ(sa.scheme, sb.scheme);
+  ASSERT_EQ(on_loop.rows.size(), 513u);  // rows 0..512
+  EXPECT_EQ(JournalRows(dir / "queued.csv"), on_loop.rows);
+  // The state, saved at the stop, belongs to the last row.
+  const RunState state = LoadRunState((dir / "queued.state.json").string());
+  EXPECT_EQ(state.rows, 513);
+  EXPECT_NO_THROW(VerifyRunStateAgainstJournal(state, (dir / "queued.csv").string()));
   // Every event reached the observers behind the queue, on another thread.
-  EXPECT_EQ(behind.steps, on_loop.steps);
-  EXPECT_EQ(behind.trials, on_loop.trials);
+  EXPECT_EQ(static_cast<long>(behind.steps.size()), 513);
+  EXPECT_GT(behind.trials, 512);
   EXPECT_EQ(on_loop.thread, std::this_thread::get_id());
   EXPECT_NE(behind.thread, std::this_thread::get_id());
-  EXPECT_FALSE(run.loop()->statistics().held_on_queue);
-  EXPECT_GT(run.loop()->statistics().queue_min_free, kQueueReserve);
+  EXPECT_FALSE(session.paced_loop()->statistics().held_on_queue);
+  EXPECT_GT(session.paced_loop()->statistics().queue_min_free, kQueueReserve);
 }
 
 // The wall clock's policy without sleeping: time jumps to each deadline, as on a machine that
@@ -119,14 +137,15 @@ TEST(RealTimeQueue, OnTheWallClockAQueueTheFilesCannotKeepUpWithHoldsTheRunKeepi
   const fs::path dir = test_support::FreshTempDir("rt_queue_full");
   io::RunSpec spec = StoreySpec(dir / "slow.csv", 0.5);
   spec.real_time.queue = 64;
-  Session session(std::move(spec));
+  spec.real_time.lock_memory = false;
+  PunctualWallClock clock;
+  SessionOptions options;
+  options.clock = &clock;
+  Session session(std::move(spec), std::move(options));
   Recorder slow(std::chrono::microseconds(2000));  // far slower than the loop
   session.AddObserver(slow);
-  PunctualWallClock clock;
-  PacedLoop loop(session, clock);
-  const std::unique_ptr<LockFreeObserver> queue = QueueObservers(session, loop);
-  ASSERT_NE(queue, nullptr);
-  const StepResult r = loop.Run();
+  const StepResult r = session.Run();
+  const PacedLoop& loop = *session.paced_loop();
   // A hold (resumable, every actuator holding), not a failure of a full queue.
   EXPECT_EQ(r.status, SessionStatus::kHeld) << r.reason;
   EXPECT_NE(r.reason.find("queue"), std::string::npos) << r.reason;
@@ -152,15 +171,13 @@ TEST(RealTimeQueue, InVirtualTimeTheLoopWaitsForASlowQueueAndTheRunIsTheSame) {
   Session session(std::move(spec));
   Recorder slow(std::chrono::microseconds(300));
   session.AddObserver(slow);
-  RealTimeRun run(session, "virtual", true);
-  const StepResult r = run.Run();
+  const StepResult r = session.Run();
   ASSERT_EQ(r.status, SessionStatus::kFinished) << r.reason;
-  EXPECT_GT(run.loop()->statistics().queue_waits, 0);
-  EXPECT_FALSE(run.loop()->statistics().held_on_queue);
+  EXPECT_GT(session.paced_loop()->statistics().queue_waits, 0);
+  EXPECT_FALSE(session.paced_loop()->statistics().held_on_queue);
   // The same journal as a run whose files never waited.
   Session fast(StoreySpec(dir / "fast.csv", 0.25));
-  RealTimeRun fast_run(fast, "virtual", true);
-  ASSERT_EQ(fast_run.Run().status, SessionStatus::kFinished);
+  ASSERT_EQ(fast.Run().status, SessionStatus::kFinished);
   EXPECT_EQ(test_support::ReadText(dir / "slow.csv"), test_support::ReadText(dir / "fast.csv"));
   EXPECT_EQ(static_cast<long>(slow.steps.size()), 257);
 }

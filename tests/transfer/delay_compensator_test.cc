@@ -4,11 +4,14 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <vector>
 #include <numbers>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/transfer/rt_plant.h"
+#include "runner/plant_pair.h"
 
 namespace hybridtest::transfer {
 namespace {
@@ -83,6 +86,44 @@ TEST(DelayCompensator, AtsIdentifiesTheDelayOfALaggingPlant) {
   EXPECT_NEAR(comp.estimated_delay(), 0.0164, 0.0015);
   EXPECT_GT(comp.updates(), 100);
   EXPECT_LT(std::sqrt(sq / ref), 0.02);  // tracking within 2 % RMS
+}
+
+TEST(DelayCompensator, EachOfTwoActuatorsIsCompensatedForItsOwnDelay) {
+  CompensatorConfig k;  // ATS from 15 ms for both
+  k.delay = 0.015;
+  k.threshold = 1e-4;
+  DelayCompensator comp(std::make_unique<runner::test::PlantPair>(
+                            std::vector{1000.0, 2000.0}, std::vector{0.0, 0.01}, nullptr,
+                            std::vector{0.008, 0.025}),
+                        k);
+  ASSERT_EQ(comp.num_actuators(), 2);
+  VirtualClock clock;
+  comp.Activate();
+  std::vector<Measurement> m(2);
+  const std::vector<double> settled{0.0, 0.01};
+  comp.Execute(settled, m);
+  const double h = 1.0 / 1024.0;
+  comp.StartPaced(h, clock);
+  std::array<double, 2> sq{}, ref{};
+  for (int i = 1; i <= 12 * 1024; ++i) {
+    clock.WaitUntil(h * i);
+    const double t = clock.Now();
+    const std::vector<double> x{0.004 * std::sin(2.0 * std::numbers::pi * 1.5 * t),
+                                0.01 + 0.003 * std::sin(2.0 * std::numbers::pi * 2.0 * t)};
+    comp.Execute(x, m);
+    for (std::size_t a = 0; a < 2 && i > 8 * 1024; ++a) {
+      sq[a] += (m[a].position - x[a]) * (m[a].position - x[a]);
+      ref[a] += (x[a] - settled[a]) * (x[a] - settled[a]);
+    }
+  }
+  // Each estimate is its own actuator's delay, from the same start.
+  EXPECT_NEAR(comp.actuator(0).estimated_delay(), 0.008, 0.0015);
+  EXPECT_NEAR(comp.actuator(1).estimated_delay(), 0.025, 0.0015);
+  EXPECT_EQ(comp.compensated_delay(), comp.actuator(0).estimated_delay());  // the smaller
+  for (std::size_t a = 0; a < 2; ++a) EXPECT_LT(std::sqrt(sq[a] / ref[a]), 0.02) << a;
+  const nlohmann::json record = comp.CompensationRecord();
+  ASSERT_EQ(record["actuators"].size(), 2u) << record.dump();
+  EXPECT_EQ(record["actuators"][1]["estimated_delay_s"], comp.actuator(1).estimated_delay());
 }
 
 TEST(DelayCompensator, RefusesBoundsThatCannotHold) {

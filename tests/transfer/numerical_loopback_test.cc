@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
+#include <string>
+#include <vector>
+
 #include "hybridtest/common/error.h"
 #include "hybridtest/constitutive/bouc_wen.h"
 #include "hybridtest/constitutive/linear_spring.h"
@@ -30,6 +34,34 @@ TEST(NumericalLoopback, CommitsEveryCommandLikeAPhysicalSpecimen) {
     reference.Commit();
     EXPECT_EQ(ExecuteOne(loopback, x).force, expected);
   }
+}
+
+TEST(NumericalLoopback, EachOfSeveralActuatorsHasItsOwnLawAndP0) {
+  std::vector<std::unique_ptr<constitutive::RestoringForceLaw>> laws;
+  laws.push_back(std::make_unique<constitutive::LinearSpring>(7200.0));
+  laws.push_back(std::make_unique<constitutive::LinearSpring>(3000.0));
+  NumericalLoopback loopback(std::move(laws), {0.02, -0.01});
+  ASSERT_EQ(loopback.num_actuators(), 2);
+  loopback.Activate();
+  const std::vector<double> commands{0.025, 0.0};
+  std::vector<Measurement> out(2);
+  loopback.Execute(commands, out);
+  EXPECT_EQ(out[0].position, 0.025);
+  EXPECT_EQ(out[0].force, 7200.0 * (0.025 - 0.02));
+  EXPECT_EQ(out[1].position, 0.0);
+  EXPECT_EQ(out[1].force, 3000.0 * (0.0 + 0.01));
+  // One command for two actuators is refused, naming the count.
+  std::vector<Measurement> one(1);
+  try {
+    loopback.Execute(std::span<const double>(commands.data(), 1), one);
+    FAIL() << "expected a TransferError";
+  } catch (const TransferError& e) {
+    EXPECT_NE(std::string(e.what()).find("2 actuator"), std::string::npos) << e.what();
+  }
+  std::vector<std::unique_ptr<constitutive::RestoringForceLaw>> short_p0;
+  short_p0.push_back(std::make_unique<constitutive::LinearSpring>(1.0));
+  short_p0.push_back(std::make_unique<constitutive::LinearSpring>(1.0));
+  EXPECT_THROW(NumericalLoopback(std::move(short_p0), {0.0}), ConfigError);
 }
 
 TEST(NumericalLoopback, LifecycleAndNullLaw) {

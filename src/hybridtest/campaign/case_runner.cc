@@ -110,13 +110,26 @@ void RunSimulation(const Campaign& campaign, const io::SimulationConfig& cfg,
       cfg, {std::nullopt, run, "`simulate` is numerical only: use `command: run` for a hybrid "
                                "test", std::nullopt});
   for (const auto& sub : spec.substructures) {
-    if (sub.is_physical() &&
-        !(sub.physical && (sub.physical->transfer.type == "emulated" ||
-                           sub.physical->transfer.type == "loopback"))) {
+    std::string type = sub.physical ? sub.physical->transfer.type : "";
+    // A delay compensator around a bench is that bench ("compensated rt_plant").
+    while (type.rfind("compensated ", 0) == 0) type.erase(0, std::string("compensated ").size());
+    if (sub.is_physical() && type != "emulated" && type != "loopback" && type != "rt_plant") {
       throw ConfigError(fmt::format(
-          "slot {}: a campaign runs cases on in-process benches only (emulated, loopback); "
-          "a real bench is run one test at a time with `hybridtest run`", sub.slot));
+          "slot {}: a campaign runs cases on in-process benches only (emulated, loopback, "
+          "rt_plant, compensated); a real bench is run one test at a time with `hybridtest run`",
+          sub.slot));
     }
+  }
+  // A real-time case is paced by the Session on the virtual clock: cases run one after the
+  // other (or side by side under MPI) and none may take the machine's clock from another.
+  if (spec.real_time.enabled) {
+    if (spec.real_time.clock == "wall") {
+      throw ConfigError(
+          "real_time.clock: wall: a campaign runs its real-time cases in virtual time (cases "
+          "share the machine, and a wall-clock loop needs it alone); remove `clock: wall` (or "
+          "set `clock: virtual`), or run the case on its own with `hybridtest run CONFIG`");
+    }
+    spec.real_time.clock = "virtual";
   }
   spec.output.csv_path = csv;
   spec.output.command = CaseCommandName(campaign.command);

@@ -41,10 +41,17 @@ RealTimeSpec ReadRealTime(const YamlInput& in) {
     return rt;
   }
   in.RequireMapping(node, kp);
-  in.CheckKeys(node, kp, {"hold_after_misses", "miss_tolerance", "lock_memory", "priority",
+  in.CheckKeys(node, kp, {"clock", "hold_after_misses", "miss_tolerance", "lock_memory", "priority",
                           "cpu", "queue", "force"});
   rt.enabled = true;
   CheckTick(in);
+  if (node["clock"]) {
+    rt.clock = in.ReadString(node, kp, "clock", "");
+    if (rt.clock != "wall" && rt.clock != "virtual") {
+      in.ThrowValue(node["clock"], kp + ".clock",
+                    "wall (paced by the computer's clock) or virtual (simulated time)");
+    }
+  }
   if (node["hold_after_misses"]) {
     rt.hold_after_misses = in.Count(node["hold_after_misses"], kp + ".hold_after_misses",
                                     "consecutive missed deadlines before a hold (0: never)", 0,

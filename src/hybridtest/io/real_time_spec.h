@@ -1,9 +1,13 @@
 #pragma once
 // RealTimeSpec: the `real_time:` block of a run config (docs/real-time.md). A run with the
-// block is paced (runner/paced_loop.h): one fixed step of the scheme per tick of a clock, the
-// clock chosen on the command line (`--clock virtual|wall`, default wall).
+// block is paced (runner/paced_loop.h): one fixed step of the scheme per tick of a clock. The
+// Session reads the block and builds its pacer (runner/session.h); every front (the command
+// line, Python, campaigns) steps the same Session::Run.
 //
 //   real_time:
+//     clock: wall               # wall (the default) or virtual (simulated time, reproducible);
+//                               # the command line's --clock and Python's clock= override it,
+//                               # a campaign runs every case on the virtual clock
 //     hold_after_misses: 10     # consecutive missed deadlines before the run holds (0: never)
 //     miss_tolerance: 0.0005    # [s] a tick starting later than this after its deadline is a
 //                               # miss (default: a quarter of the step)
@@ -21,6 +25,7 @@ namespace hybridtest::io {
 
 struct RealTimeSpec {
   bool enabled = false;
+  std::string clock;  // "wall", "virtual" or "" (wall); see above
   long hold_after_misses = 10;
   std::optional<double> miss_tolerance;  // [s]; unset: dt / 4
   bool lock_memory = true;

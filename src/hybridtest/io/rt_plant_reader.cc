@@ -158,7 +158,9 @@ substructures::TransferSpec ReadCompensated(const TransferReadContext& c) {
                                     c.limits, c.files_read};
   substructures::TransferSpec inner = ReadTransfer(inner_context);
   auto make = inner.make;
-  return {"compensated", [make, k] {
+  // The type names what it wraps ("compensated rt_plant"): a campaign runs only in-process
+  // benches, the monitor shows the bench.
+  return {"compensated " + inner.type, [make, k] {
             return std::make_unique<transfer::DelayCompensator>(make(), k);
           }};
 }

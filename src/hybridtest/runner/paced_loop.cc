@@ -52,7 +52,6 @@ PacedLoop::PacedLoop(Session& session, Clock& clock)
   compute_.assign(ticks, 0.0);
   criteria_.Reserve(static_cast<long>(ticks), tick_);
   session.AddObserver(*this);
-  session.SetPacer(this);
 }
 
 void PacedLoop::OnTrial(const TrialEvent& event) {

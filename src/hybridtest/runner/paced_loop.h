@@ -1,6 +1,7 @@
 #pragma once
-// PacedLoop: the real-time setting of a Session (decisions 0015, 0016): its StepPacer. The
-// pacer owns the clock, the Session owns the one loop (Session::Run) and the step. The
+// PacedLoop: the real-time setting of a Session (decisions 0015, 0016): its StepPacer, built by
+// the Session from its spec's `real_time:` block. The Session owns the clock, the pacer, the
+// one loop (Session::Run) and the step. The
 // constructor refuses, before anything moves, a scheme that cannot run paced and any physical
 // substructure whose transfer system cannot (TransferSystem::can_run_paced: a lab-time bench);
 // after Initialize() (the settled trial at x_0) every physical substructure's transfer system,
@@ -55,14 +56,6 @@ struct PacedStatistics {
 
 class PacedLoop final : public SessionObserver, public StepPacer {
  public:
-  // Adds itself to the session's observers and sets itself as its pacer (call before
-  // Initialize()); `clock` must outlive the loop. Throws ConfigError when the session's scheme
-  // or a physical substructure's transfer system cannot run paced (nothing has moved).
-  PacedLoop(Session& session, Clock& clock);
-
-  // Session::Run(): Initialize() then the paced ticks until the run is no longer working.
-  StepResult Run() { return session_.Run(); }
-
   // StepPacer.
   void Start() override;
   void BeforeStep(bool after_hold) override;
@@ -95,6 +88,12 @@ class PacedLoop final : public SessionObserver, public StepPacer {
   bool real_time_safe() const override { return true; }
 
  private:
+  // Built by the Session from its spec (Session::BuildPacer), never by a front: adds itself to
+  // the session's observers; `clock` must outlive the loop. Throws ConfigError when the
+  // session's scheme or a physical substructure's transfer system cannot run paced (nothing
+  // has moved).
+  friend class Session;
+  PacedLoop(Session& session, Clock& clock);
   void Summarise();
 
   Session& session_;

@@ -9,7 +9,6 @@
 #include <limits>
 #include <map>
 
-#include "hybridtest/common/clock.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/runner/delay_stability.h"
@@ -96,9 +95,12 @@ void RunCandidate(const YAML::Node& config, const std::string& path, RealTimePla
                   std::map<std::string, double>* plant_delay) {
   result.J1_ms = result.J2 = result.J3 = kNaN;
   try {
-    Session session(Compile(config, path));
-    VirtualClock clock;
-    PacedLoop loop(session, clock);
+    io::RunSpec spec = Compile(config, path);
+    spec.real_time.clock = "virtual";
+    // The Session builds its pacer from the spec, as every run's (real_time.force: not
+    // refused here, judged below).
+    Session session(std::move(spec));
+    const PacedLoop& loop = *session.paced_loop();
     result.critical_delay = std::numeric_limits<double>::infinity();
     for (const SlotDelayMargin& m : CheckDelayStability(session)) {
       result.critical_delay = std::min(result.critical_delay, m.critical_delay);
@@ -107,7 +109,7 @@ void RunCandidate(const YAML::Node& config, const std::string& path, RealTimePla
       // The compensators start from it, to 0.1 ms.
       if (plant_delay != nullptr) (*plant_delay)[m.slot] = std::round(m.plant_delay * 1e4) / 1e4;
     }
-    const StepResult r = loop.Run();
+    const StepResult r = session.Run();
     result.ok = r.status == SessionStatus::kFinished;
     result.failure = r.reason;
     result.J1_ms = loop.criteria().J1_ms();

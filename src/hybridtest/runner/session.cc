@@ -9,6 +9,7 @@
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/runner/constraint_force_recorder.h"
 #include "hybridtest/runner/pre_move_checks.h"
+#include "hybridtest/runner/real_time_setup.h"
 #include "hybridtest/runner/run_files.h"
 #include "hybridtest/runner/run_record.h"
 #include "hybridtest/runner/slot_info.h"
@@ -109,6 +110,7 @@ Session::Session(io::RunSpec spec, SessionOptions options)
     files_ = std::make_unique<RunFiles>(spec_, options_.resume_record);
     observers_.push_back(files_.get());
   }
+  BuildPacer();
 }
 
 Session::~Session() {
@@ -241,6 +243,8 @@ void Session::BuildScheme() {
 
 StepResult Session::Initialize() {
   if (initialized_) throw Error("Session::Initialize: called twice");
+  // A real-time run's stepping thread writes no file (real_time_setup.h).
+  if (paced_loop_ != nullptr) queue_ = QueueObservers(*this, *paced_loop_);
   initialized_ = true;
   wall_start_ = std::chrono::steady_clock::now();
   try {
@@ -341,33 +345,6 @@ StepResult Session::ContinueAfterHold() {
 
 void Session::RecordOperatorAction(const nlohmann::json& action) {
   for (SessionObserver* o : observers_) o->OnOperatorAction(action);
-}
-
-StepResult Session::Run() {
-  StepResult r = initialized_ ? result_ : Initialize();
-  if (r.status == SessionStatus::kWorking && pacer_ != nullptr && !paced_) {
-    // Every transfer system runs paced from here; one that cannot refuses before any tick.
-    try {
-      pacer_->Start();
-    } catch (const std::exception&) {
-      for (auto& s : subs_) s->Hold();
-      throw;
-    }
-    paced_ = true;
-  }
-  while (r.status == SessionStatus::kWorking) {
-    bool after_hold = false;
-    if (between_steps_) {
-      const long holds = holds_;
-      r = between_steps_(*this);
-      if (r.status != SessionStatus::kWorking) break;
-      after_hold = holds_ != holds;
-    }
-    if (pacer_ != nullptr) pacer_->BeforeStep(after_hold);
-    r = Step();
-    if (pacer_ != nullptr) pacer_->AfterStep(r);
-  }
-  return r;
 }
 
 }  // namespace hybridtest::runner

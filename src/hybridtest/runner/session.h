@@ -34,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "hybridtest/common/clock.h"
 #include "hybridtest/io/run_spec.h"
 #include "hybridtest/runner/run_state.h"
 #include "hybridtest/runner/slot_map.h"
@@ -113,6 +114,8 @@ struct ResumeEvent {
 class Session;
 class RunFiles;
 class ConstraintForceRecorder;
+class PacedLoop;
+class LockFreeObserver;
 
 class SessionObserver {
  public:
@@ -134,7 +137,7 @@ class SessionObserver {
   virtual void AddStatistics(nlohmann::json& /*statistics*/) {}
   // True for an observer that neither blocks, allocates nor writes a file in OnTrial and
   // OnCommit (a paced loop, the monitor's ring): a paced run keeps it on the stepping thread
-  // and puts every other observer behind one lock-free queue (runner/real_time_run.h).
+  // and puts every other observer behind one lock-free queue (runner/real_time_setup.h).
   virtual bool real_time_safe() const { return false; }
 };
 
@@ -149,11 +152,18 @@ struct SessionOptions {
   // constructor. false skips them: only for a caller that has made them itself, or a study
   // that wants an unstable step to diverge. The command line has no way to skip them.
   bool pre_move_checks = true;
+  // Messages for the operator before anything moves and as the run starts (a real-time run's
+  // delay margin per slot, what the process setup of a wall-clock run did); null: none. The
+  // command line prints them; they are in the sidecar's statistics.real_time too.
+  std::function<void(const std::string&)> note;
+  // The clock of a real-time run instead of the one the spec names (a test's simulated wall
+  // clock); not owned, outlives the session. Null: the spec's.
+  Clock* clock = nullptr;
 };
 
-// How the one loop of Session::Run() paces its steps: set by a real-time run (PacedLoop,
-// decision 0016); without one the steps follow each other at once (lab time). Called on the
-// stepping thread.
+// How the one loop of Session::Run() paces its steps: a real-time run's PacedLoop (decision
+// 0016), which the Session builds from its spec; without one the steps follow each other at
+// once (lab time). Called on the stepping thread.
 class StepPacer {
  public:
   virtual ~StepPacer() = default;
@@ -171,7 +181,11 @@ class Session {
  public:
   // Validates the spec (io::ValidateRunSpec), builds the substructures and makes the checks
   // before moving (SessionOptions::pre_move_checks); nothing is activated, opened or moved.
-  // Throws ConfigError.
+  // With `real_time:` (spec.real_time.enabled) it builds its pacer: the clock the spec names
+  // (wall or virtual), a PacedLoop (runner/paced_loop.h: refuses a scheme or a transfer system
+  // that cannot run paced) and the delay stability check of every physical slot
+  // (runner/delay_stability.h: refuses an unstable slot unless real_time.force). A clock
+  // without `real_time:` is refused. Throws ConfigError.
   explicit Session(io::RunSpec spec, SessionOptions options = {});
   ~Session();
   Session(const Session&) = delete;
@@ -190,19 +204,26 @@ class Session {
   // observer's to fill).
   RunState GetState() const;
 
+  // A real-time run first puts every observer that is not real_time_safe() behind one
+  // lock-free queue (runner/real_time_setup.h: the stepping thread writes no file).
   StepResult Initialize();
+  // One step, unpaced (a real-time run is stepped by Run()).
   StepResult Step();
-  // The one loop of every run: Initialize() (unless done), then, while working, the
-  // between-steps hook (the operator's Hold/Continue/Stop), the pacer's wait for the tick (a
-  // real-time run) and Step().
+  // The one loop of every run, from every front (the command line, Python, campaigns):
+  // Initialize() (unless done), then, while working, the between-steps hook (the operator's
+  // Hold/Continue/Stop, Python's signal check), the pacer's wait for the tick (a real-time
+  // run) and Step(). A real-time run on the wall clock first prepares the process
+  // (PrepareRealTimeProcess, reported through SessionOptions::note). Throws ConfigError when a
+  // transfer system refuses to start paced (every actuator holds).
   StepResult Run();
-  // Real time is a setting of the session (decision 0016): `pacer` paces Run()'s steps
-  // (nullptr: none). Not owned; before Run().
-  void SetPacer(StepPacer* pacer) { pacer_ = pacer; }
+  // Real time is a setting of the session (decision 0016), read from its spec: the paced loop
+  // (null without `real_time:`).
+  const PacedLoop* paced_loop() const { return paced_loop_.get(); }
   StepPacer* pacer() const { return pacer_; }
   // Called by Run() on the stepping thread before every step (after Initialize()): may hold
   // (HoldBetweenSteps, then ContinueAfterHold) or end the run (InterruptBetweenSteps); returns
-  // the session's result. The live monitor's operator control sets it.
+  // the session's result. The live monitor's operator control and Python's signal check set
+  // it.
   void SetBetweenSteps(std::function<StepResult(Session&)> hook) { between_steps_ = std::move(hook); }
   // Holds so far (HoldBetweenSteps), for a pacer to restart its ticks after one.
   long holds() const { return holds_; }
@@ -262,6 +283,9 @@ class Session {
   // displacements d0 (m) [m]; fills start_record_. Throws SafetyStop, TransferError.
   void CheckStart(const Eigen::VectorXd& d0);
   void BuildScheme();
+  // The pacer of a real-time run (spec_.real_time), with its delay stability check.
+  void BuildPacer();
+  void Note(const std::string& message) const;
   void RestoreFromState();
   void ReimposeCommitted();
   void FillRow(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& r, bool measured);
@@ -303,6 +327,12 @@ class Session {
   // The model slots each substructure serves (its d and r, in its order), and their buffers.
   std::vector<std::vector<int>> slot_of_;
   SlotMap slot_map_;
+  // Real time (spec.real_time): the clock, the pacer and the queue in front of the observers
+  // that may not run on the stepping thread.
+  std::unique_ptr<Clock> own_clock_;
+  Clock* clock_ = nullptr;  // own_clock_ or SessionOptions::clock
+  std::unique_ptr<PacedLoop> paced_loop_;
+  std::unique_ptr<LockFreeObserver> queue_;
   StepPacer* pacer_ = nullptr;
   std::function<StepResult(Session&)> between_steps_;
   long holds_ = 0;

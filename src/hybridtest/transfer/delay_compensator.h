@@ -25,8 +25,11 @@
 //               estimated delay [s], a0 the amplitude correction. Initially a0 = 1,
 //               a1 = `delay`, a2 = a1²/2.
 //
-// Positions are relative to the first command (the settled one), so a p0 ≠ 0 is not scaled by
-// a0. The measurement returned is the wrapped one; the exchange keeps the TARGET as its
+// Every actuator of the wrapped transfer system is compensated on its own (one
+// ActuatorCompensator each, actuator_compensator.h: its own history, window and estimate), so a
+// specimen on n actuators with different delays is served by one `compensated` transfer.
+// Positions are relative to each actuator's first command (the settled one), so a p0 ≠ 0 is
+// not scaled by a0. The measurement returned is the wrapped one; the exchange keeps the TARGET as its
 // command (what the safety gate checked), so J1–J3 measure the tracking of the target. The
 // stepping path allocates nothing (rings preallocated in StartPaced).
 #include <array>
@@ -36,34 +39,21 @@
 
 #include <nlohmann/json.hpp>
 
+#include "hybridtest/transfer/actuator_compensator.h"
 #include "hybridtest/transfer/transfer_system.h"
 
 namespace hybridtest::transfer {
-
-enum class CompensationMethod { kPolynomial, kAts };
-
-struct CompensatorConfig {
-  CompensationMethod method = CompensationMethod::kAts;
-  double delay = 0.02;    // τ [s]: the extrapolation (polynomial), the initial a1 (ats)
-  int order = 2;          // polynomial order p (1..4)
-  int spacing = 0;        // polynomial: ticks between the nodes, 0: round(τ/(p h)) ≥ 1
-  double window = 1.0;    // ats: least-squares window [s]
-  int update_every = 16;  // ats: ticks between updates
-  double threshold = 2.54e-4;  // ats: smallest max |x_m| in the window that updates [m]
-  std::array<double, 3> lower{0.7, 0.0, 0.0};        // bounds of a0, a1 [s], a2 [s²]
-  std::array<double, 3> upper{1.3, 0.08, 0.0032};
-  std::array<double, 3> rate_limit{2.0, 0.05, 0.001};  // per second: [1/s], [-], [s]
-};
 
 // Throws ConfigError naming the field.
 void ValidateCompensatorConfig(const CompensatorConfig& config, const std::string& where);
 
 class DelayCompensator final : public TransferSystem {
  public:
+  // One compensator per actuator of `inner`, each starting from `config`.
   DelayCompensator(std::unique_ptr<TransferSystem> inner, CompensatorConfig config);
 
   void Activate() override { inner_->Activate(); }
-  int num_actuators() const override { return 1; }
+  int num_actuators() const override { return inner_->num_actuators(); }
   void Execute(std::span<const double> commands, std::span<Measurement> out) override;
   void Hold() noexcept override { inner_->Hold(); }
   void Deactivate() override { inner_->Deactivate(); }
@@ -78,41 +68,32 @@ class DelayCompensator final : public TransferSystem {
   std::optional<double> PhaseDelay(double omega, double tick) const override {
     return inner_->PhaseDelay(omega, tick);
   }
-  double compensated_delay() const override { return estimated_delay(); }
+  // The smallest estimate over the actuators (against the largest plant delay, PhaseDelay:
+  // the delay check stays on the safe side). [s]
+  double compensated_delay() const override;
   nlohmann::json CompensationRecord() const override { return ToJson(); }
 
-  // a0, a1 [s], a2 [s²] (ats; polynomial: 1, τ, 0).
-  const std::array<double, 3>& coefficients() const { return a_; }
-  double estimated_delay() const { return a_[0] > 0.0 ? a_[1] / a_[0] : 0.0; }
-  long updates() const { return updates_; }
-  // The estimates and their extremes, for the run's statistics.
+  // Actuator k's compensator (0 ≤ k < num_actuators()).
+  const ActuatorCompensator& actuator(int k) const {
+    return channels_.at(static_cast<std::size_t>(k));
+  }
+  // Actuator 0's estimate: a0, a1 [s], a2 [s²] (ats; polynomial: 1, τ, 0).
+  const std::array<double, 3>& coefficients() const { return channels_[0].coefficients(); }
+  double estimated_delay() const { return channels_[0].estimated_delay(); }
+  long updates() const { return channels_[0].updates(); }
+  // The estimates and their extremes, for the run's statistics: one actuator's record, or
+  // {"method", "actuators": [one record per actuator]} for several.
   nlohmann::json ToJson() const;
   const TransferSystem& inner() const { return *inner_; }
   TransferSystem& inner() { return *inner_; }
 
  private:
-  double Compensate(double target);
-  void Identify();
-
   std::unique_ptr<TransferSystem> inner_;
   CompensatorConfig config_;
   bool paced_ = false;
-  double tick_ = 0.0;
-  double origin_ = 0.0;  // the settled command: positions are relative to it
-  bool have_origin_ = false;
-  std::vector<double> poly_;                 // L_i(ξ), i = 0..p
-  int spacing_ = 1;                          // Δ [ticks]
-  std::vector<double> history_;              // the last p Δ + 1 targets (a ring)
-  std::size_t history_head_ = 0;
-  std::array<double, 3> targets_{};          // the last three targets, newest first
-  long ticks_ = 0;
-  std::array<double, 3> a_{1.0, 0.0, 0.0};
-  // ATS window: commands sent and measured positions (relative), a ring.
-  std::vector<double> sent_, measured_;
-  std::size_t head_ = 0, size_ = 0;
-  double last_update_tick_ = 0.0;
-  long updates_ = 0;
-  std::array<double, 3> min_a_{}, max_a_{};
+  std::vector<ActuatorCompensator> channels_;  // one per actuator
+  std::vector<double> origin_;                 // each actuator's settled command [m]
+  std::vector<double> sent_;                   // this tick's absolute commands [m]
 };
 
 }  // namespace hybridtest::transfer

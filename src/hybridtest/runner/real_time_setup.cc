@@ -1,5 +1,5 @@
-// See real_time_run.h.
-#include "hybridtest/runner/real_time_run.h"
+// See real_time_setup.h.
+#include "hybridtest/runner/real_time_setup.h"
 
 #include <fmt/core.h>
 #include <pthread.h>
@@ -11,7 +11,6 @@
 #include <cstring>
 
 #include "hybridtest/common/error.h"
-#include "hybridtest/runner/delay_stability.h"
 #include "hybridtest/runner/run_record.h"
 
 namespace hybridtest::runner {
@@ -67,33 +66,6 @@ std::vector<std::string> PrepareRealTimeProcess(const io::RealTimeSpec& spec) {
   return notes;
 }
 
-RealTimeRun::RealTimeRun(Session& session, const std::string& clock, bool quiet)
-    : session_(session), quiet_(quiet) {
-  if (!session.spec().real_time.enabled) {
-    if (!clock.empty()) {
-      throw ConfigError(fmt::format("--clock {}: this config has no `real_time:` block; the "
-                                    "clock chooses the time of a real-time run only "
-                                    "(docs/real-time.md)", clock));
-    }
-    return;
-  }
-  clock_ = MakeClock(clock);
-  loop_ = std::make_unique<PacedLoop>(session, *clock_);
-  // Before anything moves: the delay each physical slot can bear (delay_stability.h).
-  const std::vector<SlotDelayMargin> margins = CheckDelayStability(session);
-  if (!quiet_) {
-    for (const SlotDelayMargin& g : margins) {
-      fmt::print("hybridtest: real time: {}{}\n", Describe(g),
-                 g.unstable() ? (session.spec().real_time.force ? " — UNSTABLE, run forced"
-                                                                : " — UNSTABLE")
-                              : "");
-    }
-    std::fflush(stdout);
-  }
-  loop_->SetStability(ToJson(margins));
-  RefuseUnstable(session, margins);
-}
-
 std::unique_ptr<LockFreeObserver> QueueObservers(Session& session, PacedLoop& loop) {
   std::vector<SessionObserver*> kept, queued;
   std::size_t at = 0;
@@ -119,19 +91,6 @@ std::unique_ptr<LockFreeObserver> QueueObservers(Session& session, PacedLoop& lo
   }
   session.ExchangeObservers(std::move(kept));
   return queue;
-}
-
-StepResult RealTimeRun::Run() {
-  // Without a `real_time:` block the session steps in lab time: the same loop, unpaced.
-  if (!enabled()) return session_.Run();
-  queue_ = QueueObservers(session_, *loop_);
-  if (!clock_->is_virtual()) {
-    for (const std::string& note : PrepareRealTimeProcess(session_.spec().real_time)) {
-      if (!quiet_) fmt::print(stderr, "hybridtest: real time: {}\n", note);
-      loop_->AddSetupNote(note);
-    }
-  }
-  return loop_->Run();
 }
 
 }  // namespace hybridtest::runner
