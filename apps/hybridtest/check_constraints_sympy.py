@@ -157,9 +157,10 @@ def main():
                               velocity_constraints=list(g))
         kane.kanes_equations(reader.bodies, reader.loads)
         kdd = kane.kindiffdict()
-        kanes = (sp.lambdify(args, me.msubs(kane.mass_matrix.subs(kdd), plain).tolist(), 'math'),
-                 sp.lambdify(args, me.msubs(kane.forcing.subs(kdd), plain).tolist(), 'math'),
-                 order)
+        def plain_of(e):  # q' through the kinematical equations, then plain symbols
+            return me.msubs(me.msubs(e, kdd), plain).tolist()
+        kanes = (sp.lambdify(args, plain_of(kane.mass_matrix), 'math'),
+                 sp.lambdify(args, plain_of(kane.forcing), 'math'), order)
     with tempfile.TemporaryDirectory() as tmp:
         config = pathlib.Path(tmp) / 'config.yaml'
         config.write_text(f'model: {{file: {model}}}\nintegrator: {{tableau: rk4, dt: 0.001}}\n'

@@ -332,7 +332,7 @@ class Reader:
         # sign(x)' = 2 δ(x): zero wherever it is evaluated (the engine's derivative of sign).
         def no_delta(e):
             return e.replace(sp.DiracDelta, lambda *a: sp.S.Zero)
-        return no_delta(kane.mass_matrix.subs(kdd)), no_delta(kane.forcing.subs(kdd))
+        return no_delta(me.msubs(kane.mass_matrix, kdd)), no_delta(me.msubs(kane.forcing, kdd))
 
 
 def main():

@@ -56,27 +56,17 @@ class StopOnSignal {
   struct sigaction old_term_ {};
 };
 
-// The progress display as a session observer.
+// The progress display as a session observer: what the events carry, nothing else (behind a
+// real-time run's queue it runs on the queue's thread).
 class ProgressObserver final : public runner::SessionObserver {
  public:
-  ProgressObserver(const runner::Session& session, runner::ProgressOptions options)
-      : session_(session), progress_(options) {}
+  explicit ProgressObserver(runner::ProgressOptions options) : progress_(options) {}
+  void OnStart(const runner::StartEvent& e) override { duration_ = e.spec.scheme.duration; }
   void OnCommit(const runner::CommitEvent& e) override {
     if (e.kind != runner::RowKind::kCommitted) return;
-    if (session_.spec().real_time.enabled) {
-      // Behind a real-time run's queue, on its thread: the event and the spec only (one
-      // evaluation per step; lab time is simulated time).
-      const auto& sc = session_.spec().scheme;
-      if (e.step == 0) start_ = std::chrono::steady_clock::now();
-      progress_.Update({e.step, sc.steps, e.t, sc.duration, e.step, e.t,
-                        std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                                      start_).count()});
-      return;
-    }
-    const runner::RunStatistics& s = session_.statistics();
-    progress_.Update({e.step, e.step + session_.EstimatedStepsLeft(), e.t,
-                      session_.spec().scheme.duration, s.physical_evaluations, s.lab_time,
-                      s.wall_time});
+    const runner::RunStatistics& s = e.statistics;
+    progress_.Update({e.step, e.step + e.steps_left, e.t, duration_, s.physical_evaluations,
+                      s.lab_time, s.wall_time});
   }
   // The last line tells how the run ended: "done" only when it finished; else the start of
   // the reason (the whole of it follows in the error message).
@@ -93,9 +83,8 @@ class ProgressObserver final : public runner::SessionObserver {
   }
 
  private:
-  const runner::Session& session_;
   runner::Progress progress_;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  double duration_ = 0.0;  // the run's end time [s]
 };
 
 // The loop and the summary, shared by run, simulate and resume.
@@ -124,7 +113,7 @@ void RunAndReport(io::RunSpec spec,
   // a real-time run's pacer is built from its spec (the same Session::Run as every run).
   runner::Session session(std::move(spec), std::move(session_options));
   if (resume_from != nullptr) session.SetState(*resume_from);
-  ProgressObserver progress_observer(session, progress);
+  ProgressObserver progress_observer(progress);
   session.AddObserver(progress_observer);
   const StopOnSignal stop_on_signal(session);
   // --monitor: one more observer, and the operator's Hold/Continue/Stop between two steps.

@@ -92,8 +92,8 @@ def _kane(frame, q, u, kd, bodies, loads):
     kane = me.KanesMethod(frame, q_ind=q, u_ind=u, kd_eqs=kd)
     kane.kanes_equations(bodies, loads)
     kdd = kane.kindiffdict()
-    mass = kane.mass_matrix.subs(kdd)
-    forcing = kane.forcing.subs(kdd)
+    mass = me.msubs(kane.mass_matrix, kdd)
+    forcing = me.msubs(kane.forcing, kdd)
     # trigsimp removes spurious 1/cos factors that the linear solve leaves behind (they would
     # cost accuracy where the factor is near zero although q' itself is regular there).
     qdot = sm.Matrix([sm.trigsimp(sm.together(kdd[sm.diff(qi, me.dynamicsymbols._t)]))

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -20,33 +21,62 @@ class Recorder final : public SessionObserver {
     while (blocked.load()) std::this_thread::yield();
     steps.push_back(e.step);
     sums.push_back(e.row[0] + e.row[1]);
+    evaluations.push_back(e.statistics.physical_evaluations);
+    steps_left.push_back(e.steps_left);
+    if (e.finished) ++finished;
+    if (e.state) ++with_state;
     consumer = std::this_thread::get_id();
   }
   void OnStop(const StopEvent&) override { stopped = true; }
   std::atomic<bool> blocked{false};
   std::vector<long> steps;
   std::vector<double> sums;
+  std::vector<long> evaluations, steps_left;
+  int finished = 0, with_state = 0;
   std::thread::id consumer;
   bool stopped = false;
 };
 
+StopEvent Stopped(SessionStatus status, std::string reason) {
+  StopEvent e;
+  e.status = status;
+  e.reason = std::move(reason);
+  e.statistics = nlohmann::json::object();
+  return e;
+}
+
 void Commit(LockFreeObserver& o, long step) {
   const std::vector<double> x{1.0, 2.0}, r{3.0}, row{static_cast<double>(step), 0.5};
-  o.OnCommit({RowKind::kCommitted, step, 0.001 * static_cast<double>(step), x, r, row});
+  CommitEvent e;
+  e.step = step;
+  e.t = 0.001 * static_cast<double>(step);
+  e.x = x;
+  e.r = r;
+  e.row = row;
+  e.statistics.physical_evaluations = 3 * step;
+  e.finished = step == 9999;
+  e.steps_left = 9999 - step;
+  e.state = [] { return RunState{}; };  // the stepping thread's only
+  o.OnCommit(e);
 }
 
 TEST(LockFreeObserver, DeliversEveryRowInOrderOnAnotherThread) {
   Session session(testing::DummySpec(0.01));
   Recorder inner;
   LockFreeObserver queued(inner, 20000, 8);
-  queued.OnStart(session);
+  queued.OnStart({session.spec(), session.slot_map(), session.substructures(), false, nullptr});
   for (long k = 0; k < 10000; ++k) Commit(queued, k);
-  queued.OnStop({SessionStatus::kFinished, "", nlohmann::json::object()});
+  queued.OnStop(Stopped(SessionStatus::kFinished, ""));
   ASSERT_EQ(inner.steps.size(), 10000u);
   for (long k = 0; k < 10000; ++k) {
     ASSERT_EQ(inner.steps[static_cast<std::size_t>(k)], k);
     ASSERT_EQ(inner.sums[static_cast<std::size_t>(k)], static_cast<double>(k) + 0.5);
+    // What the event carries for the files, the monitor and the progress display.
+    ASSERT_EQ(inner.evaluations[static_cast<std::size_t>(k)], 3 * k);
+    ASSERT_EQ(inner.steps_left[static_cast<std::size_t>(k)], 9999 - k);
   }
+  EXPECT_EQ(inner.finished, 1);
+  EXPECT_EQ(inner.with_state, 0);  // the state is never called from the queue's thread
   EXPECT_NE(inner.consumer, std::this_thread::get_id());
   EXPECT_TRUE(inner.stopped);
 }
@@ -56,11 +86,11 @@ TEST(LockFreeObserver, AFullRingThrowsInsteadOfWaiting) {
   Recorder inner;
   inner.blocked = true;  // the consumer is stuck in the first row
   LockFreeObserver queued(inner, 4, 8);
-  queued.OnStart(session);
+  queued.OnStart({session.spec(), session.slot_map(), session.substructures(), false, nullptr});
   for (long k = 0; k < 4; ++k) Commit(queued, k);
   EXPECT_THROW(Commit(queued, 4), Error);
   inner.blocked = false;
-  queued.OnStop({SessionStatus::kStopped, "full", nlohmann::json::object()});
+  queued.OnStop(Stopped(SessionStatus::kStopped, "full"));
   EXPECT_EQ(inner.steps.size(), 4u);
 }
 
@@ -78,7 +108,7 @@ TEST(LockFreeObserver, ForwardsTrialsAndCommitsToEveryInnerObserverInOrder) {
   Session session(testing::DummySpec(0.01));
   Sequence a, b;
   LockFreeObserver queued({&a, &b}, 64, 8, 2);
-  queued.OnStart(session);
+  queued.OnStart({session.spec(), session.slot_map(), session.substructures(), false, nullptr});
   std::vector<long> expected;
   for (long k = 1; k <= 20; ++k) {
     const std::vector<double> d{0.1}, r{2.0};
@@ -92,7 +122,7 @@ TEST(LockFreeObserver, ForwardsTrialsAndCommitsToEveryInnerObserverInOrder) {
   // More exchanges than it was made for is a programming error, not a silent cut.
   const std::vector<substructures::Exchange> three(3);
   EXPECT_THROW(queued.OnTrial({{21, 0, 0.21}, {}, {}, three}), Error);
-  queued.OnStop({SessionStatus::kFinished, "", nlohmann::json::object()});
+  queued.OnStop(Stopped(SessionStatus::kFinished, ""));
   EXPECT_EQ(a.log, expected);
   EXPECT_EQ(b.log, expected);
 }

@@ -24,7 +24,11 @@ io::RunSpec DummySpec(double duration = 0.02) { return testing::DummySpec(durati
 // Records everything it is told, in order.
 class Recorder final : public SessionObserver {
  public:
-  void OnStart(const Session&) override { events.push_back("start"); }
+  void OnStart(const StartEvent& e) override {
+    events.push_back("start");
+    start_physical = e.has_physical;
+    start_substructures = e.substructures.size();
+  }
   void OnTrial(const TrialEvent& e) override {
     events.push_back("trial");
     trial_stages.push_back(e.at.stage);
@@ -44,10 +48,23 @@ class Recorder final : public SessionObserver {
     events.push_back("commit");
     rows.push_back(std::vector<double>(e.row.begin(), e.row.end()));
     EXPECT_EQ(e.row[0], e.t);
+    // What the files, the monitor and the progress display need, carried by the event.
+    evaluations.push_back(e.statistics.physical_evaluations);
+    steps_left.push_back(e.steps_left);
+    finished.push_back(e.finished);
+    if (e.state) state_steps.push_back(e.state().scheme.value("step", -1L));
   }
   void OnStop(const StopEvent& e) override {
     events.push_back(std::string("stop:") + StatusName(e.status));
+    stop_step = e.committed_step;
+    stop_has_state = e.state.has_value();
   }
+  bool start_physical = false;
+  std::size_t start_substructures = 0;
+  std::vector<long> evaluations, steps_left, state_steps;
+  std::vector<bool> finished;
+  long stop_step = -2;
+  bool stop_has_state = false;
   std::vector<std::string> events;
   std::vector<int> trial_stages;
   std::vector<std::vector<double>> rows;
@@ -85,6 +102,20 @@ TEST(SessionObservers, SeeEveryTrialAndCommitInOrder) {
   // The last row is the committed point.
   const auto& p = session.committed();
   for (int i = 0; i < 8; ++i) EXPECT_EQ(recorder.rows.back()[1 + i], p.x(i));
+  // The events carried the run: its substructures, the evaluations so far (x0's trial, then
+  // two per Heun step), the steps left, the end on the last row only, the state at each row.
+  EXPECT_TRUE(recorder.start_physical);
+  EXPECT_EQ(recorder.start_substructures, session.substructures().size());
+  for (long k = 0; k <= 20; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    EXPECT_EQ(recorder.evaluations[i], 1 + 2 * k);
+    EXPECT_EQ(recorder.steps_left[i], 20 - k);
+    EXPECT_EQ(recorder.finished[i], k == 20);
+  }
+  ASSERT_EQ(recorder.state_steps.size(), 21u);
+  EXPECT_EQ(recorder.state_steps.back(), 20);
+  EXPECT_EQ(recorder.stop_step, 20);
+  EXPECT_TRUE(recorder.stop_has_state);
   // After the end, Step() keeps answering the same.
   EXPECT_EQ(session.Step().status, SessionStatus::kFinished);
 }

@@ -16,11 +16,11 @@ namespace {
 
 // The physical substructures whose transfer system compensates a delay (their estimates are
 // shown live on a paced run).
-std::vector<int> CompensatedBlocks(const runner::Session& session) {
+std::vector<int> CompensatedBlocks(const runner::StartEvent& run) {
   std::vector<int> blocks;
-  const auto& map = session.slot_map().substructures;
+  const auto& map = run.slot_map.substructures;
   for (std::size_t b = 0; b < map.size(); ++b) {
-    const transfer::TransferSystem* t = session.substructures()[b]->transfer_system();
+    const transfer::TransferSystem* t = run.substructures[b]->transfer_system();
     if (map[b].physical && t != nullptr && !t->CompensationRecord().is_null()) {
       blocks.push_back(static_cast<int>(b));
     }
@@ -30,10 +30,10 @@ std::vector<int> CompensatedBlocks(const runner::Session& session) {
 
 }  // namespace
 
-void DescribeRun(const runner::Session& session, RunIdentity& identity, FrameLayout& layout,
+void DescribeRun(const runner::StartEvent& run, RunIdentity& identity, FrameLayout& layout,
                  std::vector<ActuatorInfo>& actuators) {
-  const io::RunSpec& spec = session.spec();
-  const runner::SlotMap& map = session.slot_map();
+  const io::RunSpec& spec = run.spec;
+  const runner::SlotMap& map = run.slot_map;
   identity.config = spec.source.config_path;
   identity.model = spec.model.name;
   if (spec.source.test.is_object() && spec.source.test.contains("specimen")) {
@@ -55,7 +55,7 @@ void DescribeRun(const runner::Session& session, RunIdentity& identity, FrameLay
   for (std::size_t b = 0; b < map.substructures.size(); ++b) {
     const runner::SlotMap::Block& block = map.substructures[b];
     if (!block.physical) continue;
-    const substructures::Substructure& sub = *session.substructures()[b];
+    const substructures::Substructure& sub = *run.substructures[b];
     std::vector<std::string> slots;
     for (int s : block.slots) slots.push_back(map.slots[std::size_t(s)].name);
     for (int k = 0; k < block.num_actuators; ++k) {
@@ -73,7 +73,7 @@ void DescribeRun(const runner::Session& session, RunIdentity& identity, FrameLay
   identity.real_time = {};
   if (spec.real_time.enabled) {
     identity.real_time = {true, "", spec.scheme.dt, spec.real_time.hold_after_misses, {}};
-    for (int b : CompensatedBlocks(session)) {
+    for (int b : CompensatedBlocks(run)) {
       identity.real_time.compensators.push_back(map.substructures[std::size_t(b)].name);
     }
   }
@@ -86,15 +86,15 @@ MonitorObserver::MonitorObserver(MonitorState& state, MonitorObserverOptions opt
 
 MonitorObserver::~MonitorObserver() { StopCollector(); }
 
-void MonitorObserver::OnStart(const runner::Session& session) {
-  session_ = &session;
+void MonitorObserver::OnStart(const runner::StartEvent& run) {
+  csv_ = run.spec.output.files ? run.spec.output.csv_path : "";
   RunIdentity identity;
   std::vector<ActuatorInfo> actuators;
-  DescribeRun(session, identity, layout_, actuators);
+  DescribeRun(run, identity, layout_, actuators);
   if (paced_ != nullptr) identity.real_time.clock = paced_->clock_name();
   compensators_.clear();
-  for (int b : CompensatedBlocks(session)) {
-    compensators_.push_back(session.substructures()[std::size_t(b)]->transfer_system());
+  for (int b : CompensatedBlocks(run)) {
+    compensators_.push_back(run.substructures[std::size_t(b)]->transfer_system());
   }
   layout_ = state_.SetIdentity(std::move(identity), layout_, std::move(actuators));
   ring_ = std::make_unique<runner::SpscRing<std::vector<double>>>(
@@ -104,7 +104,7 @@ void MonitorObserver::OnStart(const runner::Session& session) {
   last_d_.assign(static_cast<std::size_t>(layout_.slots), std::nan(""));
   // On a real-time run the collector stays off the stepping thread's core and time
   // (background_thread.h); it would otherwise inherit the stepping thread's SCHED_FIFO.
-  const io::RealTimeSpec& rt = session.spec().real_time;
+  const io::RealTimeSpec& rt = run.spec.real_time;
   if (!collector_.joinable()) {
     collector_ = std::thread([this, background = rt.enabled, cpu = rt.cpu] {
       if (background) MoveThisThreadToBackground(cpu);
@@ -127,7 +127,7 @@ void MonitorObserver::OnCommit(const runner::CommitEvent& event) {
     return;
   }
   double* f = frame->data();
-  const runner::RunStatistics& s = session_->statistics();
+  const runner::RunStatistics& s = event.statistics;
   f[0] = static_cast<double>(event.step);
   f[1] = event.t;
   f[2] = s.wall_time;
@@ -184,9 +184,7 @@ void MonitorObserver::OnStop(const runner::StopEvent& event) {
     return;
   }
   std::string resume;
-  const std::string csv = session_ != nullptr && session_->spec().output.files
-                              ? session_->spec().output.csv_path
-                              : "";
+  const std::string& csv = csv_;
   if (!csv.empty()) {
     const bool safety = event.statistics.contains("stop") &&
                         event.statistics["stop"].value("kind", "") == "safety";

@@ -33,8 +33,8 @@ struct MonitorObserverOptions {
   double drain_interval = 0.05;      // collector period. Unit: [s]
 };
 
-// The identity, layout and actuators of a session's run, from its spec and slot map.
-void DescribeRun(const runner::Session& session, RunIdentity& identity, FrameLayout& layout,
+// The identity, layout and actuators of a run, from its spec and slot map.
+void DescribeRun(const runner::StartEvent& run, RunIdentity& identity, FrameLayout& layout,
                  std::vector<ActuatorInfo>& actuators);
 
 class MonitorObserver final : public runner::SessionObserver {
@@ -45,7 +45,7 @@ class MonitorObserver final : public runner::SessionObserver {
   MonitorObserver(const MonitorObserver&) = delete;
   MonitorObserver& operator=(const MonitorObserver&) = delete;
 
-  void OnStart(const runner::Session& session) override;
+  void OnStart(const runner::StartEvent& run) override;
   void OnTrial(const runner::TrialEvent& event) override;
   void OnCommit(const runner::CommitEvent& event) override;
   void OnResume(const runner::ResumeEvent& event) override;
@@ -65,7 +65,7 @@ class MonitorObserver final : public runner::SessionObserver {
 
   MonitorState& state_;
   MonitorObserverOptions options_;
-  const runner::Session* session_ = nullptr;
+  std::string csv_;  // the run's journal ("" without files), for the resume command
   const runner::PacedLoop* paced_ = nullptr;
   std::vector<const transfer::TransferSystem*> compensators_;  // their delay columns
   FrameLayout layout_;

@@ -42,8 +42,8 @@ LockFreeObserver::LockFreeObserver(std::vector<SessionObserver*> inner, std::siz
 
 LockFreeObserver::~LockFreeObserver() { Stop(); }
 
-void LockFreeObserver::OnStart(const Session& session) {
-  for (SessionObserver* o : inner_) o->OnStart(session);
+void LockFreeObserver::OnStart(const StartEvent& event) {
+  for (SessionObserver* o : inner_) o->OnStart(event);
   running_ = true;
   consumer_ = std::thread([this] { Consume(); });
 }
@@ -84,6 +84,9 @@ void LockFreeObserver::OnCommit(const CommitEvent& e) {
   CopyInto(e.x, s->x, s->nx);
   CopyInto(e.r, s->r, s->nr);
   CopyInto(e.row, s->row, s->nrow);
+  s->statistics = e.statistics;
+  s->finished = e.finished;
+  s->steps_left = e.steps_left;
   ring_.Publish();
 }
 
@@ -95,7 +98,7 @@ void LockFreeObserver::Deliver(const Slot& s) {
     return;
   }
   const CommitEvent e{s.kind, s.step, s.t, {s.x.data(), s.nx}, {s.r.data(), s.nr},
-                      {s.row.data(), s.nrow}};
+                      {s.row.data(), s.nrow}, s.statistics, s.finished, s.steps_left, {}};
   for (SessionObserver* o : inner_) o->OnCommit(e);
 }
 

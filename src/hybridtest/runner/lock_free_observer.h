@@ -17,7 +17,8 @@
 //     event. BeforeTrial is not forwarded.
 //   - The inner observers run concurrently with the session while the ring is not empty: in
 //     OnTrial/OnCommit they must use the event's data only, never the Session (RunFiles, in a
-//     real-time run, saves its state at the stop: run_files.h).
+//     real-time run, saves its state at the stop: run_files.h). A queued commit carries
+//     everything of the session's event but its `state` (empty).
 #include <atomic>
 #include <chrono>
 #include <exception>
@@ -48,7 +49,7 @@ class LockFreeObserver final : public SessionObserver {
   LockFreeObserver(const LockFreeObserver&) = delete;
   LockFreeObserver& operator=(const LockFreeObserver&) = delete;
 
-  void OnStart(const Session& session) override;
+  void OnStart(const StartEvent& event) override;
   void OnTrial(const TrialEvent& event) override;
   void OnCommit(const CommitEvent& event) override;
   void OnResume(const ResumeEvent& event) override;
@@ -77,6 +78,9 @@ class LockFreeObserver final : public SessionObserver {
     double t = 0.0;
     std::vector<double> x, r, row;
     std::size_t nx = 0, nr = 0, nrow = 0;
+    RunStatistics statistics;
+    bool finished = false;
+    long steps_left = 0;
     // A trial (r above).
     schemes::TrialPoint at;
     std::vector<double> d;

@@ -15,16 +15,16 @@ namespace hybridtest::runner {
 RunFiles::RunFiles(const io::RunSpec& spec, nlohmann::json resume_record)
     : spec_(spec), resume_record_(std::move(resume_record)) {}
 
-void RunFiles::OnStart(const Session& session) {
-  session_ = &session;
+void RunFiles::OnStart(const StartEvent& event) {
   const std::string& csv = spec_.output.csv_path;
-  const auto& subs = session.substructures();
-  const bool physical = session.has_physical();
+  const auto& subs = event.substructures;
+  const bool physical = event.has_physical;
+  physical_ = physical;
   // A paced (real-time) run cannot wait for a sync between ticks: its specimen moves on its
   // own clock, so its rows are buffered like a numerical run's (docs/real-time.md).
   const io::SyncPolicy policy = physical && !spec_.real_time.enabled ? io::SyncPolicy::kEveryRow
                                                                      : io::SyncPolicy::kBuffered;
-  const RunState* resume = session.resume_state();
+  const RunState* resume = event.resume;
   if (resume != nullptr) {
     rows_cut_ = CutJournalToRows(csv, resume->rows);
     journal_.emplace(io::kReopenForAppend, csv, policy);
@@ -84,22 +84,26 @@ void RunFiles::OnCommit(const CommitEvent& event) {
     // Row 0 first: it publishes the journal; the state of a run that never published stays
     // that of the earlier run at the same path.
     journal_->Append(event.row, true);
-    SaveState(true, journal_->rows(), event.row);
+    SaveState(event, true, journal_->rows());
     return;
   }
-  SaveState(session_->scheme()->finished(), journal_->rows() + 1, event.row);
+  SaveState(event, event.finished, journal_->rows() + 1);
   journal_->Append(event.row, true);
 }
 
-void RunFiles::SaveState(bool always, long rows_after, std::span<const double> row) {
+void RunFiles::SaveState(const CommitEvent& event, bool always, long rows_after) {
   if (!spec_.output.save_state) return;
-  const bool every_row = session_->has_physical() && !spec_.real_time.enabled;
+  const bool every_row = physical_ && !spec_.real_time.enabled;
   if (!always && !every_row && rows_after / 1000 == state_rows_ / 1000) return;
+  if (!event.state) {
+    throw Error("RunFiles: a committed row without its state (a file-backed run that is not "
+                "real-time saves its state on the stepping thread)");
+  }
   journal_->Flush();  // its rows before the state's are in the kernel (kBuffered holds some)
-  RunState state = session_->GetState();
+  RunState state = event.state();
   state.rows = rows_after;
   state.stage_rows = stages_ ? stages_->rows() : 0;
-  state.row.assign(row.begin(), row.end());
+  state.row.assign(event.row.begin(), event.row.end());
   state.journal_rows = journal_->rows();
   if (journal_->rows() > 0) state.journal_last_row = journal_->last_row();
   SaveRunState(state_path_, state);
@@ -120,9 +124,8 @@ void RunFiles::OnResume(const ResumeEvent& event) {
     }
     return;
   }
-  const schemes::CommittedPoint& p = session_->committed();
   nlohmann::json record = resume_record_;
-  record.update({{"time", io::UtcNowIso8601()}, {"step", p.step}, {"t", p.t},
+  record.update({{"time", io::UtcNowIso8601()}, {"step", event.step}, {"t", event.t},
                  {"row", state.rows - 1},
                  {"rows_cut", rows_cut_},
                  {"row_rewritten_from_state", row_rewritten_},
@@ -141,15 +144,15 @@ void RunFiles::OnResume(const ResumeEvent& event) {
   journal_->SetSidecarEntry("resumes", resumes);
 }
 
-void RunFiles::SaveRealTimeState() {
+void RunFiles::SaveRealTimeState(const StopEvent& event) {
   // The session's committed point must be the last row written (a row lost to a full queue
   // would leave the state ahead of its journal: then no state is saved).
-  if (!spec_.output.save_state || !session_->scheme() || last_committed_step_ < 0 ||
-      session_->committed().step != last_committed_step_) {
+  if (!spec_.output.save_state || !event.state || last_committed_step_ < 0 ||
+      event.committed_step != last_committed_step_) {
     return;
   }
   journal_->Flush();
-  RunState state = session_->GetState();
+  RunState state = *event.state;
   state.rows = committed_rows_;
   state.stage_rows = stages_ ? stages_->rows() : 0;
   state.row = last_committed_;
@@ -165,7 +168,7 @@ void RunFiles::OnStop(const StopEvent& event) {
   if (!journal_) return;
   if (spec_.real_time.enabled) {
     try {
-      SaveRealTimeState();
+      SaveRealTimeState(event);
     } catch (const std::exception&) {
       if (event.status == SessionStatus::kFinished) throw;
     }

@@ -36,7 +36,7 @@ class RunFiles final : public SessionObserver {
   // `resume_record`: extra fields of the sidecar's resume record.
   RunFiles(const io::RunSpec& spec, nlohmann::json resume_record);
 
-  void OnStart(const Session& session) override;
+  void OnStart(const StartEvent& event) override;
   void OnTrial(const TrialEvent& event) override;
   void OnCommit(const CommitEvent& event) override;
   void OnResume(const ResumeEvent& event) override;
@@ -46,14 +46,14 @@ class RunFiles final : public SessionObserver {
   void OnOperatorAction(const nlohmann::json& action) override;
 
  private:
-  void SaveState(bool always, long rows_after, std::span<const double> row);
-  void SaveRealTimeState();
+  void SaveState(const CommitEvent& event, bool always, long rows_after);
+  void SaveRealTimeState(const StopEvent& event);
   // The stop of a resume that committed nothing (see above); false if it is not that.
   bool KeepPreviousStop(const StopEvent& event);
 
   const io::RunSpec& spec_;
   nlohmann::json resume_record_;
-  const Session* session_ = nullptr;
+  bool physical_ = false;       // a physical substructure takes part
   std::optional<io::Journal> journal_;
   std::optional<io::Journal> stages_;
   std::string state_path_;

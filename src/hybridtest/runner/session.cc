@@ -217,9 +217,19 @@ void Session::Publish(RowKind kind, long step, double t, const Eigen::VectorXd& 
                       const Eigen::VectorXd& r) {
   FillRow(t, x, r, kind == RowKind::kCommitted);
   ++stats_.rows;
-  const CommitEvent event{kind, step, t, {x.data(), static_cast<std::size_t>(x.size())},
-                          {r.data(), static_cast<std::size_t>(r.size())},
-                          {row_.data(), static_cast<std::size_t>(row_.size())}};
+  CommitEvent event;
+  event.kind = kind;
+  event.step = step;
+  event.t = t;
+  event.x = {x.data(), static_cast<std::size_t>(x.size())};
+  event.r = {r.data(), static_cast<std::size_t>(r.size())};
+  event.row = {row_.data(), static_cast<std::size_t>(row_.size())};
+  event.statistics = stats_;
+  if (kind == RowKind::kCommitted) {
+    event.finished = scheme_ && scheme_->finished();
+    event.steps_left = EstimatedStepsLeft();
+    event.state = [this] { return GetState(); };  // one pointer: no allocation
+  }
   for (SessionObserver* o : observers_) o->OnCommit(event);
 }
 
@@ -249,7 +259,8 @@ StepResult Session::Initialize() {
   wall_start_ = std::chrono::steady_clock::now();
   try {
     // Records first: a run that cannot write them must not move anything.
-    for (SessionObserver* o : observers_) o->OnStart(*this);
+    const StartEvent start{spec_, slot_map_, subs_, has_physical(), resume_state()};
+    for (SessionObserver* o : observers_) o->OnStart(start);
     for (auto& s : subs_) s->Activate();
     if (resume_) {
       RestoreFromState();

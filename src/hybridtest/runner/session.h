@@ -84,6 +84,19 @@ enum class RowKind {
   kUncommitted,   // after a failure: the state a step computed but could not try; NaN r
 };
 
+// What a run is, given to every observer before anything is activated (OnStart). The
+// references are valid during OnStart only: an observer copies what it keeps and holds no
+// pointer to the Session (every later event carries what it needs).
+struct StartEvent {
+  const io::RunSpec& spec;
+  const SlotMap& slot_map;  // which substructure serves which slot through which actuators
+  // The run's substructures (their actuators' p0 and limits, their transfer systems), which
+  // outlive every event of the run.
+  const std::vector<std::unique_ptr<substructures::Substructure>>& substructures;
+  bool has_physical = false;  // a physical substructure takes part
+  const RunState* resume = nullptr;  // the state a resume continues from; null: a new run
+};
+
 struct CommitEvent {
   RowKind kind = RowKind::kCommitted;
   long step = 0;                 // committed steps
@@ -91,12 +104,24 @@ struct CommitEvent {
   std::span<const double> x;     // [q; u; z]
   std::span<const double> r;     // (m)
   std::span<const double> row;   // the journal row (see above)
+  RunStatistics statistics;      // the run's statistics at this row
+  bool finished = false;         // the scheme reached the run's end with this row
+  long steps_left = 0;           // steps still to go (an estimate for adaptive schemes)
+  // The committed state at this row, for a run-state file (runner/run_state.h; its rows and
+  // journal fields are the caller's to fill). Callable during OnCommit on the stepping thread
+  // only; empty on an event a queue delivers (lock_free_observer.h) and on other rows.
+  std::function<RunState()> state;
 };
 
 struct StopEvent {
   SessionStatus status = SessionStatus::kFinished;  // kFinished, kHeld or kStopped
   std::string reason;            // "" when finished
   nlohmann::json statistics;     // ToJson(statistics) + initial_stiffness (+ stop details)
+  // The last committed point (step −1 before the first) and the state at it, for a run that
+  // saves its state at the stop (a real-time run: run_files.h); no state before the scheme
+  // exists.
+  long committed_step = -1;
+  std::optional<RunState> state;
 };
 
 // A resume, in two phases: kRestored once every substructure and the scheme hold the saved
@@ -107,6 +132,8 @@ struct ResumeEvent {
   enum Phase { kRestored, kChecked, kRefused } phase = kRestored;
   const RunState* state = nullptr;
   std::span<const double> row;
+  long step = 0;    // the committed point the run continues from (kChecked, kRefused)
+  double t = 0.0;   // ... its time [s]
   nlohmann::json checks = nlohmann::json::array();
   std::string refused;
 };
@@ -121,7 +148,7 @@ class SessionObserver {
  public:
   virtual ~SessionObserver() = default;
   // Before anything is activated; a file-backed run's records open here.
-  virtual void OnStart(const Session& /*session*/) {}
+  virtual void OnStart(const StartEvent& /*event*/) {}
   // Before every trial (a physical substructure moves next).
   virtual void BeforeTrial(const schemes::TrialPoint& /*at*/) {}
   virtual void OnTrial(const TrialEvent& /*event*/) {}
@@ -296,6 +323,8 @@ class Session {
   void UpdateStatistics(double t);
   StepResult Fail(const std::exception& e);
   StepResult Finish();
+  // The last committed step and the state at it (StopEvent), once a scheme exists.
+  void AddCommittedState(StopEvent& event) const;
   double WallTime() const;
 
   io::RunSpec spec_;

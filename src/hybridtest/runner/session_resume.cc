@@ -35,6 +35,8 @@ void Session::RestoreFromState() {
     event.phase = ResumeEvent::kRestored;
     event.state = &state;
     event.row = {row_.data(), static_cast<std::size_t>(row_.size())};
+    event.step = p.step;
+    event.t = p.t;
     for (SessionObserver* o : observers_) o->OnResume(event);
   }
   ReimposeCommitted();
@@ -45,6 +47,8 @@ void Session::ReimposeCommitted() {
   const schemes::CommittedPoint& p = scheme_->committed();
   ResumeEvent event;
   event.state = &state;
+  event.step = p.step;
+  event.t = p.t;
   const Eigen::VectorXd none;  // resume moves carry no slot displacements or forces
   try {
     for (std::size_t s = 0; s < subs_.size(); ++s) {

@@ -54,6 +54,12 @@ bool IsInterruption(const std::exception_ptr& error) {
 
 }  // namespace
 
+void Session::AddCommittedState(StopEvent& event) const {
+  if (!scheme_) return;
+  event.committed_step = scheme_->committed().step;
+  event.state = GetState();
+}
+
 StepResult Session::Finish() {
   try {
     for (auto& s : subs_) s->Deactivate();
@@ -61,12 +67,14 @@ StepResult Session::Finish() {
     return Fail(e);
   }
   UpdateStatistics(t_now_);
-  StopEvent event{SessionStatus::kFinished, "", ToJson(stats_)};
+  StopEvent event;
+  event.statistics = ToJson(stats_);
   event.statistics["initial_stiffness"] = stiffness_record_;
   if (!resume_) event.statistics["start"] = start_record_;  // a resume records its checks
   event.statistics["benches"] = BenchRecords(subs_, spec_);
   result_ = {SessionStatus::kFinished, ""};
   try {
+    AddCommittedState(event);
     for (SessionObserver* o : observers_) o->AddStatistics(event.statistics);
     for (SessionObserver* o : observers_) o->OnStop(event);
   } catch (const std::exception& e) {
@@ -96,7 +104,10 @@ StepResult Session::Fail(const std::exception& e) {
     }
   }
   UpdateStatistics(t_now_);
-  StopEvent event{result_.status, e.what(), ToJson(stats_)};
+  StopEvent event;
+  event.status = result_.status;
+  event.reason = e.what();
+  event.statistics = ToJson(stats_);
   event.statistics["initial_stiffness"] = stiffness_record_;
   if (!resume_) event.statistics["start"] = start_record_;  // a resume records its checks
   event.statistics["benches"] = BenchRecords(subs_, spec_);
@@ -110,6 +121,11 @@ StepResult Session::Fail(const std::exception& e) {
     received.push_back(count ? nlohmann::json(*count) : nlohmann::json(nullptr));
   }
   event.statistics["stop"]["commands_received"] = received;
+  try {
+    AddCommittedState(event);
+  } catch (const std::exception&) {
+    // No state to save; the run's own error is the one reported.
+  }
   for (SessionObserver* o : observers_) {
     try {
       o->AddStatistics(event.statistics);
