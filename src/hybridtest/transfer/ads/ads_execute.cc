@@ -1,135 +1,97 @@
-// AdsTransfer::Execute and Probe (ads_transfer.h): one sum write of the commands and their
-// sequence, sum reads until the PLC acknowledges it, the checks of what came back.
+// AdsTransfer::Execute and Probe (ads_transfer.h): the acknowledged move (acknowledged_move.h)
+// over the profile's symbols — one sum write of the commands and their sequence, sum reads of
+// the outputs, bHold, the heartbeat while waiting, and the symbol names in its messages.
 #include <fmt/core.h>
 
 #include <cmath>
-#include <thread>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/transfer/acknowledged_move.h"
 #include "hybridtest/transfer/ads/ads_transfer.h"
-#include "hybridtest/transfer/safety.h"
 
 namespace hybridtest::transfer::ads {
-namespace {
 
-using Clock = std::chrono::steady_clock;
+class AdsTransfer::Controller final : public AckController {
+ public:
+  explicit Controller(AdsTransfer& t) : t_(t), p_(t.options_.profile) {}
 
-// "1.5" for one value, "[1.5, 2]" for several.
-std::string List(std::span<const double> values) {
-  std::string text;
-  for (double v : values) text += (text.empty() ? "" : ", ") + fmt::format("{}", v);
-  return values.size() == 1 ? text : "[" + text + "]";
-}
+  // The commands, then their sequence, in one sum write (the PLC takes the command when the
+  // sequence changes, after the array is in place).
+  void Write(std::span<const double> commands,
+             std::span<const std::uint64_t> sequence) override {
+    const auto s = static_cast<std::uint32_t>(sequence[0]);
+    const Role roles[] = {kCommand, kSequence, kHeartbeat};
+    const std::vector<std::uint8_t> values[] = {EncodeReals(commands), EncodeUdint(s),
+                                                t_.NextHeartbeat()};
+    Named([&] {
+      t_.WriteSymbols(roles, values, t_.options_.response_timeout,
+                      fmt::format("command{} {} {} with {} = {}", commands.size() > 1 ? "s" : "",
+                                  ValueList(commands), p_.units.length_name,
+                                  p_.symbols[kSequence], s));
+    });
+  }
 
-}  // namespace
+  void Read(std::vector<AckReading>& out, const std::string& why) override {
+    Named([&] { raw_ = t_.ReadOutputs(why); });
+    out.resize(raw_.position.size());
+    for (std::size_t k = 0; k < out.size(); ++k) {
+      out[k] = AckReading{raw_.position[k], raw_.force[k], raw_.ack, raw_.fault, raw_.enabled,
+                          raw_.holding};
+    }
+  }
+
+  void Wait() override {
+    Named([&] { t_.BeatIfDue(); });  // the PLC's watchdog sees hybridtest wait
+  }
+
+  void Hold() noexcept override { t_.Hold(); }
+
+  std::string Name() const override { return t_.Subject(); }
+  std::string Subject(std::size_t k) const override {
+    return p_.actuators == 1 ? t_.Subject() : fmt::format("{} (actuator {})", t_.Subject(), k + 1);
+  }
+  std::string Describe(std::size_t) const override { return t_.Describe(raw_); }
+  std::string Where(Flag flag, std::size_t) const override {
+    if (flag == Flag::kFault) return p_.symbols[kFault] + " = TRUE";
+    if (flag == Flag::kEnabled) return p_.symbols[kEnabled] + " = FALSE";
+    return p_.symbols[kHolding] + " = TRUE";
+  }
+  std::string Sequences(std::span<const std::uint64_t> sequences) const override {
+    return fmt::format("{} = {}", p_.symbols[kSequence], sequences[0]);
+  }
+  std::string Ack(std::size_t, std::uint64_t ack) const override {
+    return fmt::format("{} = {}", p_.symbols[kAck], ack);
+  }
+  std::string Held() const override {
+    return p_.symbols[kHold] + " was set (every actuator holds)";
+  }
+  std::string PlausibilityHint() const override {
+    return fmt::format("check transfer.units and the PLC's scaling of {} and {}",
+                       p_.symbols[kPosition], p_.symbols[kForce]);
+  }
+
+ private:
+  // An ADS error code in an answer (the link still works, so the hold reaches the PLC): the
+  // message says so; the move holds.
+  template <class F>
+  void Named(F&& request) {
+    try {
+      request();
+    } catch (const AdsError& e) {
+      throw TransferError(fmt::format("{}; {} was set", e.what(), p_.symbols[kHold]));
+    }
+  }
+
+  AdsTransfer& t_;
+  const AdsProfile& p_;
+  Readout raw_;
+};
 
 void AdsTransfer::Execute(std::span<const double> commands, std::span<Measurement> out) {
-  const AdsProfile& p = options_.profile;
-  const auto n = static_cast<std::size_t>(p.actuators);
-  const std::string& unit = p.units.length_name;
-  if (commands.size() != n || out.size() != n) {
-    throw TransferError(fmt::format("{}: {} commands for {} actuators: nothing was sent",
-                                    Describe(), commands.size(), n));
-  }
-  const std::string sent = fmt::format("command{} {} {}", n > 1 ? "s" : "", List(commands), unit);
-  if (!active_ || !link_.is_open()) {
-    throw TransferError(fmt::format("{} is not active (not activated, holding, or the "
-                                    "connection was lost): {} not sent; call Activate() first",
-                                    Subject(), sent));
-  }
-  if (!read_failure_.empty()) {
-    throw TransferError(fmt::format(
-        "{} not sent: the actuators' positions could not be read before moving ({}); "
-        "hybridtest does not move an actuator it cannot see. Check the link and the PLC, then "
-        "start again (Activate; `hybridtest resume` again)", sent, read_failure_));
-  }
-  const std::uint32_t sequence = last_ack_ + 1;  // modulo 2^32, as a UDINT
-  const std::string waiting = fmt::format("while waiting for the ack of {} ({} = {})", sent,
-                                          p.symbols[kSequence], sequence);
-  // 1. The commands, then their sequence, in one sum write (the PLC takes the command when
-  // the sequence changes, after the array is in place).
-  try {
-    const Role roles[] = {kCommand, kSequence, kHeartbeat};
-    const std::vector<std::uint8_t> values[] = {EncodeReals(commands), EncodeUdint(sequence),
-                                                NextHeartbeat()};
-    WriteSymbols(roles, values, options_.response_timeout,
-                 fmt::format("{} with {} = {}", sent, p.symbols[kSequence], sequence));
-  } catch (const AdsError& e) {
-    HoldAndFail(fmt::format("{}; {} was set", e.what(), p.symbols[kHold]));
-  }
-  // 2. Read until the PLC acknowledges the sequence.
-  const auto deadline = Clock::now() + std::chrono::duration<double>(options_.ack_timeout);
-  Readout r;
-  for (;;) {
-    try {
-      r = ReadOutputs(waiting);
-    } catch (const AdsError& e) {
-      HoldAndFail(fmt::format("{}; {} was set", e.what(), p.symbols[kHold]));
-    }
-    CheckFault(r, waiting);
-    if (!r.enabled) {
-      HoldAndFail(fmt::format("{} dropped the enable ({} = FALSE) {}: {}; {} was set", Subject(),
-                              p.symbols[kEnabled], waiting, Describe(r), p.symbols[kHold]));
-    }
-    if (r.holding) {
-      HoldAndFail(fmt::format("{} reports holding ({} = TRUE) {}: {}; it holds on its own (an "
-                              "operator, an interlock or its watchdog) and the test stops. Find "
-                              "out why it holds, then `hybridtest resume`", Subject(),
-                              p.symbols[kHolding], waiting, Describe(r)));
-    }
-    if (r.ack == sequence) break;
-    if (r.ack != last_ack_) {
-      HoldAndFail(fmt::format("{} acknowledged {} = {}, expected {} (or the previous {} while "
-                              "moving) {}: {}; is another client writing to it? {} was set",
-                              Subject(), p.symbols[kAck], r.ack, sequence, last_ack_, waiting,
-                              Describe(r), p.symbols[kHold]));
-    }
-    if (Clock::now() >= deadline) {
-      HoldAndFail(fmt::format("{} did not acknowledge within {} s {}: last read {}; {} was set",
-                              Subject(), options_.ack_timeout, waiting, Describe(r),
-                              p.symbols[kHold]));
-    }
-    BeatWhileWaiting();  // the PLC's watchdog sees hybridtest wait
-    if (options_.poll_interval > 0.0) {
-      std::this_thread::sleep_for(std::chrono::duration<double>(options_.poll_interval));
-    }
-  }
-  last_ack_ = sequence;
-  // 3. The first exchange must be plausible (a wrong unit or variable shows here).
-  for (std::size_t k = 0; k < n && first_exchange_; ++k) {
-    const bool position_ok = std::abs(r.position[k] - commands[k]) <= *options_.position_tolerance;
-    const bool force_ok = std::abs(r.force[k]) <= *options_.force_plausible;  // false for NaN
-    if (!position_ok || !force_ok) {
-      HoldAndFail(fmt::format(
-          "implausible first measurement of actuator {} from {}: command {} {}, {}; expected the "
-          "position within {} {} of the command and |force| ≤ {} {}; check transfer.units and "
-          "the PLC's scaling of {} and {}", k + 1, Subject(), commands[k], unit, Describe(r),
-          *options_.position_tolerance, unit, *options_.force_plausible, p.units.force_name,
-          p.symbols[kPosition], p.symbols[kForce]));
-    }
-  }
-  // 4. Every exchange: the settled actuator is where it was sent, and the reading answers this
-  // command (safety_settled_reading.h).
-  SettledReadingCheck::Source source;
-  source.unit = unit;
-  source.metres_per_unit = p.units.metres_per_length_unit;
-  source.answered = [&](std::size_t k) {
-    return fmt::format("The PLC at {} (actuator {}) acknowledged command {} {} ({} = {})",
-                       link_.Where(), k + 1, commands[k], unit, p.symbols[kSequence], sequence);
-  };
-  source.detail = [&](std::size_t) { return " (" + Describe(r) + ")"; };
-  source.after = p.symbols[kHold] + " was set";
-  source.following_key = "transfer.following_error";
-  source.settle_key = "transfer.settle_tolerance";
-  try {
-    settled_.Check(commands, r.position, source);
-  } catch (const SafetyStop&) {
-    Hold();
-    throw;
-  }
-  first_exchange_ = false;
+  Controller io(*this);
+  move_.Move(commands, out, io, active_ && link_.is_open(), read_failure_);
   const double lab_time = WallSinceActivate();
-  for (std::size_t k = 0; k < n; ++k) out[k] = Measurement{r.position[k], r.force[k], lab_time};
+  for (Measurement& m : out) m.lab_time = lab_time;
 }
 
 std::optional<ProbeReading> AdsTransfer::Probe() {
@@ -145,8 +107,10 @@ std::optional<ProbeReading> AdsTransfer::Probe() {
                                r.enabled ? "enabled" : "not enabled",
                                r.holding ? "holding" : "not holding");
   if (p.actuators > 1) {
-    reading.status += fmt::format("; positions {} {}, forces {} {}", List(r.position),
-                                  p.units.length_name, List(r.force), p.units.force_name);
+    reading.status += fmt::format("; positions {} {}, forces {} {}",
+                                  ValueList<double>(r.position),
+                                  p.units.length_name, ValueList<double>(r.force),
+                                  p.units.force_name);
   }
   if (r.fault) {
     reading.problem = fmt::format("the PLC reports a fault ({} = TRUE): clear it at the PLC "

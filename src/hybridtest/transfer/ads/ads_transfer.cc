@@ -48,8 +48,10 @@ AdsTransfer::AdsTransfer(AdsOptions options) : options_(std::move(options)), lin
   // The heartbeat starts from the clock: almost surely not where an earlier client (the run
   // this one resumes) left it, so that its first write is a change the watchdog sees.
   heartbeat_ = static_cast<std::uint32_t>(Clock::now().time_since_epoch().count());
-  settled_ = SettledReadingCheck(ResolveControllerOptions(
-      o, o.profile.units, static_cast<std::size_t>(o.profile.actuators), "ads transfer"));
+  move_ = AcknowledgedMove(
+      o, o.profile.units,
+      std::vector<std::uint64_t>(static_cast<std::size_t>(o.profile.actuators), 1ULL << 32),
+      true, "ads transfer");
 }
 
 AdsTransfer::~AdsTransfer() {
@@ -247,13 +249,11 @@ void AdsTransfer::Activate() {
                               Describe(r)));
     }
   }
-  last_ack_ = r.ack;
   if (!clock_started_) {
     clock_started_ = true;
     activated_at_ = Clock::now();
   }
-  first_exchange_ = true;
-  settled_.Reset();
+  move_.Start(std::vector<std::uint64_t>(r.position.size(), r.ack));
   read_failure_.clear();
   active_ = true;
 }

@@ -11,17 +11,16 @@
 //   3. a handle per symbol (0xF003), used for every later access (0xF005), released at the
 //      end (0xF006).
 //
-// One Execute(commands), two round trips when the PLC has settled by the first read:
+// One Execute(commands) is the acknowledged move of a PLC (acknowledged_move.h; docs/safety.md,
+// "The acknowledged move of a PLC"), which owns the sequence, the deadlines, the checks and the
+// hold on every failure; two round trips when the PLC has settled by the first read. The ADS
+// parts (ads_execute.cc):
 //   1. one sum write (0xF081): the command array, then nCommandSeq = previous + 1 (mod 2^32);
-//   2. sum reads (0xF080) of position, force, nAckSeq, bEnabled, bFault and bHolding, every
-//      `poll_interval` until nAckSeq equals the sequence, at most `ack_timeout` in total.
-// The semantics are the Modbus profile's (modbus_transfer.h): bFault, a dropped bEnabled or
-// bHolding on any read, an unexpected ack, an ack timeout or an ADS error code (named, 0x700
-// and up) sets bHold (every actuator holds: the PLC has one hold) and throws TransferError; a
-// timeout or a dropped connection closes the link (the PLC must hold when its client goes)
-// and throws TransferError. The first exchange is checked for plausibility, every exchange
-// for following error and stale acknowledgement (safety_settled_reading.h; SafetyStop after
-// setting bHold).
+//   2. sum reads (0xF080) of position, force, nAckSeq, bEnabled, bFault and bHolding (one ack
+//      and one status for every actuator: the messages name the PLC);
+//   3. the hold: bHold (every actuator holds: the PLC has one hold).
+// An ADS error code in an answer is named (0x700 and up) and the PLC holds; a timeout or a
+// dropped connection closes the link (the PLC must hold when its client goes).
 //
 // The heartbeat (nHeartbeat, the PLC's watchdog; docs/ads.md "The watchdog"): +1 (mod 2^32)
 // in the sum write of every command and of Activate's release, and written alone at most every
@@ -43,10 +42,10 @@
 #include <string>
 #include <vector>
 
+#include "hybridtest/transfer/acknowledged_move.h"
 #include "hybridtest/transfer/ads/ads_link.h"
 #include "hybridtest/transfer/ads/ads_profile.h"
 #include "hybridtest/transfer/controller_options.h"
-#include "hybridtest/transfer/safety_settled_reading.h"
 #include "hybridtest/transfer/transfer_system.h"
 
 namespace hybridtest::transfer::ads {
@@ -84,6 +83,8 @@ class AdsTransfer final : public TransferSystem {
   long requests() const { return link_.requests(); }  // ADS requests sent (a measure of polling)
 
  private:
+  class Controller;  // the ADS side of the acknowledged move (ads_execute.cc)
+
   // One sum read of the PLC's outputs.
   struct Readout {
     std::vector<double> position, force;  // n each, bench units
@@ -117,9 +118,7 @@ class AdsTransfer final : public TransferSystem {
   mutable AdsLink link_;
   std::vector<std::uint32_t> handles_;  // by Role, once connected
   bool active_ = false;
-  bool first_exchange_ = true;
-  SettledReadingCheck settled_;
-  std::uint32_t last_ack_ = 0;
+  AcknowledgedMove move_;  // the sequence, the checks and the last ack
   std::chrono::steady_clock::time_point activated_at_{};
   bool clock_started_ = false;
   mutable std::string read_failure_;

@@ -55,12 +55,12 @@ ModbusTransfer::ModbusTransfer(ModbusOptions options)
     }
   }
   ValidateRegisterMaps(o.maps, "modbus transfer: map");
-  settled_ = SettledReadingCheck(
-      ResolveControllerOptions(options_, first.units, o.maps.size(), "modbus transfer"));
+  std::vector<std::uint64_t> moduli;
+  for (const RegisterMap& m : o.maps) moduli.push_back(m.sequence_modulus());
+  move_ = AcknowledgedMove(options_, first.units, std::move(moduli), false, "modbus transfer");
   maps_ = o.maps;
   writes_ = CommandWrites(maps_);
   reads_ = ReadoutBlocks(maps_);
-  last_ack_.assign(maps_.size(), 0);
 }
 
 ModbusTransfer::~ModbusTransfer() { Close(); }
@@ -186,21 +186,21 @@ void ModbusTransfer::Activate() {
     }
     std::this_thread::sleep_for(std::chrono::duration<double>(options_.poll_interval));
   }
+  std::vector<std::uint64_t> acks;
   for (std::size_t k = 0; k < maps_.size(); ++k) {
     if (!std::isfinite(r[k].position)) {
       Fail(fmt::format("{} reports a position that is not a number: {}; check the map's type, "
                        "word_order and byte_order", Subject(k), Describe(r[k], k)),
            true);
     }
-    last_ack_[k] = r[k].ack;
+    acks.push_back(r[k].ack);
   }
   if (!clock_started_) {
     clock_started_ = true;
     activated_at_ = Clock::now();
     lab_time_origin_ = r[0].lab_time;
   }
-  first_exchange_ = true;
-  settled_.Reset();  // the actuator may have been moved while it was not ours
+  move_.Start(acks);
   read_failure_.clear();
   active_ = true;
 }

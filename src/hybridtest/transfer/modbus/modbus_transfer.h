@@ -3,41 +3,24 @@
 // an actuator controller) over Modbus/TCP with libmodbus, through a RegisterMap
 // (register_map.h; docs/modbus.md for the lab engineer).
 //
-// One Execute(commands, out), per actuator:
-//   1. one write (function 16) of the command and its sequence number s, where s is the
-//      previous one plus 1 modulo 65536 (uint16 sequence);
-//   2. reads of the readout registers (function 4 / 3), repeated every `poll_interval` until
-//      the acknowledged sequence equals s (the controller has settled and sampled), at most
-//      `ack_timeout` in total; while it still shows the previous sequence the move is running;
-//   3. the measurement: position and force (bench units), lab time (the bench clock's
+// One Execute(commands, out) is the acknowledged move of a PLC (acknowledged_move.h; docs/
+// safety.md, "The acknowledged move of a PLC"), which owns the sequence, the deadlines, the
+// checks and the hold on every failure. The Modbus parts (modbus_execute.cc), per actuator:
+//   1. one write (function 16) of the command and its sequence number s, the previous ack plus
+//      1 modulo the sequence register's range (65536 for uint16);
+//   2. reads of the readout registers (function 4 / 3): position, force, ack, and the status
+//      bits of the map (fault, enabled, holding; a bit at -1 or `status: none` is not
+//      reported, so never stops the move);
+//   3. the hold: the hold coil of every actuator (Hold());
+//   4. the measurement: position and force (bench units), lab time (the bench clock's
 //      register minus its value at Activate, or else the wall time since Activate) [s].
-// It raises TransferError naming host:port, the register and the last values read on: an ack
-// timeout, any other ack, a fault bit, a drive that is no longer enabled, a controller that
-// reports holding, a Modbus exception, a lost connection or a libmodbus response timeout. The
-// status bits (fault, enabled, holding) are checked on every read of every exchange, the last
-// one included: a controller that faults, drops the enable or holds on its own mid-run stops
-// the run even if it still acknowledges.
-//
-// Following error and stale acknowledgement (transfer/safety_settled_reading.h, the check a
-// Python bench driver gets too): once the ack is in, |command − measured position| must not
-// exceed `following_error` (bench length unit; default four settling windows, 4 ×
-// `settle_tolerance`, at most the slot's safety.max_increment, see modbus_config.h), and a
-// command that moved by more than two settling windows must not be acknowledged with the
-// previous exchange's position, bit for bit (a controller that acks before it updates its
-// data). Beyond either Execute() sets the hold coil and throws SafetyStop (limit
-// "following_error" or "stale_acknowledgement", value and limit in [m]) naming the command and
-// the measured position: an actuator that is not where it was sent means the specimen's force
-// belongs to another displacement, and every later increment check starts from a wrong place. When the link itself still works (ack
-// timeout, unexpected ack) it sets the hold coil first. After a communication failure
-// (response timeout, lost connection, garbled answer) the connection is closed: its state is
-// unknown, and the controller must hold when its client goes away. After a Modbus exception,
-// a fault bit or a dropped enable the connection stays open, so that Hold() still reaches
-// the controller.
-//
-// The first exchange after Activate() is checked for plausibility: the measured position must
-// lie within `position_tolerance` of the command (default 1 mm) and the force be finite and
-// within `force_plausible` (default 1 MN). A wrong word or byte order in the map turns a settled position into an
-// absurd number (±1e±30, NaN), which this catches before the test goes on.
+// Its messages name host:port, the registers and bits, and the last values read. After a
+// communication failure (response timeout, lost connection, garbled answer) the connection is
+// closed: its state is unknown, and the controller must hold when its client goes away. After
+// a Modbus exception the connection stays open, so that the hold coil still reaches the
+// controller. The default following error is four settling windows, 4 × `settle_tolerance`,
+// at most the slot's safety.max_increment (modbus_config.h); the first exchange's plausibility
+// defaults to 1 mm and 1 MN.
 //
 // ReadAll() reads the readout registers once (no write, so no move) and returns every position
 // and force in bench units; it never throws. It returns nullopt when it cannot read, when a value
@@ -57,13 +40,11 @@
 // docs/modbus.md, "Several actuators"): num_actuators() = n and Execute(commands, out) writes
 // every actuator's command and its own sequence (one write per contiguous run of command
 // blocks, so one write when they follow each other) before it reads anything, then reads every
-// actuator's readout until each acknowledges its own sequence, within ack_timeout. Every check
-// above applies to every actuator and its message names it ("actuator 2", as the journal's
-// `<name>_a2_…` channels); a fault, a dropped enable or a controller that holds on one actuator
-// sets the hold coil of every actuator before the TransferError, as do an ack timeout and an
-// unexpected ack. Hold() and Deactivate() set every hold coil (a shared coil once), Activate()
-// enables every actuator and waits until each shows enabled and not holding. Probe() looks at
-// every actuator and names the first with a problem.
+// actuator's readout until each acknowledges its own sequence. Every message names the
+// actuator ("actuator 2", as the journal's `<name>_a2_…` channels); a failure on any actuator
+// sets the hold coil of every actuator. Hold() and Deactivate() set every hold coil (a shared
+// coil once), Activate() enables every actuator and waits until each shows enabled and not
+// holding. Probe() looks at every actuator and names the first with a problem.
 #include <chrono>
 #include <cstdint>
 #include <optional>
@@ -71,10 +52,10 @@
 #include <string>
 #include <vector>
 
+#include "hybridtest/transfer/acknowledged_move.h"
 #include "hybridtest/transfer/controller_options.h"
 #include "hybridtest/transfer/modbus/register_map.h"
 #include "hybridtest/transfer/transfer_system.h"
-#include "hybridtest/transfer/safety_settled_reading.h"
 
 struct _modbus;  // libmodbus's context (modbus_t), kept out of this header
 
@@ -124,6 +105,8 @@ class ModbusTransfer final : public TransferSystem {
   long requests() const { return requests_; }
 
  private:
+  class Controller;  // the Modbus side of the acknowledged move (modbus_execute.cc)
+
   // What one read of the readout blocks gave.
   struct Readout {
     double position = 0.0, force = 0.0, lab_time = 0.0;  // bench units, [s]
@@ -167,9 +150,7 @@ class ModbusTransfer final : public TransferSystem {
   mutable std::vector<std::uint16_t> input_, holding_;
   _modbus* ctx_ = nullptr;
   bool active_ = false;              // Activate() done and no Hold() since
-  bool first_exchange_ = true;       // the next Execute() is checked for plausibility
-  SettledReadingCheck settled_;      // following error and stale ack, per actuator
-  std::vector<std::uint64_t> last_ack_;  // per actuator: the ack before the next command
+  AcknowledgedMove move_;            // the sequence, the checks and the last acks
   double lab_time_origin_ = 0.0;     // bench clock at Activate [s]
   std::chrono::steady_clock::time_point activated_at_{};
   bool clock_started_ = false;
