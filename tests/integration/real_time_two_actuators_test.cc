@@ -90,7 +90,7 @@ TEST(RealTimeTwoActuators, IdealPlantEqualsThePseudoDynamicRun) {
   ASSERT_EQ(paced.num_rows(), settled.num_rows());
   ASSERT_GT(paced.num_rows(), 10000);
   double worst = 0.0, peak = 0.0;
-  for (const char* name : {"q_flap", "q_edge", "u_flap", "u_edge", "r_flap", "r_edge",
+  for (const char* name : {"q_flap", "q_edge", "u1", "u2", "r_flap", "r_edge",
                            "blade1_a1_command", "blade1_a2_position"}) {
     const int a = paced.Column(name), b = settled.Column(name);
     ASSERT_GE(a, 0) << name;
