@@ -1,8 +1,9 @@
 // The monitor's real-time panel (issue 38): the lateness and compute percentiles of the
 // histogram against the sorted samples; on a paced run of examples/real-time/storey-ats.yaml
 // (1 s of it, virtual clock), /api/state's `realtime` mid-run is the paced loop's (ticks,
-// misses, J2 and J3 equal to those computed from the journal's rows so far, the ATS
-// compensator's current delay), and at the end it is what the run records (its
+// misses, J2 and J3 equal to those computed from the journal's rows so far, J1 the running
+// estimate over the last second, per actuator too, the ATS compensator's current delay), and at
+// the end it is what the run records (its
 // statistics.real_time: J1 included).
 #include <gtest/gtest.h>
 
@@ -11,6 +12,7 @@
 #include <limits>
 #include <random>
 
+#include "hybridtest/common/tracking.h"
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/monitor/monitor_observer.h"
 #include "hybridtest/monitor/real_time_panel.h"
@@ -120,7 +122,17 @@ TEST(MonitorRealTimePanel, ThePanelIsThePacedLoopsLiveAndTheRecordAtTheEnd) {
   EXPECT_GT(j2, 0.0);
   EXPECT_NEAR(live["J2"].get<double>(), j2, 1e-9 * j2);
   EXPECT_NEAR(live["J3"].get<double>(), 100.0 * emax / cmax, 1e-9);
-  EXPECT_TRUE(live["J1_ms"].is_null());  // computed at the end
+  // J1 live: the running estimate over the last second, recomputed for actuator r1 at tick 576
+  // (every 64 ticks, r1 and its slot in turn), from the 576 samples then.
+  const double j1 = TrackingDelayMs(std::span(snapshot.position).first(576),
+                                    std::span(snapshot.command).first(576), 0.0009765625, 0.2);
+  ASSERT_TRUE(live["J1_ms"].is_number()) << live.dump();
+  EXPECT_DOUBLE_EQ(live["J1_ms"].get<double>(), j1);
+  // Per actuator: the one actuator's J1–J3, named as its journal channels.
+  ASSERT_EQ(live["actuators"].size(), 1u) << live.dump();
+  EXPECT_EQ(live["actuators"][0]["name"], "r1");
+  EXPECT_DOUBLE_EQ(live["actuators"][0]["J1_ms"].get<double>(), j1);
+  EXPECT_NEAR(live["actuators"][0]["J2"].get<double>(), j2, 1e-9 * j2);
   EXPECT_DOUBLE_EQ(live["compensation"]["r1"]["delay_s"].get<double>(), snapshot.delay);
 
   // At the end: the run's own record.

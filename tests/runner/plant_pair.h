@@ -22,9 +22,9 @@ class PlantPair final : public transfer::TransferSystem {
     for (std::size_t k = 0; k < stiffness.size(); ++k) {
       transfer::RtPlantConfig c;
       c.kind = transfer::PlantKind::kIdeal;
-      c.p0 = p0[k];
-      c.delay = k < delay.size() ? delay[k] : 0.0;
-      c.specimen.stiffness = stiffness[k];
+      c.one().p0 = p0[k];
+      c.one().delay = k < delay.size() ? delay[k] : 0.0;
+      c.specimen.stiffness = {stiffness[k]};
       plants_.push_back(std::make_unique<transfer::RtPlant>(c));
     }
   }

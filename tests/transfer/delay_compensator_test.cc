@@ -19,9 +19,9 @@ namespace {
 std::unique_ptr<RtPlant> DelayedPlant(double delay, PlantKind kind = PlantKind::kIdeal) {
   RtPlantConfig c;
   c.kind = kind;
-  c.delay = delay;
-  c.lag = 0.004;
-  c.specimen.stiffness = 1000.0;
+  c.one().delay = delay;
+  c.one().lag = 0.004;
+  c.specimen.stiffness = {1000.0};
   return std::make_unique<RtPlant>(c);
 }
 

@@ -19,8 +19,8 @@ using testing::ServerThread;
 TEST(RtPlantServed, ThePlantRunsOnTheServersClockBetweenCommands) {
   RtPlantConfig config;
   config.kind = PlantKind::kIdeal;
-  config.delay = 0.005;  // [s]
-  config.specimen.stiffness = 1000.0;
+  config.one().delay = 0.005;  // [s]
+  config.specimen.stiffness = {1000.0};
   RtPlant plant(config);
   VirtualClock server_clock;
   plant.StartPaced(0.001, server_clock);

@@ -20,16 +20,16 @@ constexpr double kPi = std::numbers::pi;
 RtPlantConfig Benchmark() {
   RtPlantConfig c;
   c.kind = PlantKind::kServoHydraulic;
-  c.specimen = {29.13, 1.19e6, 2.0 * 0.0097 * std::sqrt(1.19e6 * 29.13), 1.0};
+  c.specimen = SpecimenLaw::One(29.13, 1.19e6, 2.0 * 0.0097 * std::sqrt(1.19e6 * 29.13));
   return c;
 }
 
 // x/c = g·Gs·H / (1 + Gs·H), H = Ga·Gsp / (1 + a2 s Ga Gsp) (rt_plant.h).
 cd Oracle(const RtPlantConfig& c, double f) {
   const cd s(0.0, 2.0 * kPi * f);
-  const auto& k = c.servo;
+  const auto& k = c.actuators[0].servo;
   const auto& sp = c.specimen;
-  const cd gsp = 1.0 / (sp.mass * s * s + sp.damping * s + sp.stiffness);
+  const cd gsp = 1.0 / (sp.mass[0] * s * s + sp.damping[0] * s + sp.stiffness[0]);
   const cd ga = 1.0 / (s + k.a3);
   const cd gs = k.a1_beta0 / (s * s + k.beta1 * s + k.beta2);
   const cd h = ga * gsp / (1.0 + k.a2 * s * ga * gsp);
@@ -83,8 +83,8 @@ TEST(RtPlant, SettledResponseIsTheStaticLoop) {
 
 TEST(RtPlant, PureDelayReturnsTheCommandOfTauAgo) {
   RtPlantConfig c;
-  c.delay = 0.003;
-  c.specimen.stiffness = 1000.0;
+  c.one().delay = 0.003;
+  c.specimen.stiffness = {1000.0};
   RtPlant plant(c);
   VirtualClock clock;
   plant.Activate();
@@ -99,7 +99,7 @@ TEST(RtPlant, PureDelayReturnsTheCommandOfTauAgo) {
 }
 
 TEST(RtPlant, DamperLawIsRateDependent) {
-  SpecimenLaw law{0.0, 0.0, 200.0, 0.5};
+  const SpecimenLaw law = SpecimenLaw::One(0.0, 0.0, 200.0, 0.5);
   EXPECT_DOUBLE_EQ(law.Force(0.0, 0.04, 0.0), 200.0 * 0.2);
   EXPECT_DOUBLE_EQ(law.Force(0.0, -0.04, 0.0), -200.0 * 0.2);
 }

@@ -55,18 +55,43 @@ TransferSpec ReadEmulated(const TransferReadContext& c) {
           }};
 }
 
+// One law (a mapping) and one p0 per actuator: `law: {...}` and `p0: x` for one actuator, or
+// `law: [{...}, {...}]` and `p0: [x1, x2]` for n (a number p0: every actuator).
 TransferSpec ReadLoopback(const TransferReadContext& c) {
   c.in.CheckKeys(c.node, c.kp, {"type", "law", "p0"});
-  if (!c.node["law"]) {
+  const YAML::Node node = c.node["law"];
+  if (!node) {
     throw ConfigError(fmt::format("{}: a loopback transfer needs `law:` (e.g. {{type: linear, "
-                                  "stiffness: 7200}})", c.in.Where(c.node, c.kp)));
+                                  "stiffness: 7200}}, or a list of one law per actuator)",
+                                  c.in.Where(c.node, c.kp)));
   }
-  const double p0 =
-      c.node["p0"] ? c.in.Number(c.node["p0"], c.kp + ".p0", "a position in m") : 0.0;
-  std::shared_ptr<const constitutive::RestoringForceLaw> law = constitutive::ParseRestoringForceLaw(
-      c.node["law"], c.in.Where(c.node["law"], c.kp + ".law"));
-  return {"loopback", [law, p0] {
-            return std::make_unique<transfer::NumericalLoopback>(law->Clone(), p0);
+  const std::string lkp = c.kp + ".law";
+  std::vector<std::shared_ptr<const constitutive::RestoringForceLaw>> laws;
+  if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      const std::string ikp = fmt::format("{}[{}]", lkp, i);
+      laws.push_back(constitutive::ParseRestoringForceLaw(node[i], c.in.Where(node[i], ikp)));
+    }
+    if (laws.empty()) c.in.ThrowValue(node, lkp, "a law, or a list of one law per actuator");
+  } else {
+    laws.push_back(constitutive::ParseRestoringForceLaw(node, c.in.Where(node, lkp)));
+  }
+  std::vector<double> p0(laws.size(), 0.0);
+  if (const YAML::Node p = c.node["p0"]) {
+    if (p.IsSequence()) {
+      p0 = c.in.Numbers(p, c.kp + ".p0", "positions in m");
+      if (p0.size() != laws.size()) {
+        c.in.ThrowValue(p, c.kp + ".p0",
+                        fmt::format("{} positions in m, one per law (actuator)", laws.size()));
+      }
+    } else {
+      p0.assign(laws.size(), c.in.Number(p, c.kp + ".p0", "a position in m"));
+    }
+  }
+  return {"loopback", [laws, p0] {
+            std::vector<std::unique_ptr<constitutive::RestoringForceLaw>> own;
+            for (const auto& law : laws) own.push_back(law->Clone());
+            return std::make_unique<transfer::NumericalLoopback>(std::move(own), p0);
           }};
 }
 

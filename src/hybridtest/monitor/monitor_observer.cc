@@ -72,10 +72,11 @@ void DescribeRun(const runner::StartEvent& run, RunIdentity& identity, FrameLayo
   identity.bench = bench.empty() ? "none (numerical)" : bench;
   identity.real_time = {};
   if (spec.real_time.enabled) {
-    identity.real_time = {true, "", spec.scheme.dt, spec.real_time.hold_after_misses, {}};
+    identity.real_time = {true, "", spec.scheme.dt, spec.real_time.hold_after_misses, {}, {}};
     for (int b : CompensatedBlocks(run)) {
       identity.real_time.compensators.push_back(map.substructures[std::size_t(b)].name);
     }
+    for (const ActuatorInfo& a : actuators) identity.real_time.actuators.push_back(a.name);
   }
   layout.slots = static_cast<int>(map.slots.size());
   layout.actuators = static_cast<int>(actuators.size());
@@ -166,6 +167,14 @@ void MonitorObserver::FillRealTime(double* c) const {
   c[kRtJ3] = paced_->criteria().J3();
   for (std::size_t k = 0; k < compensators_.size() && kRtColumns + k < layout_.real_time; ++k) {
     c[kRtColumns + k] = compensators_[k]->compensated_delay();
+  }
+  const runner::TrackingSet& tracking = paced_->tracking();
+  const std::size_t first = kRtColumns + compensators_.size();
+  for (std::size_t k = 0; k < tracking.num_actuators() && first + 3 * k + 2 < layout_.real_time;
+       ++k) {
+    c[first + 3 * k] = tracking.live_J1_ms(k);
+    c[first + 3 * k + 1] = tracking.actuator(k).J2();
+    c[first + 3 * k + 2] = tracking.actuator(k).J3();
   }
 }
 

@@ -82,6 +82,13 @@ nlohmann::json RealTimePanel::Json() const {
   for (std::size_t k = 0; k < setup_.compensators.size(); ++k) {
     compensation[setup_.compensators[k]] = {{"delay_s", Number(last_[kRtColumns + k])}};
   }
+  nlohmann::json actuators = nlohmann::json::array();
+  const std::size_t first = kRtColumns + setup_.compensators.size();
+  for (std::size_t k = 0; k < setup_.actuators.size(); ++k) {
+    const std::size_t c = first + 3 * k;
+    actuators.push_back({{"name", setup_.actuators[k]}, {"J1_ms", Number(last_[c])},
+                         {"J2", Number(last_[c + 1])}, {"J3", Number(last_[c + 2])}});
+  }
   return {{"available", true},
           {"source", "live"},
           {"paced", true},
@@ -95,10 +102,12 @@ nlohmann::json RealTimePanel::Json() const {
           {"overruns", count(kRtOverruns)},
           {"late_s", percentiles(late_)},
           {"compute_s", percentiles(compute_)},
-          {"J1_ms", nullptr},  // computed at the end of the run (tracking_criteria.h)
+          // The first actuator's, J1 a running estimate over the last second.
+          {"J1_ms", setup_.actuators.empty() ? nlohmann::json() : Number(last_[first])},
           {"J2", Number(last_[kRtJ2])},
           {"J3", Number(last_[kRtJ3])},
-          {"compensation", compensation}};
+          {"compensation", compensation},
+          {"actuators", actuators}};
 }
 
 }  // namespace hybridtest::monitor

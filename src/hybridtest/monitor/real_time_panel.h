@@ -5,15 +5,16 @@
 //
 // Live, per frame (one frame per tick of a paced run): ticks, missed deadlines (total, in a row
 // now, most in a row), overruns, the tick's lateness [s], the previous tick's compute time [s],
-// J2 and J3 [%] of the first physical actuator (runner/tracking_criteria.h), and each
-// compensator's current delay estimate [s]. Lateness and compute percentiles are over every
+// J2 and J3 [%] of the first physical actuator (runner/tracking_criteria.h), each
+// compensator's current delay estimate [s], then J1 (a running estimate over the last second)
+// [ms], J2 and J3 [%] of every physical actuator (runner/tracking_set.h). Lateness and compute percentiles are over every
 // tick received, from a histogram of logarithmic bins 5 % wide (bounded memory on a run of
 // any length; a percentile is its bin's upper edge, the maximum is exact). Frames the ring
 // dropped are missing from the percentiles, never from the counts (which are the loop's own).
 //
 // Json() has the keys of the sidecar's statistics.real_time where they mean the same
 // (ticks, misses, overruns, max_consecutive_misses, hold_after_misses, late_s, compute_s,
-// J1_ms, J2, J3, compensation), plus available, source ("live" or "recorded") and
+// J1_ms, J2, J3, compensation, actuators: [{name, J1_ms, J2, J3}]), plus available, source ("live" or "recorded") and
 // misses_in_a_row (live only) and paced (a real-time run, even before anything is known).
 #include <nlohmann/json.hpp>
 
@@ -26,7 +27,8 @@
 namespace hybridtest::monitor {
 
 // Per-tick columns of a real-time frame, in this order, then one compensated delay [s] per
-// compensator (RealTimeSetup::compensators).
+// compensator (RealTimeSetup::compensators), then J1 [ms], J2 and J3 [%] per actuator
+// (RealTimeSetup::actuators).
 enum RealTimeColumn : int {
   kRtTicks, kRtMisses, kRtMissesInARow, kRtMaxInARow, kRtOverruns, kRtLate, kRtCompute,
   kRtJ2, kRtJ3, kRtColumns
@@ -39,6 +41,7 @@ struct RealTimeSetup {
   double tick = 0.0;                     // [s]
   long hold_after_misses = 0;            // 0: never holds on misses
   std::vector<std::string> compensators;  // the physical substructures with a delay column
+  std::vector<std::string> actuators;     // every physical actuator (journal names), J1–J3 each
   bool live = true;  // the frames carry the per-tick columns (false: a followed journal, whose
                      // statistics are its sidecar's once it has ended)
 };
@@ -63,7 +66,9 @@ class RealTimePanel {
   void Configure(RealTimeSetup setup);
   bool enabled() const { return setup_.enabled; }
   std::size_t columns() const {
-    return enabled() && setup_.live ? kRtColumns + setup_.compensators.size() : 0;
+    return enabled() && setup_.live
+               ? kRtColumns + setup_.compensators.size() + 3 * setup_.actuators.size()
+               : 0;
   }
   // The real-time columns of one frame (columns() values).
   void Add(std::span<const double> columns);

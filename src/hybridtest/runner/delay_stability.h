@@ -8,7 +8,11 @@
 //                                                         k_j every slot's K0)
 //   P(s) = s² I − s F_u − F_q − Σ_{j≠s} b_j k_j d_jᵀ,     g(s) = d_sᵀ P(s)⁻¹ b_s
 //
-// and with slot s delayed the characteristic equation is 1 = k_s e^{−sτ} g(s). A root crosses
+// and with slot s delayed the characteristic equation is 1 = k_s e^{−sτ} g(s). A specimen on
+// several actuators serving the slots B delays them all together (every actuator lags): with
+// P(s) built from the slots outside B and L(s) = K_B· D P(s)⁻¹ b_B (|B| × |B|), the equation
+// is det(I − e^{−sτ} L(s)) = 0, crossing the imaginary axis where an eigenvalue λ of L(jω) has
+// |λ| = 1, for τ = (arg λ mod 2π) / ω; τ_c is the smallest, shared by the slots of B. A root crosses
 // the imaginary axis at the frequencies ω where |k_s g(jω)| = 1, for the delays
 // τ = (arg(k_s g(jω)) mod 2π) / ω; the CRITICAL DELAY τ_c is the smallest of them (+∞ when
 // |k_s g| never reaches 1: stable for any delay). For one mass, m ẍ + c ẋ + k_N x + k_E x(t−τ)
@@ -40,6 +44,9 @@ struct SlotDelayMargin {
   double compensation = 0.0;       // the delay its compensator removes [s]
   double remaining_delay = 0.0;    // max(0, plant_delay − compensation) [s]
   bool known_plant = false;        // the transfer is an rt_plant (its delay is known)
+  // The slots delayed together to find τ_c: 1, or every slot of a specimen on several
+  // actuators (its coupled loop: every actuator lags by the same τ).
+  int delayed_together = 1;
   bool unstable() const { return remaining_delay > critical_delay; }
 };
 

@@ -3,9 +3,11 @@
 
 #include <fmt/core.h>
 
+#include <Eigen/QR>
 #include <algorithm>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/substructures/actuator_setup.h"
 
 namespace hybridtest::runner {
 namespace {
@@ -50,13 +52,34 @@ PacedLoop::PacedLoop(Session& session, Clock& clock)
   const auto ticks = static_cast<std::size_t>(std::max(0L, scheme.steps)) + 1;
   late_.assign(ticks, 0.0);
   compute_.assign(ticks, 0.0);
-  criteria_.Reserve(static_cast<long>(ticks), tick_);
+  // The criteria of every physical substructure's actuators and slots.
+  std::vector<TrackingSet::Block> tracked;
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    if (!blocks[b].physical) continue;
+    TrackingSet::Block t;
+    t.name = blocks[b].name;
+    t.first_actuator = blocks[b].first_actuator;
+    t.num_actuators = blocks[b].num_actuators;
+    for (int s : blocks[b].slots) t.slots.push_back(session.slot_map().slots[std::size_t(s)].name);
+    const auto m = static_cast<Eigen::Index>(t.slots.size());
+    if (const substructures::ActuatorSetup* setup = subs[b]->actuator_setup()) {
+      t.slot_of_actuator = setup->linearisation().completeOrthogonalDecomposition().pseudoInverse();
+      t.p0 = setup->p0();
+    } else {
+      t.slot_of_actuator = Eigen::MatrixXd::Identity(m, t.num_actuators);
+      t.p0 = Eigen::VectorXd::Zero(t.num_actuators);
+    }
+    tracked.push_back(std::move(t));
+  }
+  // The live J1 over the last second (at least 64 ticks).
+  const long window = std::max(64L, static_cast<long>(std::lround(1.0 / tick_)));
+  tracking_.Reserve(std::move(tracked), static_cast<long>(ticks), tick_, window);
   session.AddObserver(*this);
 }
 
 void PacedLoop::OnTrial(const TrialEvent& event) {
   if (!paced_ || event.exchanges.empty() || event.at.stage < 0) return;
-  criteria_.Add(event.exchanges[0].command, event.exchanges[0].position);
+  tracking_.Add(event.exchanges);
 }
 
 void PacedLoop::Start() {
@@ -117,6 +140,7 @@ void PacedLoop::AfterStep(const StepResult& r) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - step_start_).count();
   if (i_ < compute_.size()) compute_[i_] = compute;
   if (compute > tick_) ++stats_.overruns;
+  if (stats_.ticks % kLiveJ1Every == 0) tracking_.UpdateLiveJ1();
   if (hold_after_ > 0 && consecutive_ >= hold_after_ && r.status == SessionStatus::kWorking &&
       !stats_.held_on_misses) {
     stats_.held_on_misses = true;
@@ -171,7 +195,9 @@ nlohmann::json PacedLoop::ToJson() const {
     }
   }
   if (!compensators.empty()) j["compensation"] = compensators;
-  j.update(criteria_.ToJson());
+  // The first actuator's J1–J3 at the top, as before there were several; then every one's.
+  if (tracking_.num_actuators() > 0) j.update(tracking_.actuator(0).ToJson());
+  j.update(tracking_.ToJson());
   return j;
 }
 

@@ -23,8 +23,9 @@
 // runs at once: it catches up, it does not skip); an OVERRUN when its step takes longer than h.
 // After `hold_after_misses` consecutive misses the run is held (RequestStop: every actuator
 // holds at its last command, resumable), and so is a run whose observers' queue is nearly
-// full on the wall clock (SetQueue): the files cannot keep up, the loop does not wait. The tracking criteria J1–J3 of the first physical
-// slot (runner/tracking_criteria.h) are kept live. Everything goes into the sidecar's
+// full on the wall clock (SetQueue): the files cannot keep up, the loop does not wait. The tracking criteria J1–J3 of every actuator and
+// every physical slot (runner/tracking_set.h) are kept live (J1 over the last second, one
+// actuator or slot per tick of every kLiveJ1Every). Everything goes into the sidecar's
 // statistics as `real_time` (AddStatistics).
 //
 // Needs a scheme with one specimen evaluation per fixed step whose command is known before
@@ -37,7 +38,7 @@
 #include "hybridtest/common/clock.h"
 #include "hybridtest/runner/lock_free_observer.h"
 #include "hybridtest/runner/session.h"
-#include "hybridtest/runner/tracking_criteria.h"
+#include "hybridtest/runner/tracking_set.h"
 
 namespace hybridtest::runner {
 
@@ -62,7 +63,13 @@ class PacedLoop final : public SessionObserver, public StepPacer {
   void AfterStep(const StepResult& result) override;
 
   const PacedStatistics& statistics() const { return stats_; }
-  const TrackingCriteria& criteria() const { return criteria_; }
+  // The first actuator's criteria (the run's J1–J3 before there were several) and every one's.
+  const TrackingCriteria& criteria() const {
+    return tracking_.num_actuators() > 0 ? tracking_.actuator(0) : no_actuator_;
+  }
+  const TrackingSet& tracking() const { return tracking_; }
+  // Ticks between two live J1 updates (each updates one actuator or slot).
+  static constexpr long kLiveJ1Every = 64;
   // For the live monitor, read on the stepping thread during a step: the clock's name, this
   // tick's lateness [s], the compute time of the tick before it [s] (this tick's step is still
   // going) and the missed deadlines in a row now.
@@ -109,7 +116,8 @@ class PacedLoop final : public SessionObserver, public StepPacer {
   std::chrono::steady_clock::time_point step_start_;
   LockFreeObserver* queue_ = nullptr;
   PacedStatistics stats_;
-  TrackingCriteria criteria_;
+  TrackingSet tracking_;
+  TrackingCriteria no_actuator_;  // criteria() of a run without a physical actuator
   std::vector<double> late_, compute_;  // per tick, preallocated
   std::vector<std::string> setup_notes_;
   nlohmann::json stability_ = nlohmann::json::array();

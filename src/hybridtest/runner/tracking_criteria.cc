@@ -50,10 +50,13 @@ double TrackingCriteria::J3() const {
   return cmax_ > 0.0 ? 100.0 * emax_ / cmax_ : std::numeric_limits<double>::quiet_NaN();
 }
 
-double TrackingCriteria::J1_ms() const {
+double TrackingCriteria::J1_ms() const { return J1_ms(n_); }
+
+double TrackingCriteria::J1_ms(long window) const {
   const auto n = static_cast<std::size_t>(std::min<long>(n_, static_cast<long>(xc_.size())));
-  return TrackingDelayMs(std::span<const double>(xm_.data(), n),
-                         std::span<const double>(xc_.data(), n), tick_, max_lag_);
+  const auto w = std::min(n, static_cast<std::size_t>(std::max(0L, window)));
+  return TrackingDelayMs(std::span<const double>(xm_.data() + (n - w), w),
+                         std::span<const double>(xc_.data() + (n - w), w), tick_, max_lag_);
 }
 
 nlohmann::json TrackingCriteria::ToJson() const {

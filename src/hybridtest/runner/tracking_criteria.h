@@ -26,6 +26,8 @@ class TrackingCriteria {
 
   long samples() const { return n_; }
   double J1_ms() const;
+  // J1 over the last `window` samples kept (at most), for a live estimate. Unit: [ms]
+  double J1_ms(long window) const;
   double J2() const;
   double J3() const;
   // {J1_ms, J2, J3, samples} (null where undefined).
