@@ -75,7 +75,6 @@ LiveMonitor::LiveMonitor(const MonitorCliOptions& options, runner::Session& sess
 
 LiveMonitor::~LiveMonitor() = default;
 
-void LiveMonitor::SetPacedLoop(const runner::PacedLoop* loop) { parts_->observer.SetPacedLoop(loop); }
 
 void LiveMonitor::Linger(const runner::Session& session) {
   // The final state stays on the page for --monitor-linger seconds; Ctrl-C ends it sooner

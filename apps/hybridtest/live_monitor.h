@@ -34,10 +34,6 @@ class LiveMonitor {
   LiveMonitor(const LiveMonitor&) = delete;
   LiveMonitor& operator=(const LiveMonitor&) = delete;
 
-  // A real-time run's paced loop (before the run): the page's real-time panel shows its
-  // ticks, misses, lateness, compute time and J2–J3 as they evolve.
-  void SetPacedLoop(const runner::PacedLoop* loop);
-
   // After the run: serves the final state for --monitor-linger seconds (Ctrl-C ends it
   // sooner). The process then exits at once: the server's Stop() closes every viewer's
   // connection, whatever they do.

@@ -121,7 +121,6 @@ void RunAndReport(io::RunSpec spec,
   if (monitor.enabled()) live.emplace(monitor, session);
   // One loop drives every run, paced or not, and the monitor's actions act on each the same
   // way.
-  if (live) live->SetPacedLoop(session.paced_loop());
   const runner::StepResult result = session.Run();
   if (live) live->Linger(session);
   if (result.status != runner::SessionStatus::kFinished) {

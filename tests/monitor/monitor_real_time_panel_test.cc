@@ -94,7 +94,6 @@ TEST(MonitorRealTimePanel, ThePanelIsThePacedLoopsLiveAndTheRecordAtTheEnd) {
   Snapshot snapshot(state, session, 600);
   session.AddObserver(snapshot);
   ASSERT_NE(session.paced_loop(), nullptr);
-  observer.SetPacedLoop(session.paced_loop());
   ASSERT_EQ(session.Run().status, runner::SessionStatus::kFinished);
 
   // Mid-run: the paced loop's counts, and J2, J3 of the rows so far.

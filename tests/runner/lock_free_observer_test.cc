@@ -37,6 +37,10 @@ class Recorder final : public SessionObserver {
   bool stopped = false;
 };
 
+StartEvent StartOf(const Session& session) {
+  return {session.spec(), session.slot_map(), session.substructures(), false, nullptr, ""};
+}
+
 StopEvent Stopped(SessionStatus status, std::string reason) {
   StopEvent e;
   e.status = status;
@@ -64,7 +68,7 @@ TEST(LockFreeObserver, DeliversEveryRowInOrderOnAnotherThread) {
   Session session(testing::DummySpec(0.01));
   Recorder inner;
   LockFreeObserver queued(inner, 20000, 8);
-  queued.OnStart({session.spec(), session.slot_map(), session.substructures(), false, nullptr});
+  queued.OnStart(StartOf(session));
   for (long k = 0; k < 10000; ++k) Commit(queued, k);
   queued.OnStop(Stopped(SessionStatus::kFinished, ""));
   ASSERT_EQ(inner.steps.size(), 10000u);
@@ -86,7 +90,7 @@ TEST(LockFreeObserver, AFullRingThrowsInsteadOfWaiting) {
   Recorder inner;
   inner.blocked = true;  // the consumer is stuck in the first row
   LockFreeObserver queued(inner, 4, 8);
-  queued.OnStart({session.spec(), session.slot_map(), session.substructures(), false, nullptr});
+  queued.OnStart(StartOf(session));
   for (long k = 0; k < 4; ++k) Commit(queued, k);
   EXPECT_THROW(Commit(queued, 4), Error);
   inner.blocked = false;
@@ -108,7 +112,7 @@ TEST(LockFreeObserver, ForwardsTrialsAndCommitsToEveryInnerObserverInOrder) {
   Session session(testing::DummySpec(0.01));
   Sequence a, b;
   LockFreeObserver queued({&a, &b}, 64, 8, 2);
-  queued.OnStart({session.spec(), session.slot_map(), session.substructures(), false, nullptr});
+  queued.OnStart(StartOf(session));
   std::vector<long> expected;
   for (long k = 1; k <= 20; ++k) {
     const std::vector<double> d{0.1}, r{2.0};

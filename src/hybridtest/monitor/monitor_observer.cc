@@ -92,7 +92,7 @@ void MonitorObserver::OnStart(const runner::StartEvent& run) {
   RunIdentity identity;
   std::vector<ActuatorInfo> actuators;
   DescribeRun(run, identity, layout_, actuators);
-  if (paced_ != nullptr) identity.real_time.clock = paced_->clock_name();
+  identity.real_time.clock = run.clock;
   compensators_.clear();
   for (int b : CompensatedBlocks(run)) {
     compensators_.push_back(run.substructures[std::size_t(b)]->transfer_system());
@@ -148,33 +148,31 @@ void MonitorObserver::OnCommit(const runner::CommitEvent& event) {
     f[layout_.position(a)] = has ? event.row[c + 1] : std::nan("");
     f[layout_.force(a)] = has ? event.row[c + 2] : std::nan("");
   }
-  if (layout_.real_time > 0) FillRealTime(f + layout_.rt(0));
+  if (layout_.real_time > 0) FillRealTime(event.real_time, f + layout_.rt(0));
   ring_->Publish();
 }
 
-void MonitorObserver::FillRealTime(double* c) const {
+void MonitorObserver::FillRealTime(const runner::RealTimeSample* sample, double* c) const {
   std::fill(c, c + layout_.real_time, std::nan(""));
-  if (paced_ == nullptr) return;
-  const runner::PacedStatistics& s = paced_->statistics();
+  if (sample == nullptr) return;
+  const runner::RealTimeSample& s = *sample;
   c[kRtTicks] = static_cast<double>(s.ticks);
   c[kRtMisses] = static_cast<double>(s.misses);
-  c[kRtMissesInARow] = static_cast<double>(paced_->consecutive_misses());
-  c[kRtMaxInARow] = static_cast<double>(s.max_consecutive_misses);
+  c[kRtMissesInARow] = static_cast<double>(s.misses_in_a_row);
+  c[kRtMaxInARow] = static_cast<double>(s.max_misses_in_a_row);
   c[kRtOverruns] = static_cast<double>(s.overruns);
-  c[kRtLate] = paced_->tick_late();
-  c[kRtCompute] = paced_->previous_compute();
-  c[kRtJ2] = paced_->criteria().J2();
-  c[kRtJ3] = paced_->criteria().J3();
+  c[kRtLate] = s.late;
+  c[kRtCompute] = s.compute;
+  c[kRtJ2] = s.J2;
+  c[kRtJ3] = s.J3;
   for (std::size_t k = 0; k < compensators_.size() && kRtColumns + k < layout_.real_time; ++k) {
     c[kRtColumns + k] = compensators_[k]->compensated_delay();
   }
-  const runner::TrackingSet& tracking = paced_->tracking();
   const std::size_t first = kRtColumns + compensators_.size();
-  for (std::size_t k = 0; k < tracking.num_actuators() && first + 3 * k + 2 < layout_.real_time;
-       ++k) {
-    c[first + 3 * k] = tracking.live_J1_ms(k);
-    c[first + 3 * k + 1] = tracking.actuator(k).J2();
-    c[first + 3 * k + 2] = tracking.actuator(k).J3();
+  for (std::size_t k = 0; k < s.J1_ms.size() && first + 3 * k + 2 < layout_.real_time; ++k) {
+    c[first + 3 * k] = s.J1_ms[k];
+    c[first + 3 * k + 1] = s.actuator_J2[k];
+    c[first + 3 * k + 2] = s.actuator_J3[k];
   }
 }
 

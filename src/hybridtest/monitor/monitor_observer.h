@@ -11,9 +11,10 @@
 // what the seam reports, per model slot and per actuator, is all it reads (TrialEvent,
 // CommitEvent's journal row). The actuators, their names, p0 and limits come from the
 // session's slot map and each substructure's actuator_p0/actuator_limits (decision 0016);
-// the identity from the run's spec. On a paced run it is given the paced loop
-// (SetPacedLoop) and copies its per-tick counts into each frame on the stepping thread (the
-// thread that writes them), allocating nothing.
+// the identity from the run's spec (StartEvent). On a paced run each committed row carries the
+// pacer's sample (CommitEvent::real_time: counts, lateness, J1–J3 per actuator), which it
+// copies into the frame on the stepping thread, allocating nothing; it holds no pointer to the
+// Session or the pacer.
 #include <atomic>
 #include <condition_variable>
 #include <memory>
@@ -22,7 +23,6 @@
 #include <vector>
 
 #include "hybridtest/monitor/monitor_state.h"
-#include "hybridtest/runner/paced_loop.h"
 #include "hybridtest/runner/session.h"
 #include "hybridtest/runner/spsc_ring.h"
 
@@ -54,19 +54,17 @@ class MonitorObserver final : public runner::SessionObserver {
   bool real_time_safe() const override { return true; }
 
   long dropped() const { return dropped_.load(std::memory_order_relaxed); }
-  // A paced run's loop (before the session's Initialize()); not owned, outlives the run.
-  void SetPacedLoop(const runner::PacedLoop* loop) { paced_ = loop; }
 
  private:
   void Collect();       // the collector thread
   void DrainNow();      // ring → state (collector, or the stepping thread at the stop)
   void StopCollector();
-  void FillRealTime(double* frame) const;  // the paced loop's per-tick columns
+  // The paced loop's per-tick columns, from the sample a committed row carries.
+  void FillRealTime(const runner::RealTimeSample* sample, double* frame) const;
 
   MonitorState& state_;
   MonitorObserverOptions options_;
   std::string csv_;  // the run's journal ("" without files), for the resume command
-  const runner::PacedLoop* paced_ = nullptr;
   std::vector<const transfer::TransferSystem*> compensators_;  // their delay columns
   FrameLayout layout_;
   std::unique_ptr<runner::SpscRing<std::vector<double>>> ring_;  // frames (layout_.width())

@@ -97,8 +97,10 @@ void LockFreeObserver::Deliver(const Slot& s) {
     for (SessionObserver* o : inner_) o->OnTrial(e);
     return;
   }
-  const CommitEvent e{s.kind, s.step, s.t, {s.x.data(), s.nx}, {s.r.data(), s.nr},
-                      {s.row.data(), s.nrow}, s.statistics, s.finished, s.steps_left, {}};
+  // A queued commit: no state to call back for, no pacer sample (session.h).
+  const CommitEvent e{s.kind,         s.step,     s.t,          {s.x.data(), s.nx},
+                      {s.r.data(), s.nr},         {s.row.data(), s.nrow},   s.statistics,
+                      s.finished,     s.steps_left, {},         nullptr};
   for (SessionObserver* o : inner_) o->OnCommit(e);
 }
 

@@ -74,7 +74,32 @@ PacedLoop::PacedLoop(Session& session, Clock& clock)
   // The live J1 over the last second (at least 64 ticks).
   const long window = std::max(64L, static_cast<long>(std::lround(1.0 / tick_)));
   tracking_.Reserve(std::move(tracked), static_cast<long>(ticks), tick_, window);
+  sample_J1_.assign(tracking_.num_actuators(), 0.0);
+  sample_J2_.assign(tracking_.num_actuators(), 0.0);
+  sample_J3_.assign(tracking_.num_actuators(), 0.0);
   session.AddObserver(*this);
+}
+
+const RealTimeSample* PacedLoop::Sample() {
+  RealTimeSample& s = sample_;
+  s.ticks = stats_.ticks;
+  s.misses = stats_.misses;
+  s.misses_in_a_row = consecutive_;
+  s.max_misses_in_a_row = stats_.max_consecutive_misses;
+  s.overruns = stats_.overruns;
+  s.late = tick_late();
+  s.compute = previous_compute();
+  s.J2 = criteria().J2();
+  s.J3 = criteria().J3();
+  for (std::size_t k = 0; k < sample_J1_.size(); ++k) {
+    sample_J1_[k] = tracking_.live_J1_ms(k);
+    sample_J2_[k] = tracking_.actuator(k).J2();
+    sample_J3_[k] = tracking_.actuator(k).J3();
+  }
+  s.J1_ms = sample_J1_;
+  s.actuator_J2 = sample_J2_;
+  s.actuator_J3 = sample_J3_;
+  return &s;
 }
 
 void PacedLoop::OnTrial(const TrialEvent& event) {

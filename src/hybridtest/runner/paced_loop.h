@@ -61,6 +61,9 @@ class PacedLoop final : public SessionObserver, public StepPacer {
   void Start() override;
   void BeforeStep(bool after_hold) override;
   void AfterStep(const StepResult& result) override;
+  // Its counts, this tick's lateness, the tick before's compute time and the criteria of every
+  // actuator now (preallocated: nothing is allocated).
+  const RealTimeSample* Sample() override;
 
   const PacedStatistics& statistics() const { return stats_; }
   // The first actuator's criteria (the run's J1–J3 before there were several) and every one's.
@@ -119,6 +122,8 @@ class PacedLoop final : public SessionObserver, public StepPacer {
   TrackingSet tracking_;
   TrackingCriteria no_actuator_;  // criteria() of a run without a physical actuator
   std::vector<double> late_, compute_;  // per tick, preallocated
+  RealTimeSample sample_;
+  std::vector<double> sample_J1_, sample_J2_, sample_J3_;  // (actuators), sized in Start()
   std::vector<std::string> setup_notes_;
   nlohmann::json stability_ = nlohmann::json::array();
 };

@@ -229,6 +229,7 @@ void Session::Publish(RowKind kind, long step, double t, const Eigen::VectorXd& 
     event.finished = scheme_ && scheme_->finished();
     event.steps_left = EstimatedStepsLeft();
     event.state = [this] { return GetState(); };  // one pointer: no allocation
+    if (pacer_ != nullptr) event.real_time = pacer_->Sample();
   }
   for (SessionObserver* o : observers_) o->OnCommit(event);
 }
@@ -259,7 +260,8 @@ StepResult Session::Initialize() {
   wall_start_ = std::chrono::steady_clock::now();
   try {
     // Records first: a run that cannot write them must not move anything.
-    const StartEvent start{spec_, slot_map_, subs_, has_physical(), resume_state()};
+    const StartEvent start{spec_, slot_map_, subs_, has_physical(), resume_state(),
+                           paced_loop_ ? paced_loop_->clock_name() : std::string()};
     for (SessionObserver* o : observers_) o->OnStart(start);
     for (auto& s : subs_) s->Activate();
     if (resume_) {

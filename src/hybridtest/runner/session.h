@@ -84,6 +84,22 @@ enum class RowKind {
   kUncommitted,   // after a failure: the state a step computed but could not try; NaN r
 };
 
+// A real-time run's pacer as it stands at a committed row (published by the pacer,
+// runner/paced_loop.h, on the stepping thread; valid during the OnCommit that carries it).
+struct RealTimeSample {
+  long ticks = 0;
+  long misses = 0;
+  long misses_in_a_row = 0;      // now
+  long max_misses_in_a_row = 0;  // so far
+  long overruns = 0;
+  double late = 0.0;     // this tick's wake-up − its deadline [s]
+  double compute = 0.0;  // the tick before's Session::Step() [s] (this tick's is still going)
+  // J2 and J3 of the first actuator, then J1 (a live estimate) [ms], J2 and J3 [%] of every
+  // actuator in the run's order (runner/tracking_criteria.h; NaN before they are known).
+  double J2 = 0.0, J3 = 0.0;
+  std::span<const double> J1_ms, actuator_J2, actuator_J3;
+};
+
 // What a run is, given to every observer before anything is activated (OnStart). The
 // references are valid during OnStart only: an observer copies what it keeps and holds no
 // pointer to the Session (every later event carries what it needs).
@@ -95,6 +111,7 @@ struct StartEvent {
   const std::vector<std::unique_ptr<substructures::Substructure>>& substructures;
   bool has_physical = false;  // a physical substructure takes part
   const RunState* resume = nullptr;  // the state a resume continues from; null: a new run
+  std::string clock;  // a real-time run's clock ("wall", "virtual", ...); "" without real time
 };
 
 struct CommitEvent {
@@ -111,6 +128,9 @@ struct CommitEvent {
   // journal fields are the caller's to fill). Callable during OnCommit on the stepping thread
   // only; empty on an event a queue delivers (lock_free_observer.h) and on other rows.
   std::function<RunState()> state;
+  // A real-time run's pacer at this row (committed rows; null otherwise and on an event a
+  // queue delivers).
+  const RealTimeSample* real_time = nullptr;
 };
 
 struct StopEvent {
@@ -202,6 +222,9 @@ class StepPacer {
   virtual void BeforeStep(bool after_hold) = 0;
   // After each Step().
   virtual void AfterStep(const StepResult& result) = 0;
+  // What it publishes at a committed row, for the live monitor (null: nothing). On the
+  // stepping thread, without allocating.
+  virtual const RealTimeSample* Sample() { return nullptr; }
 };
 
 class Session {
