@@ -88,8 +88,9 @@ def ours(mod, states):
     free = (M.free_symbols | f.free_symbols) - set(args)
     if free:
         sys.exit(f'FAIL: M or f has symbols that are neither state nor parameters: {free}')
-    fM = sp.lambdify(args, M.tolist(), 'math')
-    ff = sp.lambdify(args, list(f), 'math')
+    # cse: a large model's M and f share their subexpressions (printed once, docs/equations.md).
+    fM = sp.lambdify(args, M.tolist(), 'math', cse=True)
+    ff = sp.lambdify(args, list(f), 'math', cse=True)
     out = []
     for s in states:
         a = [s['t'], *s['q'], *s['u'], *s['r'], *s['z']]

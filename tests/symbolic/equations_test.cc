@@ -1,7 +1,6 @@
 // The engine on the Symbolic scalar (decision 0019): its M and f, evaluated at random states,
 // equal the double engine's; the rotor's M has the paper's Eq. (19) structure; the printers'
 // dialects and names.
-#include <fmt/core.h>
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -15,6 +14,7 @@
 #include "hybridtest/symbolic/equations.h"
 #include "hybridtest/symbolic/print_expression.h"
 #include "hybridtest/symbolic/simplify.h"
+#include "support/chain_model_file.h"
 
 namespace hybridtest::symbolic {
 namespace {
@@ -93,39 +93,12 @@ TEST(SymbolicEngine, ExampleModelFilesEqualTheDoubleEngine) {
   }
 }
 
-// A planar chain of `links` point masses (each link its own length and mass), as a model file.
-std::string ChainFile(int links) {
-  std::string s = "name: chain\nparameters:\n  g: {value: 9.81}\n";
-  for (int i = 1; i <= links; ++i) {
-    s += fmt::format("  m{0}: {{value: {1}}}\n  l{0}: {{value: {2}}}\n", i, 1.0 + 0.1 * i, 0.5 + 0.05 * i);
-  }
-  s += "coordinates:\n";
-  for (int i = 1; i <= links; ++i) s += fmt::format("  - {{name: q{}, unit: rad}}\n", i);
-  s += "frames:\n";
-  for (int i = 1; i <= links; ++i) {
-    s += fmt::format("  - {{name: A{}, parent: {}, axis: z, angle: q{}}}\n", i,
-                     i == 1 ? std::string("N") : fmt::format("A{}", i - 1), i);
-  }
-  s += "points:\n";
-  for (int i = 1; i <= links; ++i) {
-    s += fmt::format("  - {{name: P{}, from: {}, frame: A{}, position: [l{}, 0, 0]}}\n", i,
-                     i == 1 ? std::string("O") : fmt::format("P{}", i - 1), i, i);
-  }
-  s += "particles:\n";
-  for (int i = 1; i <= links; ++i) s += fmt::format("  - {{name: b{0}, point: P{0}, mass: m{0}}}\n", i);
-  s += "forces:\n";
-  for (int i = 1; i <= links; ++i) {
-    s += fmt::format("  - {{name: w{0}, point: P{0}, value: [m{0} * g, 0, 0]}}\n", i);
-  }
-  return s;
-}
-
 // Issue 47: a chain too large to expand keeps the engine's expressions with named common
 // subexpressions (before, the expansion did not finish in minutes for six links), and they
 // equal the double engine.
 TEST(SymbolicEngine, LargeChainIsSharedAndEqualsTheDoubleEngine) {
   const std::string path = ::testing::TempDir() + "/symbolic_chain6.yaml";
-  std::ofstream(path) << ChainFile(6);
+  std::ofstream(path) << test_support::ChainModelFile(6, 1);
   const auto file = modelfile::LoadModelFile(path);
   const auto built = modelfile::BuildModelFile(file, file.parameters);
   EXPECT_FALSE(DeriveEquations(built.model).shared.definitions.empty());

@@ -92,6 +92,10 @@ std::string LatexBroken(const GiNaC::ex& e, const NameMap& names) {
   return text;
 }
 
+// A parameter's value as the expressions print numbers (at most 15 significant digits: 2π/3
+// as 2.0943951023932, not with the last bits of the builder's arithmetic).
+std::string Value(double v, Dialect d) { return PrintExpression(GiNaC::numeric(v), d, {}); }
+
 // What the common subexpressions are (printed above them).
 constexpr const char* kSharedNote =
     "These equations are too large to expand (docs/equations.md, \"Large models\"): they are "
@@ -115,7 +119,8 @@ std::string Markdown(const multibody::Model& model, const Equations& eq, const D
   }
   s += "\n## Parameters (values used)\n\n| parameter | value | unit | meaning |\n|---|---|---|---|\n";
   for (const auto& p : info.parameters) {
-    s += fmt::format("| `{}` | {} | {} | {} |\n", p.name, p.value, p.unit, p.description);
+    s += fmt::format("| `{}` | {} | {} | {} |\n", p.name, Value(p.value, Dialect::kPlain), p.unit,
+                     p.description);
   }
   if (!eq.shared.definitions.empty()) {
     s += fmt::format("\n## Common subexpressions\n\n{}\n\n", kSharedNote);
@@ -275,7 +280,7 @@ std::string Sympy(const multibody::Model& model, const Equations& eq, const Docu
        "everything but t, q, u, r, z.\nparameters = {\n";
   for (const auto& p : info.parameters) {
     if (symbol_names.count(p.name) > 0) continue;  // named like a symbol: printed as its value
-    s += fmt::format("    {}: {},\n", names.at(p.name), p.value);
+    s += fmt::format("    {}: {},\n", names.at(p.name), Value(p.value, Dialect::kSympy));
   }
   s += "}\n";
   return s;
