@@ -115,6 +115,9 @@ TEST(PrintExpression, NumbersAsWrittenAndTermsInAFixedOrder) {
   EXPECT_EQ(PrintExpression((Symbolic(0.1) + 3.0 * Symbolic(1.96) * 0.5 * 0.5).ex(),
                             Dialect::kPlain, none), "1.57");  // I_g + 3 m_b l_b²
   EXPECT_EQ(PrintExpression(Symbolic(0.5).ex(), Dialect::kPlain, none), "1/2");
+  // g m_b cos(2π/3) as the rotor's builder computes it in doubles: 9.623599999999996.
+  EXPECT_EQ(PrintExpression(Symbolic(-9.82 * 1.96 * std::cos(2.0 * M_PI / 3.0)).ex(),
+                            Dialect::kPlain, none), "9.6236");
   EXPECT_EQ(PrintExpression(GiNaC::numeric(1.0 / 3.0), Dialect::kPlain, none), "0.333333333333333");
   const GiNaC::realsymbol b("b"), a("a"), c("c");
   EXPECT_EQ(PrintExpression(c - b + a, Dialect::kPlain, none), "a - b + c");

@@ -16,11 +16,16 @@ namespace hybridtest::symbolic {
 
 namespace {
 
-// The shortest decimal of v rounded to 15 significant digits: a parameter's value as the model
-// file wrote it (1.57), not the last bit of the engine's arithmetic on it (1.5699999999999998;
-// the difference, ≤ 5e-16 relative, is the rounding of that arithmetic).
+// The shortest decimal within 1e-15 (relative, a few units in the last place) of v: a number
+// as the model file wrote it (1.57, 9.6236), not the last bits of the arithmetic that computed
+// it (1.5699999999999998, 9.623599999999996: g m_b cos(2π/3) in doubles). At most 15
+// significant digits.
 std::string ShortDecimal(double v) {
-  if (!std::isfinite(v)) return fmt::format("{}", v);
+  if (!std::isfinite(v) || v == 0.0) return fmt::format("{}", v);
+  for (int digits = 1; digits < 15; ++digits) {
+    const double w = std::strtod(fmt::format("{:.{}g}", v, digits).c_str(), nullptr);
+    if (std::abs(w - v) <= 1e-15 * std::abs(v)) return fmt::format("{}", w);
+  }
   return fmt::format("{}", std::strtod(fmt::format("{:.15g}", v).c_str(), nullptr));
 }
 
