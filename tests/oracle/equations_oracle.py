@@ -9,6 +9,9 @@
     equations_oracle.py --binary B --latex
         The rotor's `latex` output compiles with pdflatex (exit 77, skipped, if pdflatex is
         absent: scripts/install-deps.sh installs texlive-latex-base).
+    equations_oracle.py --binary B --stable
+        Two runs of `equations` print the same bytes (the rotor and example model files), no
+        number with float noise (issue 47).
     equations_oracle.py --binary B --cli
         Bad input exits with status 2 and a message naming the problem; --out and
         --overwrite guard an existing file.
@@ -85,8 +88,9 @@ def ours(mod, states):
     free = (M.free_symbols | f.free_symbols) - set(args)
     if free:
         sys.exit(f'FAIL: M or f has symbols that are neither state nor parameters: {free}')
-    fM = sp.lambdify(args, M.tolist(), 'math')
-    ff = sp.lambdify(args, list(f), 'math')
+    # cse: a large model's M and f share their subexpressions (printed once, docs/equations.md).
+    fM = sp.lambdify(args, M.tolist(), 'math', cse=True)
+    ff = sp.lambdify(args, list(f), 'math', cse=True)
     out = []
     for s in states:
         a = [s['t'], *s['q'], *s['u'], *s['r'], *s['z']]
@@ -237,6 +241,27 @@ def check_compiled(binary, config):
     return 0
 
 
+def check_stable(binary):
+    """Issue 47: two runs print the same bytes (the rotor and the example model files whose
+    equations are expanded), and no printed number carries float noise (more than 15
+    significant digits, such as 1.5699999999999998)."""
+    import re
+    models = ['rotor'] + [str(ROOT / 'examples/models' / f'{m}.yaml')
+                          for m in ('rotor', 'double_pendulum', 'cart_pendulum', 'wind_turbine')]
+    for model in models:
+        for fmt in ('sympy', 'markdown'):
+            a = run(binary, 'equations', model, '--format', fmt).stdout
+            b = run(binary, 'equations', model, '--format', fmt).stdout
+            if a != b:
+                sys.exit(f'FAIL: two runs of equations {model} --format {fmt} differ')
+            for number in re.findall(r'(?<![\w.])\d+\.\d+(?:e[-+]?\d+)?', a):
+                digits = re.sub(r'e.*', '', number).replace('.', '').lstrip('0')
+                if len(digits) > 15:
+                    sys.exit(f'FAIL: equations {model} --format {fmt} prints {number}')
+    print('equations: byte-identical runs, no float noise')
+    return 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('--binary', required=True)
@@ -246,7 +271,10 @@ def main():
     ap.add_argument('--latex', action='store_true')
     ap.add_argument('--cli', action='store_true')
     ap.add_argument('--compiled', metavar='CONFIG')
+    ap.add_argument('--stable', action='store_true')
     a = ap.parse_args()
+    if a.stable:
+        return check_stable(a.binary)
     if a.compiled:
         return check_compiled(a.binary, a.compiled)
     if a.latex:

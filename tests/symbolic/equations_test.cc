@@ -10,9 +10,11 @@
 #include "hybridtest/modelfile/model_file.h"
 #include "hybridtest/models/catalogue.h"
 #include "hybridtest/multibody/kane.h"
+#include "hybridtest/multibody/symbolic.h"
 #include "hybridtest/symbolic/equations.h"
 #include "hybridtest/symbolic/print_expression.h"
 #include "hybridtest/symbolic/simplify.h"
+#include "support/chain_model_file.h"
 
 namespace hybridtest::symbolic {
 namespace {
@@ -51,6 +53,8 @@ void ExpectSymbolicEqualsNumeric(const multibody::Model& model, int trials) {
     }
     const double t = time(rng);
     at[eq.t] = t;
+    // Large equations: their common subexpressions, in order (shared.h).
+    for (const auto& [symbol, value] : eq.shared.definitions) at[symbol] = GiNaC::evalf(value.subs(at));
     multibody::CalcKinematics<double>(model, data, t, x);
     multibody::CalcMassMatrix<double>(model, data);
     multibody::CalcForcing<double>(model, data, r);
@@ -89,6 +93,40 @@ TEST(SymbolicEngine, ExampleModelFilesEqualTheDoubleEngine) {
   }
 }
 
+// Issue 47: a chain too large to expand keeps the engine's expressions with named common
+// subexpressions (before, the expansion did not finish in minutes for six links), and they
+// equal the double engine.
+TEST(SymbolicEngine, LargeChainIsSharedAndEqualsTheDoubleEngine) {
+  const std::string path = ::testing::TempDir() + "/symbolic_chain6.yaml";
+  std::ofstream(path) << test_support::ChainModelFile(6, 1);
+  const auto file = modelfile::LoadModelFile(path);
+  const auto built = modelfile::BuildModelFile(file, file.parameters);
+  EXPECT_FALSE(DeriveEquations(built.model).shared.definitions.empty());
+  ExpectSymbolicEqualsNumeric(built.model, 3);
+}
+
+// Issue 47: numbers print as the model wrote them (exact decimal arithmetic, not the last bits
+// of a float sum), and terms in an order of their own, not GiNaC's address-dependent one.
+TEST(PrintExpression, NumbersAsWrittenAndTermsInAFixedOrder) {
+  using multibody::Symbolic;
+  const NameMap none;
+  EXPECT_EQ(PrintExpression((Symbolic(0.1) + Symbolic(0.2)).ex(), Dialect::kPlain, none), "0.3");
+  EXPECT_EQ(PrintExpression((Symbolic(1.1) * Symbolic(9.81)).ex(), Dialect::kSympy, none), "10.791");
+  EXPECT_EQ(PrintExpression((Symbolic(0.1) + 3.0 * Symbolic(1.96) * 0.5 * 0.5).ex(),
+                            Dialect::kPlain, none), "1.57");  // I_g + 3 m_b l_b²
+  EXPECT_EQ(PrintExpression(Symbolic(0.5).ex(), Dialect::kPlain, none), "1/2");
+  // g m_b cos(2π/3) as the rotor's builder computes it in doubles: 9.623599999999996.
+  EXPECT_EQ(PrintExpression(Symbolic(-9.82 * 1.96 * std::cos(2.0 * M_PI / 3.0)).ex(),
+                            Dialect::kPlain, none), "9.6236");
+  EXPECT_EQ(PrintExpression(GiNaC::numeric(1.0 / 3.0), Dialect::kPlain, none), "0.333333333333333");
+  const GiNaC::realsymbol b("b"), a("a"), c("c");
+  EXPECT_EQ(PrintExpression(c - b + a, Dialect::kPlain, none), "a - b + c");
+  EXPECT_EQ(PrintExpression(-2 * c * a * b, Dialect::kPlain, none), "-2*a*b*c");
+  // A lone inverse (a common subexpression of the spinning top): printed -a before.
+  EXPECT_EQ(PrintExpression(GiNaC::pow(a, -1), Dialect::kSympy, none), "1/a");
+  EXPECT_EQ(PrintExpression(GiNaC::pow(a + b, -2), Dialect::kPlain, none), "1/(a + b)^2");
+}
+
 TEST(SymbolicEngine, RotorMassMatrixHasThePapersArrowStructure) {
   const auto built = models::BuildModel("rotor", 3, models::DefaultParameters("rotor", 3));
   const Equations eq = DeriveEquations(built.model);
@@ -96,7 +134,9 @@ TEST(SymbolicEngine, RotorMassMatrixHasThePapersArrowStructure) {
   // Eq. (19), lower block negated: diag m_b, arrow m_b l_b, hub I_g + Σ m_b (l_b² + q_i²).
   for (int i = 0; i < 3; ++i) {
     for (int k = 0; k < 3; ++k) {
-      EXPECT_TRUE((eq.M[i][k] - (i == k ? m_b : 0.0)).is_zero()) << eq.M[i][k];
+      // Exactly m_b as the model gives it (the rational 49/25 of 1.96; issue 47).
+      EXPECT_TRUE((eq.M[i][k] - (i == k ? GiNaC::ex(GiNaC::numeric(49, 25)) : 0)).is_zero())
+          << eq.M[i][k];
     }
     EXPECT_NEAR(GiNaC::ex_to<GiNaC::numeric>(eq.M[i][3]).to_double(), m_b * l_b, 1e-15);
   }

@@ -95,6 +95,28 @@ TEST(SymbolizeParameters, RotorCarriesThePapersParameters) {
   ExpectSameValues(eq, numeric, p);
 }
 
+// Issue 47 item 3: a run config resolves every blade's value (blade1.m_b = m_b); the printed
+// symbol is still m_b, as for the model itself, and a blade's own symbol only where it differs.
+TEST(SymbolizeParameters, ResolvedBladeValuesPrintAsTheSharedSymbol) {
+  const auto build = [](const models::ParameterSet& set) {
+    return models::BuildModel("rotor", 3, set).model;
+  };
+  const models::ParameterSet resolved =
+      models::BuildModel("rotor", 3, models::DefaultParameters("rotor", 3)).parameters;
+  ASSERT_TRUE(resolved.Has("blade1.m_b"));
+  Equations eq = DeriveEquations(build(resolved));
+  SymbolizeParameters(eq, resolved, build);
+  EXPECT_EQ(Names(eq.M[0][0]), (std::set<std::string>{"m_b"})) << eq.M[0][0];
+  EXPECT_EQ(Names(eq.M[2][3]), (std::set<std::string>{"l_b", "m_b"})) << eq.M[2][3];
+
+  models::ParameterSet differs = resolved;
+  differs.Set("blade2.m_b", 2.5, "test");
+  Equations other = DeriveEquations(build(differs));
+  SymbolizeParameters(other, differs, build);
+  EXPECT_EQ(Names(other.M[1][1]), (std::set<std::string>{"blade2.m_b"})) << other.M[1][1];
+  EXPECT_EQ(Names(other.M[0][0]), (std::set<std::string>{"blade1.m_b"})) << other.M[0][0];
+}
+
 TEST(SymbolizeParameters, ExampleModelFilesKeepTheirValues) {
   for (const char* stem : {"double_pendulum", "wind_turbine"}) {
     SCOPED_TRACE(stem);

@@ -3,7 +3,10 @@
 
 #include <ginac/ginac.h>
 
+#include <fmt/core.h>
+
 #include <cmath>
+#include <string>
 #include <map>
 #include <mutex>
 
@@ -13,6 +16,31 @@ namespace {
 std::shared_ptr<const GiNaC::ex> Make(GiNaC::ex e) {
   return std::make_shared<const GiNaC::ex>(std::move(e));
 }
+// The rational of v's shortest decimal (0.65 → 13/20): the number as a model file writes it,
+// so that GiNaC's arithmetic on it is exact and does not depend on the order it combines terms
+// in (float sums do, and GiNaC's order depends on addresses). Non-finite values stay floats.
+GiNaC::numeric ExactDecimal(double v) {
+  if (!std::isfinite(v)) return GiNaC::numeric(v);
+  std::string s = fmt::format("{}", v);  // shortest round-trip: "0.65", "1e-05", "1.57e+20"
+  long exponent = 0;
+  const auto e = s.find_first_of("eE");
+  if (e != std::string::npos) {
+    exponent = std::stol(s.substr(e + 1));
+    s.resize(e);
+  }
+  const bool negative = !s.empty() && s[0] == '-';
+  if (negative) s.erase(0, 1);
+  const auto point = s.find('.');
+  if (point != std::string::npos) {
+    exponent -= static_cast<long>(s.size() - point - 1);
+    s.erase(point, 1);
+  }
+  GiNaC::numeric mantissa(std::stoll(s));
+  if (negative) mantissa = -mantissa;
+  const GiNaC::numeric ten(10);
+  return exponent >= 0 ? mantissa * ten.power(GiNaC::numeric(exponent))
+                       : mantissa / ten.power(GiNaC::numeric(-exponent));
+}
 const GiNaC::ex& Zero() {
   static const GiNaC::ex zero = 0;
   return zero;
@@ -21,7 +49,7 @@ const GiNaC::ex& Zero() {
 
 Symbolic::Symbolic() = default;
 Symbolic::Symbolic(double value) {
-  if (value != 0.0) e_ = Make(GiNaC::numeric(value));
+  if (value != 0.0) e_ = Make(ExactDecimal(value));
 }
 Symbolic::Symbolic(const GiNaC::ex& e) {
   if (!e.is_zero()) e_ = Make(e);

@@ -24,6 +24,8 @@ namespace hybridtest::multibody {
 class Symbolic {
  public:
   Symbolic();                    // 0
+  // A number becomes the exact rational of its shortest decimal (0.65 → 13/20; issue 47), so
+  // that the expressions' arithmetic is exact and independent of GiNaC's term order.
   Symbolic(double value);        // NOLINT: numbers convert implicitly, as for double
   explicit Symbolic(const GiNaC::ex& e);
   // A new symbol named `name` (e.g. "q1"), real.

@@ -3,9 +3,12 @@
 
 #include <fmt/core.h>
 
+#include <set>
+
 #include "hybridtest/common/error.h"
 
 #include "hybridtest/multibody/kane.h"
+#include "hybridtest/symbolic/shared.h"
 #include "hybridtest/symbolic/simplify.h"
 
 namespace hybridtest::symbolic {
@@ -33,20 +36,27 @@ GiNaC::ex Dot(const Symbolic* a, const Symbolic* b) {
   return a[0].ex() * b[0].ex() + a[1].ex() * b[1].ex() + a[2].ex() * b[2].ex();
 }
 
-// The partials of one point or frame (3 × n), simplified; empty if all zero.
+// The partials of one point or frame (3 × n), as the engine computed them.
 std::vector<std::vector<GiNaC::ex>> Columns(const multibody::Matrix3X<Symbolic>& V) {
   std::vector<std::vector<GiNaC::ex>> columns;
-  bool any = false;
   for (Eigen::Index j = 0; j < V.cols(); ++j) {
     std::vector<GiNaC::ex> col;
-    for (int c = 0; c < 3; ++c) {
-      col.push_back(Simplify(V(c, j).ex()));
-      any = any || !col.back().is_zero();
-    }
+    for (int c = 0; c < 3; ++c) col.push_back(V(c, j).ex());
     columns.push_back(col);
   }
-  if (!any) columns.clear();
   return columns;
+}
+
+// Drops the points or frames whose partials are all zero.
+void DropZero(std::vector<NamedPartials>& partials) {
+  std::erase_if(partials, [](const NamedPartials& p) {
+    for (const auto& column : p.columns) {
+      for (const GiNaC::ex& e : column) {
+        if (!e.is_zero()) return false;
+      }
+    }
+    return true;
+  });
 }
 
 // The engine on Symbolic at symbolic (t, x, r): fills `data` and eq's symbols (t, q, u, z, r,
@@ -111,6 +121,25 @@ void RefuseConstraints(const multibody::Model& model) {
 
 }  // namespace
 
+std::vector<GiNaC::ex*> Outputs(Equations& eq) {
+  std::vector<GiNaC::ex*> out;
+  auto add = [&](std::vector<GiNaC::ex>& v) {
+    for (GiNaC::ex& e : v) out.push_back(&e);
+  };
+  for (auto& row : eq.M) add(row);
+  add(eq.f);
+  add(eq.Fr);
+  add(eq.Fr_star);
+  add(eq.qdot);
+  add(eq.zdot);
+  for (auto* partials : {&eq.point_partials, &eq.frame_partials}) {
+    for (auto& p : *partials) {
+      for (auto& column : p.columns) add(column);
+    }
+  }
+  return out;
+}
+
 RhsExpressions DeriveRhs(const multibody::Model& model) {
   RefuseConstraints(model);
   const int n = model.num_coordinates();
@@ -159,32 +188,49 @@ Equations DeriveEquations(const multibody::Model& model) {
     for (std::size_t f = 0; f < torque.size(); ++f) {
       s += Dot(data.w_partial[f].data() + 3 * j, torque[f].data());
     }
-    eq.Fr[j] = Simplify(s);
+    eq.Fr[j] = s;
   }
-
-  // M, f, Fr*.
   eq.M.assign(n, std::vector<GiNaC::ex>(n, 0));
   eq.f.assign(n, 0);
-  eq.Fr_star.assign(n, 0);
   for (int j = 0; j < n; ++j) {
-    for (int k = 0; k < n; ++k) eq.M[j][k] = Simplify(data.M(j, k).ex());
-    eq.f[j] = Simplify(data.g(j).ex());
-    GiNaC::ex s = eq.f[j] - eq.Fr[j];
-    for (int k = 0; k < n; ++k) s -= eq.M[j][k] * eq.udot[k];
-    eq.Fr_star[j] = Simplify(s);
+    for (int k = 0; k < n; ++k) eq.M[j][k] = data.M(j, k).ex();
+    eq.f[j] = data.g(j).ex();
   }
-  for (int k = 0; k < n; ++k) eq.qdot.push_back(Simplify(data.qdot(k).ex()));
-  for (const GiNaC::ex& rate : ExtraStateRates(model, data)) eq.zdot.push_back(Simplify(rate));
-
+  for (int k = 0; k < n; ++k) eq.qdot.push_back(data.qdot(k).ex());
+  eq.zdot = ExtraStateRates(model, data);
   // Partial velocities and partial angular velocities (frame 0 and point 0 are N and O).
   for (std::size_t f = 1; f < model.frames().size(); ++f) {
-    auto cols = Columns(data.w_partial[f]);
-    if (!cols.empty()) eq.frame_partials.push_back({model.frames()[f].name, std::move(cols)});
+    eq.frame_partials.push_back({model.frames()[f].name, Columns(data.w_partial[f])});
   }
   for (std::size_t p = 1; p < model.points().size(); ++p) {
-    auto cols = Columns(data.v_partial[p]);
-    if (!cols.empty()) eq.point_partials.push_back({model.points()[p].name, std::move(cols)});
+    eq.point_partials.push_back({model.points()[p].name, Columns(data.v_partial[p])});
   }
+  eq.Fr_star.assign(n, 0);
+  const auto inertia_forces = [&] {
+    for (int j = 0; j < n; ++j) {
+      GiNaC::ex s = eq.f[j] - eq.Fr[j];
+      for (int k = 0; k < n; ++k) s -= eq.M[j][k] * eq.udot[k];
+      eq.Fr_star[j] = s;
+    }
+  };
+
+  std::vector<GiNaC::ex> all;
+  for (GiNaC::ex* e : Outputs(eq)) all.push_back(*e);
+  if (ExpandedTerms(all) <= kExpandLimit) {
+    for (GiNaC::ex* e : Outputs(eq)) *e = Simplify(*e);
+    inertia_forces();
+    for (GiNaC::ex& e : eq.Fr_star) e = Simplify(e);
+  } else {
+    // Too large to expand: the engine's expressions, with their common subexpressions named.
+    inertia_forces();
+    std::set<std::string> reserved = {"t"};
+    for (const auto& list : {eq.q, eq.u, eq.udot, eq.r, eq.z}) {
+      for (const GiNaC::ex& sym : list) reserved.insert(GiNaC::ex_to<GiNaC::symbol>(sym).get_name());
+    }
+    eq.shared = ShareSubexpressions(Outputs(eq), "cse", reserved);
+  }
+  DropZero(eq.frame_partials);
+  DropZero(eq.point_partials);
   return eq;
 }
 

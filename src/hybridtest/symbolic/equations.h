@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "hybridtest/multibody/model.h"
+#include "hybridtest/symbolic/shared.h"
 
 namespace hybridtest::symbolic {
 
@@ -44,7 +45,16 @@ struct Equations {
   std::vector<GiNaC::ex> Fr_star;  // (n) generalized inertia forces (contain udot)
   std::vector<std::vector<GiNaC::ex>> M;  // (n × n) mass matrix, M u̇ = f
   std::vector<GiNaC::ex> f;               // (n) forcing
+  // Empty when the equations are expanded and simplified (simplify.h). Equations whose
+  // expansion would exceed kExpandLimit terms (shared.h) keep the engine's expressions instead,
+  // written in terms of these named common subexpressions (cse1, cse2, …; the printers print
+  // them first). Model parameters then stay numbers.
+  SharedSubexpressions shared;
 };
+
+// Every expression of eq, in a fixed order: M by rows, f, Fr, Fr*, q̇, ż, the point partials,
+// the frame partials.
+std::vector<GiNaC::ex*> Outputs(Equations& eq);
 
 // Throws ModelError (e.g. a model-file expression that branches on a value, such as `if`).
 Equations DeriveEquations(const multibody::Model& model);

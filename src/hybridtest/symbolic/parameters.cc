@@ -13,26 +13,6 @@ namespace {
 
 using TermMap = std::map<GiNaC::ex, double, GiNaC::ex_is_less>;
 
-// Every expression of eq, in a fixed order (the same for every build of one model).
-std::vector<GiNaC::ex*> Outputs(Equations& eq) {
-  std::vector<GiNaC::ex*> out;
-  auto add = [&](std::vector<GiNaC::ex>& v) {
-    for (GiNaC::ex& e : v) out.push_back(&e);
-  };
-  for (auto& row : eq.M) add(row);
-  add(eq.f);
-  add(eq.Fr);
-  add(eq.Fr_star);
-  add(eq.qdot);
-  add(eq.zdot);
-  for (auto* partials : {&eq.point_partials, &eq.frame_partials}) {
-    for (auto& p : *partials) {
-      for (auto& column : p.columns) add(column);
-    }
-  }
-  return out;
-}
-
 std::vector<GiNaC::ex> TermsOf(const GiNaC::ex& e) {
   std::vector<GiNaC::ex> terms;
   if (GiNaC::is_a<GiNaC::add>(e)) {
@@ -91,6 +71,50 @@ GiNaC::numeric Exact(double k) {
   return GiNaC::numeric(k);
 }
 
+// The per-instance parameters "<prefix>.<name>" of a shared parameter <name> (a run config's
+// blade1.m_b, blade2.m_b of the rotor's m_b).
+std::vector<std::string> Instances(const models::ParameterSet& set, const std::string& name) {
+  std::vector<std::string> out;
+  for (const auto& p : set.all()) {
+    const auto dot = p.name.rfind('.');
+    if (dot != std::string::npos && p.name.compare(dot + 1, std::string::npos, name) == 0) {
+      out.push_back(p.name);
+    }
+  }
+  return out;
+}
+
+// Whether every instance of `shared` has its value (or inherits it: unset, NaN).
+bool AllFollow(const models::ParameterSet& set, const std::string& shared) {
+  const double value = set.Get(shared);
+  for (const std::string& name : Instances(set, shared)) {
+    const double v = set.Get(name);
+    if (!std::isnan(v) && v != value) return false;
+  }
+  return true;
+}
+
+// Whether `name` is an instance ("blade1.m_b") of a shared parameter ("m_b") that every
+// instance follows: it is then one symbol with it (issue 47 item 3: the prefix only where two
+// instances differ).
+bool FollowsShared(const models::ParameterSet& set, const std::string& name) {
+  const auto dot = name.rfind('.');
+  if (dot == std::string::npos) return false;
+  const std::string shared = name.substr(dot + 1);
+  return set.Has(shared) && AllFollow(set, shared);
+}
+
+// The parameters one symbol stands for: `name` and, if every instance follows it, its
+// instances that carry a value.
+std::vector<std::string> Group(const models::ParameterSet& set, const std::string& name) {
+  std::vector<std::string> group = {name};
+  if (name.find('.') != std::string::npos || !AllFollow(set, name)) return group;
+  for (const std::string& instance : Instances(set, name)) {
+    if (!std::isnan(set.Get(instance))) group.push_back(instance);
+  }
+  return group;
+}
+
 struct Candidate {
   std::string name;
   double value = 0.0;
@@ -105,6 +129,7 @@ SymbolizeReport SymbolizeParameters(
     Equations& eq, const models::ParameterSet& parameters,
     const std::function<multibody::Model(const models::ParameterSet&)>& build) {
   SymbolizeReport report;
+  if (!eq.shared.definitions.empty()) return report;  // not expanded: no terms to match
   std::set<std::string> reserved = {"t"};
   for (const auto* list : {&eq.q, &eq.u, &eq.udot, &eq.r, &eq.z}) {
     for (const GiNaC::ex& s : *list) reserved.insert(GiNaC::ex_to<GiNaC::symbol>(s).get_name());
@@ -133,13 +158,15 @@ SymbolizeReport SymbolizeParameters(
   models::ParameterSet checking = parameters;
   for (const auto& p : parameters.all()) {
     if (p.value == 0.0 || !std::isfinite(p.value) || reserved.count(p.name) > 0) continue;
+    if (FollowsShared(parameters, p.name)) continue;  // scaled with its shared value
+    const std::vector<std::string> group = Group(parameters, p.name);
     Candidate c{p.name, p.value, GiNaC::realsymbol(p.name), {}, 1.0};
     models::ParameterSet scaled = parameters;
-    scaled.Set(p.name, p.value * kScale, "equations");
+    for (const std::string& name : group) scaled.Set(name, p.value * kScale, "equations");
     if (!derive(scaled, &c.scaled)) continue;
     c.check_factor = 1.0 + 0.1 * static_cast<double>(candidates.size() % 7 + 1) +
                      0.0131 * static_cast<double>(candidates.size());
-    checking.Set(p.name, p.value * c.check_factor, "equations");
+    for (const std::string& name : group) checking.Set(name, p.value * c.check_factor, "equations");
     candidates.push_back(std::move(c));
   }
   std::vector<TermMap> check;

@@ -3,7 +3,11 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <string_view>
 #include <set>
 #include <sstream>
 #include <vector>
@@ -11,6 +15,68 @@
 namespace hybridtest::symbolic {
 
 namespace {
+
+// The shortest decimal within 1e-15 (relative, a few units in the last place) of v: a number
+// as the model file wrote it (1.57, 9.6236), not the last bits of the arithmetic that computed
+// it (1.5699999999999998, 9.623599999999996: g m_b cos(2π/3) in doubles). At most 15
+// significant digits.
+std::string ShortDecimal(double v) {
+  if (!std::isfinite(v) || v == 0.0) return fmt::format("{}", v);
+  for (int digits = 1; digits < 15; ++digits) {
+    const double w = std::strtod(fmt::format("{:.{}g}", v, digits).c_str(), nullptr);
+    if (std::abs(w - v) <= 1e-15 * std::abs(v)) return fmt::format("{}", w);
+  }
+  return fmt::format("{}", std::strtod(fmt::format("{:.15g}", v).c_str(), nullptr));
+}
+
+// Whether the rational n prints as a fraction: a dyadic one with a denominator up to 1024
+// (1/2, 3/4) or one that is no finite decimal with a denominator up to 1000 (2/3); others print
+// as decimals (9.81, not 981/100).
+bool AsFraction(const GiNaC::numeric& n) {
+  if (!n.is_rational() || n.is_integer() || abs(n.numer()) > 1000000) return false;
+  GiNaC::numeric d = n.denom();
+  if (d <= 1024 && (GiNaC::numeric(1024) / d).is_integer()) return true;
+  GiNaC::numeric rest = d;
+  while ((rest / 2).is_integer()) rest = rest / 2;
+  while ((rest / 5).is_integer()) rest = rest / 5;
+  return rest != 1 && d <= 1000;
+}
+
+// A rational as a decimal: exactly if it is a finite decimal of at most 15 significant digits
+// (the model file's 9.81, and sums and products of such numbers), else rounded to 15.
+std::string Decimal(const GiNaC::numeric& n) {
+  GiNaC::numeric scaled = n;
+  int k = 0;
+  while (!scaled.is_integer() && k < 40) {
+    scaled *= 10;
+    ++k;
+  }
+  std::ostringstream os;
+  os << abs(scaled);
+  std::string digits = os.str();
+  const std::size_t first = digits.find_first_not_of('0');
+  const std::size_t significant = first == std::string::npos ? 0 : digits.size() - first;
+  if (!scaled.is_integer() || significant > 15) return ShortDecimal(n.to_double());
+  if (k > 0) {
+    if (digits.size() <= static_cast<std::size_t>(k)) {
+      digits.insert(0, static_cast<std::size_t>(k) + 1 - digits.size(), '0');
+    }
+    digits.insert(digits.size() - static_cast<std::size_t>(k), ".");
+  }
+  return (n.is_negative() ? "-" : "") + digits;
+}
+
+// Term texts in a fixed order (their text without a leading minus, then the text): GiNaC's
+// own order depends on addresses and changes between processes.
+void SortTexts(std::vector<std::string>& texts) {
+  const auto key = [](const std::string& t) {
+    return std::string_view(t).substr(!t.empty() && t[0] == '-' ? 1 : 0);
+  };
+  std::sort(texts.begin(), texts.end(), [&](const std::string& a, const std::string& b) {
+    const auto ka = key(a), kb = key(b);
+    return ka != kb ? ka < kb : a < b;
+  });
+}
 
 // Binding strength of what an expression prints as: a sum binds weakest.
 enum Precedence { kSum = 1, kProduct = 2, kPower = 3, kAtom = 4 };
@@ -35,7 +101,7 @@ class Printer {
       os << n;
       return {os.str(), n.is_negative() ? kSum : kAtom};
     }
-    if (n.is_rational()) {
+    if (AsFraction(n)) {
       std::ostringstream num, den;
       num << n.numer();
       den << n.denom();
@@ -48,7 +114,7 @@ class Printer {
           return {num.str() + "/" + den.str(), kSum};
       }
     }
-    std::string s = fmt::format("{}", n.to_double());
+    std::string s = n.is_rational() ? Decimal(n) : ShortDecimal(n.to_double());
     if (d_ == Dialect::kLatex) {
       const auto e = s.find('e');
       if (e != std::string::npos) {
@@ -141,18 +207,25 @@ class Printer {
       for (const GiNaC::ex& f : factors) out.push_back(f);
       factors.swap(out);
     };
-    if (coefficient.is_rational() && !coefficient.is_integer()) {
+    if (AsFraction(coefficient)) {
       if (!coefficient.numer().is_equal(1) || top.empty()) prepend(top, coefficient.numer());
       prepend(bottom, coefficient.denom());
     } else if (!coefficient.is_equal(1) || top.empty()) {
       prepend(top, coefficient);
     }
     const std::string times = d_ == Dialect::kLatex ? " " : "*";
+    // The coefficient (if any) first, the other factors in a fixed order.
     auto join = [&](const std::vector<GiNaC::ex>& factors, int needed) {
-      std::string s;
-      for (std::size_t i = 0; i < factors.size(); ++i) {
-        s += (i ? times : "") + Wrap(Print(factors[i]), needed);
+      std::vector<std::string> texts;
+      std::size_t fixed = 0;
+      for (const GiNaC::ex& f : factors) {
+        texts.push_back(Wrap(Print(f), needed));
+        if (GiNaC::is_a<GiNaC::numeric>(f) && texts.size() == 1) fixed = 1;
       }
+      std::vector<std::string> rest(texts.begin() + static_cast<std::ptrdiff_t>(fixed), texts.end());
+      SortTexts(rest);
+      std::string s = fixed ? texts[0] : "";
+      for (const std::string& t : rest) s += (s.empty() ? "" : times) + t;
       return s;
     };
     std::string text;
@@ -167,17 +240,24 @@ class Printer {
     return {negative ? "-" + text : text, negative ? kSum : kProduct};
   }
 
+  std::vector<std::string> Terms(const GiNaC::ex& e) const {
+    std::vector<std::string> terms;
+    for (std::size_t i = 0; i < e.nops(); ++i) terms.push_back(Print(e.op(i)).text);
+    SortTexts(terms);
+    return terms;
+  }
+
   Printed Sum(const GiNaC::ex& e) const {
     std::string text;
-    for (std::size_t i = 0; i < e.nops(); ++i) {
-      const GiNaC::ex term = e.op(i);
-      const Printed p = Print(term);
+    const std::vector<std::string> terms = Terms(e);
+    for (std::size_t i = 0; i < terms.size(); ++i) {
+      const std::string& t = terms[i];
       if (i == 0) {
-        text = p.text;
-      } else if (!p.text.empty() && p.text[0] == '-') {
-        text += " - " + p.text.substr(1);
+        text = t;
+      } else if (!t.empty() && t[0] == '-') {
+        text += " - " + t.substr(1);
       } else {
-        text += " + " + p.text;
+        text += " + " + t;
       }
     }
     return {text, kSum};
@@ -191,7 +271,11 @@ class Printer {
     if (GiNaC::is_a<GiNaC::power>(e)) {
       if (GiNaC::is_a<GiNaC::numeric>(e.op(1)) &&
           GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_negative()) {
-        return Product(GiNaC::ex(GiNaC::mul(1, e)).eval());
+        // 1/x^k: GiNaC evaluates mul(1, e) back to the power itself, whose operands are
+        // not factors (printing it as a product made x^(-1) print as -x).
+        const Printed b = Print(GiNaC::pow(e.op(0), -e.op(1)));
+        if (d_ == Dialect::kLatex) return {"\\frac{1}{" + b.text + "}", kAtom};
+        return {"1/" + Wrap(b, kPower), kProduct};
       }
       return Power(e.op(0), e.op(1));
     }
@@ -217,6 +301,12 @@ class Printer {
 
 std::string PrintExpression(const GiNaC::ex& e, Dialect dialect, const NameMap& names) {
   return Printer(dialect, names).Print(e).text;
+}
+
+std::vector<std::string> PrintTerms(const GiNaC::ex& e, Dialect dialect, const NameMap& names) {
+  const Printer printer(dialect, names);
+  if (!GiNaC::is_a<GiNaC::add>(e)) return {printer.Print(e).text};
+  return printer.Terms(e);
 }
 
 std::string LatexName(const std::string& name) {

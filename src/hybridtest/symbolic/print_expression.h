@@ -1,7 +1,6 @@
 #pragma once
 // One expression as text, in one of three dialects (decision 0019):
-//   kPlain  — for Markdown: a·b, x^2, sin(q1), 1/2, numbers as the shortest decimal that reads
-//             back to the same double;
+//   kPlain  — for Markdown: a·b, x^2, sin(q1), 1/2, numbers as decimals;
 //   kLatex  — for LaTeX math mode: \sin{\left(q_{1} \right)}, \frac{a}{b}, \dot{u}_{1};
 //   kSympy  — a Python expression over `sp` (import sympy as sp) and the module's symbol
 //             variables: sp.sin(q1), x**2, sp.Rational(1, 2).
@@ -13,6 +12,7 @@
 #include <map>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace hybridtest::symbolic {
 
@@ -20,7 +20,13 @@ enum class Dialect { kPlain, kLatex, kSympy };
 
 using NameMap = std::map<std::string, std::string>;
 
+// The terms of a sum (and the factors of a product) print in a fixed order, sorted by their
+// text: the same expression prints the same on every run (GiNaC's order is by address
+// hashes). Floats print with at most 15 significant digits (1.57, not 1.5699999999999998).
 std::string PrintExpression(const GiNaC::ex& e, Dialect dialect, const NameMap& names);
+
+// The terms of e if it is a sum (else e alone), printed, in PrintExpression's order.
+std::vector<std::string> PrintTerms(const GiNaC::ex& e, Dialect dialect, const NameMap& names);
 
 // A name as LaTeX: Greek letters get their macro, a trailing number or `_x` part becomes a
 // subscript, `_dot` an over-dot ("theta2" → "\theta_{2}", "u1_dot" → "\dot{u}_{1}").

@@ -65,6 +65,8 @@ struct Chop : GiNaC::map_function {
 
 }  // namespace
 
+GiNaC::ex ExactDyadic(const GiNaC::numeric& n) { return ExactIfDyadic(n, 0.0); }
+
 GiNaC::ex Simplify(const GiNaC::ex& e) {
   Exactify exact(0.0);
   GiNaC::ex s = exact(e).expand();

@@ -17,4 +17,8 @@ namespace hybridtest::symbolic {
 
 GiNaC::ex Simplify(const GiNaC::ex& e);
 
+// A float that is exactly a dyadic fraction k/1024 (0.5, 2.0, −1.0) as that rational; any
+// other number as it is.
+GiNaC::ex ExactDyadic(const GiNaC::numeric& n);
+
 }  // namespace hybridtest::symbolic

@@ -77,8 +77,9 @@ std::string Vector3Text(const std::vector<GiNaC::ex>& v, Dialect d, const NameMa
 std::string LatexBroken(const GiNaC::ex& e, const NameMap& names) {
   if (!GiNaC::is_a<GiNaC::add>(e) || e.nops() <= 4) return PrintExpression(e, Dialect::kLatex, names);
   std::string text;
-  for (std::size_t i = 0; i < e.nops(); ++i) {
-    std::string term = PrintExpression(e.op(i), Dialect::kLatex, names);
+  const std::vector<std::string> terms = PrintTerms(e, Dialect::kLatex, names);
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    const std::string& term = terms[i];
     if (i > 0 && i % 3 == 0) text += " \\\\\n  &\\quad ";
     if (i == 0) {
       text += term;
@@ -90,6 +91,16 @@ std::string LatexBroken(const GiNaC::ex& e, const NameMap& names) {
   }
   return text;
 }
+
+// A parameter's value as the expressions print numbers (at most 15 significant digits: 2π/3
+// as 2.0943951023932, not with the last bits of the builder's arithmetic).
+std::string Value(double v, Dialect d) { return PrintExpression(GiNaC::numeric(v), d, {}); }
+
+// What the common subexpressions are (printed above them).
+constexpr const char* kSharedNote =
+    "These equations are too large to expand (docs/equations.md, \"Large models\"): they are "
+    "the engine's own expressions, each subexpression used more than once computed once below, "
+    "in order, with the model's parameters as their values in SI.";
 
 std::string Markdown(const multibody::Model& model, const Equations& eq, const DocumentInfo& info) {
   const auto symbols = Symbols(model);
@@ -108,7 +119,14 @@ std::string Markdown(const multibody::Model& model, const Equations& eq, const D
   }
   s += "\n## Parameters (values used)\n\n| parameter | value | unit | meaning |\n|---|---|---|---|\n";
   for (const auto& p : info.parameters) {
-    s += fmt::format("| `{}` | {} | {} | {} |\n", p.name, p.value, p.unit, p.description);
+    s += fmt::format("| `{}` | {} | {} | {} |\n", p.name, Value(p.value, Dialect::kPlain), p.unit,
+                     p.description);
+  }
+  if (!eq.shared.definitions.empty()) {
+    s += fmt::format("\n## Common subexpressions\n\n{}\n\n", kSharedNote);
+    for (const auto& [symbol, value] : eq.shared.definitions) {
+      s += fmt::format("- {} = {}\n", PrintExpression(symbol, Dialect::kPlain, names), P(value));
+    }
   }
   s += "\n## Kinematical equations q̇ = W(q) u\n\n";
   for (int k = 0; k < n; ++k) s += fmt::format("- d{}/dt = {}\n", model.coordinates()[k].name, P(eq.qdot[k]));
@@ -165,6 +183,14 @@ std::string Latex(const multibody::Model& model, const Equations& eq, const Docu
                    "Newtonian frame $N$; parameters appear as symbols where the engine's number is a "
                    "product of their powers, otherwise as their values in SI.\n\n",
                    text(info.model_name), text(info.description), text(info.source));
+  if (!eq.shared.definitions.empty()) {
+    s += fmt::format("\\subsection*{{Common subexpressions}}\n{}\n\\begin{{align*}}\n",
+                     LatexText(kSharedNote));
+    for (const auto& [symbol, value] : eq.shared.definitions) {
+      s += fmt::format("  {} &= {} \\\\\n", L(symbol), LatexBroken(value, names));
+    }
+    s += "\\end{align*}\n";
+  }
   s += "\\subsection*{Kinematical equations}\n\\begin{align*}\n";
   for (int k = 0; k < n; ++k) {
     s += fmt::format("  \\dot{{{}}} &= {} \\\\\n", LatexName(model.coordinates()[k].name), L(eq.qdot[k]));
@@ -231,6 +257,12 @@ std::string Sympy(const multibody::Model& model, const Equations& eq, const Docu
     s += fmt::format("{} = sp.Symbol({}, real=True)  # parameter [{}]\n", names.at(p.name),
                      PythonString(p.name), PythonComment(p.unit));
   }
+  if (!eq.shared.definitions.empty()) {
+    s += fmt::format("\n# Common subexpressions. {}\n", PythonComment(kSharedNote));
+    for (const auto& [symbol, value] : eq.shared.definitions) {
+      s += fmt::format("{} = {}\n", Y(symbol), Y(value));
+    }
+  }
   s += fmt::format("\nq = {}\nu = {}\nudot = {}\nr = {}\nz = {}\n", list(eq.q), list(eq.u),
                    list(eq.udot), list(eq.r), list(eq.z));
   s += fmt::format("qdot = sp.Matrix({})\n", list(eq.qdot));
@@ -248,7 +280,7 @@ std::string Sympy(const multibody::Model& model, const Equations& eq, const Docu
        "everything but t, q, u, r, z.\nparameters = {\n";
   for (const auto& p : info.parameters) {
     if (symbol_names.count(p.name) > 0) continue;  // named like a symbol: printed as its value
-    s += fmt::format("    {}: {},\n", names.at(p.name), p.value);
+    s += fmt::format("    {}: {},\n", names.at(p.name), Value(p.value, Dialect::kSympy));
   }
   s += "}\n";
   return s;
