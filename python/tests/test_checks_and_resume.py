@@ -153,20 +153,27 @@ def test_resume_refuses_what_the_command_line_refuses(tmp_path):
         ht.Session(str(csv), resume=str(csv))
 
 
-def test_a_real_time_run_from_python_is_the_command_lines_bit_for_bit(cli, tmp_path):
+@pytest.mark.parametrize("example, ticks, actuators", [
+    ("examples/real-time/storey-ats.yaml", 10240, 1),
+    # Issue 46: the blade on two servo-hydraulic actuators, ATS on each.
+    ("examples/06_blade_two_actuators/real-time.yaml", 10240, 2),
+])
+def test_a_real_time_run_from_python_is_the_command_lines_bit_for_bit(cli, tmp_path, example,
+                                                                       ticks, actuators):
     """The Session paces a `real_time:` config from Python as from the command line (one loop,
     Session::Run, on the virtual clock): the same journal, byte for byte."""
-    config = str(ROOT / "examples/real-time/storey-ats.yaml")
+    config = str(ROOT / example)
     a, b = tmp_path / "cli.csv", tmp_path / "py.csv"
     p = subprocess.run([cli, "run", config, "--clock", "virtual", "--out", str(a), "--quiet"],
                        capture_output=True, text=True)
     assert p.returncode == 0, p.stderr
     result = ht.run(config, clock="virtual", out=b)
-    assert len(result.values) == 10241
+    assert len(result.values) == ticks + 1
     assert a.read_bytes() == b.read_bytes()
     for csv in (a, b):
         rt = json.loads(csv.with_suffix(".meta.json").read_text())["statistics"]["real_time"]
-        assert rt["clock"] == "virtual" and rt["ticks"] == 10240 and rt["misses"] == 0
+        assert rt["clock"] == "virtual" and rt["ticks"] == ticks and rt["misses"] == 0
+        assert len(rt["actuators"]) == actuators
 
 
 def test_python_real_time_refusals_name_the_way_on(tmp_path):

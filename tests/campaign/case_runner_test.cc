@@ -133,6 +133,35 @@ TEST(CaseRunner, AWallClockCaseIsRefusedWithTheReasonAndTheWayOn) {
   EXPECT_FALSE(fs::exists(CaseJournal(out, c, 0)));  // refused before anything was written
 }
 
+// Issue 46's contract: a campaign of three real-time cases of the blade on two actuators
+// (ATS on each, the built-in plant), in virtual time: each finishes paced with J1–J3 per
+// actuator in its sidecar.
+TEST(CaseRunner, ThreeTwoActuatorRealTimeCasesRun) {
+  const fs::path dir = FreshTempDir("case_runner_two_actuators");
+  WriteText(dir / "c.yaml",
+            "base: " HYBRIDTEST_SOURCE_DIR "/examples/06_blade_two_actuators/real-time.yaml\n"
+            "command: run\nset: {duration: 0.25, real_time.clock: virtual}\n"
+            "grid: {substructures.blade1.transfer.window: [0.5, 1.0, 1.5]}\n"
+            "metrics: [max_abs(q_flap)]\nfigures: false\n");
+  const Campaign c = LoadCampaign((dir / "c.yaml").string());
+  ASSERT_EQ(c.cases.size(), 3u);
+  const std::string out = (dir / "out").string();
+  for (int k = 0; k < 3; ++k) {
+    const CaseResult r = RunCase(c, k, out, {}, "test");
+    ASSERT_EQ(r.status, "finished") << r.error;
+    const nlohmann::json rt =
+        io::ReadSidecar(CaseJournal(out, c, k))["statistics"]["real_time"];
+    EXPECT_EQ(rt["clock"], "virtual");
+    EXPECT_EQ(rt["ticks"], 256);
+    ASSERT_TRUE(rt["actuators"].is_array()) << rt.dump();
+    ASSERT_EQ(rt["actuators"].size(), 2u) << rt.dump();
+    for (const auto& a : rt["actuators"]) {
+      EXPECT_TRUE(a["J2"].is_number()) << a.dump();
+      EXPECT_LT(a["J2"].get<double>(), 5.0) << a.dump();  // [%]
+    }
+  }
+}
+
 TEST(Summary, RowsInCampaignOrderWithQuotedTextAndPendingCases) {
   const fs::path dir = FreshTempDir("case_runner_summary");
   const Campaign c = MakeCampaign(dir, "[7200, 6000, 5000]");

@@ -190,7 +190,9 @@ std::shared_ptr<const multibody::CompiledRhs> CompileModel(const multibody::Mode
   rep.library = library.string();
   std::optional<CacheLock> lock;
   lock.emplace(library, true);  // one process builds it; none checks it meanwhile
-  rep.from_cache = fs::exists(library, ec);
+  // A library without its digest record (an older hybridtest's cache, or a build that stopped
+  // between its renames) is built again over it, never loaded.
+  rep.from_cache = fs::exists(library, ec) && fs::exists(RecordOf(library), ec);
   if (rep.from_cache) {
     ReadCounts(dir / (stem + ".c"), rep);
   } else {
