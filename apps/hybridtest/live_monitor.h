@@ -7,7 +7,6 @@
 #include <optional>
 #include <string>
 
-#include "hybridtest/runner/paced_loop.h"
 #include "hybridtest/runner/session.h"
 
 namespace hybridtest::app {

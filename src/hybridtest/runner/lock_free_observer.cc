@@ -98,9 +98,16 @@ void LockFreeObserver::Deliver(const Slot& s) {
     return;
   }
   // A queued commit: no state to call back for, no pacer sample (session.h).
-  const CommitEvent e{s.kind,         s.step,     s.t,          {s.x.data(), s.nx},
-                      {s.r.data(), s.nr},         {s.row.data(), s.nrow},   s.statistics,
-                      s.finished,     s.steps_left, {},         nullptr};
+  CommitEvent e;
+  e.kind = s.kind;
+  e.step = s.step;
+  e.t = s.t;
+  e.x = {s.x.data(), s.nx};
+  e.r = {s.r.data(), s.nr};
+  e.row = {s.row.data(), s.nrow};
+  e.statistics = s.statistics;
+  e.finished = s.finished;
+  e.steps_left = s.steps_left;
   for (SessionObserver* o : inner_) o->OnCommit(e);
 }
 
