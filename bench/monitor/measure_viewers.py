@@ -5,6 +5,7 @@ misses than none).
 
     python3 bench/monitor/measure_viewers.py [--binary B] [--viewers 0 5 30] [--rounds N]
                                              [--as-is] [--page] [--routes R] [--no-lock]
+                                             [--priority P] [--cpu C]
 
 Runs examples/real-time/storey-ats.yaml (10 s at 1024 Hz, wall clock) with `--monitor` once per
 viewer count and round, the counts interleaved (0, 100, 0, 100, … with `--viewers 0 100`), so
@@ -24,6 +25,8 @@ and the holds over every round.
             viewer polls as fast as the server answers, in this process.
   --routes state|series|both   with --page: poll only one of the two (to find which costs).
   --no-lock set the example's lock_memory to false.
+  --priority P, --cpu C   set real_time.priority (SCHED_FIFO 1..99) and real_time.cpu (pin the
+            stepping thread; the monitor's threads then keep off that CPU), as a lab PC runs.
 
 The run with 0 viewers is the reference of the same invocation: compare the others with it,
 not with figures from another machine or another time. Not a test: nothing is asserted.
@@ -45,13 +48,16 @@ import urllib.request
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
-def storey_config(work: pathlib.Path, as_is: bool, lock: bool) -> pathlib.Path:
+def storey_config(work: pathlib.Path, as_is: bool, lock: bool, priority: int,
+                  cpu: int) -> pathlib.Path:
     text = (ROOT / "examples/real-time/storey-ats.yaml").read_text()
     edits = [("file: storey.model.yaml", f"file: {ROOT / 'examples/real-time/storey.model.yaml'}")]
     if not as_is:
         edits.append(("hold_after_misses: 10", "hold_after_misses: 0"))
     if not lock:
         edits.append(("lock_memory: true", "lock_memory: false"))
+    if priority or cpu >= 0:
+        edits.append(("real_time:\n", f"real_time:\n  priority: {priority}\n  cpu: {cpu}\n"))
     for old, new in edits:
         if old not in text:
             sys.exit(f"measure_viewers: {old!r} not found in storey-ats.yaml; update this script")
@@ -175,11 +181,13 @@ def main() -> None:
     p.add_argument("--page", action="store_true")
     p.add_argument("--routes", choices=sorted(ROUTES), default="both")
     p.add_argument("--no-lock", action="store_true")
+    p.add_argument("--priority", type=int, default=0)
+    p.add_argument("--cpu", type=int, default=-1)
     a = p.parse_args()
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         work = pathlib.Path(tmp)
-        config = storey_config(work, a.as_is, not a.no_lock)
+        config = storey_config(work, a.as_is, not a.no_lock, a.priority, a.cpu)
         for r in range(a.rounds):
             for n in a.viewers:
                 row = measure(a.binary, n, work, config, f"{r}-{n}", a.page, a.routes)

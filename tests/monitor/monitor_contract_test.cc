@@ -141,12 +141,10 @@ TEST_F(MonitorContract, TheRealTimeStoreyWithThirtyViewersCompletes) {
   };
   replace("file: storey.model.yaml", "file: " + kSource + "/examples/real-time/storey.model.yaml");
   replace("hold_after_misses: 10", "hold_after_misses: 0");
-  // Nor does it stop on the force gate's forecast: under load, late ticks make the stiffness
-  // estimate (and so the forecast force of a command) jump, and the gate stops the run with
-  // force_soft (seen at a load average of 8: a forecast 85 kN). That is the load, not the
-  // viewers; the gate's own behaviour is tested in the transfer layer.
-  replace("force_soft: 40000", "force_soft: 4.0e7");
-  replace("force_hard: 50000", "force_hard: 5.0e7");
+  // The force gate keeps the example's limits: its stiffness estimate is a line fitted
+  // through the last exchanges (transfer/safety.h), which late ticks under load no longer
+  // throw to 50 × the specimen's stiffness (a forecast 85 kN against 40 kN stopped this run
+  // at a load average of 8 while the gate took the secant of the last two measurements).
   test_support::WriteText(dir_ / "storey.yaml", config);
   const fs::path csv = dir_ / "storey.csv";
   MonitoredRun run({"run", (dir_ / "storey.yaml").string(), "--clock", "wall", "--out",

@@ -1,5 +1,6 @@
 #include "hybridtest/transfer/safety.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -15,6 +16,34 @@ std::string FormatStopMessage(const std::string& limit, double value, double lim
                               long step, int stage, const std::string& detail) {
   return fmt::format("safety stop: {} violated at step {} stage {}: value {:.6g}, limit {:.6g}. {}",
                      limit, step, stage, value, limit_value, detail);
+}
+
+// |slope| of the least-squares line of force over position through the answered, finite
+// exchanges of `history` [N/m]; NaN when their positions span less than kMinSecantBaseline.
+// Through two exchanges it is their secant. Over a window a paced loop's per-tick scatter
+// (a late tick, the specimen's inertia and damping force over a step of a few µm) averages
+// out, where the secant of the last two exchanges jumped by orders of magnitude.
+double WindowStiffness(const std::vector<ExchangeRecord>& history) {
+  double n = 0.0, mx = 0.0, mf = 0.0;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const ExchangeRecord& r : history) {
+    if (!r.answered || !std::isfinite(r.position) || !std::isfinite(r.force)) continue;
+    n += 1.0;
+    mx += r.position;
+    mf += r.force;
+    lo = std::min(lo, r.position);
+    hi = std::max(hi, r.position);
+  }
+  if (n < 2.0 || hi - lo < kMinSecantBaseline) return std::numeric_limits<double>::quiet_NaN();
+  mx /= n;
+  mf /= n;
+  double sxx = 0.0, sxf = 0.0;
+  for (const ExchangeRecord& r : history) {
+    if (!r.answered || !std::isfinite(r.position) || !std::isfinite(r.force)) continue;
+    sxx += (r.position - mx) * (r.position - mx);
+    sxf += (r.position - mx) * (r.force - mf);
+  }
+  return std::abs(sxf / sxx);
 }
 
 void RequireFinite(const char* name, double value) {
@@ -210,9 +239,9 @@ void SafetyMonitor::CheckMeasurement(double command, double position, double for
                      "load-cell or actuator rating.",
                      force, position));
   }
-  // Update the secant stiffness estimate.
-  if (has_measurement_ && std::abs(position - last_position_) >= kMinSecantBaseline) {
-    secant_stiffness_ = std::abs((force - last_force_) / (position - last_position_));
+  // Update the stiffness estimate from the answered exchanges of the history.
+  if (const double k = WindowStiffness(history_); std::isfinite(k)) {
+    secant_stiffness_ = k;
     has_secant_ = true;
   }
   last_position_ = position;

@@ -96,8 +96,10 @@ class SafetyMonitor {
   // prediction is the last measured force. Throws ConfigError if not finite.
   void SetInitialStiffness(double stiffness);
 
-  // Force a command [m] would produce: f_last + k (command − x_last), with k the secant
-  // stiffness of the last two measurements (|Δx| ≥ 1 µm), else the initial stiffness.
+  // Force a command [m] would produce: f_last + k (command − x_last), with k the stiffness
+  // estimate: |slope| of the least-squares line of force over position through the answered
+  // exchanges of the history (the secant when there are two; their positions must span
+  // ≥ 1 µm, else the last estimate stays), or the initial stiffness before there is one.
   // Without any measurement there is nothing to predict from: returns NaN.
   double PredictForce(double command) const;
 
