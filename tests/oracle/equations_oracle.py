@@ -13,8 +13,9 @@
         random consistent states, entry a against b within 1e-12 * max(1, max|B|); u' solved
         from both reduced systems agrees as well.
     equations_oracle.py --binary B --latex
-        The rotor's `latex` output compiles with pdflatex (exit 77, skipped, if pdflatex is
-        absent: scripts/install-deps.sh installs texlive-latex-base).
+        The `latex` output of the rotor and of the four-bar (constrained) compiles with
+        pdflatex (exit 77, skipped, if pdflatex is absent: scripts/install-deps.sh installs
+        texlive-latex-base).
     equations_oracle.py --binary B --stable
         Two runs of `equations` print the same bytes (the rotor and example model files), no
         number with float noise (issue 47).
@@ -259,15 +260,18 @@ def check_latex(binary):
     if pdflatex is None:
         print('SKIP: pdflatex is absent (scripts/install-deps.sh installs texlive-latex-base)')
         return 77
-    with tempfile.TemporaryDirectory() as workdir:
-        tex = pathlib.Path(workdir) / 'rotor.tex'
-        run(binary, 'equations', 'rotor', '--format', 'latex', '--paper-form', '--out', str(tex))
-        p = subprocess.run([pdflatex, '-interaction=nonstopmode', '-halt-on-error', tex.name],
-                           cwd=workdir, capture_output=True, text=True)
-        pdf = pathlib.Path(workdir) / 'rotor.pdf'
-        if p.returncode != 0 or not pdf.exists() or pdf.stat().st_size == 0:
-            sys.exit(f'FAIL: pdflatex rotor.tex exited {p.returncode}:\n{p.stdout[-3000:]}')
-    print('rotor: latex output compiles with pdflatex')
+    # The rotor, and a constrained model (its constraint section).
+    for name, model in (('rotor', 'rotor'),
+                        ('four_bar', str(ROOT / 'examples' / 'models' / 'four_bar.yaml'))):
+        with tempfile.TemporaryDirectory() as workdir:
+            tex = pathlib.Path(workdir) / f'{name}.tex'
+            run(binary, 'equations', model, '--format', 'latex', '--paper-form', '--out', str(tex))
+            p = subprocess.run([pdflatex, '-interaction=nonstopmode', '-halt-on-error', tex.name],
+                               cwd=workdir, capture_output=True, text=True)
+            pdf = pathlib.Path(workdir) / f'{name}.pdf'
+            if p.returncode != 0 or not pdf.exists() or pdf.stat().st_size == 0:
+                sys.exit(f'FAIL: pdflatex {name}.tex exited {p.returncode}:\n{p.stdout[-3000:]}')
+        print(f'{name}: latex output compiles with pdflatex')
     return 0
 
 

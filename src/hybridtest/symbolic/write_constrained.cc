@@ -16,6 +16,16 @@ constexpr const char* kConstrainedNote =
     "[Cᵀ M; B] u̇ = [Cᵀ f; −(Ḃ u + ċ)], rows: the independent speeds, then the constraint rows "
     "(the engine's, as `eom --assemble` prints them, unstabilised).";
 
+constexpr const char* kConstrainedNoteLatex =
+    "The constraints split the speeds into dependent ones $u_d$ and independent ones $u_i$: "
+    "$A_d u_d + A_i u_i + b = 0$ (velocity level), $B \\dot u + (\\dot B u + \\dot c) = 0$ "
+    "(acceleration level, $B = [A_d\\ A_i]$ in the speeds' order). $A = -A_d^{-1} A_i$ is not "
+    "inverted symbolically: its entries $A_{s,c}$ are symbols, at a state the solution of "
+    "$A_d A = -A_i$. With $C$ the matrix whose rows are $I$ (independent speeds) and $A$ "
+    "(dependent speeds), the reduced equations are $M_r \\dot u = f_r$, $M_r = [C^T M; B]$, "
+    "$f_r = [C^T f; -(\\dot B u + \\dot c)]$, rows: the independent speeds, then the "
+    "constraint rows (the engine's, as \\texttt{eom --assemble} prints them, unstabilised).";
+
 std::string SpeedList(const multibody::Model& model, const std::vector<int>& speeds) {
   std::string s;
   for (int j : speeds) s += (s.empty() ? "" : ", ") + model.speeds()[static_cast<std::size_t>(j)].name;
@@ -73,7 +83,7 @@ std::string ConstrainedLatex(const multibody::Model& model, const ConstrainedEqu
   auto L = [&](const GiNaC::ex& e) { return PrintExpression(e, Dialect::kLatex, names); };
   std::string s = fmt::format("\\subsection*{{Constraints and the reduced equations}}\n{}\n\n"
                               "Dependent speeds $u_d$: {} ({}); independent speeds $u_i$: {}.\n"
-                              "\\begin{{align*}}\n", LatexText(kConstrainedNote),
+                              "\\begin{{align*}}\n", kConstrainedNoteLatex,
                               LatexText(SpeedList(model, c.dependent)), LatexText(DependentSource(model)),
                               LatexText(SpeedList(model, c.independent)));
   for (std::size_t r = 0; r < c.rows.size(); ++r) {
