@@ -14,8 +14,9 @@ more coordinate), it runs, each in a process of its own:
     file, KanesMethod, lambdify, one state): SymPy's time to the same equations.
 
 and prints one Markdown table: wall time and peak resident memory of each (os.wait4), and the
-ratio. A run over --timeout seconds is stopped and shown as "> T s". Constrained models are
-not printed by `equations` (issue 47 item 2) and show its error.
+ratio. A run over --timeout seconds is stopped and shown as "> T s". A constrained model's
+`equations` prints its reduced equations too (issue 47 item 2); SymPy's side there is the
+reader's tree (KanesMethod without the constraints).
 """
 import argparse
 import json

@@ -6,9 +6,16 @@
         states: the rotor against oracle_models.derive_rotor (paper Table 1 values), a model
         file against check-model's independent SymPy reader (check_model_sympy.py). Entry a
         passes against b if |a - b| <= 1e-12 * max(1, max|B|) (B: the oracle's whole array).
+    equations_oracle.py --binary B --constrained MODEL.yaml [--states 25] [--seed 1]
+        A constrained model (issue 47 item 2): the `sympy` output's reduced equations
+        M_reduced u' = f_reduced (A's symbols solved from A_d A = -A_i at the state), its tree M
+        and f, and its constraint rows A_d u_d + A_i u_i + b = 0 equal `eom --assemble --json` at
+        random consistent states, entry a against b within 1e-12 * max(1, max|B|); u' solved
+        from both reduced systems agrees as well.
     equations_oracle.py --binary B --latex
-        The rotor's `latex` output compiles with pdflatex (exit 77, skipped, if pdflatex is
-        absent: scripts/install-deps.sh installs texlive-latex-base).
+        The `latex` output of the rotor and of the four-bar (constrained) compiles with
+        pdflatex (exit 77, skipped, if pdflatex is absent: scripts/install-deps.sh installs
+        texlive-latex-base).
     equations_oracle.py --binary B --stable
         Two runs of `equations` print the same bytes (the rotor and example model files), no
         number with float noise (issue 47).
@@ -152,20 +159,119 @@ def check_model(binary, model, count, seed):
           f'(largest relative difference {worst:.2e})')
 
 
+class NumericSympy:
+    """A stand-in for `sp` that evaluates a printed module in floats at one state: a symbol is
+    its value, sp.Matrix its list. The module's own common subexpressions stay shared (a
+    large model's M is a DAG that sympy.lambdify's cse takes a minute to rediscover)."""
+    def __init__(self, values):
+        self.values = values
+        for name in ('sin', 'cos', 'tan', 'exp', 'log', 'atan', 'asin', 'acos', 'tanh',
+                     'atan2', 'sqrt'):
+            setattr(self, name, getattr(math, name))
+        self.pi, self.Abs = math.pi, abs
+        self.sign = lambda x: (x > 0) - (x < 0)
+
+    def Symbol(self, name, real=True):
+        return self.values[name]
+
+    @staticmethod
+    def Rational(p, q):
+        return p / q
+
+    @staticmethod
+    def Matrix(rows):
+        return [list(row) if isinstance(row, list) else row for row in rows]
+
+
+def evaluate(code, values):
+    """The printed module executed on NumericSympy at `values` (symbol name -> float)."""
+    scope = {'sp': NumericSympy(values)}
+    exec(code, scope)
+    return scope
+
+
+def check_constrained(binary, model, count, seed):
+    sys.path.insert(0, str(ROOT / 'apps' / 'hybridtest'))
+    from check_constraints_sympy import solve  # noqa: E402  (Gaussian elimination)
+    model = str(pathlib.Path(model).resolve())
+    with tempfile.TemporaryDirectory() as workdir:
+        mod = load_module(binary, model, workdir)  # runs under SymPy itself
+        for name in ('dependent', 'A_d', 'A_i', 'b', 'bias', 'A', 'M_reduced', 'f_reduced'):
+            if name not in mod:
+                sys.exit(f'FAIL: the sympy module of {model} does not define `{name}`')
+        text = (pathlib.Path(workdir) / 'equations.py').read_text(encoding='utf-8')
+        code = compile(text.replace('import sympy as sp\n', ''), 'equations.py', 'exec')
+        n = len(mod['q'])
+        fixed = {str(k): float(v) for k, v in mod['parameters'].items()}
+        fixed.update({str(s): 0.0 for s in mod['udot']})
+        names = [str(s) for s in (mod['t'], *mod['q'], *mod['u'], *mod['r'], *mod.get('z', []))]
+        a_names = [str(s) for s in mod['A']]
+        dependent = [list(mod['u']).index(s) for s in mod['dependent']]
+        config = pathlib.Path(workdir) / 'config.yaml'
+        config.write_text(f'model: {{file: {model}}}\nintegrator: {{tableau: rk4, dt: 0.001}}\n'
+                          'duration: 1.0\n', encoding='utf-8')
+        x0 = json.loads(run(binary, 'modes', model, '--json').stdout)['operating_point']
+        rng = random.Random(seed)
+        worst = 0.0
+        for trial in range(count):
+            x = list(x0)
+            for k in range(n):
+                x[k] += rng.uniform(-0.2, 0.2)
+                x[n + k] = rng.uniform(-3.0, 3.0)
+            t = rng.uniform(0.0, 1.0)
+            out = json.loads(run(binary, 'eom', str(config), '--time', repr(t), '--state',
+                                 ','.join(repr(v) for v in x), '--assemble', '--json').stdout)
+            xs = out['state']
+            values = dict(fixed)
+            values.update(zip(names, [t, *xs[:2 * n], *out['restoring'], *xs[2 * n:]]))
+            values.update({a: 0.0 for a in a_names})
+            Ad, Ai = (evaluate(code, values)[k] for k in ('A_d', 'A_i'))
+            A = [[-v for v in row] for row in solve(Ad, Ai)]
+            values.update(zip(a_names, [v for row in A for v in row]))
+            ev = evaluate(code, values)
+            Mr, fr = ev['M_reduced'], ev['f_reduced']
+            state = f'trial {trial} (t = {t})'
+            worst = max(worst, compare(model, ev['M'], out['mass_matrix'], state, 'M'))
+            worst = max(worst, compare(model, ev['f'], out['forcing'], state, 'f'))
+            if out['dependent_speeds'] == dependent:
+                worst = max(worst, compare(model, Mr, out['reduced_mass_matrix'], state, 'M_reduced'))
+                worst = max(worst, compare(model, fr, out['reduced_forcing'], state, 'f_reduced'))
+            ours_udot = [row[0] for row in solve(Mr, [[v] for v in fr])]
+            eom_udot = [row[0] for row in solve(out['reduced_mass_matrix'],
+                                                [[v] for v in out['reduced_forcing']])]
+            worst = max(worst, compare(model, ours_udot, eom_udot, state, "u'"))
+            # The printed rows vanish at the assembled state: A_d u_d + A_i u_i + b = 0.
+            independent = [j for j in range(n) if j not in dependent]
+            bv = ev['b']
+            u = xs[n:2 * n]
+            for s_ in range(len(bv)):
+                row = (sum(Ad[s_][k] * u[j] for k, j in enumerate(dependent)) +
+                       sum(Ai[s_][k] * u[j] for k, j in enumerate(independent)) + bv[s_])
+                if abs(row) > 1e-9 * max(1.0, max(abs(v) for v in u)):
+                    sys.exit(f'FAIL: {model}: constraint row {s_ + 1} is {row} at the assembled '
+                             f'state of {state}')
+    print(f'{model}: the reduced equations equal eom --assemble at {count} consistent states '
+          f'(largest relative difference {worst:.2e})')
+    return 0
+
+
 def check_latex(binary):
     pdflatex = shutil.which('pdflatex')
     if pdflatex is None:
         print('SKIP: pdflatex is absent (scripts/install-deps.sh installs texlive-latex-base)')
         return 77
-    with tempfile.TemporaryDirectory() as workdir:
-        tex = pathlib.Path(workdir) / 'rotor.tex'
-        run(binary, 'equations', 'rotor', '--format', 'latex', '--paper-form', '--out', str(tex))
-        p = subprocess.run([pdflatex, '-interaction=nonstopmode', '-halt-on-error', tex.name],
-                           cwd=workdir, capture_output=True, text=True)
-        pdf = pathlib.Path(workdir) / 'rotor.pdf'
-        if p.returncode != 0 or not pdf.exists() or pdf.stat().st_size == 0:
-            sys.exit(f'FAIL: pdflatex rotor.tex exited {p.returncode}:\n{p.stdout[-3000:]}')
-    print('rotor: latex output compiles with pdflatex')
+    # The rotor, and a constrained model (its constraint section).
+    for name, model in (('rotor', 'rotor'),
+                        ('four_bar', str(ROOT / 'examples' / 'models' / 'four_bar.yaml'))):
+        with tempfile.TemporaryDirectory() as workdir:
+            tex = pathlib.Path(workdir) / f'{name}.tex'
+            run(binary, 'equations', model, '--format', 'latex', '--paper-form', '--out', str(tex))
+            p = subprocess.run([pdflatex, '-interaction=nonstopmode', '-halt-on-error', tex.name],
+                               cwd=workdir, capture_output=True, text=True)
+            pdf = pathlib.Path(workdir) / f'{name}.pdf'
+            if p.returncode != 0 or not pdf.exists() or pdf.stat().st_size == 0:
+                sys.exit(f'FAIL: pdflatex {name}.tex exited {p.returncode}:\n{p.stdout[-3000:]}')
+        print(f'{name}: latex output compiles with pdflatex')
     return 0
 
 
@@ -242,12 +348,24 @@ def check_compiled(binary, config):
 
 
 def check_stable(binary):
-    """Issue 47: two runs print the same bytes (the rotor and the example model files whose
-    equations are expanded), and no printed number carries float noise (more than 15
-    significant digits, such as 1.5699999999999998)."""
+    """Issue 47: two runs print the same bytes (the rotor, example model files, and a 6-link
+    pendulum on a cart printed with common subexpressions), and no printed number carries
+    float noise (more than 15 significant digits, such as 1.5699999999999998)."""
+    import importlib.util
     import re
     models = ['rotor'] + [str(ROOT / 'examples/models' / f'{m}.yaml')
-                          for m in ('rotor', 'double_pendulum', 'cart_pendulum', 'wind_turbine')]
+                          for m in ('rotor', 'double_pendulum', 'cart_pendulum', 'wind_turbine',
+                                    'whipple_bicycle')]
+    # A model printed with common subexpressions (too large to expand): the pendulum of the
+    # benchmark (bench/equations_vs_sympy.py), 6 links on a cart.
+    spec = importlib.util.spec_from_file_location('equations_vs_sympy',
+                                                  ROOT / 'bench' / 'equations_vs_sympy.py')
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    workdir = tempfile.TemporaryDirectory()
+    chain = pathlib.Path(workdir.name) / 'pendulum6_base.yaml'
+    chain.write_text(bench.pendulum(6, True), encoding='utf-8')
+    models.append(str(chain))
     for model in models:
         for fmt in ('sympy', 'markdown'):
             a = run(binary, 'equations', model, '--format', fmt).stdout
@@ -258,6 +376,8 @@ def check_stable(binary):
                 digits = re.sub(r'e.*', '', number).replace('.', '').lstrip('0')
                 if len(digits) > 15:
                     sys.exit(f'FAIL: equations {model} --format {fmt} prints {number}')
+        if model == str(chain) and 'cse1 = ' not in a:
+            sys.exit(f'FAIL: equations {model} has no common subexpressions: not a large model')
     print('equations: byte-identical runs, no float noise')
     return 0
 
@@ -272,7 +392,10 @@ def main():
     ap.add_argument('--cli', action='store_true')
     ap.add_argument('--compiled', metavar='CONFIG')
     ap.add_argument('--stable', action='store_true')
+    ap.add_argument('--constrained', metavar='MODEL')
     a = ap.parse_args()
+    if a.constrained:
+        return check_constrained(a.binary, a.constrained, a.states, a.seed)
     if a.stable:
         return check_stable(a.binary)
     if a.compiled:

@@ -108,14 +108,15 @@ std::vector<GiNaC::ex> ExtraStateRates(const multibody::Model& model, const Data
   return zdot;
 }
 
-// Constrained models (constraints:) are not printed yet: their reduced equations need the
-// dependent speeds solved symbolically (decision 0023).
+// The C form (codegen.h) and compiled models of a constrained model are not written yet: the
+// compiled library would have to replace the engine's constraint rows too.
 void RefuseConstraints(const multibody::Model& model) {
   if (!model.has_constraints()) return;
   throw ModelError(fmt::format(
-      "the model has {} constraint rows (constraints:); printing or compiling the equations of "
-      "a constrained model is not supported yet: use `eom` for its reduced equations at a "
-      "state, `modes` for its linearisation, or remove the constraints",
+      "the model has {} constraint rows (constraints:); compiling its equations (`equations "
+      "--format c`, `compile-model`, `model: {{compiled: true}}`) is not supported yet: print "
+      "its reduced equations with `equations --format sympy|latex|markdown`, or run it "
+      "without `compiled: true` (the numeric engine)",
       model.num_constraint_rows()));
 }
 
@@ -137,6 +138,7 @@ std::vector<GiNaC::ex*> Outputs(Equations& eq) {
       for (auto& column : p.columns) add(column);
     }
   }
+  for (GiNaC::ex* e : ConstrainedOutputs(eq.constrained)) out.push_back(e);
   return out;
 }
 
@@ -162,7 +164,6 @@ RhsExpressions DeriveRhs(const multibody::Model& model) {
 }
 
 Equations DeriveEquations(const multibody::Model& model) {
-  RefuseConstraints(model);
   const int n = model.num_coordinates();
   Equations eq;
   Data<Symbolic> data(model);
@@ -198,6 +199,16 @@ Equations DeriveEquations(const multibody::Model& model) {
   }
   for (int k = 0; k < n; ++k) eq.qdot.push_back(data.qdot(k).ex());
   eq.zdot = ExtraStateRates(model, data);
+  std::set<std::string> reserved = {"t"};
+  for (const auto& list : {eq.q, eq.u, eq.udot, eq.r, eq.z}) {
+    for (const GiNaC::ex& sym : list) reserved.insert(GiNaC::ex_to<GiNaC::symbol>(sym).get_name());
+  }
+  if (model.has_constraints()) {
+    eq.constrained = DeriveConstrained(model, data, eq.u, eq.M, eq.f, reserved);
+    for (const auto& row : eq.constrained.A) {
+      for (const GiNaC::ex& a : row) reserved.insert(GiNaC::ex_to<GiNaC::symbol>(a).get_name());
+    }
+  }
   // Partial velocities and partial angular velocities (frame 0 and point 0 are N and O).
   for (std::size_t f = 1; f < model.frames().size(); ++f) {
     eq.frame_partials.push_back({model.frames()[f].name, Columns(data.w_partial[f])});
@@ -223,10 +234,6 @@ Equations DeriveEquations(const multibody::Model& model) {
   } else {
     // Too large to expand: the engine's expressions, with their common subexpressions named.
     inertia_forces();
-    std::set<std::string> reserved = {"t"};
-    for (const auto& list : {eq.q, eq.u, eq.udot, eq.r, eq.z}) {
-      for (const GiNaC::ex& sym : list) reserved.insert(GiNaC::ex_to<GiNaC::symbol>(sym).get_name());
-    }
     eq.shared = ShareSubexpressions(Outputs(eq), "cse", reserved);
   }
   DropZero(eq.frame_partials);

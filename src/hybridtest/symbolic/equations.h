@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "hybridtest/multibody/model.h"
+#include "hybridtest/symbolic/constrained.h"
 #include "hybridtest/symbolic/shared.h"
 
 namespace hybridtest::symbolic {
@@ -50,13 +51,18 @@ struct Equations {
   // written in terms of these named common subexpressions (cse1, cse2, …; the printers print
   // them first). Model parameters then stay numbers.
   SharedSubexpressions shared;
+  // A constrained model's dependent speeds, constraint rows and reduced equations
+  // (constrained.h); empty (no dependent speeds) for a model without constraints. M and f
+  // above are then the tree's, before the constraints.
+  ConstrainedEquations constrained;
 };
 
 // Every expression of eq, in a fixed order: M by rows, f, Fr, Fr*, q̇, ż, the point partials,
-// the frame partials.
+// the frame partials, then a constrained model's (ConstrainedOutputs).
 std::vector<GiNaC::ex*> Outputs(Equations& eq);
 
 // Throws ModelError (e.g. a model-file expression that branches on a value, such as `if`).
+// A constrained model gets its reduced equations too (constrained.h).
 Equations DeriveEquations(const multibody::Model& model);
 
 // The engine's M, g, q̇ and ż as the engine computes them, not simplified (code generation,
@@ -71,6 +77,7 @@ struct RhsExpressions {
   std::vector<GiNaC::ex> qdot;  // (n)
   std::vector<GiNaC::ex> zdot;  // (nz)
 };
+// Throws ModelError for a constrained model (its C and compiled form are not written yet).
 RhsExpressions DeriveRhs(const multibody::Model& model);
 
 }  // namespace hybridtest::symbolic

@@ -147,6 +147,12 @@ SymbolizeReport SymbolizeParameters(
                               std::pair{&e.z, &eq.z}}) {
         for (std::size_t i = 0; i < from->size(); ++i) same[(*from)[i]] = (*to)[i];
       }
+      const auto& a_from = e.constrained.A;  // a constrained model's A_s_c
+      for (std::size_t s = 0; s < a_from.size() && s < eq.constrained.A.size(); ++s) {
+        for (std::size_t c = 0; c < a_from[s].size() && c < eq.constrained.A[s].size(); ++c) {
+          same[a_from[s][c]] = eq.constrained.A[s][c];
+        }
+      }
       for (GiNaC::ex* x : Outputs(e)) *x = x->subs(same);
       *maps = TermMaps(e);
       return true;

@@ -78,6 +78,23 @@ void SortTexts(std::vector<std::string>& texts) {
   });
 }
 
+// x^k with k a negative number: printed as 1/x^(−k).
+bool IsReciprocal(const GiNaC::ex& e) {
+  return GiNaC::is_a<GiNaC::power>(e) && GiNaC::is_a<GiNaC::numeric>(e.op(1)) &&
+         GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_negative();
+}
+
+std::string AbsText(const GiNaC::numeric& n) {
+  std::ostringstream os;
+  os << abs(n);
+  return os.str();
+}
+
+// A printed term negated: "-x*y" ↔ "x*y" (every negative term prints with a leading '-').
+std::string Negated(const std::string& term) {
+  return !term.empty() && term[0] == '-' ? term.substr(1) : "-" + term;
+}
+
 // Binding strength of what an expression prints as: a sum binds weakest.
 enum Precedence { kSum = 1, kProduct = 2, kPower = 3, kAtom = 4 };
 
@@ -106,10 +123,15 @@ class Printer {
       num << n.numer();
       den << n.denom();
       switch (d_) {
+        // A negative fraction with its sign in front, as every negative term: a sum's sign
+        // is read off its first term's text (CanonicalSign).
         case Dialect::kLatex:
-          return {fmt::format("\\frac{{{}}}{{{}}}", num.str(), den.str()), n.is_negative() ? kSum : kAtom};
+          return {fmt::format("{}\\frac{{{}}}{{{}}}", n.is_negative() ? "-" : "",
+                              AbsText(n.numer()),
+                              den.str()), n.is_negative() ? kSum : kAtom};
         case Dialect::kSympy:
-          return {fmt::format("sp.Rational({}, {})", num.str(), den.str()), kAtom};
+          return {fmt::format("{}sp.Rational({}, {})", n.is_negative() ? "-" : "",
+                              AbsText(n.numer()), den.str()), n.is_negative() ? kSum : kAtom};
         default:
           return {num.str() + "/" + den.str(), kSum};
       }
@@ -164,8 +186,8 @@ class Printer {
     }
   }
 
-  Printed Power(const GiNaC::ex& base, const GiNaC::ex& exponent) const {
-    const Printed b = Print(base);
+  // base^exponent with the base printed as b.
+  Printed Power(const Printed& b, const GiNaC::ex& exponent) const {
     if (exponent.is_equal(GiNaC::numeric(1, 2))) {
       switch (d_) {
         case Dialect::kLatex: return {"\\sqrt{" + b.text + "}", kAtom};
@@ -179,6 +201,26 @@ class Printer {
       case Dialect::kSympy: return {Wrap(b, kAtom) + "**" + Wrap(x, kAtom), kPower};
       default: return {Wrap(b, kAtom) + "^" + Wrap(x, kAtom), kPower};
     }
+  }
+
+  // A sum, or a whole power of one, in its canonical sign (Sum); *negate toggles when the
+  // text is of −f (a flipped sum, or an odd power of one). Anything else as Print does.
+  Printed SignedFactor(const GiNaC::ex& f, bool* negate) const {
+    bool flipped = false;
+    if (GiNaC::is_a<GiNaC::add>(f)) {
+      const Printed p = Sum(f, &flipped);
+      if (flipped) *negate = !*negate;
+      return p;
+    }
+    if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::add>(f.op(0)) &&
+        GiNaC::is_a<GiNaC::numeric>(f.op(1)) &&
+        GiNaC::ex_to<GiNaC::numeric>(f.op(1)).is_pos_integer()) {
+      const Printed base = Sum(f.op(0), &flipped);
+      if (flipped && GiNaC::ex_to<GiNaC::numeric>(f.op(1)).is_odd()) *negate = !*negate;
+      return Power(base, f.op(1));
+    }
+    if (GiNaC::is_a<GiNaC::power>(f) && !IsReciprocal(f)) return Power(Print(f.op(0)), f.op(1));
+    return Print(f);
   }
 
   // A product: numeric coefficient, numerator factors, denominator factors.
@@ -196,7 +238,7 @@ class Printer {
         top.push_back(f);
       }
     }
-    const bool negative = coefficient.is_negative();
+    bool negative = coefficient.is_negative();
     if (negative) coefficient = -coefficient;
     // A factor in front (not vector::insert at begin(): GCC 12 warns -Wnull-dereference
     // inside GiNaC's ptr there).
@@ -219,7 +261,7 @@ class Printer {
       std::vector<std::string> texts;
       std::size_t fixed = 0;
       for (const GiNaC::ex& f : factors) {
-        texts.push_back(Wrap(Print(f), needed));
+        texts.push_back(Wrap(SignedFactor(f, &negative), needed));
         if (GiNaC::is_a<GiNaC::numeric>(f) && texts.size() == 1) fixed = 1;
       }
       std::vector<std::string> rest(texts.begin() + static_cast<std::ptrdiff_t>(fixed), texts.end());
@@ -247,9 +289,19 @@ class Printer {
     return terms;
   }
 
-  Printed Sum(const GiNaC::ex& e) const {
+  // A sum, or with `flipped` its canonical sign: the one whose first term (in the printed
+  // order) is positive, *flipped telling whether the text is of −e. GiNaC's mul::eval writes a
+  // sum that is a factor as (x − a) in one process and (a − x) in another (its sign follows
+  // an address-dependent term order); printed canonically, both are the same text.
+  Printed Sum(const GiNaC::ex& e, bool* flipped = nullptr) const {
     std::string text;
-    const std::vector<std::string> terms = Terms(e);
+    std::vector<std::string> terms = Terms(e);
+    if (flipped != nullptr) {
+      *flipped = !terms.empty() && !terms[0].empty() && terms[0][0] == '-';
+      if (*flipped) {
+        for (std::string& t : terms) t = Negated(t);
+      }
+    }
     for (std::size_t i = 0; i < terms.size(); ++i) {
       const std::string& t = terms[i];
       if (i == 0) {
@@ -269,15 +321,19 @@ class Printer {
     if (GiNaC::is_a<GiNaC::add>(e)) return Sum(e);
     if (GiNaC::is_a<GiNaC::mul>(e)) return Product(e);
     if (GiNaC::is_a<GiNaC::power>(e)) {
-      if (GiNaC::is_a<GiNaC::numeric>(e.op(1)) &&
-          GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_negative()) {
+      if (IsReciprocal(e)) {
         // 1/x^k: GiNaC evaluates mul(1, e) back to the power itself, whose operands are
         // not factors (printing it as a product made x^(-1) print as -x).
-        const Printed b = Print(GiNaC::pow(e.op(0), -e.op(1)));
-        if (d_ == Dialect::kLatex) return {"\\frac{1}{" + b.text + "}", kAtom};
-        return {"1/" + Wrap(b, kPower), kProduct};
+        bool negative = false;
+        const Printed b = SignedFactor(GiNaC::pow(e.op(0), -e.op(1)), &negative);
+        const std::string sign = negative ? "-" : "";
+        if (d_ == Dialect::kLatex) return {sign + "\\frac{1}{" + b.text + "}", negative ? kSum : kAtom};
+        return {sign + "1/" + Wrap(b, kPower), negative ? kSum : kProduct};
       }
-      return Power(e.op(0), e.op(1));
+      bool negative = false;
+      const Printed p = SignedFactor(e, &negative);
+      if (negative) return {"-" + p.text, kSum};
+      return p;
     }
     if (GiNaC::is_a<GiNaC::function>(e)) return Function(e);
     if (GiNaC::is_a<GiNaC::constant>(e)) {
@@ -307,102 +363,6 @@ std::vector<std::string> PrintTerms(const GiNaC::ex& e, Dialect dialect, const N
   const Printer printer(dialect, names);
   if (!GiNaC::is_a<GiNaC::add>(e)) return {printer.Print(e).text};
   return printer.Terms(e);
-}
-
-std::string LatexName(const std::string& name) {
-  static const std::set<std::string> kGreek = {
-      "alpha", "beta", "gamma", "delta", "epsilon", "zeta", "eta", "theta", "iota", "kappa",
-      "lambda", "mu", "nu", "xi", "pi", "rho", "sigma", "tau", "phi", "chi", "psi", "omega",
-      "Gamma", "Delta", "Theta", "Lambda", "Xi", "Pi", "Sigma", "Phi", "Psi", "Omega"};
-  std::string base = name;
-  bool dot = false;
-  if (base.size() > 4 && base.substr(base.size() - 4) == "_dot") {
-    dot = true;
-    base = base.substr(0, base.size() - 4);
-  }
-  std::string sub;
-  const auto underscore = base.find('_');
-  if (underscore != std::string::npos) {
-    sub = base.substr(underscore + 1);
-    base = base.substr(0, underscore);
-  } else {
-    std::size_t digits = base.size();
-    while (digits > 1 && std::isdigit(static_cast<unsigned char>(base[digits - 1]))) --digits;
-    sub = base.substr(digits);
-    base = base.substr(0, digits);
-  }
-  auto escape = [&](std::string s) {
-    if (kGreek.count(s)) return "\\" + s;
-    const std::string out = LatexText(s);
-    return s.size() > 1 ? "\\mathrm{" + out + "}" : out;
-  };
-  std::string text = escape(base);
-  if (dot) text = "\\dot{" + text + "}";
-  if (!sub.empty()) text += "_{" + escape(sub) + "}";
-  return text;
-}
-
-std::string LatexText(std::string_view text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '\\': out += "\\textbackslash{}"; break;
-      case '^': out += "\\textasciicircum{}"; break;
-      case '~': out += "\\textasciitilde{}"; break;
-      case '{': case '}': case '$': case '&': case '#': case '%': case '_':
-        out += '\\';
-        out += c;
-        break;
-      default:
-        out += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? ' ' : c;
-    }
-  }
-  return out;
-}
-
-std::string PythonStringBody(std::string_view text) {
-  std::string out;
-  for (char c : text) {
-    const auto u = static_cast<unsigned char>(c);
-    if (c == '\\' || c == '\'' || c == '"') {
-      out += '\\';
-      out += c;
-    } else if (u < 0x20 || u == 0x7f) {
-      out += fmt::format("\\x{:02x}", static_cast<unsigned>(u));
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
-
-std::string PythonString(std::string_view text) {
-  std::string out(1, '\'');
-  out += PythonStringBody(text);
-  out += '\'';
-  return out;
-}
-
-std::string PythonComment(std::string_view text) {
-  std::string out(text);
-  for (char& c : out) {
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
-  }
-  return out;
-}
-
-std::string PythonName(const std::string& name) {
-  static const std::set<std::string> kReserved = {
-      "sp", "sympy", "q", "u", "r", "t", "z", "M", "f", "Fr", "Fr_star", "udot", "qdot",
-      "parameters", "False", "None", "True", "and", "as", "assert", "async", "await", "break",
-      "class", "continue", "def", "del", "elif", "else", "except", "finally", "for", "from",
-      "global", "if", "import", "in", "is", "lambda", "nonlocal", "not", "or", "pass", "raise",
-      "return", "try", "while", "with", "yield"};
-  std::string s;
-  for (char c : name) s += std::isalnum(static_cast<unsigned char>(c)) || c == '_' ? c : '_';
-  if (s.empty() || std::isdigit(static_cast<unsigned char>(s[0]))) s = "_" + s;
-  while (kReserved.count(s)) s += "_";
-  return s;
 }
 
 }  // namespace hybridtest::symbolic

@@ -22,7 +22,11 @@ using NameMap = std::map<std::string, std::string>;
 
 // The terms of a sum (and the factors of a product) print in a fixed order, sorted by their
 // text: the same expression prints the same on every run (GiNaC's order is by address
-// hashes). Floats print with at most 15 significant digits (1.57, not 1.5699999999999998).
+// hashes). A sum that is a factor (or a whole power's base) prints in the sign that makes its
+// first term positive, the product's sign adjusted: GiNaC stores y·(x − a) as −y·(a − x) in
+// some processes, and both print `-(a - x)*y`. Every negative term prints with a leading '-'
+// (`-sp.Rational(1, 2)`). Floats print with at most 15 significant digits (1.57, not
+// 1.5699999999999998).
 std::string PrintExpression(const GiNaC::ex& e, Dialect dialect, const NameMap& names);
 
 // The terms of e if it is a sum (else e alone), printed, in PrintExpression's order.

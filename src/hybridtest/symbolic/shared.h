@@ -9,13 +9,14 @@
 // every non-trivial subexpression used more than once, so that each is printed once.
 //
 // Order: GiNaC orders the operands of a sum or product by hashes that depend on addresses, so
-// its order changes between processes. The intermediates are numbered in a depth-first walk
-// that visits the operands sorted by a structural hash of names, numbers and operators only
-// (CanonicalHash), and the printer orders terms by their text (print_expression.h). Not yet
-// byte-identical between processes: GiNaC's mul::eval normalises a sum inside a product by
-// the sign and content of the sum's first term in its address-dependent order, so the
-// engine's unexpanded expressions themselves differ in grouping from run to run (the values
-// are the same). Expanded equations are canonical and print the same bytes on every run.
+// its order changes between processes; and its mul::eval takes the sign out of a sum that is a
+// factor of a product by the sign of the sum's first term in that order, so one process holds
+// y·(x − a) where another holds −y·(a − x). Neither reaches the output: e and −e are one
+// subexpression (named once, by the sign of {e, −e} whose structural hash is lower), the
+// intermediates are numbered in a depth-first walk that visits the operands sorted by a
+// structural hash of names, numbers and operators only (CanonicalHash, the same for e and
+// −e), and the printer orders terms by their text and prints a sum factor in its canonical
+// sign (print_expression.h). Two runs print the same bytes (tested: `equations_stable`).
 #include <ginac/ginac.h>
 
 #include <cstdint>
@@ -36,7 +37,8 @@ inline constexpr double kExpandLimit = 20000.0;
 double ExpandedTerms(const std::vector<GiNaC::ex>& expressions);
 
 // A hash of e's structure that does not depend on addresses or on GiNaC's operand order:
-// symbols by name, numbers by value, sums and products by the sorted hashes of their operands.
+// symbols by name, numbers by value, sums and products by the sorted hashes of their operands,
+// a sum in the sign of {e, −e} that hashes lower (with that sign mixed in: e and −e differ).
 std::uint64_t CanonicalHash(const GiNaC::ex& e);
 
 struct SharedSubexpressions {
@@ -46,7 +48,7 @@ struct SharedSubexpressions {
 };
 
 // Rewrites every *output (in place) in terms of new symbols, one for each subexpression used
-// more than once that is not trivial (a number, a symbol, or a sum, product or power of two
+// more than once (e and −e counting as one: −e is used as −symbol) that is not trivial (a number, a symbol, or a sum, product or power of two
 // numbers or symbols). The symbols are named "<prefix>1", "<prefix>2", … (with a trailing '_'
 // added while a name is in `reserved`). Floats that are exact dyadic fractions become
 // rationals (simplify.h).

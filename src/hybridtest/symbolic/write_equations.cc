@@ -6,6 +6,7 @@
 #include <set>
 
 #include "hybridtest/symbolic/print_expression.h"
+#include "hybridtest/symbolic/write_constrained.h"
 
 namespace hybridtest::symbolic {
 
@@ -54,8 +55,10 @@ NameMap Names(const std::vector<Symbol>& symbols, Dialect d) {
 }
 
 // The symbols' names and the parameters' (a parameter named like a symbol keeps the symbol's).
-NameMap Names(const std::vector<Symbol>& symbols, const DocumentInfo& info, Dialect d) {
+NameMap Names(const std::vector<Symbol>& symbols, const DocumentInfo& info, Dialect d,
+              const Equations& eq) {
   NameMap names = Names(symbols, d);
+  AddConstrainedNames(eq.constrained, d, names);
   for (const auto& p : info.parameters) {
     if (names.count(p.name) > 0) continue;
     names[p.name] = d == Dialect::kLatex ? LatexName(p.name)
@@ -104,7 +107,7 @@ constexpr const char* kSharedNote =
 
 std::string Markdown(const multibody::Model& model, const Equations& eq, const DocumentInfo& info) {
   const auto symbols = Symbols(model);
-  const NameMap names = Names(symbols, info, Dialect::kPlain);
+  const NameMap names = Names(symbols, info, Dialect::kPlain, eq);
   auto P = [&](const GiNaC::ex& e) {
     return fmt::format("`{}`", PrintExpression(e, Dialect::kPlain, names));
   };
@@ -159,6 +162,7 @@ std::string Markdown(const multibody::Model& model, const Equations& eq, const D
       if (!eq.M[j][k].is_zero()) s += fmt::format("- M[{},{}] = {}\n", j + 1, k + 1, P(eq.M[j][k]));
   s += "\nForcing f:\n\n";
   for (int j = 0; j < n; ++j) s += fmt::format("- f{} = {}\n", j + 1, P(eq.f[j]));
+  if (model.has_constraints()) s += ConstrainedMarkdown(model, eq.constrained, names);
   if (info.paper_form) {
     s += fmt::format("\n## The paper's form M_p ẋ + g_p = 0 (Eq. 18)\n\nx = [q; u], M_p = "
                      "blockdiag(I_{0}, −M) ({1} × {1}), g_p = [−q̇; f]: the lower block of M_p "
@@ -171,7 +175,7 @@ std::string Markdown(const multibody::Model& model, const Equations& eq, const D
 
 std::string Latex(const multibody::Model& model, const Equations& eq, const DocumentInfo& info) {
   const auto symbols = Symbols(model);
-  const NameMap names = Names(symbols, info, Dialect::kLatex);
+  const NameMap names = Names(symbols, info, Dialect::kLatex, eq);
   auto L = [&](const GiNaC::ex& e) { return PrintExpression(e, Dialect::kLatex, names); };
   auto text = [](const std::string& s) { return LatexText(s); };
   const int n = model.num_coordinates();
@@ -225,6 +229,7 @@ std::string Latex(const multibody::Model& model, const Equations& eq, const Docu
   s += "\\end{align*}\nThe other entries follow from $M = M^T$ or are zero.\n\\begin{align*}\n";
   for (int j = 0; j < n; ++j) s += fmt::format("  f_{{{}}} &= {} \\\\\n", j + 1, LatexBroken(eq.f[j], names));
   s += "\\end{align*}\n";
+  if (model.has_constraints()) s += ConstrainedLatex(model, eq.constrained, names);
   if (info.paper_form) {
     s += fmt::format("\\subsection*{{The paper's form $M_p \\dot x + g_p = 0$ (Eq.~18)}}\n"
                      "$x = [q; u]$, $M_p = \\mathrm{{blockdiag}}(I_{{{}}}, -M)$, $g_p = [-\\dot q; f]$.\n", n);
@@ -235,7 +240,7 @@ std::string Latex(const multibody::Model& model, const Equations& eq, const Docu
 
 std::string Sympy(const multibody::Model& model, const Equations& eq, const DocumentInfo& info) {
   const auto symbols = Symbols(model);
-  const NameMap names = Names(symbols, info, Dialect::kSympy);
+  const NameMap names = Names(symbols, info, Dialect::kSympy, eq);
   std::set<std::string> symbol_names;
   for (const Symbol& sym : symbols) symbol_names.insert(sym.name);
   auto Y = [&](const GiNaC::ex& e) { return PrintExpression(e, Dialect::kSympy, names); };
@@ -257,6 +262,7 @@ std::string Sympy(const multibody::Model& model, const Equations& eq, const Docu
     s += fmt::format("{} = sp.Symbol({}, real=True)  # parameter [{}]\n", names.at(p.name),
                      PythonString(p.name), PythonComment(p.unit));
   }
+  s += ConstrainedSympySymbols(eq.constrained, names);
   if (!eq.shared.definitions.empty()) {
     s += fmt::format("\n# Common subexpressions. {}\n", PythonComment(kSharedNote));
     for (const auto& [symbol, value] : eq.shared.definitions) {
@@ -272,6 +278,7 @@ std::string Sympy(const multibody::Model& model, const Equations& eq, const Docu
   s += "])\n";
   s += fmt::format("f = sp.Matrix({})\nFr = sp.Matrix({})\nFr_star = sp.Matrix({})\n",
                    list(eq.f), list(eq.Fr), list(eq.Fr_star));
+  if (model.has_constraints()) s += ConstrainedSympy(model, eq.constrained, names);
   if (info.paper_form) {
     s += "M_paper = sp.diag(sp.eye(len(q)), -M)  # the paper's M_p x' + g_p = 0 (Eq. 18)\n"
          "g_paper = sp.Matrix.vstack(-qdot, f)\n";
