@@ -45,6 +45,7 @@
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/io/substructure_config.h"
 #include "hybridtest/multibody/kane.h"
+#include "hybridtest/runner/open_run.h"
 #include "hybridtest/runner/run_record.h"
 #include "hybridtest/runner/session.h"
 #include "hybridtest/schemes/scheme_config.h"
@@ -116,7 +117,9 @@ void BM_WholeRun(benchmark::State& state) {
   double run_s = 0.0, rhs_ns = 0.0;
   long runs = 0;
   for (auto _ : state) {
-    runner::Session session(QuietSpec(cfg, path));
+    io::RunSpec spec = QuietSpec(cfg, path);
+    runner::OpenedRun opened = runner::OpenRun(spec, {.overwrite = true});  // the front door
+    runner::Session session(std::move(spec), std::move(opened));
     const auto start = Clock::now();
     session.Run();
     run_s += std::chrono::duration<double>(Clock::now() - start).count();
@@ -171,7 +174,8 @@ void BM_StageSeam(benchmark::State& state) {
         return std::make_unique<StampingSubstructure>(inner.Build(), s == 0 ? &stamps : nullptr);
       };
     }
-    runner::Session session(std::move(spec));
+    runner::OpenedRun opened = runner::OpenRun(spec, {.overwrite = true});
+    runner::Session session(std::move(spec), std::move(opened));
     stamps.clear();
     session.Run();
     // Trial k of slot 1 is stage k % 2 of step k / 2 (Heun: two stages).

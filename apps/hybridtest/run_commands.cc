@@ -88,7 +88,7 @@ class ProgressObserver final : public runner::SessionObserver {
 };
 
 // The loop and the summary, shared by run, simulate and resume.
-void RunAndReport(io::RunSpec spec,
+void RunAndReport(io::RunSpec spec, runner::OpenedRun opened,
                   runner::SessionOptions session_options,
                   const runner::RunState* resume_from, bool quiet,
                   const std::string& clock = "",
@@ -111,7 +111,7 @@ void RunAndReport(io::RunSpec spec,
   // The session refuses an unstable step, and a p0 or limits that disagree with what a bench
   // announces (after any --set), before anything is opened or sent (runner/pre_move_checks.h);
   // a real-time run's pacer is built from its spec (the same Session::Run as every run).
-  runner::Session session(std::move(spec), std::move(session_options));
+  runner::Session session(std::move(spec), std::move(opened), std::move(session_options));
   if (resume_from != nullptr) session.SetState(*resume_from);
   ProgressObserver progress_observer(progress);
   session.AddObserver(progress_observer);
@@ -186,39 +186,39 @@ void ExecuteRun(const RunCommandOptions& options) {
   if (!options.out.empty()) spec.output.csv_path = options.out;
   spec.output.command = options.command;
   // The front door: lock, output guards, disk budget, input record, provenance.
-  const runner::OpenedRun opened =
+  runner::OpenedRun opened =
       runner::OpenRun(spec, {.overwrite = options.overwrite, .command_line = command_line()});
-  RunAndReport(std::move(spec), {}, nullptr, options.quiet, options.clock,
+  RunAndReport(std::move(spec), std::move(opened), {}, nullptr, options.quiet, options.clock,
                options.monitor);
 }
 
 void ExecuteResume(const ResumeCommandOptions& options) {
-  if (!std::filesystem::is_regular_file(options.csv)) {
-    throw ConfigError(fmt::format("{}: no such journal: give the CSV of the run to resume",
-                                  options.csv));
-  }
-  // One master per run: nothing of the run is read before the lock is held.
-  io::RunLock lock = io::RunLock::Acquire(options.csv, "resume");
-  const runner::ResumeRequest request{options.csv, options.after_safety_stop,
-                                      options.force_tolerance, options.position_tolerance};
-  const runner::ResumePlan plan = runner::PlanResume(request);
-  for (const std::string& note : plan.notes) fmt::print(stderr, "hybridtest resume: {}\n", note);
-  if (!options.bench && !plan.bench_address.empty()) {
-    fmt::print(stderr, "hybridtest resume: the bench the run recorded, --bench {} (give --bench "
-               "to name another)\n", plan.bench_address);
-  }
-  runner::ResumeSetup setup =
-      runner::PrepareResume(plan, request, options.set, command_line(), options.bench);
+  // The front door of a resume: the lock before anything of the run is read, the run read and
+  // compiled, output guards, disk budget for what is still to come, the files the compile
+  // read against the run's record.
+  runner::OpenedResume resume = runner::OpenResume(
+      {.request = {options.csv, options.after_safety_stop, options.force_tolerance,
+                   options.position_tolerance},
+       .set = options.set,
+       .command_line = command_line(),
+       .bench_address = options.bench,
+       .planned = [&](const runner::ResumePlan& plan) {
+         for (const std::string& note : plan.notes) {
+           fmt::print(stderr, "hybridtest resume: {}\n", note);
+         }
+         if (!options.bench && !plan.bench_address.empty()) {
+           fmt::print(stderr, "hybridtest resume: the bench the run recorded, --bench {} (give "
+                      "--bench to name another)\n", plan.bench_address);
+         }
+       }});
+  const runner::ResumePlan& plan = resume.plan;
   if (!options.quiet) {
     fmt::print("hybridtest resume: {} from step {} (t = {} s, journal row {}); previous status: "
                "{}\n", options.csv, plan.step, plan.t, plan.state.rows - 1, plan.previous_status);
     std::fflush(stdout);
   }
-  // The front door, with the lock held since before the run was read: output guards, disk
-  // budget for what is still to come, the files the compile read against the run's record.
-  const runner::OpenedRun opened = runner::OpenRun(
-      setup.spec, {.command_line = command_line(), .resume = true, .lock = std::move(lock)});
-  RunAndReport(std::move(setup.spec), std::move(setup.options), &plan.state,
+  RunAndReport(std::move(resume.setup.spec), std::move(resume.opened),
+               std::move(resume.setup.options), &plan.state,
                options.quiet, /*clock=*/"", options.monitor);
 }
 

@@ -2,8 +2,6 @@
 // with Python transfer systems and laws in place of the configured slots.
 #include <fmt/core.h>
 
-#include <filesystem>
-
 #include "hybridtest/common/error.h"
 #include "hybridtest/runner/open_run.h"
 #include "hybridtest/runner/resume_plan.h"
@@ -18,29 +16,22 @@ void PySession::StartResume(const SessionArguments& args) {
     throw ConfigError("Session(resume=...): a resume continues the run's own config (its "
                       "sidecar's copy); give no config");
   }
-  if (!std::filesystem::is_regular_file(r.csv)) {
-    throw ConfigError(fmt::format("{}: no such journal: give the CSV of the run to resume",
-                                  r.csv));
-  }
-  // One master per run: nothing of the run is read before the lock is held.
-  io::RunLock lock = io::RunLock::Acquire(r.csv, "resume");
-  const runner::ResumeRequest request{r.csv, r.after_safety_stop, r.force_tolerance,
-                                      r.position_tolerance};
-  const runner::ResumePlan plan = runner::PlanResume(request);
-  notes_ = plan.notes;
-  runner::ResumeSetup setup = runner::PrepareResume(
-      plan, request, r.set, "python: hybridtest.resume(...)", std::nullopt,
-      [&](io::RunSpec& spec) {
-        if (args.clock) spec.real_time.clock = *args.clock;  // a real-time run's clock
-        Substitute(spec, args.transfers, args.laws, cause_);
-      });
-  // The front door, as `hybridtest resume`'s: output guards, disk budget, the files the
-  // compile read against the run's record.
-  opened_.emplace(runner::OpenRun(setup.spec, {.command_line = "python: hybridtest.resume(...)",
-                                               .resume = true, .lock = std::move(lock)}));
-  channels_ = runner::JournalChannels(setup.spec);
-  session_ = std::make_unique<runner::Session>(std::move(setup.spec), std::move(setup.options));
-  session_->SetState(plan.state);
+  // The front door of a resume, as `hybridtest resume`'s: the lock before anything of the run
+  // is read, output guards, disk budget, the files the compile read against the run's record.
+  runner::OpenedResume resume = runner::OpenResume(
+      {.request = {r.csv, r.after_safety_stop, r.force_tolerance, r.position_tolerance},
+       .set = r.set,
+       .command_line = "python: hybridtest.resume(...)",
+       .edit = [&](io::RunSpec& spec) {
+         if (args.clock) spec.real_time.clock = *args.clock;  // a real-time run's clock
+         Substitute(spec, args.transfers, args.laws, cause_);
+       }});
+  notes_ = resume.plan.notes;
+  channels_ = runner::JournalChannels(resume.setup.spec);
+  session_ = std::make_unique<runner::Session>(std::move(resume.setup.spec),
+                                               std::move(resume.opened),
+                                               std::move(resume.setup.options));
+  session_->SetState(resume.plan.state);
   session_->AddObserver(recorder_);
 }
 

@@ -196,23 +196,20 @@ PySession::PySession(const SessionArguments& args) {
   // The front door, as the command line's: lock, output guards, disk budget, input record
   // (what the compile read: a dict config is no file, its model and bench files are),
   // provenance. Nothing is built or activated before it.
-  opened_.emplace(runner::OpenRun(
+  runner::OpenedRun opened = runner::OpenRun(
       spec, {.overwrite = args.overwrite,
-             .command_line = fmt::format("python: hybridtest.{}(...)", args.command)}));
+             .command_line = fmt::format("python: hybridtest.{}(...)", args.command)});
   channels_ = runner::JournalChannels(spec);
-  session_ = std::make_unique<runner::Session>(std::move(spec));
+  // The session holds the run's lock until it is closed.
+  session_ = std::make_unique<runner::Session>(std::move(spec), std::move(opened));
   session_->AddObserver(recorder_);
 }
 
-PySession::~PySession() {
-  session_.reset();
-  opened_.reset();
-}
+PySession::~PySession() { session_.reset(); }
 
 void PySession::Close() {
   RefuseReentry("close()");
-  session_.reset();
-  opened_.reset();
+  session_.reset();  // and the run's lock with it
 }
 
 // A call that changes the run, made from inside one of the run's own Python callbacks (the

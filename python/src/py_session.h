@@ -116,8 +116,7 @@ class PySession {
   void RefuseReentry(const char* call);
   bool advancing_ = false;              // the C++ step is on the stack (GIL released)
   std::optional<std::string> reentry_;  // a refused re-entry, raised when the step returns
-  std::optional<runner::OpenedRun> opened_;  // the run's lock, from the front door
-  std::unique_ptr<runner::Session> session_;
+  std::unique_ptr<runner::Session> session_;  // holds the run's lock (a file-backed run)
   Recorder recorder_;
   std::vector<std::unique_ptr<PyObserver>> observers_;
   std::vector<io::Channel> channels_;

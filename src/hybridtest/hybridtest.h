@@ -12,8 +12,9 @@
 //   io/run_spec_yaml.h   LoadRunSpec: a run config (YAML) compiled once into an io::RunSpec
 //   io/run_spec.h        RunSpec: everything a run needs, as plain data
 //   runner/session.h     Session: Initialize(), Step(), observers, GetState()/SetState()
-//   runner/open_run.h    OpenRun: the front door of a run that writes files (lock, guards,
-//                        disk budget, input record, provenance)
+//   runner/open_run.h    OpenRun, OpenResume: the front door of a run that writes files
+//                        (lock, guards, disk budget, input record, provenance); a file-backed
+//                        Session is made from the OpenedRun they return
 //   models/catalogue.h   the built-in models; multibody/kane.h the Kane engine
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/units.h"

@@ -57,6 +57,25 @@ TEST(RunInputs, TheCompileReportsTheConfigAndItsBenchFiles) {
   fs::remove_all(dir);
 }
 
+// `plan --emulate BENCH.yaml` reads the bench file as `type: emulated` does, either form: a
+// bench of two actuators on one specimen stands in for the two-actuator blade's remote bench
+// (it was read as a one-actuator file, whose keys refuse `actuators:`).
+TEST(RunInputs, AnEmulatedStandInBenchOfTwoActuatorsIsReadAsTheRunsOwnBenchFilesAre) {
+  const std::string blade = kSource + "/examples/06_blade_two_actuators/";
+  SubstructureOptions emulate;
+  emulate.emulate_bench = blade + "bench-2act.yaml";
+  const RunSpec spec = LoadRunSpec(blade + "remote.yaml", emulate);
+  EXPECT_EQ(Roles(spec.source.files), (std::vector<std::string>{"config", "model", "bench"}));
+  int physical = 0;
+  for (const auto& s : spec.substructures) {
+    if (!s.physical) continue;
+    ++physical;
+    EXPECT_EQ(s.physical->transfer.type, "emulated");
+    EXPECT_EQ(s.physical->transfer.make()->num_actuators(), 2);
+  }
+  EXPECT_EQ(physical, 1);
+}
+
 // The turbine's model file reads its Cp table from cp.csv (a copied rule that walked the YAML
 // missed it): the compile reports it, and the record digests it.
 TEST(RunInputs, TheModelFileAndItsCsvTablesAreReported) {

@@ -9,6 +9,7 @@
 #include "hybridtest/io/run_reader.h"
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/runner/plan.h"
+#include "hybridtest/runner/open_run.h"
 #include "hybridtest/runner/session.h"
 #include "support/temp_dir.h"
 
@@ -29,7 +30,8 @@ io::RunData RunToFile(io::RunSpec spec, const std::string& name) {
   }
   spec.output.csv_path = csv.string();
   spec.quiet = true;
-  Session session(std::move(spec));
+  OpenedRun opened = OpenRun(spec);
+  Session session(std::move(spec), std::move(opened));
   const StepResult r = session.Run();
   EXPECT_EQ(r.status, SessionStatus::kFinished) << r.reason;
   return io::LoadRun(csv.string());

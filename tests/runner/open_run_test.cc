@@ -60,7 +60,7 @@ TEST(OpenRun, TheRecordNamesEveryFileTheCompileReadTheModelsTableIncluded) {
   const fs::path csv = dir / "out" / "t.csv";
   io::RunSpec spec = ShortTurbine(lab, csv);
   {
-    const OpenedRun opened = OpenRun(spec, {.command_line = "open_run_test"});
+    OpenedRun opened = OpenRun(spec, {.command_line = "open_run_test"});
     EXPECT_TRUE(opened.locked());
     EXPECT_TRUE(fs::exists(io::RunLockPath(csv.string())));
     const nlohmann::json inputs = spec.source.inputs;
@@ -75,13 +75,13 @@ TEST(OpenRun, TheRecordNamesEveryFileTheCompileReadTheModelsTableIncluded) {
     EXPECT_EQ(provenance["output"], csv.string());
     EXPECT_EQ(provenance["inputs"][2]["text"], ReadText(lab / "cp.csv"));
     // The run writes that record into its sidecar.
-    Session session(std::move(spec));
+    Session session(std::move(spec), std::move(opened));
     ASSERT_EQ(session.Run().status, SessionStatus::kFinished);
     const auto sidecar = io::ReadSidecar(csv.string());
     EXPECT_EQ(sidecar["extra"]["inputs"], inputs);
     EXPECT_EQ(sidecar["extra"]["provenance"]["inputs"].size(), 3u);
   }
-  EXPECT_FALSE(fs::exists(io::RunLockPath(csv.string())));  // released with the handle
+  EXPECT_FALSE(fs::exists(io::RunLockPath(csv.string())));  // released with the session
   fs::remove_all(dir);
 }
 
@@ -106,30 +106,103 @@ TEST(OpenRun, AnOutputOntoAnyFileTheCompileReadIsRefusedAndNothingIsWritten) {
   fs::remove_all(dir);
 }
 
-// A resume's compile reads the files again: a table edited since the run started is named.
-TEST(OpenRun, AResumeRefusesAFileChangedSinceTheRunStarted) {
+// A resume of csv with nothing else asked.
+ResumeRequest Request(const fs::path& csv) {
+  ResumeRequest request;
+  request.csv = csv.string();
+  return request;
+}
+
+// A run of ShortTurbine into csv, held after `steps` committed steps (resumable).
+void RunHeld(const fs::path& lab, const fs::path& csv, int steps) {
+  io::RunSpec spec = ShortTurbine(lab, csv);
+  OpenedRun opened = OpenRun(spec);
+  Session session(std::move(spec), std::move(opened));
+  ASSERT_EQ(session.Initialize().status, SessionStatus::kWorking);
+  for (int i = 0; i < steps; ++i) ASSERT_EQ(session.Step().status, SessionStatus::kWorking);
+  session.RequestStop();
+  ASSERT_EQ(session.Step().status, SessionStatus::kHeld);
+}
+
+// A resume goes through the front door as a run does (OpenResume): its lock is held from
+// before the run is read until the opened resume ends, so a second resume (or a run onto the
+// same journal) is refused meanwhile; its compile reads the files again, and a table edited
+// since the run started is named.
+TEST(OpenRun, AResumeIsOpenedThroughTheFrontDoorAndRefusesAFileChangedSinceTheRunStarted) {
   const fs::path dir = FreshTempDir("open_run_resume");
   const fs::path lab = CopyTurbine(dir);
   const fs::path csv = dir / "k.csv";
-  nlohmann::json record;
+  RunHeld(lab, csv, 3);
   {
-    io::RunSpec spec = ShortTurbine(lab, csv);
-    const OpenedRun opened = OpenRun(spec);
-    record = spec.source.inputs;
+    std::vector<std::string> planned;
+    const OpenedResume resume = OpenResume(
+        {.request = Request(csv),
+         .command_line = "test",
+         .planned = [&](const ResumePlan& plan) { planned.push_back(plan.previous_status); }});
+    EXPECT_TRUE(resume.opened.locked());
+    EXPECT_EQ(planned.size(), 1u);  // told the plan once, before the compile
+    EXPECT_EQ(resume.setup.spec.output.csv_path, csv.string());
+    EXPECT_EQ(resume.setup.spec.output.command, "simulate");
+    EXPECT_EQ(resume.setup.spec.source.inputs, resume.plan.state.inputs);  // its own record
+    EXPECT_FALSE(resume.plan.state.inputs.empty());
+    // The lock is the opened resume's: another resume of the run is refused while it lives.
+    try {
+      const OpenedResume second = OpenResume({.request = Request(csv)});
+      ADD_FAILURE() << "a second resume opened the run";
+    } catch (const ConfigError& e) {
+      EXPECT_THAT(e.what(), HasSubstr(csv.filename().string()));
+    }
+    io::RunSpec again = ShortTurbine(lab, csv);
+    EXPECT_THROW({ const OpenedRun opened = OpenRun(again, {.overwrite = true}); }, ConfigError);
   }
-  io::RunSpec same = ShortTurbine(lab, csv);
-  same.source.inputs = record;
-  EXPECT_NO_THROW({ const OpenedRun opened = OpenRun(same, {.resume = true}); });
-  EXPECT_EQ(same.source.inputs, record);  // a resume keeps the run's own record
   WriteText(lab / "cp.csv", ReadText(lab / "cp.csv") + "# edited\n");
-  io::RunSpec edited = ShortTurbine(lab, csv);
-  edited.source.inputs = record;
   try {
-    const OpenedRun opened = OpenRun(edited, {.resume = true});
+    const OpenedResume resume = OpenResume({.request = Request(csv)});
     ADD_FAILURE() << "resumed with an edited table";
   } catch (const ConfigError& e) {
     EXPECT_THAT(e.what(), HasSubstr("cp.csv (table file): changed since the run started"));
   }
+  EXPECT_FALSE(fs::exists(io::RunLockPath(csv.string())));  // released on the refusal
+  try {
+    const OpenedResume resume = OpenResume({.request = Request(dir / "none.csv")});
+    ADD_FAILURE() << "resumed a journal that does not exist";
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("none.csv: no such journal"));
+  }
+  fs::remove_all(dir);
+}
+
+// No run writes its files but through the front door: a file-backed Session is made only from
+// the OpenedRun of its own journal, and holds its lock until it is destroyed. Refused, nothing
+// of the run is written and an OpenedRun handed in is released.
+TEST(OpenRun, AFileBackedSessionIsMadeOnlyFromTheRunOpenedForItsJournal) {
+  const fs::path dir = FreshTempDir("open_run_session");
+  const fs::path lab = CopyTurbine(dir);
+  const io::RunSpec spec = ShortTurbine(lab, dir / "a.csv");
+  try {
+    Session session(spec);
+    ADD_FAILURE() << "a session wrote a run that was not opened";
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(), AllOf(HasSubstr("a.csv"), HasSubstr("runner::OpenRun(spec)"),
+                                HasSubstr("output.files = false")));
+  }
+  io::RunSpec other = ShortTurbine(lab, dir / "b.csv");
+  OpenedRun opened_b = OpenRun(other);
+  try {
+    Session session(spec, std::move(opened_b));
+    ADD_FAILURE() << "a session wrote its run under another run's lock";
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(), AllOf(HasSubstr("a.csv"), HasSubstr("opened for"), HasSubstr("b.csv")));
+  }
+  EXPECT_FALSE(fs::exists(io::RunLockPath((dir / "b.csv").string())));  // released
+  EXPECT_FALSE(fs::exists(dir / "a.csv"));
+  {
+    io::RunSpec run = spec;
+    OpenedRun opened = OpenRun(run);
+    Session session(std::move(run), std::move(opened));
+    EXPECT_TRUE(fs::exists(io::RunLockPath((dir / "a.csv").string())));  // the session's
+  }
+  EXPECT_FALSE(fs::exists(io::RunLockPath((dir / "a.csv").string())));
   fs::remove_all(dir);
 }
 

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "hybridtest/io/run_spec_yaml.h"
+#include "hybridtest/runner/open_run.h"
 #include "hybridtest/runner/paced_loop.h"
 #include "hybridtest/runner/real_time_setup.h"
 #include "hybridtest/runner/run_state.h"
@@ -96,7 +97,9 @@ long CsvRows(const fs::path& csv) {
 TEST(RealTimeQueue, TheQueuedFilesHoldTheRowsOfTheSteppingThread) {
   const fs::path dir = test_support::FreshTempDir("rt_queue_same");
   // The session builds its pacer and puts the files (and `behind`) behind its queue.
-  Session session(StoreySpec(dir / "queued.csv", 0.5));
+  io::RunSpec spec = StoreySpec(dir / "queued.csv", 0.5);
+  OpenedRun opened = OpenRun(spec);
+  Session session(std::move(spec), std::move(opened));
   RowsOnLoop on_loop;
   Recorder behind;
   session.AddObserver(on_loop);
@@ -141,7 +144,8 @@ TEST(RealTimeQueue, OnTheWallClockAQueueTheFilesCannotKeepUpWithHoldsTheRunKeepi
   PunctualWallClock clock;
   SessionOptions options;
   options.clock = &clock;
-  Session session(std::move(spec), std::move(options));
+  OpenedRun opened = OpenRun(spec);
+  Session session(std::move(spec), std::move(opened), std::move(options));
   Recorder slow(std::chrono::microseconds(2000));  // far slower than the loop
   session.AddObserver(slow);
   const StepResult r = session.Run();
@@ -168,7 +172,8 @@ TEST(RealTimeQueue, InVirtualTimeTheLoopWaitsForASlowQueueAndTheRunIsTheSame) {
   const fs::path dir = test_support::FreshTempDir("rt_queue_wait");
   io::RunSpec spec = StoreySpec(dir / "slow.csv", 0.25);
   spec.real_time.queue = 64;
-  Session session(std::move(spec));
+  OpenedRun opened = OpenRun(spec);
+  Session session(std::move(spec), std::move(opened));
   Recorder slow(std::chrono::microseconds(300));
   session.AddObserver(slow);
   const StepResult r = session.Run();
@@ -176,7 +181,9 @@ TEST(RealTimeQueue, InVirtualTimeTheLoopWaitsForASlowQueueAndTheRunIsTheSame) {
   EXPECT_GT(session.paced_loop()->statistics().queue_waits, 0);
   EXPECT_FALSE(session.paced_loop()->statistics().held_on_queue);
   // The same journal as a run whose files never waited.
-  Session fast(StoreySpec(dir / "fast.csv", 0.25));
+  io::RunSpec fast_spec = StoreySpec(dir / "fast.csv", 0.25);
+  OpenedRun fast_opened = OpenRun(fast_spec);
+  Session fast(std::move(fast_spec), std::move(fast_opened));
   ASSERT_EQ(fast.Run().status, SessionStatus::kFinished);
   EXPECT_EQ(test_support::ReadText(dir / "slow.csv"), test_support::ReadText(dir / "fast.csv"));
   EXPECT_EQ(static_cast<long>(slow.steps.size()), 257);

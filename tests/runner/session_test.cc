@@ -13,6 +13,7 @@
 
 #include "hybridtest/io/run_reader.h"
 #include "hybridtest/io/run_spec_yaml.h"
+#include "hybridtest/runner/open_run.h"
 #include "runner/fake_substructure.h"
 
 namespace hybridtest::runner {
@@ -76,7 +77,8 @@ Outcome RunWithFakes(const std::string& name, std::optional<Failure> failure = s
   io::RunSpec spec = FakeSpec(cfg, log, failure, failing_slot);
   spec.output.csv_path = (dir / "run.csv").string();
   Outcome out;
-  Session session(spec);
+  OpenedRun opened = OpenRun(spec);
+  Session session(spec, std::move(opened));
   const StepResult result = session.Run();
   if (result.status != SessionStatus::kFinished) {
     try {

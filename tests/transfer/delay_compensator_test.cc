@@ -83,8 +83,8 @@ TEST(DelayCompensator, AtsIdentifiesTheDelayOfALaggingPlant) {
     }
   }
   // Delay 12 ms + lag 4 ms (≈ 3.9 ms of phase at 1.5 Hz) + half a tick of hold ≈ 16.4 ms.
-  EXPECT_NEAR(comp.estimated_delay(), 0.0164, 0.0015);
-  EXPECT_GT(comp.updates(), 100);
+  EXPECT_NEAR(comp.actuator(0).estimated_delay(), 0.0164, 0.0015);
+  EXPECT_GT(comp.actuator(0).updates(), 100);
   EXPECT_LT(std::sqrt(sq / ref), 0.02);  // tracking within 2 % RMS
 }
 

@@ -144,8 +144,8 @@ int main(int argc, char** argv) {
     spec.quiet = true;
 
     // The front door: nothing is built, activated or moved before it has passed.
-    const rn::OpenedRun opened = rn::OpenRun(spec, {.command_line = "run_spec_in_code"});
-    rn::Session session(std::move(spec));
+    rn::OpenedRun opened = rn::OpenRun(spec, {.command_line = "run_spec_in_code"});
+    rn::Session session(std::move(spec), std::move(opened));  // it holds the run's lock
     rn::StepResult result = session.Initialize();
     while (result.status == rn::SessionStatus::kWorking) result = session.Step();
     if (result.status != rn::SessionStatus::kFinished) {

@@ -135,9 +135,9 @@ void RunSimulation(const Campaign& campaign, const io::SimulationConfig& cfg,
   spec.output.command = CaseCommandName(campaign.command);
   spec.quiet = true;
   // The front door, as `run`'s: lock, output guards, disk budget, input record, provenance.
-  const runner::OpenedRun opened = runner::OpenRun(
+  runner::OpenedRun opened = runner::OpenRun(
       spec, {.command_line = hooks.command_line, .provenance = hooks.provenance});
-  runner::Session session(std::move(spec));
+  runner::Session session(std::move(spec), std::move(opened));
   MetricObserver metrics(campaign.metrics, session.spec());
   session.AddObserver(metrics);
   const runner::StepResult r = session.Run();

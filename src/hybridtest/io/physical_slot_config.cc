@@ -18,10 +18,7 @@ TransferSpec ParseTransfer(const YamlInput& in, const YAML::Node& node, const st
                            const SubstructureOptions& options, double reply_timeout,
                            const transfer::SafetyLimits* limits) {
   if (options.emulate_bench) {  // `plan --emulate`: no real bench, whatever the config names
-    TransferSpec emulated{"emulated", [bench = transfer::LoadEmulatedBenchConfig(
-                                           *options.emulate_bench)] {
-                            return transfer::MakeEmulatedBench(bench);
-                          }};
+    TransferSpec emulated = EmulatedTransfer(*options.emulate_bench);
     if (options.files_read != nullptr) {
       options.files_read->push_back({"bench", *options.emulate_bench});
     }

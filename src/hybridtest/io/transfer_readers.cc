@@ -35,24 +35,28 @@ std::string ConfigRelative(const TransferReadContext& c, const YAML::Node& node,
   return file.string();
 }
 
-TransferSpec ReadEmulated(const TransferReadContext& c) {
-  c.in.CheckKeys(c.node, c.kp, {"type", "config", "bench"});
-  // One bench file or mapping, read once, of one actuator or of `actuators: n`.
-  transfer::EmulatedBenchSpec bench;
-  if (c.node["config"]) {
-    const std::string path = ConfigRelative(c, c.node["config"], "config", "a bench file");
-    bench = transfer::LoadEmulatedBenchSpec(path);
-    c.NoteRead("bench", path);
-  } else if (c.node["bench"]) {
-    bench = transfer::ParseEmulatedBenchSpec(c.node["bench"],
-                                             c.in.Where(c.node["bench"], c.kp + ".bench"));
-  } else {
-    throw ConfigError(fmt::format("{}: an emulated transfer needs `config: FILE` (a bench file) "
-                                  "or an inline `bench:` mapping", c.in.Where(c.node, c.kp)));
-  }
+// The emulated bench of a spec read once, of one actuator or of `actuators: n`.
+TransferSpec Emulated(transfer::EmulatedBenchSpec bench) {
   return {"emulated", [bench = std::move(bench)]() -> std::unique_ptr<transfer::TransferSystem> {
             return transfer::MakeEmulatedBench(bench);
           }};
+}
+
+TransferSpec ReadEmulated(const TransferReadContext& c) {
+  c.in.CheckKeys(c.node, c.kp, {"type", "config", "bench"});
+  // One bench file or mapping, read once, of one actuator or of `actuators: n`.
+  if (c.node["config"]) {
+    const std::string path = ConfigRelative(c, c.node["config"], "config", "a bench file");
+    TransferSpec spec = EmulatedTransfer(path);
+    c.NoteRead("bench", path);
+    return spec;
+  }
+  if (c.node["bench"]) {
+    return Emulated(transfer::ParseEmulatedBenchSpec(
+        c.node["bench"], c.in.Where(c.node["bench"], c.kp + ".bench")));
+  }
+  throw ConfigError(fmt::format("{}: an emulated transfer needs `config: FILE` (a bench file) "
+                                "or an inline `bench:` mapping", c.in.Where(c.node, c.kp)));
 }
 
 // One law (a mapping) and one p0 per actuator: `law: {...}` and `p0: x` for one actuator, or
@@ -197,6 +201,10 @@ std::vector<std::string> TransferTypes() {
   std::vector<std::string> types;
   for (const auto& [type, reader] : Readers()) types.push_back(type);
   return types;  // a std::map is sorted
+}
+
+substructures::TransferSpec EmulatedTransfer(const std::string& path) {
+  return Emulated(transfer::LoadEmulatedBenchSpec(path));
 }
 
 substructures::TransferSpec ReadTransfer(const TransferReadContext& c) {

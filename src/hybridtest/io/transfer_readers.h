@@ -44,4 +44,11 @@ std::vector<std::string> TransferTypes();
 // unknown type (listing the registered ones) and whatever the reader throws.
 substructures::TransferSpec ReadTransfer(const TransferReadContext& context);
 
+// The emulated bench of the bench file `path` (either form, transfer/bench_spec.h: one
+// actuator, or `actuators: n` on one coupled specimen), read once, as a transfer of type
+// "emulated": what `type: emulated` with `config: FILE` builds, and what `plan --emulate
+// BENCH.yaml` stands in for every physical slot with. Throws ConfigError naming the file, the
+// key and the fix.
+substructures::TransferSpec EmulatedTransfer(const std::string& path);
+
 }  // namespace hybridtest::io

@@ -126,7 +126,6 @@ void LockFreeObserver::Consume() {
       if (!error_) error_ = std::current_exception();
     }
     ring_.Pop();
-    ++delivered_;
   }
 }
 

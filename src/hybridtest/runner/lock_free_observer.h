@@ -67,7 +67,6 @@ class LockFreeObserver final : public SessionObserver {
   // Producer side: events that can still be queued.
   std::size_t free_slots() const { return ring_.free_slots(); }
   std::size_t capacity() const { return ring_.capacity(); }
-  long delivered() const { return delivered_.load(); }
 
  private:
   struct Slot {
@@ -99,7 +98,6 @@ class LockFreeObserver final : public SessionObserver {
   SpscRing<Slot> ring_;
   std::chrono::microseconds poll_;
   std::atomic<bool> running_{false};
-  std::atomic<long> delivered_{0};
   std::thread consumer_;
   std::mutex error_mutex_;
   std::exception_ptr error_;

@@ -81,7 +81,6 @@ class PacedLoop final : public SessionObserver, public StepPacer {
   double previous_compute() const {
     return i_ > 0 && i_ - 1 < compute_.size() ? compute_[i_ - 1] : 0.0;
   }
-  long consecutive_misses() const { return consecutive_; }
   // What the process setup did (memory lock, scheduling, affinity), for the sidecar.
   void AddSetupNote(std::string note) { setup_notes_.push_back(std::move(note)); }
   // The delay stability check's margins (delay_stability.h), for the sidecar.

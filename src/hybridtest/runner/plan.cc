@@ -12,6 +12,7 @@
 #include "hybridtest/constitutive/linear_spring.h"
 #include "hybridtest/integrators/catalogue.h"
 #include "hybridtest/io/substructure_config.h"
+#include "hybridtest/io/transfer_readers.h"
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/runner/open_run.h"
 #include "hybridtest/runner/run_record.h"
@@ -96,9 +97,9 @@ RunStatistics RunInMemory(io::RunSpec spec, const PlanOptions& options, const st
   spec.output.command = "plan";
   if (spec.output.files) spec.output.csv_path = (fs::path(work_dir) / (name + ".csv")).string();
   spec.quiet = true;
-  const OpenedRun opened =
+  OpenedRun opened =
       OpenRun(spec, {.overwrite = options.overwrite, .command_line = options.command_line});
-  Session session(std::move(spec));
+  Session session(std::move(spec), std::move(opened));
   session.AddObserver(recorder);
   const StepResult r = session.Run();
   if (r.status != SessionStatus::kFinished) std::rethrow_exception(session.error());
@@ -259,10 +260,7 @@ std::vector<PlanResult> PlanTest(const io::RunSpec& configured, const PlanOption
       }
     }
     if (options.emulate_bench) {
-      physical->transfer = {"emulated", [bench = transfer::LoadEmulatedBenchConfig(
-                                             *options.emulate_bench)] {
-                              return transfer::MakeEmulatedBench(bench);
-                            }};
+      physical->transfer = io::EmulatedTransfer(*options.emulate_bench);
     } else if (physical->transfer.type != "emulated" && physical->transfer.type != "fmu") {
       // (an FMU plant, fmi/fmu_plant.h, is in-process: a model, no steel)
       throw ConfigError(fmt::format(

@@ -77,7 +77,19 @@ class Session::Rows final : public schemes::RowSink {
 };
 
 Session::Session(io::RunSpec spec, SessionOptions options)
-    : spec_(std::move(spec)), options_(std::move(options)) {
+    : Session(std::move(spec), OpenedRun{}, std::move(options)) {}
+
+Session::Session(io::RunSpec spec, OpenedRun opened, SessionOptions options)
+    : opened_(std::move(opened)), spec_(std::move(spec)), options_(std::move(options)) {
+  // No run writes its files but through the front door (its lock, guards, budget, record).
+  if (spec_.output.files && !(opened_.locked() && opened_.journal() == spec_.output.csv_path)) {
+    throw ConfigError(fmt::format(
+        "{}: a run that writes files is opened by the front door first: runner::OpenRun(spec) "
+        "(a resume: OpenResume), then Session(spec, std::move(opened)){}; or set output.files "
+        "= false for a run in memory", spec_.output.csv_path.empty() ? "run spec" :
+        spec_.output.csv_path, opened_.locked() ? fmt::format(" (the run given was opened "
+        "for {})", opened_.journal()) : ""));
+  }
   io::ValidateRunSpec(spec_);
   std::vector<std::string> slot_names;
   for (const auto& s : model().slots()) slot_names.push_back(s.info.name);

@@ -36,6 +36,7 @@
 
 #include "hybridtest/common/clock.h"
 #include "hybridtest/io/run_spec.h"
+#include "hybridtest/runner/opened_run.h"
 #include "hybridtest/runner/run_state.h"
 #include "hybridtest/runner/slot_map.h"
 #include "hybridtest/schemes/hybrid_scheme.h"
@@ -236,7 +237,14 @@ class Session {
   // that cannot run paced) and the delay stability check of every physical slot
   // (runner/delay_stability.h: refuses an unstable slot unless real_time.force). A clock
   // without `real_time:` is refused. Throws ConfigError.
+  //
+  // A run that writes files (spec.output.files) is made from the run the front door opened for
+  // it (runner/open_run.h: OpenRun, OpenResume), and from nothing else: `opened` must be the
+  // OpenedRun of spec's journal (ConfigError otherwise, before anything is built); the session
+  // holds its lock until it is destroyed. A run in memory needs none (the first form refuses a
+  // file-backed spec, naming the front door).
   explicit Session(io::RunSpec spec, SessionOptions options = {});
+  Session(io::RunSpec spec, OpenedRun opened, SessionOptions options = {});
   ~Session();
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
@@ -269,7 +277,6 @@ class Session {
   // Real time is a setting of the session (decision 0016), read from its spec: the paced loop
   // (null without `real_time:`).
   const PacedLoop* paced_loop() const { return paced_loop_.get(); }
-  StepPacer* pacer() const { return pacer_; }
   // Called by Run() on the stepping thread before every step (after Initialize()): may hold
   // (HoldBetweenSteps, then ContinueAfterHold) or end the run (InterruptBetweenSteps); returns
   // the session's result. The live monitor's operator control and Python's signal check set
@@ -315,11 +322,6 @@ class Session {
   bool has_physical() const { return physical_count_ > 0; }
   // The state SetState() gave (nullptr for a new run).
   const RunState* resume_state() const { return resume_ ? &*resume_ : nullptr; }
-  // Every slot's K0 and its source, for the sidecar.
-  const nlohmann::json& stiffness_record() const { return stiffness_record_; }
-  // What the start check found per physical substructure (Substructure::CheckStart), for the
-  // sidecar's statistics.start; empty for a resume and before Initialize().
-  const nlohmann::json& start_record() const { return start_record_; }
   // Steps still to go (estimate for adaptive schemes).
   long EstimatedStepsLeft() const;
   // The failure that stopped the run, if any.
@@ -350,6 +352,7 @@ class Session {
   void AddCommittedState(StopEvent& event) const;
   double WallTime() const;
 
+  OpenedRun opened_;  // the run's lock (file-backed), released last
   io::RunSpec spec_;
   SessionOptions options_;
   std::vector<std::unique_ptr<substructures::Substructure>> subs_;

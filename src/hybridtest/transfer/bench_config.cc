@@ -11,6 +11,7 @@
 #include "hybridtest/common/yaml_input.h"
 #include "hybridtest/constitutive/cantilever.h"
 #include "hybridtest/constitutive/parse_law.h"
+#include "hybridtest/transfer/bench_spec.h"
 
 namespace hybridtest::transfer {
 namespace {
@@ -252,15 +253,15 @@ EmulatedBenchConfig ParseEmulatedBenchConfig(const YAML::Node& bench, std::strin
 }
 
 EmulatedBenchConfig LoadEmulatedBenchConfig(const std::string& path) {
-  const YamlInput file = YamlInput::FromFile(path, "a 'bench:' mapping");
-  // A misspelt or misplaced section (`safety:` at the top level instead of under `bench:`)
-  // would be ignored: the keys a bench file may hold are these.
-  file.CheckKeys(file.root(), "", {"bench", "openfresco"});
-  if (!file.root()["bench"]) {
+  // The one reader of bench files (bench_spec.h), whose one-actuator form is this config.
+  EmulatedBenchSpec spec = LoadEmulatedBenchSpec(path);
+  if (spec.coupled_safety) {
     throw ConfigError(fmt::format(
-        "{}: expected a top-level 'bench:' mapping (see examples/rotor/bench-ideal.yaml)", path));
+        "{}: a bench of {} actuators (`actuators:`); expected the one-actuator form here (see "
+        "examples/rotor/bench-ideal.yaml), or load it with LoadEmulatedBenchSpec",
+        path, spec.num_actuators()));
   }
-  return ParseEmulatedBenchConfig(file.root()["bench"], fmt::format("{}: bench", path));
+  return std::move(spec.actuators.front());
 }
 
 void ValidateEmulatedBenchConfig(const EmulatedBenchConfig& c) {

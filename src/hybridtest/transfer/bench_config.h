@@ -127,8 +127,9 @@ EmulatedBenchConfig ParseEmulatedBenchConfig(const YAML::Node& bench, std::strin
 // its key path. Throws ConfigError naming the key and the allowed values.
 BenchUnits ParseBenchUnits(const YAML::Node& units, std::string_view where);
 
-// Loads a YAML file whose top level holds a `bench:` mapping. Throws ConfigError (also for an
-// unreadable file or a YAML syntax error, with the line).
+// Loads a bench file of the one-actuator form: LoadEmulatedBenchSpec (bench_spec.h, the one
+// reader of bench files), whose one actuator this is. Throws ConfigError (also for a file of
+// the `actuators:` form, an unreadable file or a YAML syntax error, with the line).
 EmulatedBenchConfig LoadEmulatedBenchConfig(const std::string& path);
 
 // Throws ConfigError if the configuration is inconsistent (e.g. safety stroke outside the

@@ -45,11 +45,6 @@ FaultKind ParseFaultKind(const std::string& name, const std::string& where) {
   return it->first;
 }
 
-bool IsWireFault(FaultKind kind) {
-  return kind == FaultKind::kCorrupt || kind == FaultKind::kStaleSeq ||
-         kind == FaultKind::kDuplicate || kind == FaultKind::kClose;
-}
-
 Fault ParseFault(const std::string& text, const std::string& where) {
   const auto fail = [&](const std::string& why) {
     return ConfigError(fmt::format(

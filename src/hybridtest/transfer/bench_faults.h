@@ -47,8 +47,6 @@ inline constexpr long kMaxFaultCommand = 1'000'000'000'000L;
 std::string FaultKindName(FaultKind kind);
 // The kind named `name`; throws ConfigError naming `where` and the accepted names.
 FaultKind ParseFaultKind(const std::string& name, const std::string& where);
-// True for the kinds only a server can inject (corrupt, stale_seq, duplicate, close).
-bool IsWireFault(FaultKind kind);
 
 // Parses "KIND@N" (e.g. "spike@3"). Throws ConfigError naming `where`, the text given and the
 // accepted kinds.

@@ -77,10 +77,6 @@ class DelayCompensator final : public TransferSystem {
   const ActuatorCompensator& actuator(int k) const {
     return channels_.at(static_cast<std::size_t>(k));
   }
-  // Actuator 0's estimate: a0, a1 [s], a2 [s²] (ats; polynomial: 1, τ, 0).
-  const std::array<double, 3>& coefficients() const { return channels_[0].coefficients(); }
-  double estimated_delay() const { return channels_[0].estimated_delay(); }
-  long updates() const { return channels_[0].updates(); }
   // The estimates and their extremes, for the run's statistics: one actuator's record, or
   // {"method", "actuators": [one record per actuator]} for several.
   nlohmann::json ToJson() const;

@@ -120,8 +120,6 @@ class RtPlant final : public TransferSystem {
   // Static (settled) displacements x from p0 for command displacements u from p0 (n each).
   // Unit: [m].
   std::vector<double> SettledDisplacement(const std::vector<double>& u) const;
-  // One actuator: the same for a scalar. Unit: [m].
-  double SettledDisplacement(double u) const { return SettledDisplacement(std::vector{u})[0]; }
   const RtPlantConfig& config() const { return config_; }
   // The plant's command → position response G_ij at ω [rad/s] (actuator j's command to actuator
   // i's position), delays included (the linear damper, α = 1, for the servo plant's specimen).

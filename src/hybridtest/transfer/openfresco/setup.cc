@@ -58,17 +58,6 @@ std::vector<double> TransposeTimes(const ExpSetup& s, std::span<const double> y)
 
 }  // namespace
 
-ExpSetup OneActuatorSetup(std::vector<double> row, double p0, double initial_stiffness,
-                          const BenchUnits& wire_units) {
-  ExpSetup s;
-  s.wire_units = wire_units;
-  s.actuators = 1;
-  s.transform = std::move(row);
-  s.p0s = {p0};
-  s.stiffness_matrix = {initial_stiffness};
-  return s;
-}
-
 void ValidateSetup(const ExpSetup& s) {
   if (s.transform.empty()) {
     throw ConfigError("openfresco.transform: empty; expected one row [[t1, ..., tn]] per actuator");

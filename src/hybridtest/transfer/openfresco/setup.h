@@ -34,10 +34,6 @@ struct ExpSetup {
   int dofs() const { return static_cast<int>(transform.size()) / std::max(actuators, 1); }  // n
 };
 
-// A setup of one actuator: T = [row], p0 [m], K0 [N/m].
-ExpSetup OneActuatorSetup(std::vector<double> row, double p0, double initial_stiffness,
-                          const BenchUnits& wire_units = {1e-3, 1.0, "mm", "N"});
-
 // Throws ConfigError unless the sizes fit n_act (T of n_act rows, one p0 each, an n_act × n_act
 // K_a), T is finite with rows of length 1e-6 to 1e6 that are linearly independent, p0 is
 // finite, and K_a is finite with a diagonal ≥ 0.
