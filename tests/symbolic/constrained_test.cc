@@ -17,8 +17,8 @@ namespace hybridtest::symbolic {
 namespace {
 
 multibody::Model FourBar() {
-  const auto file = modelfile::LoadModelFile(std::string(HYBRIDTEST_SOURCE_DIR) +
-                                             "/examples/models/four_bar.yaml");
+  const auto file = modelfile::LoadModelFile(
+      std::string(HYBRIDTEST_SOURCE_DIR "/examples/models/four_bar.yaml"));
   return modelfile::BuildModelFile(file, file.parameters).model;
 }
 
