@@ -9,13 +9,13 @@
 // connections (port 0 picks a free port), then logs events to stderr.
 #include <fmt/core.h>
 
-#include <csignal>
 #include <cstdio>
 #include <memory>
 #include <string>
 
 #include "cli_values.h"
 #include "command.h"
+#include "serve_until_signal.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/site_config.h"
 #include "hybridtest/transfer/auth.h"
@@ -31,12 +31,6 @@ struct SiteArgs {
   std::string token_file;
   std::string token_on_command_line;
 };
-
-transfer::site::SiteServer* g_site_server = nullptr;
-
-extern "C" void StopSiteOnSignal(int /*signal*/) {
-  if (g_site_server != nullptr) g_site_server->Stop();
-}
 
 void RunSite(const SiteArgs& args) {
   if (!args.token_on_command_line.empty()) {
@@ -59,19 +53,7 @@ void RunSite(const SiteArgs& args) {
               server.address().c_str(), config.server.name.c_str(), bench->Describe().c_str(),
               config.server.token.empty() ? "none" : "required");
   std::fflush(stdout);
-  g_site_server = &server;
-  struct sigaction action {};
-  action.sa_handler = StopSiteOnSignal;
-  sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
-  try {
-    server.Serve();
-  } catch (...) {
-    g_site_server = nullptr;
-    throw;
-  }
-  g_site_server = nullptr;
+  ServeUntilSignal(server);
 }
 
 void AddSiteCommand(CLI::App& root) {

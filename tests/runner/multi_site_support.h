@@ -16,6 +16,7 @@
 #include "hybridtest/runner/session.h"
 #include "hybridtest/transfer/site/site_client.h"
 #include "hybridtest/transfer/site/site_server.h"
+#include "support/tcp_proxy.h"
 #include "support/temp_dir.h"
 #include "transfer/serving_thread.h"
 
@@ -23,6 +24,12 @@ namespace hybridtest::runner::testing_site {
 
 inline const std::string kExample =
     std::string(HYBRIDTEST_SOURCE_DIR) + "/examples/10_multi_site/";
+
+// The run's duration [s] and its step count (dt = 1 ms in every config here).
+inline void SetDuration(io::RunSpec& spec, double duration) {
+  spec.scheme.duration = duration;
+  spec.scheme.steps = io::StepCount(duration, 0.001);
+}
 
 class Sites {
  public:
@@ -47,9 +54,10 @@ class Sites {
     threads_.clear();  // stop and join before the servers go
   }
   // Points the run's substructures r1..r3 at the sites (through `proxy_ports` if given).
+  // Only the first `count` of them (the others keep their config's transfer).
   void Point(io::RunSpec& spec, std::vector<std::uint16_t> proxy_ports = {},
-             double reconnect_wait = 10.0) {
-    for (int s = 0; s < 3; ++s) {
+             double reconnect_wait = 10.0, int count = 3) {
+    for (int s = 0; s < count; ++s) {
       transfer::site::SiteClientOptions o;
       o.name = "substructures.r" + std::to_string(s + 1);
       o.port = proxy_ports.empty() ? servers_[static_cast<std::size_t>(s)]->port()
@@ -72,6 +80,18 @@ class Sites {
   std::vector<std::unique_ptr<transfer::site::SiteServer>> servers_;
   std::vector<std::unique_ptr<transfer::testing::ServingThread<transfer::site::SiteServer>>>
       threads_;
+};
+
+// One delay-and-loss proxy in front of each site (support/tcp_proxy.h).
+struct Proxies {
+  Proxies(Sites& sites, double delay) {
+    for (int s = 0; s < 3; ++s) {
+      at.push_back(std::make_unique<test_support::TcpProxy>(sites.server(s).port(), delay));
+      ports.push_back(at.back()->port());
+    }
+  }
+  std::vector<std::unique_ptr<test_support::TcpProxy>> at;
+  std::vector<std::uint16_t> ports;
 };
 
 // Every committed row of the journal, as the journal holds it.

@@ -1,7 +1,7 @@
 // Multi-site tests (docs/multi-site.md): the rotor's three blades on three in-process sites
 // give the journal of the same test in one process bit for bit; a proposal one site refuses
-// moves no site; with two local physical substructures, a refusal by the second's gate moves
-// neither (the two-phase seam).
+// moves no site; with three local physical substructures, a refusal by the second's gate moves
+// none (the two-phase seam); a dropped link holds everyone and the run goes on.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -17,7 +17,6 @@
 #include "hybridtest/transfer/site/site_client.h"
 #include "hybridtest/transfer/site/site_server.h"
 #include "runner/multi_site_support.h"
-#include "support/tcp_proxy.h"
 #include "support/temp_dir.h"
 #include "transfer/serving_thread.h"
 
@@ -31,11 +30,11 @@ TEST(MultiSite, ThreeSitesGiveTheOneProcessJournalBitForBit) {
   const auto dir = test_support::FreshTempDir("multi-site-same");
   Sites sites(dir, {});
   io::RunSpec spec = io::LoadRunSpec(testing_site::kExample + "multi-site.yaml");
-  spec.scheme.duration = 0.2;
+  testing_site::SetDuration(spec, 0.2);
   sites.Point(spec);
   const auto rows = testing_site::Run(std::move(spec));
   io::RunSpec one = io::LoadRunSpec(testing_site::kExample + "one-process.yaml");
-  one.scheme.duration = 0.2;
+  testing_site::SetDuration(one, 0.2);
   const auto reference = testing_site::Run(std::move(one));
   ASSERT_EQ(rows.status, SessionStatus::kFinished) << rows.reason;
   ASSERT_EQ(reference.status, SessionStatus::kFinished) << reference.reason;
@@ -58,7 +57,7 @@ TEST(MultiSite, AProposalOneSiteRefusesMovesNoSite) {
   // Site 2 allows only 2 mm of stroke above its p0 of 20 mm: blade 2 reaches beyond it.
   Sites sites(dir, {{1, 0.022}});
   io::RunSpec spec = io::LoadRunSpec(testing_site::kExample + "multi-site.yaml");
-  spec.scheme.duration = 1.0;
+  testing_site::SetDuration(spec, 1.0);
   sites.Point(spec);
   const auto result = testing_site::Run(std::move(spec));
   ASSERT_EQ(result.status, SessionStatus::kStopped);
@@ -76,48 +75,43 @@ TEST(MultiSite, AProposalOneSiteRefusesMovesNoSite) {
   EXPECT_EQ(sites.server(2).executed(), sites.server(1).executed());
 }
 
-TEST(MultiSite, TwoLocalBenchesMoveTogetherOrNotAtAll) {
-  // One process, two in-process benches: r2's gate refuses; r1 must not have moved first.
+TEST(MultiSite, LocalBenchesMoveTogetherOrNotAtAll) {
+  // One process, three in-process benches: r2's gate refuses; r1 must not have moved first.
   io::RunSpec spec = io::LoadRunSpec(testing_site::kExample + "one-process.yaml");
-  spec.scheme.duration = 1.0;
+  testing_site::SetDuration(spec, 1.0);
   spec.substructures.at(1).physical->limits.stroke_max = 0.022;
-  spec.substructures.pop_back();  // r3 numerical (the model's default)
   spec.output.files = false;
   spec.quiet = true;
   Session session(std::move(spec));
   const StepResult r = session.Run();
   ASSERT_EQ(r.status, SessionStatus::kStopped);
   EXPECT_NE(r.reason.find("stroke_max"), std::string::npos) << r.reason;
-  EXPECT_EQ(session.substructures()[0]->evaluations(), session.substructures()[1]->evaluations())
-      << "r1 moved in a trial that r2 refused";
+  const auto& subs = session.substructures();
+  EXPECT_EQ(subs[0]->evaluations(), subs[1]->evaluations()) << "r1 moved in a trial r2 refused";
+  EXPECT_EQ(subs[2]->evaluations(), subs[1]->evaluations()) << "r3 moved in a trial r2 refused";
 }
 
 TEST(MultiSite, ADroppedLinkHoldsEveryoneAndTheRunContinuesWithNoIdExecutedTwice) {
   const auto dir = test_support::FreshTempDir("multi-site-drop");
   Sites sites(dir, {});
-  std::vector<std::unique_ptr<test_support::TcpProxy>> proxies;
-  std::vector<std::uint16_t> ports;
-  for (int s = 0; s < 3; ++s) {
-    proxies.push_back(std::make_unique<test_support::TcpProxy>(sites.server(s).port(), 0.0));
-    ports.push_back(proxies.back()->port());
-  }
+  testing_site::Proxies proxies(sites, 0.0);
   io::RunSpec spec = io::LoadRunSpec(testing_site::kExample + "multi-site.yaml");
-  spec.scheme.duration = 0.3;
-  sites.Point(spec, ports, 20.0);
+  testing_site::SetDuration(spec, 0.3);
+  sites.Point(spec, proxies.ports, 20.0);
   // Site 2's link drops after 100 of its moves and comes back 0.5 s later (bounded waits).
-  std::thread dropper([&] {
+  std::jthread dropper([&] {
     for (int i = 0; i < 2000 && sites.server(1).executed() < 100; ++i) {
       std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }
-    proxies[1]->Drop();
+    proxies.at[1]->Drop();
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
-    proxies[1]->Restore();
+    proxies.at[1]->Restore();
   });
   const auto rows = testing_site::Run(std::move(spec));
   dropper.join();
   ASSERT_EQ(rows.status, SessionStatus::kFinished) << rows.reason;
   io::RunSpec one = io::LoadRunSpec(testing_site::kExample + "one-process.yaml");
-  one.scheme.duration = 0.3;
+  testing_site::SetDuration(one, 0.3);
   const auto reference = testing_site::Run(std::move(one));
   ASSERT_EQ(rows.rows.size(), reference.rows.size());
   for (std::size_t i = 0; i < rows.rows.size(); ++i) {
@@ -135,20 +129,15 @@ TEST(MultiSite, ADroppedLinkHoldsEveryoneAndTheRunContinuesWithNoIdExecutedTwice
 TEST(MultiSite, ALinkLostLongerThanTheWaitStopsTheRun) {
   const auto dir = test_support::FreshTempDir("multi-site-lost");
   Sites sites(dir, {});
-  std::vector<std::unique_ptr<test_support::TcpProxy>> proxies;
-  std::vector<std::uint16_t> ports;
-  for (int s = 0; s < 3; ++s) {
-    proxies.push_back(std::make_unique<test_support::TcpProxy>(sites.server(s).port(), 0.0));
-    ports.push_back(proxies.back()->port());
-  }
+  testing_site::Proxies proxies(sites, 0.0);
   io::RunSpec spec = io::LoadRunSpec(testing_site::kExample + "multi-site.yaml");
-  spec.scheme.duration = 0.3;
-  sites.Point(spec, ports, 0.3);  // a wait of 0.3 s
-  std::thread dropper([&] {
+  testing_site::SetDuration(spec, 0.3);
+  sites.Point(spec, proxies.ports, 0.3);  // a wait of 0.3 s
+  std::jthread dropper([&] {
     for (int i = 0; i < 2000 && sites.server(2).executed() < 50; ++i) {
       std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }
-    proxies[2]->Drop();  // and it never comes back
+    proxies.at[2]->Drop();  // and it never comes back
   });
   const auto rows = testing_site::Run(std::move(spec));
   dropper.join();
@@ -167,23 +156,20 @@ TEST(MultiSiteMeasure, DISABLED_StepWallTime) {
     for (int n : {1, 3}) {
       const auto dir = test_support::FreshTempDir("multi-site-measure");
       Sites sites(dir, {});
-      std::vector<std::unique_ptr<test_support::TcpProxy>> proxies;
-      std::vector<std::uint16_t> ports;
-      for (int s = 0; s < 3; ++s) {
-        proxies.push_back(std::make_unique<test_support::TcpProxy>(sites.server(s).port(), delay));
-        ports.push_back(proxies.back()->port());
-      }
-      io::RunSpec spec = io::LoadRunSpec(testing_site::kExample + "multi-site.yaml");
-      spec.scheme.duration = 0.001 * static_cast<double>(steps);
-      sites.Point(spec, ports, 10.0);
-      while (static_cast<int>(spec.substructures.size()) > n) spec.substructures.pop_back();
+      testing_site::Proxies proxies(sites, delay);
+      // n sites; the other blades on in-process benches (no link).
+      io::RunSpec spec = io::LoadRunSpec(testing_site::kExample + "one-process.yaml");
+      testing_site::SetDuration(spec, 0.001 * static_cast<double>(steps));
+      sites.Point(spec, proxies.ports, 10.0, n);
       const auto start = std::chrono::steady_clock::now();
       const auto rows = testing_site::Run(std::move(spec));
-      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double wall =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       ASSERT_EQ(rows.status, SessionStatus::kFinished) << rows.reason;
       const double per_step = wall / static_cast<double>(steps);
-      const double bytes = static_cast<double>(proxies[0]->bytes_up() + proxies[0]->bytes_down()) /
-                           static_cast<double>(steps);
+      const auto& link = *proxies.at[0];
+      const double bytes =
+          static_cast<double>(link.bytes_up() + link.bytes_down()) / static_cast<double>(steps);
       std::printf("MEASURE delay_ms=%g sites=%d wall_per_step_ms=%.2f bytes_per_step_site=%.0f\n",
                   delay * 1e3, n, per_step * 1e3, bytes);
     }

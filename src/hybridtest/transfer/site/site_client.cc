@@ -14,7 +14,7 @@
 namespace hybridtest::transfer::site {
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using SiteClock = std::chrono::steady_clock;
 
 // One tag per coordinator process: its transactions' keys never meet another run's.
 std::string ProcessRunTag() {
@@ -69,9 +69,9 @@ std::optional<Frame> SiteClient::Await(std::uint32_t sequence, double timeout) {
     early_.erase(it);
     return f;
   }
-  const auto deadline = Clock::now() + std::chrono::duration<double>(timeout);
+  const auto deadline = SiteClock::now() + std::chrono::duration<double>(timeout);
   while (socket_.is_open()) {
-    const double left = std::chrono::duration<double>(deadline - Clock::now()).count();
+    const double left = std::chrono::duration<double>(deadline - SiteClock::now()).count();
     if (left <= 0.0) break;
     Frame frame;
     ReadStatus status;
@@ -125,10 +125,10 @@ void SiteClient::Activate() {
 void SiteClient::Recover(const std::string& why) {
   socket_.Close();
   if (link_lost_) link_lost_();
-  const auto deadline = Clock::now() + std::chrono::duration<double>(options_.reconnect_wait);
+  const auto deadline = SiteClock::now() + std::chrono::duration<double>(options_.reconnect_wait);
   double backoff = 0.1;  // [s]
   std::string last = why;
-  while (Clock::now() < deadline) {
+  while (SiteClock::now() < deadline) {
     try {
       Connect();
       ++reconnects_;
@@ -136,8 +136,9 @@ void SiteClient::Recover(const std::string& why) {
     } catch (const TransferError& e) {
       last = e.what();
     }
-    const double left = std::chrono::duration<double>(deadline - Clock::now()).count();
-    std::this_thread::sleep_for(std::chrono::duration<double>(std::min(backoff, std::max(left, 0.0))));
+    const double left = std::chrono::duration<double>(deadline - SiteClock::now()).count();
+    const double pause = std::min(backoff, std::max(left, 0.0));  // [s]
+    std::this_thread::sleep_for(std::chrono::duration<double>(pause));
     backoff = std::min(2.0 * backoff, 2.0);
   }
   Fail(fmt::format("{}: the link was lost ({}) and did not come back within {} s "
@@ -256,7 +257,8 @@ void SiteClient::Execute(std::span<const double> commands, std::span<Measurement
       Fail(fmt::format("{}: EXECUTE of {}: {}", Endpoint(), proposal_.id.Text(), e.text));
     }
     const Result r = DecodeResult(*reply);
-    if (!r.id.SameKey(proposal_.id) || static_cast<int>(r.measurements.size()) != options_.actuators) {
+    if (!r.id.SameKey(proposal_.id) ||
+        static_cast<int>(r.measurements.size()) != options_.actuators) {
       Fail(fmt::format("{}: a RESULT of {} with {} measurements while {} was awaited", Endpoint(),
                        r.id.Text(), r.measurements.size(), proposal_.id.Text()));
     }

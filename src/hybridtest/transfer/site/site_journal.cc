@@ -13,11 +13,11 @@
 namespace hybridtest::transfer::site {
 namespace {
 
-std::string IdFields(const TransactionId& id) {
+std::string JournalIdFields(const TransactionId& id) {
   return fmt::format("{} {} {} {} {}", id.run, id.seq, id.step, id.stage, id.attempt);
 }
 
-double ParseHex(const std::string& word, const std::string& where) {
+double ParseJournalFloat(const std::string& word, const std::string& where) {
   char* end = nullptr;
   const double v = std::strtod(word.c_str(), &end);
   if (end == word.c_str() || *end != '\0') {
@@ -56,8 +56,8 @@ SiteJournal::SiteJournal(const std::string& path) : path_(path) {
         throw ConfigError(fmt::format("{}: an execute line with fewer than {} measurements",
                                       where, n));
       }
-      m = {ParseHex(p, where), ParseHex(f, where), ParseHex(l, where),
-           static_cast<long>(ParseHex(r, where))};
+      m = {ParseJournalFloat(p, where), ParseJournalFloat(f, where), ParseJournalFloat(l, where),
+           static_cast<long>(ParseJournalFloat(r, where))};
     }
     Remember(id, std::move(measured));
     ++executes_;
@@ -82,13 +82,13 @@ void SiteJournal::Write(const std::string& line) {
 }
 
 void SiteJournal::Proposed(const Proposal& p, const std::string& verdict) {
-  std::string line = fmt::format("propose {} {}", IdFields(p.id), verdict);
+  std::string line = fmt::format("propose {} {}", JournalIdFields(p.id), verdict);
   for (double t : p.targets) line += fmt::format(" {:a}", t);
   Write(line);
 }
 
 void SiteJournal::Executed(const TransactionId& id, const std::vector<Measurement>& measured) {
-  std::string line = fmt::format("execute {} {}", IdFields(id), measured.size());
+  std::string line = fmt::format("execute {} {}", JournalIdFields(id), measured.size());
   for (const auto& m : measured) {
     line += fmt::format(" {:a} {:a} {:a} {:a}", m.position, m.force, m.lab_time,
                         static_cast<double>(m.force_reversals));

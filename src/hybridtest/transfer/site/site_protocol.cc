@@ -9,7 +9,7 @@
 namespace hybridtest::transfer::site {
 namespace {
 
-void PutId(ByteWriter& w, const TransactionId& id) {
+void PutTransactionId(ByteWriter& w, const TransactionId& id) {
   CheckRunTag(id.run);
   const auto step = static_cast<std::uint64_t>(static_cast<std::int64_t>(id.step));
   w.Str(id.run);
@@ -20,7 +20,7 @@ void PutId(ByteWriter& w, const TransactionId& id) {
   w.U32(static_cast<std::uint32_t>(static_cast<std::int32_t>(id.attempt)));
 }
 
-TransactionId GetId(ByteReader& r) {
+TransactionId GetTransactionId(ByteReader& r) {
   TransactionId id;
   id.run = r.Str("run");
   CheckRunTag(id.run);
@@ -33,7 +33,7 @@ TransactionId GetId(ByteReader& r) {
   return id;
 }
 
-void Expect(const Frame& frame, MessageType type) {
+void ExpectSiteMessage(const Frame& frame, MessageType type) {
   if (frame.type != type) {
     throw TransferError(fmt::format("expected {}, got {}",
                                     MessageTypeName(static_cast<std::uint16_t>(type)),
@@ -41,7 +41,7 @@ void Expect(const Frame& frame, MessageType type) {
   }
 }
 
-std::uint16_t Count(std::size_t n, const char* what) {
+std::uint16_t SiteActuatorCount(std::size_t n, const char* what) {
   if (n == 0 || n > 1024) {
     throw TransferError(fmt::format("{} with {} actuators: expected 1 to 1024", what, n));
   }
@@ -68,8 +68,8 @@ std::string TransactionId::Text() const {
 
 Frame EncodePropose(std::uint32_t sequence, const Proposal& p) {
   ByteWriter w;
-  PutId(w, p.id);
-  w.U16(Count(p.targets.size(), "PROPOSE"));
+  PutTransactionId(w, p.id);
+  w.U16(SiteActuatorCount(p.targets.size(), "PROPOSE"));
   for (double t : p.targets) w.F64(t);
   return {MessageType::kPropose, sequence, w.Take()};
 }
@@ -80,7 +80,7 @@ Frame EncodeAccept(std::uint32_t sequence, const TransactionId& id) {
 
 Frame EncodeRefuse(std::uint32_t sequence, const Refusal& r) {
   ByteWriter w;
-  PutId(w, r.id);
+  PutTransactionId(w, r.id);
   w.Str(r.limit);
   w.F64(r.value);
   w.F64(r.limit_value);
@@ -90,15 +90,15 @@ Frame EncodeRefuse(std::uint32_t sequence, const Refusal& r) {
 
 Frame EncodeIdOnly(MessageType type, std::uint32_t sequence, const TransactionId& id) {
   ByteWriter w;
-  PutId(w, id);
+  PutTransactionId(w, id);
   return {type, sequence, w.Take()};
 }
 
 Frame EncodeResult(std::uint32_t sequence, const Result& r) {
   ByteWriter w;
-  PutId(w, r.id);
+  PutTransactionId(w, r.id);
   w.U16(r.replayed ? 1 : 0);
-  w.U16(Count(r.measurements.size(), "RESULT"));
+  w.U16(SiteActuatorCount(r.measurements.size(), "RESULT"));
   for (const auto& m : r.measurements) {
     w.F64(m.position);
     w.F64(m.force);
@@ -109,12 +109,12 @@ Frame EncodeResult(std::uint32_t sequence, const Result& r) {
 }
 
 Proposal DecodePropose(const Frame& frame) {
-  Expect(frame, MessageType::kPropose);
+  ExpectSiteMessage(frame, MessageType::kPropose);
   ByteReader r(frame.payload, "PROPOSE payload");
   Proposal p;
-  p.id = GetId(r);
+  p.id = GetTransactionId(r);
   const std::uint16_t n = r.U16("n");
-  Count(n, "PROPOSE");
+  SiteActuatorCount(n, "PROPOSE");
   for (std::uint16_t k = 0; k < n; ++k) p.targets.push_back(r.F64("target"));
   r.Finish();
   return p;
@@ -125,10 +125,10 @@ TransactionId DecodeAccept(const Frame& frame) {
 }
 
 Refusal DecodeRefuse(const Frame& frame) {
-  Expect(frame, MessageType::kRefuse);
+  ExpectSiteMessage(frame, MessageType::kRefuse);
   ByteReader r(frame.payload, "REFUSE payload");
   Refusal x;
-  x.id = GetId(r);
+  x.id = GetTransactionId(r);
   x.limit = r.Str("limit");
   x.value = r.F64("value");
   x.limit_value = r.F64("limit_value");
@@ -138,27 +138,28 @@ Refusal DecodeRefuse(const Frame& frame) {
 }
 
 TransactionId DecodeIdOnly(const Frame& frame, MessageType expected) {
-  Expect(frame, expected);
+  ExpectSiteMessage(frame, expected);
   ByteReader r(frame.payload, MessageTypeName(static_cast<std::uint16_t>(expected)) + " payload");
-  TransactionId id = GetId(r);
+  TransactionId id = GetTransactionId(r);
   r.Finish();
   return id;
 }
 
 Result DecodeResult(const Frame& frame) {
-  Expect(frame, MessageType::kResult);
+  ExpectSiteMessage(frame, MessageType::kResult);
   ByteReader r(frame.payload, "RESULT payload");
   Result x;
-  x.id = GetId(r);
+  x.id = GetTransactionId(r);
   x.replayed = r.U16("replayed") != 0;
   const std::uint16_t n = r.U16("n");
-  Count(n, "RESULT");
+  SiteActuatorCount(n, "RESULT");
   for (std::uint16_t k = 0; k < n; ++k) {
     Measurement m;
     m.position = r.F64("position");
     m.force = r.F64("force");
     m.lab_time = r.F64("lab_time");
-    m.force_reversals = 0;
+    const double reversals = r.F64("force_reversals");
+    m.force_reversals = reversals >= 0.0 && reversals < 1e15 ? static_cast<long>(reversals) : 0;
     x.measurements.push_back(m);
   }
   r.Finish();

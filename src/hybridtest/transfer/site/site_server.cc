@@ -228,7 +228,9 @@ bool SiteServer::HandleFrame(Connection& c, const Frame& frame) {
       HoldBench("the coordinator asked for HOLD");
       return Send(c, EncodeEmpty(MessageType::kHoldAck, frame.sequence));
     case MessageType::kBye:
-      if (loop_.commander() == 0 || loop_.commander() == c.id) HoldBench("the coordinator said BYE");
+      if (loop_.commander() == 0 || loop_.commander() == c.id) {
+        HoldBench("the coordinator said BYE");
+      }
       Send(c, EncodeEmpty(MessageType::kBye, frame.sequence));
       return false;
     default:
