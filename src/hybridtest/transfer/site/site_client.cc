@@ -70,6 +70,7 @@ std::optional<Frame> SiteClient::Await(std::uint32_t sequence, double timeout) {
     return f;
   }
   const auto deadline = SiteClock::now() + std::chrono::duration<double>(timeout);
+  loss_ = socket_.is_open() ? fmt::format("no answer within {} s", timeout) : "not connected";
   while (socket_.is_open()) {
     const double left = std::chrono::duration<double>(deadline - SiteClock::now()).count();
     if (left <= 0.0) break;
@@ -77,8 +78,12 @@ std::optional<Frame> SiteClient::Await(std::uint32_t sequence, double timeout) {
     ReadStatus status;
     try {
       status = ReadFrame(socket_.fd(), left, frame);
-    } catch (const TransferError&) {
+    } catch (const TransferError& e) {
       status = ReadStatus::kClosed;  // garbled: the link is not to be trusted
+      loss_ = e.what();
+    }
+    if (status == ReadStatus::kClosed && loss_.rfind("no answer", 0) == 0) {
+      loss_ = "the connection closed";
     }
     if (status != ReadStatus::kFrame) break;
     bytes_received_ += kFrameHeaderSize + frame.payload.size() + kFrameTrailerSize;
@@ -180,8 +185,7 @@ void SiteClient::AwaitVerdict() {
   for (;;) {
     const auto reply = Await(propose_request_, options_.propose_timeout);
     if (!reply) {
-      Recover(fmt::format("no verdict on {} within {} s", proposal_.id.Text(),
-                          options_.propose_timeout));
+      Recover(fmt::format("no verdict on {}: {}", proposal_.id.Text(), loss_));
       Resend();
       continue;
     }
@@ -234,8 +238,7 @@ void SiteClient::Execute(std::span<const double> commands, std::span<Measurement
   for (;;) {
     const auto reply = Await(execute_request_, options_.execute_timeout);
     if (!reply) {
-      Recover(fmt::format("no RESULT of {} within {} s", proposal_.id.Text(),
-                          options_.execute_timeout));
+      Recover(fmt::format("no RESULT of {}: {}", proposal_.id.Text(), loss_));
       Resend();
       // The repeated PROPOSE is answered first (ACCEPT: proposed or executed already).
       if (const auto verdict = Await(propose_request_, options_.propose_timeout);

@@ -96,6 +96,7 @@ class SiteClient final : public TransferSystem {
   Phase phase_ = Phase::kIdle;
   std::uint32_t propose_request_ = 0, execute_request_ = 0;  // their frames' sequence numbers
   std::map<std::uint32_t, Frame> early_;  // replies to earlier requests, by sequence (≤ 8)
+  std::string loss_;  // why the last Await came back empty (for messages)
   std::function<void()> link_lost_;
   long reconnects_ = 0;
   std::uint64_t bytes_sent_ = 0, bytes_received_ = 0;
