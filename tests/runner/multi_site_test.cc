@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "hybridtest/common/error.h"
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/io/site_config.h"
 #include "hybridtest/runner/session.h"
@@ -25,6 +26,23 @@ namespace {
 
 using testing_site::RowRecorder;
 using testing_site::Sites;
+
+TEST(MultiSite, ASiteConfigWithoutAJournalOrWithATypoIsRefusedByName) {
+  const auto dir = test_support::FreshTempDir("multi-site-config");
+  const std::string base = "site:\n  name: b1\n  transfer: {type: loopback, law: {type: linear, "
+                           "stiffness: 7200}}\n  safety: defaults\n";
+  test_support::WriteText(dir / "no-journal.yaml", base);
+  test_support::WriteText(dir / "typo.yaml", base + "  jornal: x.journal\n");
+  for (const char* name : {"no-journal.yaml", "typo.yaml"}) {
+    try {
+      io::LoadSiteConfig((dir / name).string());
+      ADD_FAILURE() << name << " was accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("journal"), std::string::npos) << e.what();
+    }
+  }
+}
 
 TEST(MultiSite, ThreeSitesGiveTheOneProcessJournalBitForBit) {
   const auto dir = test_support::FreshTempDir("multi-site-same");
