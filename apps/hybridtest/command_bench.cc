@@ -45,6 +45,7 @@
 
 #include "cli_values.h"
 #include "command.h"
+#include "serve_until_signal.h"
 #include "hybridtest/common/clock.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/run_spec_yaml.h"
@@ -80,36 +81,6 @@ struct BenchArgs {
   double watchdog = 2.0;                     // ads, p_hybrid: tWatchdog's PT [s]
 };
 
-// The server the signal handlers stop. Stop() only stores an atomic flag.
-transfer::BenchServer* g_server = nullptr;
-transfer::openfresco::Server* g_openfresco_server = nullptr;
-transfer::ads::AdsServer* g_ads_server = nullptr;
-
-extern "C" void StopOnSignal(int /*signal*/) {
-  if (g_server != nullptr) g_server->Stop();
-  if (g_openfresco_server != nullptr) g_openfresco_server->Stop();
-  if (g_ads_server != nullptr) g_ads_server->Stop();
-}
-
-// Serves until SIGINT or SIGTERM: `registered` (one of the pointers above) names `server` to
-// the signal handlers while it serves, and is cleared when Serve() returns or throws.
-template <typename Server>
-void ServeUntilSignal(Server& server, Server*& registered) {
-  registered = &server;
-  struct sigaction action {};
-  action.sa_handler = StopOnSignal;
-  sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
-  try {
-    server.Serve();
-  } catch (...) {
-    registered = nullptr;
-    throw;
-  }
-  registered = nullptr;
-}
-
 // --protocol openfresco: the same bench and options, served by the OpenFresco server with the
 // config's `openfresco:` setup (T of one row per actuator). In the `actuators:` form the
 // coupled prediction uses the section's `initial_stiffness` matrix, else the specimen's.
@@ -133,7 +104,7 @@ void ServeOpenFresco(const BenchArgs& args, const transfer::EmulatedBenchSpec& s
                 options.token.empty() ? "none" : "required");
   }
   std::fflush(stdout);
-  ServeUntilSignal(server, g_openfresco_server);
+  ServeUntilSignal(server);
 }
 
 // --protocol ads: the bench as a TwinCAT PLC emulator (transfer/ads/ads_server.h).
@@ -169,7 +140,7 @@ void ServeAds(const BenchArgs& args, const transfer::EmulatedBenchSpec& spec) {
               args.plc_state == "run" ? "RUN" : "STOP", program.c_str(), bench->Describe().c_str(),
               args.inject.empty() ? "" : "; TEST FAULTS INJECTED");
   std::fflush(stdout);
-  ServeUntilSignal(server, g_ads_server);
+  ServeUntilSignal(server);
 }
 
 // --real-time CONFIG: the first physical slot's rt_plant, paced on this process's clock.
@@ -204,7 +175,7 @@ void ServeRealTime(const BenchArgs& args, transfer::BenchServerOptions options) 
               "%s; token %s)\n", server.address().c_str(), args.tick, plant->Describe().c_str(),
               options.token.empty() ? "none" : "required");
   std::fflush(stdout);
-  ServeUntilSignal(server, g_server);
+  ServeUntilSignal(server);
 }
 
 void RunBench(const BenchArgs& args) {
@@ -263,7 +234,7 @@ void RunBench(const BenchArgs& args) {
               bench->Describe().c_str(), options.token.empty() ? "none" : "required",
               faults.empty() ? "" : ("; TEST FAULTS INJECTED: " + faults).c_str());
   std::fflush(stdout);
-  ServeUntilSignal(server, g_server);
+  ServeUntilSignal(server);
 }
 
 void AddBenchCommand(CLI::App& root) {

@@ -90,7 +90,7 @@ TEST(Frame, RejectsOtherVersion) {
 }
 
 TEST(Frame, RejectsUnknownType) {
-  for (std::uint8_t t : {std::uint8_t{0}, std::uint8_t{12}, std::uint8_t{200}}) {
+  for (std::uint8_t t : {std::uint8_t{0}, std::uint8_t{18}, std::uint8_t{200}}) {
     auto bytes = EncodeFrame(SampleFrame());
     bytes[6] = t;
     const std::string msg = ErrorOf([&] { DecodeFrameHeader(bytes); });

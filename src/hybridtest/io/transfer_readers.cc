@@ -20,6 +20,7 @@
 #include "hybridtest/transfer/numerical_loopback.h"
 #include "hybridtest/transfer/openfresco/client.h"
 #include "hybridtest/transfer/openfresco/client_config.h"
+#include "hybridtest/transfer/site/site_client.h"
 #include "hybridtest/transfer/socket.h"
 
 namespace hybridtest::io {
@@ -116,21 +117,7 @@ TransferSpec ReadRemote(const TransferReadContext& c) {
   const transfer::HostPort hp = transfer::ParseHostPort(address, "--bench / " + kp + ".address");
   client.host = hp.host;
   client.port = hp.port;
-  // The token is a secret: never in the config, whose text is copied into the results.
-  if (node["token"]) {
-    throw ConfigError(fmt::format(
-        "{}: a token written in the run config would be copied into the results (.meta.json); "
-        "put it in a file and give `token_file: PATH`, or set {}", in.Where(node["token"],
-        kp + ".token"), transfer::kTokenEnvironmentVariable));
-  }
-  if (node["token_file"]) {
-    const std::string path =
-        ConfigRelative(c, node["token_file"], "token_file", "the path of a file with the token");
-    client.token = transfer::ReadTokenFile(path, in.Where(node["token_file"], kp + ".token_file"));
-    c.NoteRead("token", path);
-  } else {
-    client.token = transfer::TokenFromEnvironment();
-  }
+  client.token = ReadTransferToken(c);
   if (c.limits != nullptr) {
     client.expected_limits = *c.limits;
     client.limits_where = kp.substr(0, kp.rfind('.')) + ".safety";
@@ -169,10 +156,46 @@ TransferSpec ReadFmuPlant(const TransferReadContext& c) {
   return spec;
 }
 
+TransferSpec ReadSite(const TransferReadContext& c) {
+  c.in.CheckKeys(c.node, c.kp, {"type", "address", "token", "token_file", "actuators",
+                                "connect_timeout", "propose_timeout", "execute_timeout",
+                                "reconnect_wait", "run"});
+  transfer::site::SiteClientOptions o;
+  o.name = c.kp.substr(0, c.kp.rfind('.'));
+  if (!c.node["address"]) {
+    throw ConfigError(fmt::format("{}: a site transfer needs `address: HOST:PORT` (where "
+                                  "`hybridtest site` listens)", c.in.Where(c.node, c.kp)));
+  }
+  const transfer::HostPort hp = transfer::ParseHostPort(
+      c.in.String(c.node["address"], c.kp + ".address", "HOST:PORT"), c.kp + ".address");
+  o.host = hp.host;
+  o.port = hp.port;
+  o.token = ReadTransferToken(c);
+  if (const YAML::Node n = c.node["actuators"]) {
+    o.actuators = c.in.Integer(n, c.kp + ".actuators", "the site's actuators, 1 to 1024");
+    if (o.actuators < 1 || o.actuators > 1024) {
+      c.in.ThrowValue(n, c.kp + ".actuators", "the site's actuators, 1 to 1024");
+    }
+  }
+  const auto time = [&](const char* key, double& value) {
+    if (const YAML::Node n = c.node[key]) {
+      value = c.in.PositiveNumber(n, c.kp + "." + key, "a time in seconds");
+    }
+  };
+  o.execute_timeout = std::max(o.execute_timeout, 2.0 * c.reply_timeout);
+  time("connect_timeout", o.connect_timeout);
+  time("propose_timeout", o.propose_timeout);
+  time("execute_timeout", o.execute_timeout);
+  time("reconnect_wait", o.reconnect_wait);
+  if (const YAML::Node n = c.node["run"]) o.run = c.in.String(n, c.kp + ".run", "a run tag");
+  return {"site", [o] { return std::make_unique<transfer::site::SiteClient>(o); }};
+}
+
 std::map<std::string, TransferReader>& Readers() {
   static std::map<std::string, TransferReader> readers{{"emulated", ReadEmulated},
                                                        {"loopback", ReadLoopback},
                                                        {"remote", ReadRemote},
+                                                       {"site", ReadSite},
                                                        {"modbus", ReadModbus},
                                                        {"ads", ReadAds},
                                                        {"openfresco", ReadOpenFresco},
@@ -189,6 +212,23 @@ std::string TypeList() {
 }
 
 }  // namespace
+
+std::string ReadTransferToken(const TransferReadContext& c) {
+  // The token is a secret: never in the config, whose text is copied into the results.
+  if (c.node["token"]) {
+    throw ConfigError(fmt::format(
+        "{}: a token written in the run config would be copied into the results (.meta.json); "
+        "put it in a file and give `token_file: PATH`, or set {}", c.in.Where(c.node["token"],
+        c.kp + ".token"), transfer::kTokenEnvironmentVariable));
+  }
+  if (c.node["token_file"]) {
+    const std::string path =
+        ConfigRelative(c, c.node["token_file"], "token_file", "the path of a file with the token");
+    c.NoteRead("token", path);
+    return transfer::ReadTokenFile(path, c.in.Where(c.node["token_file"], c.kp + ".token_file"));
+  }
+  return transfer::TokenFromEnvironment();
+}
 
 void RegisterTransferReader(const std::string& type, TransferReader reader) {
   if (type.empty() || !reader) {

@@ -2,7 +2,7 @@
 // The transfer types a run config can name (`transfer: {type: ...}`), each with its reader:
 // the reader checks the section's keys and values once (errors name file:line, the key and
 // the fix) and returns a substructures::TransferSpec whose factory builds the transfer
-// system from what was read. The built-in types are emulated, loopback, remote, modbus, ads,
+// system from what was read. The built-in types are emulated, loopback, remote, site, modbus, ads,
 // openfresco, rt_plant, compensated and fmu (an FMU as the plant, fmi/fmu_plant.h); a program adds its own with RegisterTransferReader before it loads a config.
 #include <functional>
 #include <optional>
@@ -39,6 +39,11 @@ void RegisterTransferReader(const std::string& type, TransferReader reader);
 
 // The registered types, sorted.
 std::vector<std::string> TransferTypes();
+
+// The token of a networked transfer section: `token_file: PATH` (relative to the config), else
+// HYBRIDTEST_BENCH_TOKEN, else empty. A `token:` written in the config is refused (ConfigError:
+// the config is copied into the results).
+std::string ReadTransferToken(const TransferReadContext& context);
 
 // Reads the section with the reader its `type` names. Throws ConfigError for a missing or
 // unknown type (listing the registered ones) and whatever the reader throws.

@@ -39,22 +39,56 @@ nlohmann::json ToJson(const RunStatistics& s) {
 }
 
 // The seam: every substructure tried at the scheme's slot displacements, then the observers.
+// With two physical substructures or more, or any that is a site (docs/multi-site.md), a
+// trial has two phases: every substructure proposes its move (its safety gate checks it; a
+// site decides on it), every verdict is collected, and only then does any move (the sites'
+// in parallel): a refusal anywhere moves nothing, and Session::Fail holds every actuator.
 class Session::Seam final : public schemes::SubstructureSeam {
  public:
-  explicit Seam(Session& session) : session_(session) {}
+  explicit Seam(Session& session) : session_(session) {
+    auto& subs = session_.subs_;
+    int physical = 0;
+    for (std::size_t s = 0; s < subs.size(); ++s) {
+      transfer::TransferSystem* t = subs[s]->transfer_system();
+      if (subs[s]->is_physical()) ++physical;
+      if (t == nullptr || !t->two_phase()) continue;
+      two_phase_ = true;
+      // A site that loses its link holds the other sites while it waits for it.
+      t->OnLinkLost([&subs, s] {
+        for (std::size_t o = 0; o < subs.size(); ++o) {
+          transfer::TransferSystem* other = subs[o]->transfer_system();
+          if (o != s && other != nullptr && other->two_phase()) other->Hold();
+        }
+      });
+    }
+    two_phase_ = two_phase_ || physical > 1;
+  }
   void Trial(const schemes::TrialPoint& at, const Eigen::VectorXd& d,
              Eigen::Ref<Eigen::VectorXd> r) override {
     for (SessionObserver* o : session_.observers_) o->BeforeTrial(at);
     auto& subs = session_.subs_;
     auto& ds = session_.d_slots_;
     auto& rs = session_.r_slots_;
-    for (std::size_t s = 0; s < subs.size(); ++s) {
-      // The substructure's m slots, in its order: gathered, tried, scattered.
+    const substructures::TrialContext context{at.step, at.stage, at.t};
+    // The substructure's m slots, in its order: gathered, tried, scattered.
+    const auto gather = [&](std::size_t s) {
       const auto& slots = session_.slot_of_[s];
       ds.resize(slots.size());
-      rs.resize(slots.size());
       for (std::size_t k = 0; k < slots.size(); ++k) ds[k] = d(slots[k]);
-      subs[s]->Trial(ds, rs, {at.step, at.stage, at.t});
+    };
+    if (two_phase_) {
+      for (std::size_t s = 0; s < subs.size(); ++s) {
+        gather(s);
+        subs[s]->Propose(ds, context);
+      }
+      for (auto& sub : subs) sub->AwaitVerdict();
+      for (auto& sub : subs) sub->Release();
+    }
+    for (std::size_t s = 0; s < subs.size(); ++s) {
+      const auto& slots = session_.slot_of_[s];
+      gather(s);
+      rs.resize(slots.size());
+      subs[s]->Trial(ds, rs, context);
       for (std::size_t k = 0; k < slots.size(); ++k) r(slots[k]) = rs[k];
     }
     session_.PublishTrial(at, d, r);
@@ -62,6 +96,7 @@ class Session::Seam final : public schemes::SubstructureSeam {
 
  private:
   Session& session_;
+  bool two_phase_ = false;
 };
 
 // A scheme's intermediate rows (no specimen sample belongs to them).

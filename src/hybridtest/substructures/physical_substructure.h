@@ -52,6 +52,9 @@ class PhysicalSubstructure final : public Substructure {
   int num_slots() const override { return setup_->num_slots(); }
   void Trial(std::span<const double> d, std::span<double> r, const TrialContext& context) override;
   void Commit() override {}
+  void Propose(std::span<const double> d, const TrialContext& context) override;
+  void AwaitVerdict() override;
+  void Release() override;
   void Hold() noexcept override;
   void Deactivate() override;
   bool is_physical() const override { return true; }
@@ -206,6 +209,7 @@ class PhysicalSubstructure final : public Substructure {
   std::vector<Exchange> last_;               // (n)
   std::vector<transfer::GatedMove> moves_;   // (n), reused: no allocation per trial
   std::vector<double> commands_, zeros_;     // (n) [m], [N]
+  std::vector<double> proposed_;             // (n) [bench length unit], the last Propose
   Eigen::VectorXd f_;                        // (n) [N]
   std::optional<Eigen::MatrixXd> k0_;        // (m × m) [N/m]
   std::optional<Eigen::MatrixXd> actuator_k_;  // (n × n) [N/m], what the gate predicts with

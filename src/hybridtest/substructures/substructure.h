@@ -52,6 +52,15 @@ class Substructure {
   virtual void Trial(std::span<const double> d, std::span<double> r,
                      const TrialContext& context) = 0;
   virtual void Commit() = 0;
+  // The two phases of a trial when several substructures move together (docs/multi-site.md):
+  // Propose checks the move Trial(d, ·, context) will make (slot limits, the safety gate's
+  // command checks) WITHOUT moving and proposes it to the transfer system; AwaitVerdict
+  // throws SafetyStop if the move was refused (nothing moved), TransferError if no verdict
+  // came; Release lets the accepted move start; Trial(d, r, context) then collects it.
+  // Numerical substructures propose nothing (the defaults).
+  virtual void Propose(std::span<const double> /*d*/, const TrialContext& /*context*/) {}
+  virtual void AwaitVerdict() {}
+  virtual void Release() {}
   // Safe state after a failure: a physical one holds its actuator. Never throws.
   virtual void Hold() noexcept {}
   // Ends the test cleanly.

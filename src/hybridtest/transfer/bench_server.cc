@@ -30,9 +30,7 @@ const std::string& CheckOptions(const BenchServerOptions& options) {
 
 // The codec for the ServerLoop: a frame is its header, the payload it announces and the CRC.
 std::size_t MeasureFrame(const ServerLoop::Connection&, std::span<const std::uint8_t> bytes) {
-  if (bytes.size() < kFrameHeaderSize) return kFrameHeaderSize;
-  const FrameHeader header = DecodeFrameHeader(bytes.first(kFrameHeaderSize));
-  return kFrameHeaderSize + header.payload_length + kFrameTrailerSize;
+  return FrameSize(bytes);
 }
 
 }  // namespace

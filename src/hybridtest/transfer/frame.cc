@@ -42,15 +42,23 @@ std::uint32_t Crc32(std::span<const std::uint8_t> bytes) {
 
 bool IsKnownMessageType(std::uint16_t type) {
   return type >= static_cast<std::uint16_t>(MessageType::kHello) &&
-         type <= static_cast<std::uint16_t>(MessageType::kRead);
+         type <= static_cast<std::uint16_t>(MessageType::kQuery);
 }
 
 std::string MessageTypeName(std::uint16_t type) {
   static const char* const kNames[] = {"HELLO",         "WELCOME", "COMMAND",  "MEASUREMENT",
                                        "HEARTBEAT",     "HEARTBEAT_ACK", "HOLD", "HOLD_ACK",
-                                       "ERROR",         "BYE",     "READ"};
+                                       "ERROR",         "BYE",     "READ",    "PROPOSE",
+                                       "ACCEPT",        "REFUSE",  "EXECUTE", "RESULT",
+                                       "QUERY"};
   if (!IsKnownMessageType(type)) return fmt::format("UNKNOWN({})", type);
   return kNames[type - 1];
+}
+
+std::size_t FrameSize(std::span<const std::uint8_t> bytes) {
+  if (bytes.size() < kFrameHeaderSize) return kFrameHeaderSize;
+  const FrameHeader header = DecodeFrameHeader(bytes.first(kFrameHeaderSize));
+  return kFrameHeaderSize + header.payload_length + kFrameTrailerSize;
 }
 
 std::vector<std::uint8_t> EncodeFrame(const Frame& frame) {

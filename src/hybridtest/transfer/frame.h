@@ -42,6 +42,13 @@ enum class MessageType : std::uint16_t {
   kError = 9,         // either way: code, limit, values, text
   kBye = 10,          // either way: end of session
   kRead = 11,         // client → server: every actuator's position and force, no move
+  // The site protocol (site/site_protocol.h, docs/multi-site.md) on the same framing:
+  kPropose = 12,      // coordinator → site: a transaction's targets, checked, not moved
+  kAccept = 13,       // site → coordinator: the proposal passed the site's gate
+  kRefuse = 14,       // site → coordinator: the proposal did not; limit and reason
+  kExecute = 15,      // coordinator → site: move to an accepted proposal's targets
+  kResult = 16,       // site → coordinator: what a transaction measured
+  kQuery = 17,        // coordinator → site: a transaction's recorded result, nothing moves
 };
 
 // "HELLO", "COMMAND", ...; "UNKNOWN(n)" for a value outside MessageType.
@@ -67,6 +74,11 @@ std::vector<std::uint8_t> EncodeFrame(const Frame& frame);
 // Validates the first kFrameHeaderSize bytes of a frame: magic, version, known type, payload
 // length ≤ kMaxPayloadLength. Throws TransferError naming the bad field.
 FrameHeader DecodeFrameHeader(std::span<const std::uint8_t> header);
+
+// The size of the frame whose first bytes are `bytes` (non-empty): kFrameHeaderSize until the
+// header is complete, then header, payload and CRC. Throws TransferError for a bad header
+// (the codec of the servers on ServerLoop that speak these frames).
+std::size_t FrameSize(std::span<const std::uint8_t> bytes);
 
 // Decodes one complete frame occupying exactly `bytes`. Checks the header, that the size
 // matches the declared payload length (truncated or trailing bytes are errors), and the CRC.

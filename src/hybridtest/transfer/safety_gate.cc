@@ -56,6 +56,14 @@ void CheckCommands(std::vector<SafetyMonitor>& monitors, const Eigen::MatrixXd* 
     monitors[0].CheckCommand(commands_m[0], step, stage);
     return;
   }
+  VetCommands(monitors, stiffness, commands_m, step, stage, scratch);
+  for (std::size_t k = 0; k < n; ++k) monitors[k].AcceptCommand(commands_m[k], step, stage);
+}
+
+void VetCommands(const std::vector<SafetyMonitor>& monitors, const Eigen::MatrixXd* stiffness,
+                 std::span<const double> commands_m, long step, int stage,
+                 CommandScratch& scratch) {
+  const std::size_t n = monitors.size();
   if (stiffness != nullptr) {
     PredictCoupledForces(monitors, *stiffness, commands_m, scratch);
   } else {
@@ -74,7 +82,15 @@ void CheckCommands(std::vector<SafetyMonitor>& monitors, const Eigen::MatrixXd* 
                              {});
     }
   }
-  for (std::size_t k = 0; k < n; ++k) monitors[k].AcceptCommand(commands_m[k], step, stage);
+}
+
+void SafetyGate::Vet(std::span<const double> commands_m, MoveLabel label) {
+  if (commands_m.size() != monitors_.size()) {
+    throw Error(fmt::format("SafetyGate: {} commands proposed for {} actuators", commands_m.size(),
+                            monitors_.size()));
+  }
+  VetCommands(monitors_, stiffness_ ? &*stiffness_ : nullptr, commands_m, label.step,
+              label.stage, scratch_);
 }
 
 Eigen::VectorXd SafetyGate::PredictForces(const std::vector<double>& commands_m) const {

@@ -62,6 +62,11 @@ struct CommandScratch {
 void CheckCommands(std::vector<SafetyMonitor>& monitors, const Eigen::MatrixXd* stiffness,
                    std::span<const double> commands_m, long step, int stage,
                    CommandScratch& scratch);
+// The check of CheckCommands without its record: throws SafetyStop for the first refused
+// command and changes no monitor (a site's proposal, docs/multi-site.md).
+void VetCommands(const std::vector<SafetyMonitor>& monitors, const Eigen::MatrixXd* stiffness,
+                 std::span<const double> commands_m, long step, int stage,
+                 CommandScratch& scratch);
 // The coupled prediction f_last + K (a − x_last) (n) [N] into `scratch.predicted`; NaN for
 // every actuator while one has no measurement yet.
 void PredictCoupledForces(const std::vector<SafetyMonitor>& monitors,
@@ -91,6 +96,11 @@ class SafetyGate {
   void MoveBench(TransferSystem& transfer, std::span<const double> commands_bench,
                  MoveLabel label, std::vector<GatedMove>& out,
                  const std::function<void()>& before_execute = {});
+
+  // Checks commands_m (n) [m] as Move would, WITHOUT moving and without any monitor learning
+  // them (the first phase of a two-phase move: a proposal). Throws SafetyStop for the first
+  // refused command, Error for a count other than n.
+  void Vet(std::span<const double> commands_m, MoveLabel label);
 
   // The specimen's stiffness in actuator coordinates (n × n) [N/m] for the coupled force
   // prediction. Throws ConfigError unless it is a finite n × n matrix.

@@ -8,6 +8,7 @@
 // Hold() may be called at any time, from any state, and must never throw.
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -78,6 +79,24 @@ class TransferSystem {
   // than n raise TransferError. Throws SafetyStop when the bench itself refuses a command for
   // safety reasons; a refused command moves no actuator.
   virtual void Execute(std::span<const double> commands, std::span<Measurement> out) = 0;
+
+  // Two-phase moves (docs/multi-site.md): the Session proposes every physical substructure's
+  // move of a trial before any moves, collects every verdict, and only then releases them.
+  // Propose sends the commands (n, bench length unit, what Execute will be given) of the move
+  // at (step, stage) and does not wait; AwaitVerdict waits for the answer and throws
+  // SafetyStop if the bench refuses it (nothing moved anywhere), TransferError if it cannot
+  // tell; Release lets an accepted move start (without waiting for it); the following
+  // Execute with the same commands collects its measurement. A transfer system without its
+  // own verdict (every local one: its safety gate is the caller's, checked before Propose)
+  // keeps the defaults, which do nothing; Execute alone still works for every move.
+  virtual void Propose(std::span<const double> /*commands*/, long /*step*/, int /*stage*/) {}
+  virtual void AwaitVerdict() {}
+  virtual void Release() {}
+  // True for a transfer system that decides on proposals itself over a link (a site).
+  virtual bool two_phase() const { return false; }
+  // Called (with no argument) when this transfer system loses its link and starts waiting for
+  // it, so the caller can hold the others. Default: never called.
+  virtual void OnLinkLost(std::function<void()> /*hold_others*/) {}
 
   // Puts the bench in its safe state: hold at the last safe command. Never moves to a new
   // position, never returns to zero by itself, never throws.

@@ -1,0 +1,82 @@
+// `hybridtest site`: serves one physical site of a multi-site test (docs/multi-site.md) until
+// SIGINT or SIGTERM.
+//
+//   hybridtest site --config SITE.yaml [--listen HOST:PORT] [--token-file FILE]
+//
+// The site's transfer system, limits, watchdog and journal come from SITE.yaml
+// (io/site_config.h); the token from --token-file or HYBRIDTEST_BENCH_TOKEN, never from the
+// command line. Prints "hybridtest site: listening on HOST:PORT (...)" once it accepts
+// connections (port 0 picks a free port), then logs events to stderr.
+#include <fmt/core.h>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "cli_values.h"
+#include "command.h"
+#include "serve_until_signal.h"
+#include "hybridtest/common/error.h"
+#include "hybridtest/io/site_config.h"
+#include "hybridtest/transfer/auth.h"
+#include "hybridtest/transfer/site/site_server.h"
+#include "hybridtest/transfer/socket.h"
+
+namespace hybridtest::app {
+namespace {
+
+struct SiteArgs {
+  std::string config;
+  std::string listen = "127.0.0.1:7480";
+  std::string token_file;
+  std::string token_on_command_line;
+};
+
+void RunSite(const SiteArgs& args) {
+  if (!args.token_on_command_line.empty()) {
+    throw ConfigError("--token: a token on the command line is visible in the process list; "
+                      "put it in a file and give --token-file FILE");
+  }
+  io::SiteConfig config = io::LoadSiteConfig(args.config);
+  const transfer::HostPort listen = transfer::ParseHostPort(args.listen, "--listen");
+  config.server.host = listen.host;
+  config.server.port = listen.port;
+  config.server.token = args.token_file.empty()
+                            ? transfer::TokenFromEnvironment()
+                            : transfer::ReadTokenFile(args.token_file, "--token-file");
+  config.server.log = [](const std::string& line) {
+    std::fprintf(stderr, "hybridtest site: %s\n", line.c_str());
+  };
+  std::unique_ptr<transfer::TransferSystem> bench = config.transfer.make();
+  transfer::site::SiteServer server(*bench, config.server);
+  std::printf("hybridtest site: listening on %s (site %s; %s; token %s)\n",
+              server.address().c_str(), config.server.name.c_str(), bench->Describe().c_str(),
+              config.server.token.empty() ? "none" : "required");
+  std::fflush(stdout);
+  ServeUntilSignal(server);
+}
+
+void AddSiteCommand(CLI::App& root) {
+  auto args = std::make_shared<SiteArgs>();
+  CLI::App* cmd = root.add_subcommand(
+      "site", "Serve one physical site of a multi-site test (docs/multi-site.md): its transfer "
+              "system behind its own safety gate, journal and watchdog, until SIGINT/SIGTERM");
+  cmd->add_option("--config", args->config, "SITE.yaml with a `site:` mapping")
+      ->required()
+      ->check(RegularInputFile());
+  cmd->add_option("--listen", args->listen,
+                  "HOST:PORT to listen on; port 0 picks a free port (default 127.0.0.1:7480). "
+                  "A non-loopback host requires a token of at least 16 bytes");
+  cmd->add_option("--token-file", args->token_file,
+                  "file whose first line is the token the coordinator must present (default: "
+                  "HYBRIDTEST_BENCH_TOKEN, if set)");
+  cmd->add_option("--token", args->token_on_command_line,
+                  "refused: visible in the process list; use --token-file")
+      ->group("");
+  cmd->callback([args] { RunSite(*args); });
+}
+
+const CommandRegistration kSiteCommandRegistration{"site", &AddSiteCommand};
+
+}  // namespace
+}  // namespace hybridtest::app

@@ -1,0 +1,110 @@
+#pragma once
+// SiteServer: one physical site of a multi-site test (docs/multi-site.md). It serves one
+// TransferSystem (any the project has, built from the site's config) with the site protocol
+// (site_protocol.h) on the project's one ServerLoop (server_loop.h: its limits, one commanding
+// connection), behind the site's own SafetyGate (its own limits, per actuator), and decides
+// alone:
+//  - PROPOSE: the targets are checked by the gate WITHOUT moving (SafetyGate::Vet): ACCEPT
+//    (the proposal is kept until executed or replaced by the next one) or REFUSE with the
+//    limit, values and reason. A proposal of a key already executed is accepted (its EXECUTE
+//    will be answered from the record).
+//  - EXECUTE: only the accepted proposal of that key moves the bench (check → move → check
+//    through the gate); an id is applied at most once: a repeated EXECUTE (or QUERY) of an
+//    executed key is answered with the recorded RESULT (replayed = 1), nothing moves. An
+//    EXECUTE of a key never accepted is an ERROR and moves nothing.
+//  - Every executed transaction is appended to the journal (site_journal.h) before it is
+//    answered.
+//  - Watchdog: nothing from the commanding coordinator for `watchdog` [s] → the bench holds
+//    (the connection stays; the next EXECUTE resumes with Activate()). HOLD, BYE and the end
+//    of the commanding connection hold too. A held bench keeps its accepted proposal.
+//  - Token as the bench protocol's (auth.h: bind policy, constant-time compare, throttle).
+//    One coordinator commands; a new connection whose HELLO names the same run (client_name
+//    = the run tag) takes over from the old one (a reconnect after a lost link).
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hybridtest/transfer/auth.h"
+#include "hybridtest/transfer/frame.h"
+#include "hybridtest/transfer/safety_gate.h"
+#include "hybridtest/transfer/server_loop.h"
+#include "hybridtest/transfer/site/site_journal.h"
+#include "hybridtest/transfer/site/site_protocol.h"
+#include "hybridtest/transfer/socket.h"
+#include "hybridtest/transfer/transfer_system.h"
+
+namespace hybridtest::transfer::site {
+
+struct SiteServerOptions {
+  std::string name = "site";        // for logs and the WELCOME
+  std::string host = "127.0.0.1";   // non-loopback needs `token` (auth.h)
+  std::uint16_t port = 0;           // 0 picks a free port
+  std::string token;
+  std::vector<SafetyLimits> limits;      // per actuator (one set: every actuator), SI
+  std::vector<double> start_positions;   // [m] per actuator before the first move; may be empty
+  double watchdog = 5.0;           // silence of the coordinator before the bench holds. [s]
+  double handshake_timeout = 2.0;  // [s]
+  double idle_timeout = 120.0;     // a silent connection is closed after this. [s]
+  std::string journal;             // the journal file; empty: in memory only (tests)
+  std::function<void(const std::string&)> log;
+};
+
+class SiteServer {
+ public:
+  // Binds and listens. Throws ConfigError (bind policy, limits, journal), TransferError (bind).
+  // `bench` must outlive the server.
+  SiteServer(TransferSystem& bench, SiteServerOptions options);
+  SiteServer(const SiteServer&) = delete;
+  SiteServer& operator=(const SiteServer&) = delete;
+
+  std::uint16_t port() const { return listener_.port(); }
+  std::string address() const { return listener_.address(); }
+  // Activates the bench and serves until Stop(); then holds and deactivates the bench.
+  void Serve();
+  void Stop() noexcept { stop_.store(true); }
+  long executed() const { return executed_.load(); }  // moves made (not replays)
+  long holds() const { return holds_.load(); }        // holds entered
+  long refusals() const { return refusals_.load(); }
+
+ private:
+  using Connection = ServerLoop::Connection;
+  using Clock = std::chrono::steady_clock;
+  struct Session {
+    std::string run;  // the coordinator's run tag (its HELLO's client_name)
+  };
+  bool HandleBytes(Connection& c, std::span<const std::uint8_t> bytes);
+  bool Handshake(Connection& c, const Frame& frame);
+  bool HandleFrame(Connection& c, const Frame& frame);
+  bool HandlePropose(Connection& c, const Frame& frame);
+  bool HandleExecute(Connection& c, const Frame& frame);
+  bool Commands(Connection& c, const Frame& frame);
+  void Closed(Connection& c, const ServerLoop::Closing& closing);
+  bool Send(Connection& c, const Frame& frame);
+  void SendError(Connection& c, std::uint32_t sequence, int code, const std::string& text);
+  void HoldBench(const std::string& why);
+  void Log(const std::string& line) const;
+
+  TransferSystem& bench_;
+  SiteServerOptions options_;
+  BenchUnits units_;
+  SafetyGate gate_;
+  SiteJournal journal_;
+  std::vector<GatedMove> moves_;
+  std::vector<double> commands_m_;
+  std::optional<Proposal> accepted_;
+  Listener listener_;
+  std::map<int, Session> sessions_;
+  AuthThrottle auth_;
+  ServerLoop loop_;
+  std::atomic<bool> stop_{false};
+  std::atomic<long> executed_{0}, holds_{0}, refusals_{0};
+  bool held_ = false;
+  Clock::time_point last_heard_ = Clock::now();
+};
+
+}  // namespace hybridtest::transfer::site
