@@ -1,12 +1,14 @@
 // `hybridtest site`: serves one physical site of a multi-site test (docs/multi-site.md) until
 // SIGINT or SIGTERM.
 //
-//   hybridtest site --config SITE.yaml [--listen HOST:PORT] [--token-file FILE]
+//   hybridtest site --config SITE.yaml [--listen HOST:PORT] [--token-file FILE] [--simcor]
 //
 // The site's transfer system, limits, watchdog and journal come from SITE.yaml
 // (io/site_config.h); the token from --token-file or HYBRIDTEST_BENCH_TOKEN, never from the
-// command line. Prints "hybridtest site: listening on HOST:PORT (...)" once it accepts
-// connections (port 0 picks a free port), then logs events to stderr.
+// command line. --simcor also accepts UI-SimCor's ASCII protocol on the same port (chosen per
+// connection by its first byte; no token, so loopback only). Prints "hybridtest site:
+// listening on HOST:PORT (...)" once it accepts connections (port 0 picks a free port), then
+// logs events to stderr.
 #include <fmt/core.h>
 
 #include <cstdio>
@@ -30,6 +32,7 @@ struct SiteArgs {
   std::string listen = "127.0.0.1:7480";
   std::string token_file;
   std::string token_on_command_line;
+  bool simcor = false;
 };
 
 void RunSite(const SiteArgs& args) {
@@ -44,6 +47,7 @@ void RunSite(const SiteArgs& args) {
   config.server.token = args.token_file.empty()
                             ? transfer::TokenFromEnvironment()
                             : transfer::ReadTokenFile(args.token_file, "--token-file");
+  config.server.simcor = args.simcor;
   config.server.log = [](const std::string& line) {
     std::fprintf(stderr, "hybridtest site: %s\n", line.c_str());
   };
@@ -70,6 +74,10 @@ void AddSiteCommand(CLI::App& root) {
   cmd->add_option("--token-file", args->token_file,
                   "file whose first line is the token the coordinator must present (default: "
                   "HYBRIDTEST_BENCH_TOKEN, if set)");
+  cmd->add_flag("--simcor", args->simcor,
+               "also accept UI-SimCor's ASCII protocol (propose / execute / get-control-point) "
+               "on the same port; it has no token, so the site must run without one, on "
+               "loopback (docs/multi-site.md)");
   cmd->add_option("--token", args->token_on_command_line,
                   "refused: visible in the process list; use --token-file")
       ->group("");

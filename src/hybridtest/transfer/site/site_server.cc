@@ -27,16 +27,17 @@ std::vector<SafetyLimits> SiteLimits(const SiteServerOptions& o, int actuators) 
 
 const std::string& CheckedHost(const SiteServerOptions& o) {
   CheckBindPolicy(o.host, o.port, o.token, "the site");
+  if (o.simcor && !o.token.empty()) {
+    throw ConfigError(fmt::format("site {}: --simcor with a token: UI-SimCor's protocol carries "
+                                  "no token; serve UI-SimCor on loopback without a token (and "
+                                  "reach it through an SSH tunnel)", o.name));
+  }
   if (!(o.watchdog > 0.0) || !(o.handshake_timeout > 0.0) || !(o.idle_timeout > 0.0)) {
     throw ConfigError(fmt::format("site {}: watchdog = {} s, handshake_timeout = {} s, "
                                   "idle_timeout = {} s: expected positive times", o.name,
                                   o.watchdog, o.handshake_timeout, o.idle_timeout));
   }
   return o.host;
-}
-
-std::size_t MeasureSiteFrame(const ServerLoop::Connection&, std::span<const std::uint8_t> b) {
-  return FrameSize(b);
 }
 
 constexpr int kProtocolError = static_cast<int>(ErrorCode::kProtocol);
@@ -59,7 +60,9 @@ SiteServer::SiteServer(TransferSystem& bench, SiteServerOptions options)
              .idle_timeout = options_.idle_timeout,
              .send_timeout = 2.0,
              .poll_ms = 20},
-            MeasureSiteFrame,
+            [this](const Connection& c, std::span<const std::uint8_t> bytes) {
+              return Measure(c, bytes);
+            },
             {.opened = [this](Connection& c) { return sessions_.try_emplace(c.id).second; },
              .frame = [this](Connection& c, std::span<const std::uint8_t> bytes) {
                return HandleBytes(c, bytes);
@@ -129,7 +132,17 @@ void SiteServer::SendError(Connection& c, std::uint32_t sequence, int code,
   Send(c, EncodeError(sequence, m));
 }
 
+std::size_t SiteServer::Measure(const Connection& c, std::span<const std::uint8_t> bytes) {
+  Session& s = sessions_[c.id];
+  if (!s.chosen) {  // the connection's first byte chooses its codec
+    s.chosen = true;
+    s.simcor = options_.simcor && simcor::BeginsLine(bytes[0]);
+  }
+  return s.simcor ? simcor::MeasureLine(bytes) : FrameSize(bytes);
+}
+
 bool SiteServer::HandleBytes(Connection& c, std::span<const std::uint8_t> bytes) {
+  if (sessions_[c.id].simcor) return HandleSimcorLine(c, bytes);
   Frame frame;
   try {
     frame = DecodeFrame(bytes);
@@ -187,43 +200,53 @@ bool SiteServer::Handshake(Connection& c, const Frame& frame) {
   }
 }
 
-bool SiteServer::Commands(Connection& c, const Frame& frame) {
-  if (loop_.Claim(c.id)) return true;
+std::optional<SiteServer::Verdict> SiteServer::Claim(Connection& c) {
+  if (loop_.Claim(c.id)) return std::nullopt;
   // The same run on a new connection: the coordinator reconnected; its old link is stale.
   const int old = loop_.commander();
   if (sessions_.count(old) != 0 && sessions_[old].run == sessions_[c.id].run) {
     loop_.Release(old);
     Log(fmt::format("run {} reconnected (connection {} replaces {})", sessions_[c.id].run, c.id,
                     old));
-    return loop_.Claim(c.id);
+    if (loop_.Claim(c.id)) return std::nullopt;
   }
-  SendError(c, frame.sequence, static_cast<int>(ErrorCode::kBusy),
-            fmt::format("another coordinator (run {}) commands this site",
-                        sessions_.count(old) != 0 ? sessions_[old].run : "?"));
-  return false;
+  Verdict busy;
+  busy.code = static_cast<int>(ErrorCode::kBusy);
+  busy.text = fmt::format("another coordinator (run {}) commands this site",
+                          sessions_.count(old) != 0 ? sessions_[old].run : "?");
+  return busy;
+}
+
+bool SiteServer::Answer(Connection& c, std::uint32_t sequence, const Verdict& v) {
+  switch (v.kind) {
+    case Verdict::Kind::kAccept:
+      return Send(c, EncodeAccept(sequence, v.id));
+    case Verdict::Kind::kRefuse:
+      return Send(c, EncodeRefuse(sequence, v.refusal));
+    case Verdict::Kind::kResult:
+      return Send(c, EncodeResult(sequence, v.result));
+    case Verdict::Kind::kError:
+      break;
+  }
+  SendError(c, sequence, v.code, v.text);
+  return v.keep;
 }
 
 bool SiteServer::HandleFrame(Connection& c, const Frame& frame) {
   switch (frame.type) {
     case MessageType::kPropose:
-      return HandlePropose(c, frame);
+      return Answer(c, frame.sequence, Propose(c, DecodePropose(frame)));
     case MessageType::kExecute:
-      return HandleExecute(c, frame);
-    case MessageType::kQuery: {
-      const TransactionId id = DecodeIdOnly(frame, MessageType::kQuery);
-      if (const auto* done = journal_.Find(id)) {
-        return Send(c, EncodeResult(frame.sequence, {id, true, *done}));
-      }
-      SendError(c, frame.sequence, kProtocolError,
-                fmt::format("QUERY of {}: this site has not executed it", id.Text()));
-      return true;
-    }
+      return Answer(c, frame.sequence,
+                    Execute(c, DecodeIdOnly(frame, MessageType::kExecute)));
+    case MessageType::kQuery:
+      return Answer(c, frame.sequence, Query(DecodeIdOnly(frame, MessageType::kQuery)));
     case MessageType::kHeartbeat:
       DecodeEmpty(frame, MessageType::kHeartbeat);
       return Send(c, EncodeEmpty(MessageType::kHeartbeatAck, frame.sequence));
     case MessageType::kHold:
       DecodeEmpty(frame, MessageType::kHold);
-      if (!Commands(c, frame)) return true;
+      if (const auto busy = Claim(c)) return Answer(c, frame.sequence, *busy);
       last_heard_ = Clock::now();
       HoldBench("the coordinator asked for HOLD");
       return Send(c, EncodeEmpty(MessageType::kHoldAck, frame.sequence));
@@ -241,20 +264,23 @@ bool SiteServer::HandleFrame(Connection& c, const Frame& frame) {
   }
 }
 
-bool SiteServer::HandlePropose(Connection& c, const Frame& frame) {
-  Proposal p = DecodePropose(frame);
+SiteServer::Verdict SiteServer::Propose(Connection& c, Proposal p) {
+  Verdict v;
+  v.id = p.id;
   if (static_cast<int>(p.targets.size()) != gate_.size()) {
-    SendError(c, frame.sequence, kProtocolError,
-              fmt::format("PROPOSE of {} with {} targets for a site of {} actuators", p.id.Text(),
-                          p.targets.size(), gate_.size()));
-    return false;
+    v.code = kProtocolError;
+    v.text = fmt::format("PROPOSE of {} with {} targets for a site of {} actuators", p.id.Text(),
+                         p.targets.size(), gate_.size());
+    v.keep = false;
+    return v;
   }
-  if (!Commands(c, frame)) return true;
+  if (auto busy = Claim(c)) return std::move(*busy);
   last_heard_ = Clock::now();
+  v.kind = Verdict::Kind::kAccept;
   // Executed already, or the proposal accepted already: the same answer again.
   if (journal_.Find(p.id) != nullptr ||
       (accepted_ && accepted_->id.SameKey(p.id) && accepted_->targets == p.targets)) {
-    return Send(c, EncodeAccept(frame.sequence, p.id));
+    return v;
   }
   commands_m_.resize(p.targets.size());
   for (std::size_t k = 0; k < p.targets.size(); ++k) {
@@ -266,28 +292,31 @@ bool SiteServer::HandlePropose(Connection& c, const Frame& frame) {
     ++refusals_;
     journal_.Proposed(p, "refuse:" + e.limit());
     Log(fmt::format("refused {}: {}", p.id.Text(), e.what()));
-    return Send(c, EncodeRefuse(frame.sequence,
-                                {p.id, e.limit(), e.value(), e.limit_value(), e.what()}));
+    v.kind = Verdict::Kind::kRefuse;
+    v.refusal = {p.id, e.limit(), e.value(), e.limit_value(), e.what()};
+    return v;
   }
   journal_.Proposed(p, "accept");
-  const TransactionId id = p.id;
   accepted_ = std::move(p);
-  return Send(c, EncodeAccept(frame.sequence, id));
+  return v;
 }
 
-bool SiteServer::HandleExecute(Connection& c, const Frame& frame) {
-  const TransactionId id = DecodeIdOnly(frame, MessageType::kExecute);
-  if (!Commands(c, frame)) return true;
+SiteServer::Verdict SiteServer::Execute(Connection& c, const TransactionId& id) {
+  if (auto busy = Claim(c)) return std::move(*busy);
   last_heard_ = Clock::now();
+  Verdict v;
+  v.id = id;
   if (const auto* done = journal_.Find(id)) {  // at most once: the record answers
     Log(fmt::format("repeated EXECUTE of {}: answered from the record", id.Text()));
-    return Send(c, EncodeResult(frame.sequence, {id, true, *done}));
+    v.kind = Verdict::Kind::kResult;
+    v.result = {id, true, *done};
+    return v;
   }
   if (!accepted_ || !accepted_->id.SameKey(id)) {
-    SendError(c, frame.sequence, kProtocolError,
-              fmt::format("EXECUTE of {}: no accepted proposal of this id at this site (PROPOSE "
-                          "it first); nothing moved", id.Text()));
-    return true;
+    v.code = kProtocolError;
+    v.text = fmt::format("EXECUTE of {}: no accepted proposal of this id at this site (PROPOSE "
+                         "it first); nothing moved", id.Text());
+    return v;
   }
   try {
     gate_.MoveBench(bench_, accepted_->targets, {id.step, id.stage}, moves_, [&] {
@@ -299,20 +328,37 @@ bool SiteServer::HandleExecute(Connection& c, const Frame& frame) {
   } catch (const SafetyStop& e) {
     HoldBench(fmt::format("safety stop in {} ({})", id.Text(), e.limit()));
     accepted_.reset();
-    SendError(c, frame.sequence, static_cast<int>(ErrorCode::kSafety), e.what());
-    return true;
+    v.code = static_cast<int>(ErrorCode::kSafety);
+    v.text = e.what();
+    return v;
   } catch (const Error& e) {
     HoldBench(fmt::format("bench failure in {}", id.Text()));
-    SendError(c, frame.sequence, static_cast<int>(ErrorCode::kBench),
-              fmt::format("the bench failed to execute {}: {}", id.Text(), e.what()));
-    return false;
+    v.code = static_cast<int>(ErrorCode::kBench);
+    v.text = fmt::format("the bench failed to execute {}: {}", id.Text(), e.what());
+    v.keep = false;
+    return v;
   }
   std::vector<Measurement> measured;
   for (const auto& m : moves_) measured.push_back(m.raw);
   journal_.Executed(id, measured);
   ++executed_;
   accepted_.reset();
-  return Send(c, EncodeResult(frame.sequence, {id, false, std::move(measured)}));
+  v.kind = Verdict::Kind::kResult;
+  v.result = {id, false, std::move(measured)};
+  return v;
+}
+
+SiteServer::Verdict SiteServer::Query(const TransactionId& id) const {
+  Verdict v;
+  v.id = id;
+  if (const auto* done = journal_.Find(id)) {
+    v.kind = Verdict::Kind::kResult;
+    v.result = {id, true, *done};
+    return v;
+  }
+  v.code = kProtocolError;
+  v.text = fmt::format("QUERY of {}: this site has not executed it", id.Text());
+  return v;
 }
 
 void SiteServer::Closed(Connection& c, const ServerLoop::Closing& closing) {

@@ -20,6 +20,11 @@
 //  - Token as the bench protocol's (auth.h: bind policy, constant-time compare, throttle).
 //    One coordinator commands; a new connection whose HELLO names the same run (client_name
 //    = the run tag) takes over from the old one (a reconnect after a lost link).
+//  - Two codecs on the one loop, chosen per connection by its first byte: the site protocol
+//    (a frame begins with 'H') and, with `simcor`, UI-SimCor's ASCII lines (a lowercase
+//    letter; simcor_codec.h). Both go through the same transaction rules (Propose, Execute,
+//    Query below). UI-SimCor's protocol has no token, so `simcor` needs a site without one
+//    (hence on loopback); a UI-SimCor reconnect from the same address takes over.
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -35,6 +40,7 @@
 #include "hybridtest/transfer/server_loop.h"
 #include "hybridtest/transfer/site/site_journal.h"
 #include "hybridtest/transfer/site/site_protocol.h"
+#include "hybridtest/transfer/site/simcor_codec.h"
 #include "hybridtest/transfer/socket.h"
 #include "hybridtest/transfer/transfer_system.h"
 
@@ -51,6 +57,7 @@ struct SiteServerOptions {
   double handshake_timeout = 2.0;  // [s]
   double idle_timeout = 120.0;     // a silent connection is closed after this. [s]
   std::string journal;             // the journal file; empty: in memory only (tests)
+  bool simcor = false;             // also accept UI-SimCor's ASCII protocol (no token)
   std::function<void(const std::string&)> log;
 };
 
@@ -75,14 +82,38 @@ class SiteServer {
   using Connection = ServerLoop::Connection;
   using Clock = std::chrono::steady_clock;
   struct Session {
-    std::string run;  // the coordinator's run tag (its HELLO's client_name)
+    std::string run;     // the coordinator's run tag (its HELLO's client_name)
+    bool chosen = false; // the codec was chosen (by the first byte)
+    bool simcor = false; // UI-SimCor's ASCII lines, else the site protocol's frames
+    std::vector<simcor::ControlPoint> points;  // UI-SimCor: the last accepted proposal's
+    std::vector<Measurement> last;             // UI-SimCor: the last RESULT answered
   };
+  // What the transaction rules answer, whatever the codec.
+  struct Verdict {
+    enum class Kind { kAccept, kRefuse, kResult, kError };
+    Kind kind = Kind::kError;
+    TransactionId id;
+    Refusal refusal;   // kRefuse
+    Result result;     // kResult
+    int code = 0;      // kError: an ErrorCode
+    std::string text;  // kError
+    bool keep = true;  // false: close the connection after the answer
+  };
+  std::size_t Measure(const Connection& c, std::span<const std::uint8_t> bytes);
   bool HandleBytes(Connection& c, std::span<const std::uint8_t> bytes);
   bool Handshake(Connection& c, const Frame& frame);
   bool HandleFrame(Connection& c, const Frame& frame);
-  bool HandlePropose(Connection& c, const Frame& frame);
-  bool HandleExecute(Connection& c, const Frame& frame);
-  bool Commands(Connection& c, const Frame& frame);
+  bool Answer(Connection& c, std::uint32_t sequence, const Verdict& v);
+  // The transaction rules (one for both codecs).
+  Verdict Propose(Connection& c, Proposal p);
+  Verdict Execute(Connection& c, const TransactionId& id);
+  Verdict Query(const TransactionId& id) const;
+  // An error verdict (kBusy) when another coordinator commands, after a reconnect takeover.
+  std::optional<Verdict> Claim(Connection& c);
+  // UI-SimCor (site_simcor.cc).
+  bool HandleSimcorLine(Connection& c, std::span<const std::uint8_t> line);
+  bool SimcorControlPoints(Connection& c, const simcor::Request& r);
+  bool SendLine(Connection& c, const std::string& line);
   void Closed(Connection& c, const ServerLoop::Closing& closing);
   bool Send(Connection& c, const Frame& frame);
   void SendError(Connection& c, std::uint32_t sequence, int code, const std::string& text);
