@@ -12,6 +12,7 @@
 #include "hybridtest/runner/real_time_setup.h"
 #include "hybridtest/runner/run_files.h"
 #include "hybridtest/runner/run_record.h"
+#include "hybridtest/runner/session_seam.h"
 #include "hybridtest/runner/slot_info.h"
 #include "hybridtest/runner/stop_request.h"
 #include "hybridtest/schemes/scheme_config.h"
@@ -37,79 +38,6 @@ nlohmann::json ToJson(const RunStatistics& s) {
           {"lab_time_s", s.lab_time},   {"slowdown", s.slowdown},
           {"wall_slowdown", s.wall_slowdown}};
 }
-
-// The seam: every substructure tried at the scheme's slot displacements, then the observers.
-// With two physical substructures or more, or any that is a site (docs/multi-site.md), a
-// trial has two phases: every substructure proposes its move (its safety gate checks it; a
-// site decides on it), every verdict is collected, and only then does any move (the sites'
-// in parallel): a refusal anywhere moves nothing, and Session::Fail holds every actuator.
-class Session::Seam final : public schemes::SubstructureSeam {
- public:
-  explicit Seam(Session& session) : session_(session) {
-    auto& subs = session_.subs_;
-    int physical = 0;
-    for (std::size_t s = 0; s < subs.size(); ++s) {
-      transfer::TransferSystem* t = subs[s]->transfer_system();
-      if (subs[s]->is_physical()) ++physical;
-      if (t == nullptr || !t->two_phase()) continue;
-      two_phase_ = true;
-      // A site that loses its link holds the other sites while it waits for it.
-      t->OnLinkLost([&subs, s] {
-        for (std::size_t o = 0; o < subs.size(); ++o) {
-          transfer::TransferSystem* other = subs[o]->transfer_system();
-          if (o != s && other != nullptr && other->two_phase()) other->Hold();
-        }
-      });
-    }
-    two_phase_ = two_phase_ || physical > 1;
-  }
-  void Trial(const schemes::TrialPoint& at, const Eigen::VectorXd& d,
-             Eigen::Ref<Eigen::VectorXd> r) override {
-    for (SessionObserver* o : session_.observers_) o->BeforeTrial(at);
-    auto& subs = session_.subs_;
-    auto& ds = session_.d_slots_;
-    auto& rs = session_.r_slots_;
-    const substructures::TrialContext context{at.step, at.stage, at.t};
-    // The substructure's m slots, in its order: gathered, tried, scattered.
-    const auto gather = [&](std::size_t s) {
-      const auto& slots = session_.slot_of_[s];
-      ds.resize(slots.size());
-      for (std::size_t k = 0; k < slots.size(); ++k) ds[k] = d(slots[k]);
-    };
-    if (two_phase_) {
-      for (std::size_t s = 0; s < subs.size(); ++s) {
-        gather(s);
-        subs[s]->Propose(ds, context);
-      }
-      for (auto& sub : subs) sub->AwaitVerdict();
-      for (auto& sub : subs) sub->Release();
-    }
-    for (std::size_t s = 0; s < subs.size(); ++s) {
-      const auto& slots = session_.slot_of_[s];
-      gather(s);
-      rs.resize(slots.size());
-      subs[s]->Trial(ds, rs, context);
-      for (std::size_t k = 0; k < slots.size(); ++k) r(slots[k]) = rs[k];
-    }
-    session_.PublishTrial(at, d, r);
-  }
-
- private:
-  Session& session_;
-  bool two_phase_ = false;
-};
-
-// A scheme's intermediate rows (no specimen sample belongs to them).
-class Session::Rows final : public schemes::RowSink {
- public:
-  explicit Rows(Session& session) : session_(session) {}
-  void Row(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& r) override {
-    session_.Publish(RowKind::kIntermediate, session_.stats_.steps, t, x, r);
-  }
-
- private:
-  Session& session_;
-};
 
 Session::Session(io::RunSpec spec, SessionOptions options)
     : Session(std::move(spec), OpenedRun{}, std::move(options)) {}
