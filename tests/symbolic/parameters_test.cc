@@ -7,6 +7,7 @@
 #include <random>
 #include <set>
 
+#include "hybridtest/common/error.h"
 #include "hybridtest/modelfile/model_file.h"
 #include "hybridtest/models/catalogue.h"
 #include "hybridtest/symbolic/parameters.h"
@@ -131,6 +132,52 @@ TEST(SymbolizeParameters, ExampleModelFilesKeepTheirValues) {
     EXPECT_GT(report.symbolic_terms, 0);
     ExpectSameValues(eq, numeric, file.parameters);
   }
+}
+
+// Issue 47: one rebuild per batch of up to ten parameters (each scaled by its own prime), not
+// one per parameter: the wind turbine's 17 parameters take two batches and the check (the code
+// before took 17 rebuilds and the check), and its equations still carry the parameters.
+TEST(SymbolizeParameters, OneRebuildPerBatchOfTenParameters) {
+  const auto file = modelfile::LoadModelFile(
+      fmt::format("{}/examples/models/wind_turbine.yaml", HYBRIDTEST_SOURCE_DIR));
+  int builds = 0;
+  const auto build = [&file, &builds](const models::ParameterSet& set) {
+    ++builds;
+    return modelfile::BuildModelFile(file, set).model;
+  };
+  ASSERT_EQ(file.parameters.all().size(), 17u);
+  const Equations numeric = DeriveEquations(build(file.parameters));
+  builds = 0;
+  Equations eq = numeric;
+  const SymbolizeReport report = SymbolizeParameters(eq, file.parameters, build);
+  EXPECT_EQ(builds, 3);
+  EXPECT_GT(report.symbolic_terms, 20);
+  std::set<std::string> used;
+  for (const auto& row : eq.M) {
+    for (const GiNaC::ex& e : row) used.merge(Names(e));
+  }
+  for (const char* name : {"m_b", "L_b", "h_n", "H_t"}) EXPECT_TRUE(used.count(name) > 0) << name;
+  ExpectSameValues(eq, numeric, file.parameters);
+}
+
+// A batch whose scaled values the model refuses is rebuilt one parameter at a time: only the
+// refused parameter (here l_b) stays a number.
+TEST(SymbolizeParameters, ARefusedBatchFallsBackToOneParameterAtATime) {
+  const models::ParameterSet p = models::DefaultParameters("rotor", 3);
+  int builds = 0;
+  const auto build = [&p, &builds](const models::ParameterSet& set) {
+    ++builds;
+    if (set.Get("l_b") != p.Get("l_b")) throw ModelError("test: l_b is fixed");
+    return models::BuildModel("rotor", 3, set).model;
+  };
+  const Equations numeric = DeriveEquations(build(p));
+  builds = 0;
+  Equations eq = numeric;
+  SymbolizeParameters(eq, p, build);
+  EXPECT_EQ(Names(eq.M[0][0]), (std::set<std::string>{"m_b"})) << eq.M[0][0];
+  EXPECT_EQ(Names(eq.M[0][3]), (std::set<std::string>{"m_b"})) << eq.M[0][3];  // m_b/2
+  EXPECT_GT(builds, 3);  // the batch, then one parameter at a time, then the check
+  ExpectSameValues(eq, numeric, p);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // Parameters as symbols, recovered by rebuilding the model. See parameters.h.
 #include "hybridtest/symbolic/parameters.h"
 
+#include <array>
 #include <cmath>
 #include <map>
 #include <set>
@@ -119,9 +120,60 @@ struct Candidate {
   std::string name;
   double value = 0.0;
   GiNaC::ex symbol;
-  std::vector<TermMap> scaled;  // the terms with this parameter × kScale (empty: unusable)
-  double check_factor = 1.0;    // its factor in the checking build
+  std::vector<std::string> group;  // the parameter names this symbol stands for
+  long factor = 1;                 // its prime in the scaled build of its batch
+  std::size_t batch = 0;           // its scaled build (index into the batches' term maps)
+  double check_factor = 1.0;       // its factor in the checking build
 };
+
+// How often `prime` divides *n (dividing it out).
+int Valuation(long* n, long prime) {
+  int v = 0;
+  while (*n % prime == 0) *n /= prime, ++v;
+  return v;
+}
+
+// Whether num/den = Π p_i^(2 e_i) over the batch's primes; e gets the e_i.
+bool Factor(long num, long den, const std::vector<Candidate*>& batch, std::vector<double>* e) {
+  e->clear();
+  for (const Candidate* c : batch) {
+    const int twice = Valuation(&num, c->factor) - Valuation(&den, c->factor);
+    if (std::abs(twice) > 12) return false;
+    e->push_back(0.5 * twice);
+  }
+  return num == 1 && den == 1;
+}
+
+// The exponents e_i of a batch's parameters in a term whose coefficient the batch's build
+// (parameter i × its prime p_i) scaled by `ratio` = Π p_i^e_i, e_i whole or half: ratio² is
+// a fraction of products of the primes, found among the convergents of its continued fraction
+// within 1e-13 (the coefficients are the model's doubles, exact to rounding). False if the
+// ratio is no such product (a coefficient that is a sum of parameter products).
+bool BatchExponents(double ratio, const std::vector<Candidate*>& batch, std::vector<double>* out) {
+  if (!(ratio > 0.0)) return false;
+  constexpr double kLimit = 1e12;
+  const double x = ratio * ratio;
+  double h0 = 0.0, h1 = 1.0, k0 = 1.0, k1 = 0.0, y = x;
+  std::vector<double> e;
+  for (int step = 0; step < 64; ++step) {
+    const double a = std::floor(y);
+    const double h2 = a * h1 + h0, k2 = a * k1 + k0;
+    if (h2 > kLimit || k2 > kLimit) return false;
+    h0 = h1, h1 = h2, k0 = k1, k1 = k2;
+    if (std::abs(h1 / k1 - x) <= 1e-13 * x &&
+        Factor(static_cast<long>(h1), static_cast<long>(k1), batch, &e)) {
+      out->insert(out->end(), e.begin(), e.end());
+      return true;
+    }
+    const double rest = y - a;
+    if (rest <= 0.0) return false;
+    y = 1.0 / rest;
+  }
+  return false;
+}
+
+// Distinct primes, one per parameter of a batch: one derivation scales all of them.
+constexpr std::array<long, 10> kPrimes = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29};
 
 }  // namespace
 
@@ -160,21 +212,47 @@ SymbolizeReport SymbolizeParameters(
       return false;
     }
   };
-  std::vector<Candidate> candidates;
-  models::ParameterSet checking = parameters;
+  std::vector<Candidate> all;
   for (const auto& p : parameters.all()) {
     if (p.value == 0.0 || !std::isfinite(p.value) || reserved.count(p.name) > 0) continue;
     if (FollowsShared(parameters, p.name)) continue;  // scaled with its shared value
-    const std::vector<std::string> group = Group(parameters, p.name);
-    Candidate c{p.name, p.value, GiNaC::realsymbol(p.name), {}, 1.0};
-    models::ParameterSet scaled = parameters;
-    for (const std::string& name : group) scaled.Set(name, p.value * kScale, "equations");
-    if (!derive(scaled, &c.scaled)) continue;
-    c.check_factor = 1.0 + 0.1 * static_cast<double>(candidates.size() % 7 + 1) +
-                     0.0131 * static_cast<double>(candidates.size());
-    for (const std::string& name : group) checking.Set(name, p.value * c.check_factor, "equations");
-    candidates.push_back(std::move(c));
+    all.push_back({p.name, p.value, GiNaC::realsymbol(p.name), Group(parameters, p.name)});
   }
+  // One derivation per batch of up to kPrimes.size() parameters, each scaled by its prime; a
+  // batch the model refuses is derived again one parameter at a time, and a parameter whose
+  // scaled value the model refuses stays a number.
+  std::vector<std::vector<TermMap>> scaled;  // per batch
+  std::vector<Candidate> candidates;
+  const auto derive_batch = [&](std::vector<Candidate> batch) {
+    models::ParameterSet set = parameters;
+    for (std::size_t i = 0; i < batch.size(); ++i) {
+      batch[i].factor = kPrimes[i];
+      batch[i].batch = scaled.size();
+      for (const std::string& name : batch[i].group) {
+        set.Set(name, batch[i].value * static_cast<double>(kPrimes[i]), "equations");
+      }
+    }
+    std::vector<TermMap> maps;
+    if (!derive(set, &maps)) return false;
+    scaled.push_back(std::move(maps));
+    candidates.insert(candidates.end(), batch.begin(), batch.end());
+    return true;
+  };
+  for (std::size_t first = 0; first < all.size(); first += kPrimes.size()) {
+    const std::size_t last = std::min(all.size(), first + kPrimes.size());
+    std::vector<Candidate> batch(all.begin() + static_cast<std::ptrdiff_t>(first),
+                                 all.begin() + static_cast<std::ptrdiff_t>(last));
+    if (derive_batch(batch) || batch.size() == 1) continue;
+    for (const Candidate& c : batch) derive_batch({c});
+  }
+  models::ParameterSet checking = parameters;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    Candidate& c = candidates[i];
+    c.check_factor = 1.0 + 0.1 * static_cast<double>(i % 7 + 1) + 0.0131 * static_cast<double>(i);
+    for (const std::string& name : c.group) checking.Set(name, c.value * c.check_factor, "equations");
+  }
+  std::vector<std::vector<Candidate*>> batches(scaled.size());
+  for (Candidate& c : candidates) batches[c.batch].push_back(&c);
   std::vector<TermMap> check;
   if (candidates.empty() || !derive(checking, &check)) return report;
 
@@ -189,20 +267,14 @@ SymbolizeReport SymbolizeParameters(
         continue;
       }
       bool monomial = true, depends = false;
-      std::vector<double> exponent(candidates.size(), 0.0);
-      for (std::size_t i = 0; i < candidates.size(); ++i) {
-        const auto it = candidates[i].scaled[o].find(rest);
-        const double ratio = it == candidates[i].scaled[o].end() ? 0.0 : it->second / c0;
+      std::vector<double> exponent;  // in the order of `candidates` (batch by batch)
+      for (std::size_t b = 0; b < batches.size(); ++b) {
+        const auto it = scaled[b][o].find(rest);
+        const double ratio = it == scaled[b][o].end() ? 0.0 : it->second / c0;
         if (ratio != 1.0) depends = true;
-        if (!(ratio > 0.0)) {
-          monomial = false;
-          continue;
-        }
-        const double e = std::log(ratio) / std::log(kScale);
-        const double half = std::round(2.0 * e) / 2.0;
-        const bool whole = half == std::round(half);
-        if (std::abs(e - half) > 1e-7 || (!whole && candidates[i].value < 0.0)) monomial = false;
-        exponent[i] = half;
+        const std::size_t before = exponent.size();
+        if (!BatchExponents(ratio, batches[b], &exponent)) monomial = false;
+        exponent.resize(before + batches[b].size());
       }
       if (!depends) {
         sum += term;
@@ -212,6 +284,7 @@ SymbolizeReport SymbolizeParameters(
       GiNaC::ex product = 1;
       for (std::size_t i = 0; monomial && i < candidates.size(); ++i) {
         if (exponent[i] == 0.0) continue;
+        if (exponent[i] != std::round(exponent[i]) && candidates[i].value < 0.0) monomial = false;
         k /= std::pow(candidates[i].value, exponent[i]);
         expected *= std::pow(candidates[i].check_factor, exponent[i]);
         product *= GiNaC::pow(candidates[i].symbol, GiNaC::numeric(static_cast<long>(2 * exponent[i]), 2));

@@ -5,16 +5,22 @@
 // The Model holds doubles (masses, inertias, the numbers its load lambdas captured), computed
 // from the parameters when it is built, so the engine on Symbolic yields numbers where the
 // model has parameters. SymbolizeParameters recovers them by rebuilding the model: each term
-// of each simplified expression is c·(a product of q, u, t, r, z and functions of them); for
-// every parameter p_i ≠ 0 the model is rebuilt with p_i scaled by kScale, and a term whose
-// coefficient scales by kScale^e_i (e_i a whole or half number, the term otherwise unchanged)
-// is c = k · Π p_i^e_i. A last rebuild with every parameter scaled at once checks each such
-// monomial; k, if a small rational (denominator ≤ 1000, to 1e-12), is printed exactly.
+// of each simplified expression is c·(a product of q, u, t, r, z and functions of them). The
+// parameters p_i ≠ 0 are taken in batches of up to ten; one rebuild per batch scales every
+// parameter of it by its own prime (2, 3, 5, …, 29), so a term whose coefficient is
+// c = k · Π p_i^e_i (e_i whole or half) scales by Π prime_i^e_i, a fraction whose factors give
+// every e_i of the batch at once (its square found by continued fractions to 1e-13, the
+// coefficients being exact to the model's rounding). A batch the model refuses (a scaled
+// value out of its range) is rebuilt one parameter at a time; a parameter whose scaled value
+// it refuses stays a number. A last rebuild with every parameter scaled by another factor at
+// once checks each monomial (to 1e-9); k, if a small rational (denominator ≤ 1000, to 1e-12),
+// is printed exactly.
 //
 // A coefficient that is a sum of parameter products (the rotor's hub inertia I_g + 3 m_b l_b²
 // becomes one number when the expression is expanded) or a parameter inside a function (an
 // angle offset in cos(q + φ)) stays a number; the `parameters` list and dict give the values.
-// Costs one derivation per non-zero parameter, plus two.
+// Costs one derivation per batch of ten parameters, plus one (issue 47; it was one per
+// parameter, plus two).
 #include <functional>
 #include <string>
 #include <vector>
@@ -24,8 +30,6 @@
 #include "hybridtest/symbolic/equations.h"
 
 namespace hybridtest::symbolic {
-
-inline constexpr double kScale = 1.5;
 
 struct SymbolizeReport {
   int symbolic_terms = 0;  // terms whose coefficient became a product of parameters

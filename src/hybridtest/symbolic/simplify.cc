@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace hybridtest::symbolic {
 
@@ -49,34 +50,64 @@ double Coefficient(const GiNaC::ex& term) {
   return 1.0;
 }
 
-// Drops rounding terms from a sum (recursively inside function arguments).
-struct Chop : GiNaC::map_function {
-  GiNaC::ex operator()(const GiNaC::ex& e) override {
-    if (!GiNaC::is_a<GiNaC::add>(e)) return e.map(*this);
-    double largest = 0.0;
-    for (std::size_t i = 0; i < e.nops(); ++i) largest = std::max(largest, Coefficient(e.op(i)));
-    GiNaC::ex sum = 0;
-    for (std::size_t i = 0; i < e.nops(); ++i) {
-      if (Coefficient(e.op(i)) >= kChop * largest) sum += e.op(i).map(*this);
-    }
-    return sum;
+// Whether e holds a number that is not exact (a float). The engine's numbers are exact
+// rationals (multibody/symbolic.h), so usually none: Exactify's walk, which rebuilds every
+// node, is then skipped.
+bool HasFloat(const GiNaC::ex& e) {
+  if (GiNaC::is_a<GiNaC::numeric>(e)) return !GiNaC::ex_to<GiNaC::numeric>(e).is_rational();
+  for (std::size_t i = 0; i < e.nops(); ++i) {
+    if (HasFloat(e.op(i))) return true;
   }
-};
+  return false;
+}
+
+GiNaC::ex ExactIfFloat(const GiNaC::ex& e, double tolerance) {
+  if (!HasFloat(e)) return e;
+  Exactify exact(tolerance);
+  return exact(e);
+}
+
+// Drops rounding terms from a sum (recursively inside function arguments). Returns e itself
+// (not a rebuilt copy, so that GiNaC keeps knowing it is expanded) where nothing is dropped.
+GiNaC::ex Chop(const GiNaC::ex& e) {  // NOLINT(misc-no-recursion)
+  if (e.nops() == 0) return e;
+  bool changed = false;
+  std::vector<GiNaC::ex> ops;
+  ops.reserve(e.nops());
+  double largest = 0.0;
+  const bool sum = GiNaC::is_a<GiNaC::add>(e);
+  for (std::size_t i = 0; sum && i < e.nops(); ++i) largest = std::max(largest, Coefficient(e.op(i)));
+  for (std::size_t i = 0; i < e.nops(); ++i) {
+    if (sum && Coefficient(e.op(i)) < kChop * largest) {
+      changed = true;
+      continue;
+    }
+    ops.push_back(Chop(e.op(i)));
+    changed = changed || !GiNaC::are_ex_trivially_equal(ops.back(), e.op(i));
+  }
+  if (!changed) return e;
+  if (sum) {
+    GiNaC::ex s = 0;
+    for (const GiNaC::ex& op : ops) s += op;
+    return s;
+  }
+  struct Children : GiNaC::map_function {
+    GiNaC::ex operator()(const GiNaC::ex& x) override { return Chop(x); }
+  } children;
+  return e.map(children);
+}
 
 }  // namespace
 
 GiNaC::ex ExactDyadic(const GiNaC::numeric& n) { return ExactIfDyadic(n, 0.0); }
 
 GiNaC::ex Simplify(const GiNaC::ex& e) {
-  Exactify exact(0.0);
-  GiNaC::ex s = exact(e).expand();
+  GiNaC::ex s = ExactIfFloat(e, 0.0).expand();
   const GiNaC::ex x = GiNaC::wild(0);
   s = s.subs(GiNaC::pow(GiNaC::sin(x), 2) == 1 - GiNaC::pow(GiNaC::cos(x), 2),
              GiNaC::subs_options::algebraic)
           .expand();
-  Chop chop;
-  Exactify snap(kChop);
-  return snap(chop(s)).expand();
+  return ExactIfFloat(Chop(s), kChop).expand();
 }
 
 }  // namespace hybridtest::symbolic
