@@ -61,6 +61,10 @@ class Snapshot final : public runner::SessionObserver {
     const transfer::TransferSystem* transfer = session_.substructures()[0]->transfer_system();
     delay = transfer != nullptr ? transfer->compensated_delay()
                                 : std::numeric_limits<double>::quiet_NaN();
+    delays.clear();
+    for (int k = 0; transfer != nullptr && k < transfer->num_actuators(); ++k) {
+      delays.push_back(transfer->actuator_compensated_delay(k));
+    }
     for (int i = 0; i < 2000 && state_.frames() <= at_; ++i) {
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
@@ -70,6 +74,7 @@ class Snapshot final : public runner::SessionObserver {
 
   std::vector<double> command, position;
   double delay = 0.0;
+  std::vector<double> delays;  // each actuator's compensator's estimate [s]
   nlohmann::json json;
 
  private:
@@ -78,21 +83,36 @@ class Snapshot final : public runner::SessionObserver {
   long at_;
 };
 
+// A paced run of `config` on the virtual clock without files, watched by the monitor, with
+// /api/state taken at step `at`.
+io::RunSpec VirtualSpec(const fs::path& config) {
+  io::RunSpec spec = io::LoadRunSpec(config.string());
+  spec.output.files = false;
+  spec.real_time.clock = "virtual";
+  return spec;
+}
+struct MonitoredRun {
+  MonitoredRun(const fs::path& config, long at)
+      : session(VirtualSpec(config)), observer(state), snapshot(state, session, at) {
+    session.AddObserver(observer);
+    session.AddObserver(snapshot);
+  }
+  runner::Session session;
+  monitor::MonitorState state{100000};
+  monitor::MonitorObserver observer;
+  Snapshot snapshot;
+};
+
 TEST(MonitorRealTimePanel, ThePanelIsThePacedLoopsLiveAndTheRecordAtTheEnd) {
   const fs::path dir = ResumeTestDir("monitor_real_time_panel");
   const fs::path config = WriteExampleConfig(
       dir, "real-time", "storey-ats.yaml",
       {{"duration: 10.0", "duration: 1.0"}, {"lock_memory: true", "lock_memory: false"}},
       {"storey.model.yaml"});
-  io::RunSpec spec = io::LoadRunSpec(config.string());
-  spec.output.files = false;
-  spec.real_time.clock = "virtual";
-  runner::Session session(std::move(spec));
-  monitor::MonitorState state(100000);
-  monitor::MonitorObserver observer(state);
-  session.AddObserver(observer);
-  Snapshot snapshot(state, session, 600);
-  session.AddObserver(snapshot);
+  MonitoredRun run(config, 600);
+  runner::Session& session = run.session;
+  monitor::MonitorState& state = run.state;
+  Snapshot& snapshot = run.snapshot;
   ASSERT_NE(session.paced_loop(), nullptr);
   ASSERT_EQ(session.Run().status, runner::SessionStatus::kFinished);
 
@@ -144,6 +164,35 @@ TEST(MonitorRealTimePanel, ThePanelIsThePacedLoopsLiveAndTheRecordAtTheEnd) {
   EXPECT_DOUBLE_EQ(end["J1_ms"].get<double>(), record["J1_ms"].get<double>());
   EXPECT_DOUBLE_EQ(end["J3"].get<double>(), record["J3"].get<double>());
   EXPECT_EQ(end["compensation"]["r1"]["method"], "ats");
+  fs::remove_all(dir);
+}
+
+// Two actuators, each with its own ATS compensator (issue 46): /api/state's compensation entry
+// carries each actuator's own estimate, named as its journal channels, and the substructure's
+// delay_s is the smaller. (Before, it carried only the substructure's smaller estimate.)
+TEST(MonitorRealTimePanel, CompensationIsLivePerActuator) {
+  const fs::path dir = ResumeTestDir("monitor_real_time_panel_two");
+  const fs::path config = WriteExampleConfig(
+      dir, "06_blade_two_actuators", "real-time.yaml",
+      {{"duration: 10.0", "duration: 1.5"},
+       {"delay: 0\\.0 +# \\[s\\] pure delay", "delay: [0.0, 0.001]  # [s] pure delay"}},
+      {"blade_tip.yaml"});
+  MonitoredRun run(config, 1400);
+  ASSERT_EQ(run.session.Run().status, runner::SessionStatus::kFinished);
+  Snapshot& snapshot = run.snapshot;
+
+  nlohmann::json c = snapshot.json["realtime"]["compensation"]["blade1"];
+  ASSERT_EQ(snapshot.delays.size(), 2u);
+  ASSERT_TRUE(c["actuators"].is_array()) << c.dump();
+  ASSERT_EQ(c["actuators"].size(), 2u) << c.dump();
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(c["actuators"][k]["name"], "blade1_a" + std::to_string(k + 1));
+    ASSERT_TRUE(c["actuators"][k]["delay_s"].is_number()) << c.dump();
+    EXPECT_DOUBLE_EQ(c["actuators"][k]["delay_s"].get<double>(), snapshot.delays[k]);
+  }
+  // Each its own: the actuator with 1 ms more plant delay has another estimate.
+  EXPECT_NE(snapshot.delays[0], snapshot.delays[1]);
+  EXPECT_DOUBLE_EQ(c["delay_s"].get<double>(), std::min(snapshot.delays[0], snapshot.delays[1]));
   fs::remove_all(dir);
 }
 

@@ -132,9 +132,15 @@ TEST(MonitorTwoActuatorsWallClock, TheStateCarriesEachActuatorsCriteriaAndHoldAn
       EXPECT_TRUE(a[criterion].is_number()) << name << " " << criterion << ": " << a.dump();
     }
   }
-  // The compensator's current estimate (the monitor shows the substructure's: the smaller of
-  // its actuators' estimates).
+  // The compensators' current estimates: each actuator's own, and the substructure's (the
+  // smaller of them).
   EXPECT_TRUE(rt["compensation"]["frame"]["delay_s"].is_number()) << rt["compensation"].dump();
+  ASSERT_EQ(rt["compensation"]["frame"]["actuators"].size(), 2u) << rt["compensation"].dump();
+  for (int k = 0; k < 2; ++k) {
+    const nlohmann::json& a = rt["compensation"]["frame"]["actuators"][std::size_t(k)];
+    EXPECT_EQ(a["name"], "frame_a" + std::to_string(k + 1));
+    EXPECT_TRUE(a["delay_s"].is_number()) << a.dump();
+  }
   RecordProperty("misses_at_snapshot", std::to_string(rt["misses"].get<long>()));
 
   // Hold: asked at step kHoldAt, applied before the next step; nothing committed while held.

@@ -133,7 +133,7 @@ TEST(RodSetup, SmallDisplacementsGiveTheLinearSetupOfItsLinearisation) {
     for (int i = 0; i < 2; ++i) t0(k, i) = n.dot(g.directions.col(i));
   }
   EXPECT_LT((setup.linearisation() - t0).cwiseAbs().maxCoeff(), 1e-15);
-  LinearSetup lin_data{g.p0, t0, g.load_cell_zero};
+  LinearSetup lin_data{g.p0, t0, g.load_cell_zero, {}};
   const LinearActuatorSetup linear(lin_data);
   // The difference of the commands is second order: it falls 4 times when d halves.
   const Eigen::Vector2d dir(0.7, -0.4);

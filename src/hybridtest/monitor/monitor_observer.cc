@@ -74,7 +74,12 @@ void DescribeRun(const runner::StartEvent& run, RunIdentity& identity, FrameLayo
   if (spec.real_time.enabled) {
     identity.real_time = {true, "", spec.scheme.dt, spec.real_time.hold_after_misses, {}, {}};
     for (int b : CompensatedBlocks(run)) {
-      identity.real_time.compensators.push_back(map.substructures[std::size_t(b)].name);
+      const runner::SlotMap::Block& block = map.substructures[std::size_t(b)];
+      monitor::CompensatedBlock entry{block.name, {}};
+      for (int k = 0; k < block.num_actuators; ++k) {
+        entry.actuators.push_back(actuators[std::size_t(block.first_actuator + k)].name);
+      }
+      identity.real_time.compensators.push_back(std::move(entry));
     }
     for (const ActuatorInfo& a : actuators) identity.real_time.actuators.push_back(a.name);
   }
@@ -165,10 +170,12 @@ void MonitorObserver::FillRealTime(const runner::RealTimeSample* sample, double*
   c[kRtCompute] = s.compute;
   c[kRtJ2] = s.J2;
   c[kRtJ3] = s.J3;
-  for (std::size_t k = 0; k < compensators_.size() && kRtColumns + k < layout_.real_time; ++k) {
-    c[kRtColumns + k] = compensators_[k]->compensated_delay();
+  std::size_t first = kRtColumns;  // one delay per compensated actuator
+  for (const transfer::TransferSystem* t : compensators_) {
+    for (int k = 0; k < t->num_actuators() && first < layout_.real_time; ++k) {
+      c[first++] = t->actuator_compensated_delay(k);
+    }
   }
-  const std::size_t first = kRtColumns + compensators_.size();
   for (std::size_t k = 0; k < s.J1_ms.size() && first + 3 * k + 2 < layout_.real_time; ++k) {
     c[first + 3 * k] = s.J1_ms[k];
     c[first + 3 * k + 1] = s.actuator_J2[k];

@@ -65,7 +65,8 @@ class MonitorObserver final : public runner::SessionObserver {
   MonitorState& state_;
   MonitorObserverOptions options_;
   std::string csv_;  // the run's journal ("" without files), for the resume command
-  std::vector<const transfer::TransferSystem*> compensators_;  // their delay columns
+  // The compensating transfer systems, each with its delay columns (one per actuator).
+  std::vector<const transfer::TransferSystem*> compensators_;
   FrameLayout layout_;
   std::unique_ptr<runner::SpscRing<std::vector<double>>> ring_;  // frames (layout_.width())
   std::atomic<long> dropped_{0};  // frames a full ring dropped (the stepping thread counts)

@@ -36,6 +36,28 @@ double DurationHistogram::Percentile(double p) const {
   return max_;
 }
 
+std::size_t RealTimePanel::compensated_actuators() const {
+  std::size_t n = 0;
+  for (const CompensatedBlock& b : setup_.compensators) n += b.actuators.size();
+  return n;
+}
+
+nlohmann::json RealTimePanel::LiveCompensation() const {
+  nlohmann::json compensation = nlohmann::json::object();
+  std::size_t c = kRtColumns;
+  for (const CompensatedBlock& b : setup_.compensators) {
+    nlohmann::json actuators = nlohmann::json::array();
+    double smallest = std::nan("");
+    for (const std::string& name : b.actuators) {
+      const double delay = last_[c++];
+      if (std::isfinite(delay) && !(smallest <= delay)) smallest = delay;
+      actuators.push_back({{"name", name}, {"delay_s", Number(delay)}});
+    }
+    compensation[b.name] = {{"delay_s", Number(smallest)}, {"actuators", std::move(actuators)}};
+  }
+  return compensation;
+}
+
 void RealTimePanel::Configure(RealTimeSetup setup) {
   setup_ = std::move(setup);
   last_.assign(columns(), std::nan(""));
@@ -78,12 +100,8 @@ nlohmann::json RealTimePanel::Json() const {
     return nlohmann::json{{"p50", h.Percentile(0.5)}, {"p99", h.Percentile(0.99)},
                           {"max", h.max()}, {"samples", h.count()}};
   };
-  nlohmann::json compensation = nlohmann::json::object();
-  for (std::size_t k = 0; k < setup_.compensators.size(); ++k) {
-    compensation[setup_.compensators[k]] = {{"delay_s", Number(last_[kRtColumns + k])}};
-  }
   nlohmann::json actuators = nlohmann::json::array();
-  const std::size_t first = kRtColumns + setup_.compensators.size();
+  const std::size_t first = kRtColumns + compensated_actuators();
   for (std::size_t k = 0; k < setup_.actuators.size(); ++k) {
     const std::size_t c = first + 3 * k;
     actuators.push_back({{"name", setup_.actuators[k]}, {"J1_ms", Number(last_[c])},
@@ -106,7 +124,7 @@ nlohmann::json RealTimePanel::Json() const {
           {"J1_ms", setup_.actuators.empty() ? nlohmann::json() : Number(last_[first])},
           {"J2", Number(last_[kRtJ2])},
           {"J3", Number(last_[kRtJ3])},
-          {"compensation", compensation},
+          {"compensation", LiveCompensation()},
           {"actuators", actuators}};
 }
 

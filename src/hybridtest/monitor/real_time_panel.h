@@ -5,8 +5,8 @@
 //
 // Live, per frame (one frame per tick of a paced run): ticks, missed deadlines (total, in a row
 // now, most in a row), overruns, the tick's lateness [s], the previous tick's compute time [s],
-// J2 and J3 [%] of the first physical actuator (runner/tracking_criteria.h), each
-// compensator's current delay estimate [s], then J1 (a running estimate over the last second)
+// J2 and J3 [%] of the first physical actuator (runner/tracking_criteria.h), the current
+// delay estimate [s] of each compensated actuator, then J1 (a running estimate over the last second)
 // [ms], J2 and J3 [%] of every physical actuator (runner/tracking_set.h). Lateness and compute percentiles are over every
 // tick received, from a histogram of logarithmic bins 5 % wide (bounded memory on a run of
 // any length; a percentile is its bin's upper edge, the maximum is exact). Frames the ring
@@ -16,6 +16,8 @@
 // (ticks, misses, overruns, max_consecutive_misses, hold_after_misses, late_s, compute_s,
 // J1_ms, J2, J3, compensation, actuators: [{name, J1_ms, J2, J3}]), plus available, source ("live" or "recorded") and
 // misses_in_a_row (live only) and paced (a real-time run, even before anything is known).
+// Live, compensation is {substructure: {delay_s: the smallest of its actuators' estimates,
+// actuators: [{name, delay_s}]}}, one entry per actuator as in the sidecar's record.
 #include <nlohmann/json.hpp>
 
 #include <array>
@@ -27,11 +29,18 @@
 namespace hybridtest::monitor {
 
 // Per-tick columns of a real-time frame, in this order, then one compensated delay [s] per
-// compensator (RealTimeSetup::compensators), then J1 [ms], J2 and J3 [%] per actuator
-// (RealTimeSetup::actuators).
+// compensated actuator (RealTimeSetup::compensators, in order), then J1 [ms], J2 and J3 [%]
+// per actuator (RealTimeSetup::actuators).
 enum RealTimeColumn : int {
   kRtTicks, kRtMisses, kRtMissesInARow, kRtMaxInARow, kRtOverruns, kRtLate, kRtCompute,
   kRtJ2, kRtJ3, kRtColumns
+};
+
+// A physical substructure whose transfer system compensates delay, and its actuators (journal
+// names), one delay estimate each.
+struct CompensatedBlock {
+  std::string name;
+  std::vector<std::string> actuators;
 };
 
 // What is known of a paced run before it starts.
@@ -40,7 +49,7 @@ struct RealTimeSetup {
   std::string clock;                     // "wall" or "virtual" ("" if not known)
   double tick = 0.0;                     // [s]
   long hold_after_misses = 0;            // 0: never holds on misses
-  std::vector<std::string> compensators;  // the physical substructures with a delay column
+  std::vector<CompensatedBlock> compensators;  // one delay column per actuator of each
   std::vector<std::string> actuators;     // every physical actuator (journal names), J1–J3 each
   bool live = true;  // the frames carry the per-tick columns (false: a followed journal, whose
                      // statistics are its sidecar's once it has ended)
@@ -67,7 +76,7 @@ class RealTimePanel {
   bool enabled() const { return setup_.enabled; }
   std::size_t columns() const {
     return enabled() && setup_.live
-               ? kRtColumns + setup_.compensators.size() + 3 * setup_.actuators.size()
+               ? kRtColumns + compensated_actuators() + 3 * setup_.actuators.size()
                : 0;
   }
   // The real-time columns of one frame (columns() values).
@@ -77,6 +86,9 @@ class RealTimePanel {
   nlohmann::json Json() const;
 
  private:
+  std::size_t compensated_actuators() const;
+  nlohmann::json LiveCompensation() const;
+
   RealTimeSetup setup_;
   std::vector<double> last_;
   DurationHistogram late_, compute_;

@@ -42,6 +42,13 @@ void LinearSetup::Validate() const {
                                   "tell the {} slots apart; give T full column rank", n, m,
                                   lu.rank(), m));
   }
+  if (force_transform.size() == 0) return;
+  if (force_transform.rows() != n || force_transform.cols() != m || !force_transform.allFinite() ||
+      Eigen::FullPivLU<Eigen::MatrixXd>(force_transform).rank() < m) {
+    throw ConfigError(fmt::format("setup: the force transform is {} × {}: expected finite values "
+                                  "of full column rank, n_actuators × n_slots as T ({} × {})",
+                                  force_transform.rows(), force_transform.cols(), n, m));
+  }
 }
 
 void ActuatorSetup::CalcSlotForces(const Eigen::Ref<const Eigen::VectorXd>& d,
@@ -61,35 +68,58 @@ Eigen::MatrixXd ActuatorSetup::ActuatorStiffness(const Eigen::MatrixXd& k0) cons
   return pinv.transpose() * k0 * pinv;
 }
 
-ScalarSetup::ScalarSetup(const SetupTransform& transform)
-    : s_(transform), p0_(Eigen::VectorXd::Constant(1, transform.p0)),
-      zero_(Eigen::VectorXd::Constant(1, transform.load_cell_zero)),
-      t_(Eigen::MatrixXd::Constant(1, 1, transform.sign * transform.scale)) {
-  s_.Validate();
-}
-
-std::string ScalarSetup::Describe() const {
-  return fmt::format("setup p0 = {} m, sign {}, scale {}, force sign {}, force scale {}, "
-                     "load-cell zero {} N", s_.p0, s_.sign, s_.scale, s_.force_sign,
-                     s_.force_scale, s_.load_cell_zero);
-}
-
-Eigen::MatrixXd ScalarSetup::SlotStiffness(const Eigen::MatrixXd& actuator_k) const {
-  return Eigen::MatrixXd::Constant(
-      1, 1, actuator_k(0, 0) * s_.sign * s_.scale * s_.force_sign * s_.force_scale);
-}
-
-Eigen::MatrixXd ScalarSetup::ActuatorStiffness(const Eigen::MatrixXd& k0) const {
-  return Eigen::MatrixXd::Constant(
-      1, 1, k0(0, 0) / (s_.sign * s_.scale * s_.force_sign * s_.force_scale));
-}
-
 LinearActuatorSetup::LinearActuatorSetup(LinearSetup setup) : setup_(std::move(setup)) {
   setup_.Validate();
+  scalar_ = num_actuators() == 1 && num_slots() == 1;
 }
 
 std::string LinearActuatorSetup::Describe() const {
+  if (scalar_) {
+    return fmt::format("setup p0 = {} m, T = {}, force factor {}, load-cell zero {} N",
+                       setup_.p0(0), setup_.transform(0, 0), force_map()(0, 0),
+                       setup_.load_cell_zero(0));
+  }
   return fmt::format("linear setup a = p0 + T d, T {} × {}", num_actuators(), num_slots());
+}
+
+void LinearActuatorSetup::CalcSlotForces(const Eigen::Ref<const Eigen::VectorXd>& /*d*/,
+                                         const Eigen::Ref<const Eigen::VectorXd>& f,
+                                         Eigen::Ref<Eigen::VectorXd> r) const {
+  if (scalar_) {
+    r(0) = force_map()(0, 0) * f(0);
+  } else {
+    r.noalias() = force_map().transpose() * f;
+  }
+}
+
+Eigen::MatrixXd LinearActuatorSetup::SlotStiffness(const Eigen::MatrixXd& actuator_k) const {
+  const Eigen::MatrixXd& t = setup_.transform;
+  if (scalar_) return Eigen::MatrixXd::Constant(1, 1, actuator_k(0, 0) * t(0, 0) * force_map()(0, 0));
+  return force_map().transpose() * actuator_k * t;
+}
+
+Eigen::MatrixXd LinearActuatorSetup::ActuatorStiffness(const Eigen::MatrixXd& k0) const {
+  const Eigen::MatrixXd& t = setup_.transform;
+  if (scalar_) return Eigen::MatrixXd::Constant(1, 1, k0(0, 0) / (t(0, 0) * force_map()(0, 0)));
+  auto pinv = [](const Eigen::MatrixXd& m) -> Eigen::MatrixXd {
+    return (m.transpose() * m).ldlt().solve(m.transpose());  // m × n
+  };
+  if (setup_.force_transform.size() == 0) {
+    const Eigen::MatrixXd p = pinv(t);
+    return p.transpose() * k0 * p;
+  }
+  return pinv(force_map()).transpose() * k0 * pinv(t);
+}
+
+LinearSetup OneActuatorSetup(const SetupTransform& transform) {
+  transform.Validate();
+  LinearSetup setup;
+  setup.p0 = Eigen::VectorXd::Constant(1, transform.p0);
+  setup.transform = Eigen::MatrixXd::Constant(1, 1, transform.sign * transform.scale);
+  setup.force_transform =
+      Eigen::MatrixXd::Constant(1, 1, transform.force_sign * transform.force_scale);
+  setup.load_cell_zero = Eigen::VectorXd::Constant(1, transform.load_cell_zero);
+  return setup;
 }
 
 }  // namespace hybridtest::substructures

@@ -74,59 +74,11 @@ class ActuatorSetup {
   virtual bool is_identity() const { return false; }
 };
 
-// The one-actuator setup (setup_transform.h) behind the interface: n = m = 1,
-//   a = p0 + sign · scale · d          [m]
-//   r = force_sign · force_scale · f   [N]   (f after the load-cell zero)
-// in SetupTransform's own arithmetic (bit for bit the same as a one-actuator run always was).
-class ScalarSetup final : public ActuatorSetup {
- public:
-  // Throws ConfigError as SetupTransform::Validate does.
-  explicit ScalarSetup(const SetupTransform& transform);
-
-  std::string kind() const override { return "linear"; }
-  int num_actuators() const override { return 1; }
-  int num_slots() const override { return 1; }
-  const Eigen::VectorXd& p0() const override { return p0_; }
-  const Eigen::VectorXd& load_cell_zero() const override { return zero_; }
-  const Eigen::MatrixXd& linearisation() const override { return t_; }
-  void CalcCommands(const Eigen::Ref<const Eigen::VectorXd>& d,
-                    Eigen::Ref<Eigen::VectorXd> a) const override {
-    a(0) = s_.CommandMetres(d(0));
-  }
-  Eigen::MatrixXd CalcJacobian(const Eigen::Ref<const Eigen::VectorXd>& /*d*/) const override {
-    return t_;
-  }
-  void CalcSlotForces(const Eigen::Ref<const Eigen::VectorXd>& /*d*/,
-                      const Eigen::Ref<const Eigen::VectorXd>& f,
-                      Eigen::Ref<Eigen::VectorXd> r) const override {
-    r(0) = s_.RestoringForce(f(0));
-  }
-  Eigen::MatrixXd CalcGeometricStiffness(const Eigen::Ref<const Eigen::VectorXd>& /*d*/,
-                                         const Eigen::Ref<const Eigen::VectorXd>& /*f*/) const override {
-    return Eigen::MatrixXd::Zero(1, 1);
-  }
-  // |sign · scale| = scale.
-  double CommandStepBound(int /*k*/) const override { return s_.scale; }
-  std::string Describe() const override;
-  std::unique_ptr<ActuatorSetup> Clone() const override {
-    return std::make_unique<ScalarSetup>(*this);
-  }
-  // K_a · sign · scale · force_sign · force_scale, and its inverse.
-  Eigen::MatrixXd SlotStiffness(const Eigen::MatrixXd& actuator_k) const override;
-  Eigen::MatrixXd ActuatorStiffness(const Eigen::MatrixXd& k0) const override;
-  bool is_identity() const override {
-    return s_.sign == 1.0 && s_.scale == 1.0 && s_.force_sign == 1.0 && s_.force_scale == 1.0 &&
-           s_.load_cell_zero == 0.0;
-  }
-  const SetupTransform& transform() const { return s_; }
-
- private:
-  SetupTransform s_;
-  Eigen::VectorXd p0_, zero_;  // (1)
-  Eigen::MatrixXd t_;          // [sign · scale] (1 × 1)
-};
-
-// The linear setup behind the interface: a = p0 + T d, r = Tᵀ f, J = T.
+// The linear setup behind the interface: a = p0 + T d, r = Rᵀ f (R = T unless the load cells
+// read through another factor, linear_setup.h), J = T. One actuator and one slot
+// (`setup: {p0, sign, scale, ...}`) is its case n = m = 1 (OneActuatorSetup), computed in
+// scalars: a = p0 + (sign · scale) · d and r = (force_sign · force_scale) · f, bit for bit
+// the arithmetic a one-actuator run always had.
 class LinearActuatorSetup final : public ActuatorSetup {
  public:
   // Throws ConfigError as LinearSetup::Validate does.
@@ -140,11 +92,19 @@ class LinearActuatorSetup final : public ActuatorSetup {
   const Eigen::MatrixXd& linearisation() const override { return setup_.transform; }
   void CalcCommands(const Eigen::Ref<const Eigen::VectorXd>& d,
                     Eigen::Ref<Eigen::VectorXd> a) const override {
-    a.noalias() = setup_.p0 + setup_.transform * d;
+    if (scalar_) {
+      a(0) = setup_.p0(0) + setup_.transform(0, 0) * d(0);
+    } else {
+      a.noalias() = setup_.p0 + setup_.transform * d;
+    }
   }
   Eigen::MatrixXd CalcJacobian(const Eigen::Ref<const Eigen::VectorXd>& /*d*/) const override {
     return setup_.transform;
   }
+  // r = Rᵀ f.
+  void CalcSlotForces(const Eigen::Ref<const Eigen::VectorXd>& d,
+                      const Eigen::Ref<const Eigen::VectorXd>& f,
+                      Eigen::Ref<Eigen::VectorXd> r) const override;
   Eigen::MatrixXd CalcGeometricStiffness(const Eigen::Ref<const Eigen::VectorXd>& /*d*/,
                                          const Eigen::Ref<const Eigen::VectorXd>& /*f*/) const override {
     return Eigen::MatrixXd::Zero(num_slots(), num_slots());
@@ -155,15 +115,31 @@ class LinearActuatorSetup final : public ActuatorSetup {
   std::unique_ptr<ActuatorSetup> Clone() const override {
     return std::make_unique<LinearActuatorSetup>(*this);
   }
+  // Rᵀ K_a T (m × m) [N/m], and its inverse R⁺ᵀ K0 T⁺ (n × n) [N/m] (for n = m = 1:
+  // K_a · T · R and K0 / (T · R)).
+  Eigen::MatrixXd SlotStiffness(const Eigen::MatrixXd& actuator_k) const override;
+  Eigen::MatrixXd ActuatorStiffness(const Eigen::MatrixXd& k0) const override;
   const LinearSetup& data() const { return setup_; }
-  // n = m = 1, T = [1], no load-cell zero.
+  // n = m = 1, T = R = [1], no load-cell zero.
   bool is_identity() const override {
-    return num_actuators() == 1 && num_slots() == 1 && setup_.transform(0, 0) == 1.0 &&
+    return scalar_ && setup_.transform(0, 0) == 1.0 && force_map()(0, 0) == 1.0 &&
            setup_.load_cell_zero(0) == 0.0;
   }
 
  private:
+  // R: the force transform, or T.
+  const Eigen::MatrixXd& force_map() const {
+    return setup_.force_transform.size() > 0 ? setup_.force_transform : setup_.transform;
+  }
+
   LinearSetup setup_;
+  bool scalar_ = false;  // n = m = 1
 };
+
+// The one-actuator setup of `setup: {p0, sign, scale, force_sign, force_scale,
+// load_cell_zero}` (setup_transform.h) as the linear setup of n = m = 1: p0 = [p0],
+// T = [sign · scale], R = [force_sign · force_scale], load_cell_zero = [load_cell_zero].
+// Throws ConfigError as SetupTransform::Validate does.
+LinearSetup OneActuatorSetup(const SetupTransform& transform);
 
 }  // namespace hybridtest::substructures

@@ -46,7 +46,7 @@ PhysicalSubstructure::PhysicalSubstructure(std::string name,
                                            transfer::SafetyLimits limits,
                                            std::optional<double> safety_stiffness)
     : PhysicalSubstructure(std::move(name), std::move(transfer),
-                           std::make_unique<ScalarSetup>(setup),
+                           std::make_unique<LinearActuatorSetup>(OneActuatorSetup(setup)),
                            std::vector<transfer::SafetyLimits>{limits}) {
   if (safety_stiffness) SetSafetyStiffness(*safety_stiffness);
 }

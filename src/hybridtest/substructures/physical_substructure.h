@@ -40,7 +40,7 @@ class PhysicalSubstructure final : public Substructure {
   // A linear setup a = p0 + T d of n actuators.
   PhysicalSubstructure(std::string name, std::unique_ptr<transfer::TransferSystem> transfer,
                        LinearSetup setup, std::vector<transfer::SafetyLimits> limits);
-  // One actuator, one slot (`setup: {p0, sign, scale, ...}`, ScalarSetup). `safety_stiffness`
+  // One actuator, one slot (`setup: {p0, sign, scale, ...}`, OneActuatorSetup). `safety_stiffness`
   // [N/m], if given, is the specimen's stiffness per actuator displacement: see
   // SetSafetyStiffness.
   PhysicalSubstructure(std::string name, std::unique_ptr<transfer::TransferSystem> transfer,

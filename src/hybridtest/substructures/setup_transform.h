@@ -7,6 +7,9 @@
 //   command [bench]     = command [m] / metres_per_length_unit
 //   force [N]           = measured [bench] · newtons_per_force_unit − load_cell_zero
 //   r^s [N]             = force_sign · force_scale · force [N]
+//
+// The substructure computes with it as the linear setup of one actuator (OneActuatorSetup,
+// actuator_setup.h: T = [sign · scale], R = [force_sign · force_scale]).
 #include "hybridtest/transfer/transfer_system.h"
 
 namespace hybridtest::substructures {
@@ -31,7 +34,6 @@ struct SetupTransform {
   double ForceNewtons(double bench_force, const transfer::BenchUnits& u) const {
     return bench_force * u.newtons_per_force_unit - load_cell_zero;
   }
-  double RestoringForce(double force_newtons) const { return force_sign * force_scale * force_newtons; }
 };
 
 }  // namespace hybridtest::substructures

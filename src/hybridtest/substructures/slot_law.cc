@@ -17,11 +17,6 @@ SlotLaw::SlotLaw(std::unique_ptr<constitutive::RestoringForceLaw> specimen,
   }
 }
 
-SlotLaw::SlotLaw(std::unique_ptr<constitutive::RestoringForceLaw> specimen,
-                 const SetupTransform& setup, double bench_p0, double bench_offset)
-    : SlotLaw(std::move(specimen), std::make_shared<ScalarSetup>(setup), bench_p0,
-              bench_offset) {}
-
 double SlotLaw::Trial(double displacement) {
   d_(0) = displacement;
   setup_->CalcCommands(d_, a_);

@@ -32,8 +32,6 @@ class SlotLaw final : public constitutive::RestoringForceLaw {
   // Throws ConfigError unless the setup has one actuator and one slot.
   SlotLaw(std::unique_ptr<constitutive::RestoringForceLaw> specimen,
           std::shared_ptr<const ActuatorSetup> setup, double bench_p0, double bench_offset);
-  SlotLaw(std::unique_ptr<constitutive::RestoringForceLaw> specimen, const SetupTransform& setup,
-          double bench_p0, double bench_offset);
 
   double Trial(double displacement) override;
   void Commit() override { specimen_->Commit(); }

@@ -51,15 +51,14 @@ std::unique_ptr<Substructure> SubstructureSpec::Build() const {
       throw ConfigError(fmt::format("slot {}: a physical substructure needs a transfer system",
                                     slot));
     }
-    // One class for every size: a linear setup of n actuators, another geometry, or the
-    // one-actuator setup of `setup: {p0, sign, scale, ...}`.
+    // One class for every size: a linear setup of n actuators (the one-actuator
+    // `setup: {p0, sign, scale, ...}` its case n = 1), or another geometry.
     std::unique_ptr<ActuatorSetup> setup;
-    if (physical->linear) {
-      setup = std::make_unique<LinearActuatorSetup>(*physical->linear);
-    } else if (physical->actuator_setup) {
+    if (physical->actuator_setup && !physical->linear) {
       setup = physical->actuator_setup->Clone();
     } else {
-      setup = std::make_unique<ScalarSetup>(physical->setup);
+      setup = std::make_unique<LinearActuatorSetup>(
+          physical->linear ? *physical->linear : OneActuatorSetup(physical->setup));
     }
     const std::vector<transfer::SafetyLimits> limits = ActuatorLimits();
     auto built = std::make_unique<PhysicalSubstructure>(slot, physical->transfer.make(),

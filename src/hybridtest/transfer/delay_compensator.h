@@ -71,6 +71,7 @@ class DelayCompensator final : public TransferSystem {
   // The smallest estimate over the actuators (against the largest plant delay, PhaseDelay:
   // the delay check stays on the safe side). [s]
   double compensated_delay() const override;
+  double actuator_compensated_delay(int k) const override { return actuator(k).estimated_delay(); }
   nlohmann::json CompensationRecord() const override { return ToJson(); }
 
   // Actuator k's compensator (0 ≤ k < num_actuators()).

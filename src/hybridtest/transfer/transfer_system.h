@@ -152,6 +152,9 @@ class TransferSystem {
   }
   // The delay a compensator in front of the actuators removes (its current estimate). [s]
   virtual double compensated_delay() const { return 0.0; }
+  // The delay the compensator of actuator k (0 ≤ k < num_actuators()) removes, its own
+  // current estimate. [s]
+  virtual double actuator_compensated_delay(int /*k*/) const { return compensated_delay(); }
   // A compensator's estimates for the sidecar's real_time.compensation; null without one.
   virtual nlohmann::json CompensationRecord() const { return nullptr; }
   // The emulated real-time plant a server can serve paced (`hybridtest bench --real-time`):

@@ -227,10 +227,15 @@ if (typeof document !== "undefined") {
       row("compute p50 / p99 / max", rt.compute_s ? `${us(rt.compute_s.p50)} / ${us(rt.compute_s.p99)} / ${us(rt.compute_s.max)}` : "–") +
       row("J1 tracking delay", rt.J1_ms === null || rt.J1_ms === undefined ? "at the end of the run" : fmt(rt.J1_ms, 3) + " ms") +
       row("J2 RMS tracking error", pct(rt.J2)) + row("J3 peak tracking error", pct(rt.J3));
-    for (const [name, c] of Object.entries(rt.compensation || {})) {
+    const estimate = (label, c) => {
       const delay = c.estimated_delay_s !== undefined ? c.estimated_delay_s : c.delay_s;
       const more = c.a0 !== undefined ? `; a0 ${fmt(c.a0, 4)}, a1 ${fmt(1e3 * c.a1_s, 4)} ms, a2 ${fmt(c.a2_s2, 3)} s²` : "";
-      html += row(`compensator ${name}`, `delay estimate ${delay === null || delay === undefined ? "–" : fmt(1e3 * delay, 4) + " ms"}${more}`);
+      return row(label, `delay estimate ${delay === null || delay === undefined ? "–" : fmt(1e3 * delay, 4) + " ms"}${more}`);
+    };
+    // One row per compensated actuator (live: {name, delay_s}; recorded: the sidecar's).
+    for (const [name, c] of Object.entries(rt.compensation || {})) {
+      if (!Array.isArray(c.actuators)) { html += estimate(`compensator ${name}`, c); continue; }
+      c.actuators.forEach((a, k) => { html += estimate(`compensator ${a.name || name + " actuator " + (k + 1)}`, a); });
     }
     $("realtime").innerHTML = html;
   };
