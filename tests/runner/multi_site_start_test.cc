@@ -20,7 +20,9 @@ using testing_site::Sites;
 // The sidecar's statistics.start of a run (what `run` writes beside the journal).
 class StartRecorder final : public SessionObserver {
  public:
-  void OnStop(const StopEvent& e) override { start = e.statistics.value("start", nlohmann::json()); }
+  void OnStop(const StopEvent& e) override {
+    start = e.statistics.value("start", nlohmann::json());
+  }
   nlohmann::json start;
 };
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <functional>
 #include <thread>
 
 #include "hybridtest/transfer/safety.h"
@@ -147,19 +148,35 @@ TEST(Site, ABenchThatCannotReadAnswersNoPositionAndTheLinkGoesOn) {
   client.Deactivate();
 }
 
+// A site on a FakeBench with its journal in a fresh folder, served, and a client connected.
+struct JournaledSite {
+  JournaledSite(const std::string& name, const std::function<void(SiteServerOptions&)>& set)
+      : journal((test_support::FreshTempDir(name) / "site.journal").string()),
+        server(bench, Options(journal, set)),
+        serving(server),
+        client(ClientOf(server)) {
+    client.Activate();
+  }
+  static SiteServerOptions Options(const std::string& journal,
+                                   const std::function<void(SiteServerOptions&)>& set) {
+    SiteServerOptions o = SiteOptions(journal);
+    set(o);
+    return o;
+  }
+  std::string journal;
+  FakeBench bench;
+  SiteServer server;
+  testing::ServingThread<SiteServer> serving;
+  SiteClient client;
+};
+
 // The journal's bound (journal_max_bytes): past it, a proposal is refused (limit "journal",
 // the fix named) and the site holds; the file stays within the bound and every executed
 // transaction is in it.
 TEST(Site, AFullJournalRefusesProposalsAndHoldsWithEveryExecuteJournaled) {
-  const auto dir = test_support::FreshTempDir("site-journal-full");
-  const std::string journal = (dir / "site.journal").string();
-  FakeBench bench;
-  SiteServerOptions o = SiteOptions(journal);
-  o.journal_max_bytes = 4000;
-  SiteServer server(bench, o);
-  testing::ServingThread<SiteServer> serving(server);
-  SiteClient client(ClientOf(server));
-  client.Activate();
+  JournaledSite site("site-journal-full",
+                     [](SiteServerOptions& o) { o.journal_max_bytes = 4000; });
+  auto& [journal, bench, server, serving, client] = site;
   std::vector<Measurement> out(1);
   std::string stop;
   for (int k = 1; k <= 200 && stop.empty(); ++k) {
@@ -185,15 +202,9 @@ TEST(Site, AFullJournalRefusesProposalsAndHoldsWithEveryExecuteJournaled) {
 // refusals_per_minute: a flood of refused proposals (any coordinator; UI-SimCor's has no
 // token) is answered but journaled only up to the rate, and the site holds.
 TEST(Site, AFloodOfRefusedProposalsIsNotJournaledLineByLine) {
-  const auto dir = test_support::FreshTempDir("site-refusal-flood");
-  const std::string journal = (dir / "site.journal").string();
-  FakeBench bench;
-  SiteServerOptions o = SiteOptions(journal);
-  o.refusals_per_minute = 5;
-  SiteServer server(bench, o);
-  testing::ServingThread<SiteServer> serving(server);
-  SiteClient client(ClientOf(server));
-  client.Activate();
+  JournaledSite site("site-refusal-flood",
+                     [](SiteServerOptions& o) { o.refusals_per_minute = 5; });
+  auto& [journal, bench, server, serving, client] = site;
   int refused = 0;
   for (int k = 0; k < 50; ++k) {
     const std::vector<double> targets = {20.0 + k};  // beyond the 5 mm increment
