@@ -5,6 +5,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/text.h"
+#include "hybridtest/transfer/frame_replies.h"
 #include "hybridtest/transfer/protocol.h"
 
 namespace hybridtest::transfer::site {
@@ -108,32 +109,24 @@ void SiteServer::Serve() {
     }
   }
   Log(fmt::format("site {} serving {} on {}", options_.name, bench_.Describe(), address()));
-  while (!stop_.load()) {
-    loop_.Turn();
+  loop_.Serve(stop_, [this] {
     // The watchdog: a silent coordinator leaves the bench holding.
     const double silent = std::chrono::duration<double>(Clock::now() - last_heard_).count();
     if (!held_ && loop_.commander() != 0 && silent > options_.watchdog) {
       HoldBench(fmt::format("watchdog: nothing from the coordinator for {} s", options_.watchdog));
     }
-  }
-  loop_.CloseAll("the site stops");
+  });
   HoldBench("site stopping");
   bench_.Deactivate();
   Log("stopped");
 }
 
-bool SiteServer::Send(Connection& c, const Frame& frame) {
-  return loop_.Send(c, EncodeFrame(frame));
-}
+bool SiteServer::Send(Connection& c, const Frame& frame) { return SendFrameOn(loop_, c, frame); }
 
 void SiteServer::SendError(Connection& c, std::uint32_t sequence, int code,
                            const std::string& text) {
-  ErrorMessage m;
-  m.code = static_cast<ErrorCode>(code);
-  m.text = text.size() > 4000 ? text.substr(0, 4000) : text;
-  Log(fmt::format("ERROR {} (sequence {}): {}", ErrorCodeName(static_cast<std::uint16_t>(code)),
-                  sequence, m.text));
-  Send(c, EncodeError(sequence, m));
+  SendErrorOn(loop_, c, sequence, {static_cast<ErrorCode>(code), "", 0.0, 0.0, text},
+              [this](const std::string& line) { Log(line); });
 }
 
 std::size_t SiteServer::Measure(const Connection& c, std::span<const std::uint8_t> bytes) {
