@@ -46,6 +46,7 @@
 #include "cli_values.h"
 #include "command.h"
 #include "serve_until_signal.h"
+#include "server_token.h"
 #include "hybridtest/common/clock.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/run_spec_yaml.h"
@@ -66,8 +67,7 @@ namespace {
 struct BenchArgs {
   std::string config;
   std::string listen = "127.0.0.1:7471";
-  std::string token_file;
-  std::string token_on_command_line;  // refused: see AddBenchCommand
+  ServerTokenOptions token;
   double heartbeat_timeout = 10.0;
   std::vector<std::string> inject;
   std::string protocol = "hybridtest";
@@ -199,13 +199,7 @@ void RunBench(const BenchArgs& args) {
   BenchServerOptions options;
   options.host = listen.host;
   options.port = listen.port;
-  if (!args.token_on_command_line.empty()) {
-    throw ConfigError("--token: a token on the command line is visible to every user in the "
-                      "process list; put it in a file and give --token-file FILE, or set "
-                      "HYBRIDTEST_BENCH_TOKEN");
-  }
-  options.token = args.token_file.empty() ? TokenFromEnvironment()
-                                          : ReadTokenFile(args.token_file, "--token-file");
+  options.token = ServerToken(args.token);
   options.heartbeat_timeout = args.heartbeat_timeout;
   options.log = [](const std::string& line) {
     std::fprintf(stderr, "hybridtest bench: %s\n", line.c_str());
@@ -249,12 +243,7 @@ void AddBenchCommand(CLI::App& root) {
   CLI::Option* listen = cmd->add_option("--listen", args->listen,
                   "HOST:PORT to listen on; port 0 picks a free port (default 127.0.0.1:7471). "
                   "A non-loopback host requires a token (--token-file or HYBRIDTEST_BENCH_TOKEN)");
-  cmd->add_option("--token-file", args->token_file,
-                  "file whose first line is the shared token clients must present (default: "
-                  "the environment variable HYBRIDTEST_BENCH_TOKEN, if set)");
-  cmd->add_option("--token", args->token_on_command_line,
-                  "refused: visible in the process list; use --token-file")
-      ->group("");
+  AddServerTokenOptions(*cmd, args->token, "clients");
   cmd->add_option("--heartbeat-timeout", args->heartbeat_timeout,
                   "seconds without a frame after which a client is dropped and the bench holds")
       ->check(PositiveFiniteNumber());

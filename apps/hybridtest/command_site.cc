@@ -18,6 +18,7 @@
 #include "cli_values.h"
 #include "command.h"
 #include "serve_until_signal.h"
+#include "server_token.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/io/site_config.h"
 #include "hybridtest/transfer/auth.h"
@@ -30,23 +31,16 @@ namespace {
 struct SiteArgs {
   std::string config;
   std::string listen = "127.0.0.1:7480";
-  std::string token_file;
-  std::string token_on_command_line;
+  ServerTokenOptions token;
   bool simcor = false;
 };
 
 void RunSite(const SiteArgs& args) {
-  if (!args.token_on_command_line.empty()) {
-    throw ConfigError("--token: a token on the command line is visible in the process list; "
-                      "put it in a file and give --token-file FILE");
-  }
   io::SiteConfig config = io::LoadSiteConfig(args.config);
   const transfer::HostPort listen = transfer::ParseHostPort(args.listen, "--listen");
   config.server.host = listen.host;
   config.server.port = listen.port;
-  config.server.token = args.token_file.empty()
-                            ? transfer::TokenFromEnvironment()
-                            : transfer::ReadTokenFile(args.token_file, "--token-file");
+  config.server.token = ServerToken(args.token);
   config.server.simcor = args.simcor;
   config.server.log = [](const std::string& line) {
     std::fprintf(stderr, "hybridtest site: %s\n", line.c_str());
@@ -71,16 +65,11 @@ void AddSiteCommand(CLI::App& root) {
   cmd->add_option("--listen", args->listen,
                   "HOST:PORT to listen on; port 0 picks a free port (default 127.0.0.1:7480). "
                   "A non-loopback host requires a token of at least 16 bytes");
-  cmd->add_option("--token-file", args->token_file,
-                  "file whose first line is the token the coordinator must present (default: "
-                  "HYBRIDTEST_BENCH_TOKEN, if set)");
+  AddServerTokenOptions(*cmd, args->token, "the coordinator");
   cmd->add_flag("--simcor", args->simcor,
                "also accept UI-SimCor's ASCII protocol (propose / execute / get-control-point) "
                "on the same port; it has no token, so the site must run without one, on "
                "loopback (docs/multi-site.md)");
-  cmd->add_option("--token", args->token_on_command_line,
-                  "refused: visible in the process list; use --token-file")
-      ->group("");
   cmd->callback([args] { RunSite(*args); });
 }
 

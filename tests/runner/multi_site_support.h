@@ -31,12 +31,33 @@ inline void SetDuration(io::RunSpec& spec, double duration) {
   spec.scheme.steps = io::StepCount(duration, 0.001);
 }
 
+// Site `s`'s config (0..2), with its emulated bench starting at `initial_mm` [mm] if given
+// (a copy of the example's site and bench files in `dir`).
+inline io::SiteConfig SiteConfigOf(const std::filesystem::path& dir, int s,
+                                   std::optional<double> initial_mm) {
+  const std::string site = "site-r" + std::to_string(s + 1) + ".yaml";
+  if (!initial_mm) return io::LoadSiteConfig(kExample + site);
+  const std::string bench = "bench-r" + std::to_string(s + 1) + ".yaml";
+  test_support::WriteText(dir / bench,
+                          test_support::ReadText(kExample + "../rotor/bench-ideal.yaml") +
+                              "\n  initial_position_mm: " + std::to_string(*initial_mm) + "\n");
+  std::string text = test_support::ReadText(kExample + site);
+  const std::string from = "../rotor/bench-ideal.yaml";
+  text.replace(text.find(from), from.size(), bench);
+  test_support::WriteText(dir / site, text);
+  return io::LoadSiteConfig((dir / site).string());
+}
+
 class Sites {
  public:
-  // stroke_max: a site index (0..2) and the stroke_max [m] it refuses beyond.
-  Sites(const std::filesystem::path& dir, const std::map<int, double>& stroke_max) {
+  // stroke_max: a site index (0..2) and the stroke_max [m] it refuses beyond; initial_mm: a
+  // site index and where its bench's actuator starts [mm] (default: the bench's p0, 20 mm).
+  Sites(const std::filesystem::path& dir, const std::map<int, double>& stroke_max,
+        const std::map<int, double>& initial_mm = {}) {
     for (int s = 0; s < 3; ++s) {
-      io::SiteConfig c = io::LoadSiteConfig(kExample + "site-r" + std::to_string(s + 1) + ".yaml");
+      const auto initial = initial_mm.find(s);
+      io::SiteConfig c = SiteConfigOf(
+          dir, s, initial == initial_mm.end() ? std::nullopt : std::optional(initial->second));
       c.server.port = 0;
       c.server.journal = (dir / ("site-r" + std::to_string(s + 1) + ".journal")).string();
       journals_.push_back(c.server.journal);

@@ -180,5 +180,19 @@ TEST(SiteSimcor, IsRefusedUnlessTheSiteAcceptsItAndWithoutAToken) {
   }
 }
 
+// get-control-point dummy before any execute: where the bench is now, read without moving
+// (here a bench that cannot read so: NOT OK saying that, nothing moved, the link kept).
+TEST(SiteSimcor, ADummyQueryBeforeAnyExecuteReadsTheBenchNow) {
+  FakeBench bench;
+  SiteServer server(bench, SimcorSite(""));
+  testing::ServingThread<SiteServer> serving(server);
+  LineClient client(server.port());
+  const std::string answer = client.Ask("get-control-point\tdummy\tMDL-00-01:LBCB1\n");
+  EXPECT_EQ(answer.rfind("NOT OK\t", 0), 0u) << answer;
+  EXPECT_NE(answer.find("cannot read its position without moving"), std::string::npos) << answer;
+  EXPECT_TRUE(bench.commands().empty());
+  EXPECT_EQ(client.Ask("open-session\n").rfind("OK\t", 0), 0u);
+}
+
 }  // namespace
 }  // namespace hybridtest::transfer::site

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <functional>
 #include <thread>
 
 #include "hybridtest/transfer/safety.h"
@@ -129,6 +130,100 @@ TEST(Site, ASilentCoordinatorLeavesTheBenchHolding) {
   client.Execute(next, out);
   EXPECT_EQ(bench.commands().size(), 2u);
   client.Deactivate();
+}
+
+TEST(Site, ABenchThatCannotReadAnswersNoPositionAndTheLinkGoesOn) {
+  FakeBench bench;  // it cannot read its position without moving
+  SiteServer server(bench, SiteOptions(""));
+  testing::ServingThread<SiteServer> serving(server);
+  SiteClient client(ClientOf(server));
+  client.Activate();
+  EXPECT_FALSE(client.ReadAll().has_value());
+  EXPECT_TRUE(bench.commands().empty());
+  std::vector<Measurement> out(1);
+  const std::vector<double> targets = {1.0};
+  client.Execute(targets, out);
+  EXPECT_EQ(bench.commands().size(), 1u);
+  EXPECT_EQ(client.reconnects(), 0);
+  client.Deactivate();
+}
+
+// A site on a FakeBench with its journal in a fresh folder, served, and a client connected.
+struct JournaledSite {
+  JournaledSite(const std::string& name, const std::function<void(SiteServerOptions&)>& set)
+      : journal((test_support::FreshTempDir(name) / "site.journal").string()),
+        server(bench, Options(journal, set)),
+        serving(server),
+        client(ClientOf(server)) {
+    client.Activate();
+  }
+  static SiteServerOptions Options(const std::string& journal,
+                                   const std::function<void(SiteServerOptions&)>& set) {
+    SiteServerOptions o = SiteOptions(journal);
+    set(o);
+    return o;
+  }
+  std::string journal;
+  FakeBench bench;
+  SiteServer server;
+  testing::ServingThread<SiteServer> serving;
+  SiteClient client;
+};
+
+// The journal's bound (journal_max_bytes): past it, a proposal is refused (limit "journal",
+// the fix named) and the site holds; the file stays within the bound and every executed
+// transaction is in it.
+TEST(Site, AFullJournalRefusesProposalsAndHoldsWithEveryExecuteJournaled) {
+  JournaledSite site("site-journal-full",
+                     [](SiteServerOptions& o) { o.journal_max_bytes = 4000; });
+  auto& [journal, bench, server, serving, client] = site;
+  std::vector<Measurement> out(1);
+  std::string stop;
+  for (int k = 1; k <= 200 && stop.empty(); ++k) {
+    const std::vector<double> targets = {0.01 * k};  // [mm]
+    try {
+      client.Execute(targets, out);
+    } catch (const SafetyStop& e) {
+      EXPECT_EQ(e.limit(), "journal");
+      stop = e.what();
+    }
+  }
+  ASSERT_FALSE(stop.empty()) << "the journal grew without bound";
+  EXPECT_NE(stop.find("journal_max_mb"), std::string::npos) << stop;
+  EXPECT_GE(server.holds(), 1);
+  client.Deactivate();
+  const std::string text = test_support::ReadText(journal);
+  EXPECT_LE(text.size(), 4000u);
+  EXPECT_GT(server.executed(), 0);
+  EXPECT_EQ(CountLines(text, "execute "), server.executed()) << text;
+  EXPECT_EQ(static_cast<long>(bench.commands().size()), server.executed());
+}
+
+// refusals_per_minute: a flood of refused proposals (any coordinator; UI-SimCor's has no
+// token) is answered but journaled only up to the rate, and the site holds.
+TEST(Site, AFloodOfRefusedProposalsIsNotJournaledLineByLine) {
+  JournaledSite site("site-refusal-flood",
+                     [](SiteServerOptions& o) { o.refusals_per_minute = 5; });
+  auto& [journal, bench, server, serving, client] = site;
+  int refused = 0;
+  for (int k = 0; k < 50; ++k) {
+    const std::vector<double> targets = {20.0 + k};  // beyond the 5 mm increment
+    client.Propose(targets, k, 0);
+    try {
+      client.AwaitVerdict();
+    } catch (const SafetyStop& e) {
+      EXPECT_EQ(e.limit(), "max_increment");
+      ++refused;
+    }
+  }
+  EXPECT_EQ(refused, 50);
+  EXPECT_EQ(server.refusals(), 50);
+  EXPECT_GE(server.holds(), 1);
+  EXPECT_TRUE(bench.commands().empty());
+  client.Deactivate();
+  const std::string text = test_support::ReadText(journal);
+  EXPECT_EQ(CountLines(text, "propose "), 5) << text;
+  EXPECT_EQ(CountLines(text, "hold more than 5 refused proposals"), 1) << text;
 }
 
 }  // namespace

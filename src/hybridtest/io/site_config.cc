@@ -18,7 +18,7 @@ SiteConfig LoadSiteConfig(const std::string& path) {
   in.CheckKeys(root, "", {"site"});
   const YAML::Node site = in.Mapping(root, "site", "site", true);
   in.CheckKeys(site, "site", {"name", "transfer", "safety", "start_position", "watchdog",
-                              "journal"});
+                              "journal", "journal_max_mb", "refusals_per_minute"});
   SiteConfig c;
   auto& o = c.server;
   if (site["name"]) o.name = in.String(site["name"], "site.name", "a name");
@@ -36,6 +36,15 @@ SiteConfig LoadSiteConfig(const std::string& path) {
   }
   if (const YAML::Node n = site["watchdog"]) {
     o.watchdog = in.PositiveNumber(n, "site.watchdog", "a time in seconds");
+  }
+  if (const YAML::Node n = site["journal_max_mb"]) {
+    o.journal_max_bytes = static_cast<std::uintmax_t>(
+        in.Count(n, "site.journal_max_mb", "the journal's size bound in MiB", 1, 1 << 24))
+        << 20;
+  }
+  if (const YAML::Node n = site["refusals_per_minute"]) {
+    o.refusals_per_minute = static_cast<std::size_t>(in.Count(
+        n, "site.refusals_per_minute", "refused proposals journaled per minute", 1, 1000000));
   }
   if (const YAML::Node n = site["journal"]) {
     std::filesystem::path file = in.String(n, "site.journal", "the path of the journal file");

@@ -11,6 +11,8 @@
 //     watchdog: 5                   # [s] coordinator silence before the bench holds
 //     journal: blade2.journal       # the append-only transaction journal (relative path:
 //                                   # beside this file)
+//     journal_max_mb: 1024          # [MiB] the journal's bound: past it, proposals are refused
+//     refusals_per_minute: 600      # refused proposals journaled per minute; beyond: hold
 //
 // The transfer system is built with the run configs' own reader (transfer_readers.h).
 #include <string>

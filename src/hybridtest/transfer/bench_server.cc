@@ -8,6 +8,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/text.h"
+#include "hybridtest/transfer/frame_replies.h"
 #include "hybridtest/transfer/protocol.h"
 
 namespace hybridtest::transfer {
@@ -99,22 +100,13 @@ void BenchServer::Serve() {
   Log("stopped");
 }
 
-bool BenchServer::Send(Connection& c, const Frame& frame) {
-  return loop_.Send(c, EncodeFrame(frame));
-}
+bool BenchServer::Send(Connection& c, const Frame& frame) { return SendFrameOn(loop_, c, frame); }
 
 void BenchServer::SendError(Connection& c, std::uint32_t sequence, int code,
                             const std::string& limit, double value, double limit_value,
                             const std::string& text) {
-  ErrorMessage m;
-  m.code = static_cast<ErrorCode>(code);
-  m.limit = limit;
-  m.value = value;
-  m.limit_value = limit_value;
-  m.text = text.size() > 4000 ? text.substr(0, 4000) : text;
-  Log(fmt::format("ERROR {} (sequence {}): {}", ErrorCodeName(static_cast<std::uint16_t>(code)),
-                  sequence, m.text));
-  Send(c, EncodeError(sequence, m));
+  SendErrorOn(loop_, c, sequence, {static_cast<ErrorCode>(code), limit, value, limit_value, text},
+              [this](const std::string& line) { Log(line); });
 }
 
 bool BenchServer::HandleBytes(Connection& c, std::span<const std::uint8_t> bytes) {

@@ -52,8 +52,11 @@ void ServerLoop::Log(const std::string& line) const {
   if (log_) log_(line);
 }
 
-void ServerLoop::Serve(const std::atomic<bool>& stop) {
-  while (!stop.load()) Turn();
+void ServerLoop::Serve(const std::atomic<bool>& stop, const std::function<void()>& after_turn) {
+  while (!stop.load()) {
+    Turn();
+    if (after_turn) after_turn();
+  }
   CloseAll("the server stops");
 }
 

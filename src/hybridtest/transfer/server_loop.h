@@ -106,7 +106,8 @@ class ServerLoop {
              std::function<void(const std::string&)> log = {});
 
   // Serves until `stop` is set (checked at least every poll_ms), then closes every connection.
-  void Serve(const std::atomic<bool>& stop);
+  // `after_turn`, if given, runs after every turn (a protocol's own deadlines: a watchdog).
+  void Serve(const std::atomic<bool>& stop, const std::function<void()>& after_turn = {});
   // One turn: waits up to poll_ms, accepts, reads, hands complete frames, applies deadlines.
   void Turn();
   void CloseAll(const std::string& why);

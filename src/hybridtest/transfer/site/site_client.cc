@@ -290,6 +290,31 @@ void SiteClient::Deactivate() {
   socket_.Close();
 }
 
+std::optional<std::vector<Measurement>> SiteClient::ReadAll() const {
+  // Reading moves nothing, hence const; the exchange uses the connection all the same.
+  return const_cast<SiteClient&>(*this).QueryNow();
+}
+
+std::optional<std::vector<Measurement>> SiteClient::QueryNow() {
+  if (!socket_.is_open() || !welcome_ || phase_ != Phase::kIdle) return std::nullopt;
+  try {
+    const std::uint32_t sequence = next_sequence_++;
+    const TransactionId now{options_.run, kQueryNow, last_step_, -1, 0};
+    if (!SendFrame(EncodeIdOnly(MessageType::kQuery, sequence, now))) return std::nullopt;
+    // A lost link here is found again (and recovered) by the next move.
+    const auto reply = Await(sequence, options_.propose_timeout);
+    if (!reply || reply->type != MessageType::kResult) return std::nullopt;
+    Result r = DecodeResult(*reply);
+    if (r.id.seq != kQueryNow || static_cast<int>(r.measurements.size()) != options_.actuators) {
+      return std::nullopt;
+    }
+    return std::move(r.measurements);
+  } catch (const std::exception&) {
+    socket_.Close();
+    return std::nullopt;
+  }
+}
+
 BenchUnits SiteClient::bench_units() const { return welcome_ ? welcome_->units : BenchUnits{}; }
 
 std::string SiteClient::Describe() const {

@@ -8,6 +8,9 @@
 //   Execute(commands, out)          collects the RESULT of the released transaction; a move
 //                                   that was not proposed (a K0 ramp, a start walk, a resume)
 //                                   is proposed, judged and executed here, one site alone.
+//   ReadAll()                       QUERY of seq 0: where the site's actuators are now, read
+//                                   by the site without moving (the start check); nullopt if
+//                                   the site cannot read so or does not answer in time.
 // Every wait is bounded by its phase's time-out (propose_timeout, execute_timeout). A lost
 // link (a time-out, a closed connection) calls the OnLinkLost handler once (the Session
 // holds the other sites), then reconnects with backoff (0.1 s doubling to 2 s) until
@@ -61,6 +64,7 @@ class SiteClient final : public TransferSystem {
   }
   void Hold() noexcept override;
   void Deactivate() override;
+  std::optional<std::vector<Measurement>> ReadAll() const override;
   BenchUnits bench_units() const override;
   std::string Describe() const override;
   BenchAnnouncement Announce() const override;
@@ -84,6 +88,7 @@ class SiteClient final : public TransferSystem {
   // Sends the current transaction's PROPOSE (and EXECUTE if released) again, after Recover.
   void Resend();
   [[noreturn]] void Fail(const std::string& what) const;
+  std::optional<std::vector<Measurement>> QueryNow();  // ReadAll's exchange
 
   SiteClientOptions options_;
   Socket socket_;

@@ -4,6 +4,7 @@
 #include <fmt/core.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -28,7 +29,8 @@ double ParseJournalFloat(const std::string& word, const std::string& where) {
 
 }  // namespace
 
-SiteJournal::SiteJournal(const std::string& path) : path_(path) {
+SiteJournal::SiteJournal(const std::string& path, std::uintmax_t max_bytes)
+    : path_(path), max_bytes_(max_bytes) {
   if (path.empty()) return;
   // The executes already recorded: their keys are applied at most once.
   std::ifstream in(path);
@@ -67,6 +69,9 @@ SiteJournal::SiteJournal(const std::string& path) : path_(path) {
     throw ConfigError(fmt::format("site journal {}: cannot open it for appending; give a "
                                   "writable path with `journal:`", path));
   }
+  std::error_code size_error;
+  const std::uintmax_t size = std::filesystem::file_size(path, size_error);
+  bytes_ = size_error ? 0 : size;
   if (number == 0) Write("# hybridtest site journal v1");
 }
 
@@ -74,7 +79,19 @@ SiteJournal::~SiteJournal() {
   if (file_ != nullptr) std::fclose(file_);
 }
 
+bool SiteJournal::HasRoom(std::size_t n) const {
+  // The longest lines: a run tag of 64 bytes, five numbers of ≤ 20 digits, the verdict (a
+  // limit name), n hexadecimal floats (≤ 25 bytes each) per target, 4 n per execute.
+  const std::uintmax_t id = 8 + kMaxRunTagBytes + 5 * 21;
+  const std::uintmax_t propose = id + 64 + 26 * n;
+  const std::uintmax_t execute = id + 6 + 4 * 26 * n;
+  const std::uintmax_t hold = 6 + kHoldWhyBytes + 1;
+  const std::uintmax_t need = propose + execute + 2 * hold;
+  return bytes_ <= max_bytes_ && max_bytes_ - bytes_ >= need;
+}
+
 void SiteJournal::Write(const std::string& line) {
+  bytes_ += line.size() + 1;
   if (file_ == nullptr) return;
   std::fputs(line.c_str(), file_);
   std::fputc('\n', file_);
@@ -98,7 +115,11 @@ void SiteJournal::Executed(const TransactionId& id, const std::vector<Measuremen
   ++executes_;
 }
 
-void SiteJournal::Held(const std::string& why) { Write("hold " + Printable(why)); }
+void SiteJournal::Held(const std::string& why) {
+  const std::string line = "hold " + Printable(why).substr(0, kHoldWhyBytes);
+  if (bytes_ + line.size() + 1 > max_bytes_) return;  // full: the site refuses proposals
+  Write(line);
+}
 
 const std::vector<Measurement>* SiteJournal::Find(const TransactionId& id) const {
   const auto it = done_.find({id.run, id.seq});

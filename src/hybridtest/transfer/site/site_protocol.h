@@ -12,6 +12,8 @@
 //             n × (f64 position [bench length unit], f64 force [bench force unit],
 //                  f64 lab_time [s], f64 force_reversals)
 //   QUERY     id                                              → RESULT | ERROR
+//             (seq = 0, kQueryNow: every actuator's measurement now, read by the site's bench
+//             WITHOUT moving — the coordinator's start check; ERROR BENCH if it cannot read so)
 //
 // A transaction id is (run, seq, step, stage, attempt): `run` names the coordinator's run
 // (chosen once per process of the coordinator), `seq` counts its transactions at this site
@@ -31,6 +33,8 @@
 namespace hybridtest::transfer::site {
 
 inline constexpr std::size_t kMaxRunTagBytes = 64;  // a run tag's length. Unit: [bytes].
+// The seq of a QUERY that asks for the measurement now (no transaction has seq 0).
+inline constexpr std::uint32_t kQueryNow = 0;
 
 struct TransactionId {
   std::string run;        // the coordinator's run tag (≤ kMaxRunTagBytes)

@@ -5,6 +5,7 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/text.h"
+#include "hybridtest/transfer/frame_replies.h"
 #include "hybridtest/transfer/protocol.h"
 
 namespace hybridtest::transfer::site {
@@ -32,6 +33,10 @@ const std::string& CheckedHost(const SiteServerOptions& o) {
                                   "no token; serve UI-SimCor on loopback without a token (and "
                                   "reach it through an SSH tunnel)", o.name));
   }
+  if (o.journal_max_bytes == 0 || o.refusals_per_minute == 0) {
+    throw ConfigError(fmt::format("site {}: journal_max_mb and refusals_per_minute must be "
+                                  "positive", o.name));
+  }
   if (!(o.watchdog > 0.0) || !(o.handshake_timeout > 0.0) || !(o.idle_timeout > 0.0)) {
     throw ConfigError(fmt::format("site {}: watchdog = {} s, handshake_timeout = {} s, "
                                   "idle_timeout = {} s: expected positive times", o.name,
@@ -49,7 +54,7 @@ SiteServer::SiteServer(TransferSystem& bench, SiteServerOptions options)
       options_(std::move(options)),
       units_(bench.bench_units()),
       gate_(SiteLimits(options_, bench.num_actuators())),
-      journal_(options_.journal),
+      journal_(options_.journal, options_.journal_max_bytes),
       listener_(CheckedHost(options_), options_.port),
       loop_(listener_,
             {.max_connections = 8,
@@ -83,11 +88,11 @@ void SiteServer::Log(const std::string& line) const {
   if (options_.log) options_.log(Printable(line));
 }
 
-void SiteServer::HoldBench(const std::string& why) {
+void SiteServer::HoldBench(const std::string& why, bool note) {
   bench_.Hold();
+  if (!held_ || note) journal_.Held(why);  // a hold repeated is not journaled again
   if (!held_) ++holds_;
   held_ = true;
-  journal_.Held(why);
   Log(fmt::format("holding: {}", why));
 }
 
@@ -104,32 +109,24 @@ void SiteServer::Serve() {
     }
   }
   Log(fmt::format("site {} serving {} on {}", options_.name, bench_.Describe(), address()));
-  while (!stop_.load()) {
-    loop_.Turn();
+  loop_.Serve(stop_, [this] {
     // The watchdog: a silent coordinator leaves the bench holding.
     const double silent = std::chrono::duration<double>(Clock::now() - last_heard_).count();
     if (!held_ && loop_.commander() != 0 && silent > options_.watchdog) {
       HoldBench(fmt::format("watchdog: nothing from the coordinator for {} s", options_.watchdog));
     }
-  }
-  loop_.CloseAll("the site stops");
+  });
   HoldBench("site stopping");
   bench_.Deactivate();
   Log("stopped");
 }
 
-bool SiteServer::Send(Connection& c, const Frame& frame) {
-  return loop_.Send(c, EncodeFrame(frame));
-}
+bool SiteServer::Send(Connection& c, const Frame& frame) { return SendFrameOn(loop_, c, frame); }
 
 void SiteServer::SendError(Connection& c, std::uint32_t sequence, int code,
                            const std::string& text) {
-  ErrorMessage m;
-  m.code = static_cast<ErrorCode>(code);
-  m.text = text.size() > 4000 ? text.substr(0, 4000) : text;
-  Log(fmt::format("ERROR {} (sequence {}): {}", ErrorCodeName(static_cast<std::uint16_t>(code)),
-                  sequence, m.text));
-  Send(c, EncodeError(sequence, m));
+  SendErrorOn(loop_, c, sequence, {static_cast<ErrorCode>(code), "", 0.0, 0.0, text},
+              [this](const std::string& line) { Log(line); });
 }
 
 std::size_t SiteServer::Measure(const Connection& c, std::span<const std::uint8_t> bytes) {
@@ -200,23 +197,6 @@ bool SiteServer::Handshake(Connection& c, const Frame& frame) {
   }
 }
 
-std::optional<SiteServer::Verdict> SiteServer::Claim(Connection& c) {
-  if (loop_.Claim(c.id)) return std::nullopt;
-  // The same run on a new connection: the coordinator reconnected; its old link is stale.
-  const int old = loop_.commander();
-  if (sessions_.count(old) != 0 && sessions_[old].run == sessions_[c.id].run) {
-    loop_.Release(old);
-    Log(fmt::format("run {} reconnected (connection {} replaces {})", sessions_[c.id].run, c.id,
-                    old));
-    if (loop_.Claim(c.id)) return std::nullopt;
-  }
-  Verdict busy;
-  busy.code = static_cast<int>(ErrorCode::kBusy);
-  busy.text = fmt::format("another coordinator (run {}) commands this site",
-                          sessions_.count(old) != 0 ? sessions_[old].run : "?");
-  return busy;
-}
-
 bool SiteServer::Answer(Connection& c, std::uint32_t sequence, const Verdict& v) {
   switch (v.kind) {
     case Verdict::Kind::kAccept:
@@ -262,103 +242,6 @@ bool SiteServer::HandleFrame(Connection& c, const Frame& frame) {
                             MessageTypeName(static_cast<std::uint16_t>(frame.type))));
       return false;
   }
-}
-
-SiteServer::Verdict SiteServer::Propose(Connection& c, Proposal p) {
-  Verdict v;
-  v.id = p.id;
-  if (static_cast<int>(p.targets.size()) != gate_.size()) {
-    v.code = kProtocolError;
-    v.text = fmt::format("PROPOSE of {} with {} targets for a site of {} actuators", p.id.Text(),
-                         p.targets.size(), gate_.size());
-    v.keep = false;
-    return v;
-  }
-  if (auto busy = Claim(c)) return std::move(*busy);
-  last_heard_ = Clock::now();
-  v.kind = Verdict::Kind::kAccept;
-  // Executed already, or the proposal accepted already: the same answer again.
-  if (journal_.Find(p.id) != nullptr ||
-      (accepted_ && accepted_->id.SameKey(p.id) && accepted_->targets == p.targets)) {
-    return v;
-  }
-  commands_m_.resize(p.targets.size());
-  for (std::size_t k = 0; k < p.targets.size(); ++k) {
-    commands_m_[k] = p.targets[k] * units_.metres_per_length_unit;
-  }
-  try {
-    gate_.Vet(commands_m_, {p.id.step, p.id.stage});
-  } catch (const SafetyStop& e) {
-    ++refusals_;
-    journal_.Proposed(p, "refuse:" + e.limit());
-    Log(fmt::format("refused {}: {}", p.id.Text(), e.what()));
-    v.kind = Verdict::Kind::kRefuse;
-    v.refusal = {p.id, e.limit(), e.value(), e.limit_value(), e.what()};
-    return v;
-  }
-  journal_.Proposed(p, "accept");
-  accepted_ = std::move(p);
-  return v;
-}
-
-SiteServer::Verdict SiteServer::Execute(Connection& c, const TransactionId& id) {
-  if (auto busy = Claim(c)) return std::move(*busy);
-  last_heard_ = Clock::now();
-  Verdict v;
-  v.id = id;
-  if (const auto* done = journal_.Find(id)) {  // at most once: the record answers
-    Log(fmt::format("repeated EXECUTE of {}: answered from the record", id.Text()));
-    v.kind = Verdict::Kind::kResult;
-    v.result = {id, true, *done};
-    return v;
-  }
-  if (!accepted_ || !accepted_->id.SameKey(id)) {
-    v.code = kProtocolError;
-    v.text = fmt::format("EXECUTE of {}: no accepted proposal of this id at this site (PROPOSE "
-                         "it first); nothing moved", id.Text());
-    return v;
-  }
-  try {
-    gate_.MoveBench(bench_, accepted_->targets, {id.step, id.stage}, moves_, [&] {
-      if (held_) {
-        bench_.Activate();
-        held_ = false;
-      }
-    });
-  } catch (const SafetyStop& e) {
-    HoldBench(fmt::format("safety stop in {} ({})", id.Text(), e.limit()));
-    accepted_.reset();
-    v.code = static_cast<int>(ErrorCode::kSafety);
-    v.text = e.what();
-    return v;
-  } catch (const Error& e) {
-    HoldBench(fmt::format("bench failure in {}", id.Text()));
-    v.code = static_cast<int>(ErrorCode::kBench);
-    v.text = fmt::format("the bench failed to execute {}: {}", id.Text(), e.what());
-    v.keep = false;
-    return v;
-  }
-  std::vector<Measurement> measured;
-  for (const auto& m : moves_) measured.push_back(m.raw);
-  journal_.Executed(id, measured);
-  ++executed_;
-  accepted_.reset();
-  v.kind = Verdict::Kind::kResult;
-  v.result = {id, false, std::move(measured)};
-  return v;
-}
-
-SiteServer::Verdict SiteServer::Query(const TransactionId& id) const {
-  Verdict v;
-  v.id = id;
-  if (const auto* done = journal_.Find(id)) {
-    v.kind = Verdict::Kind::kResult;
-    v.result = {id, true, *done};
-    return v;
-  }
-  v.code = kProtocolError;
-  v.text = fmt::format("QUERY of {}: this site has not executed it", id.Text());
-  return v;
 }
 
 void SiteServer::Closed(Connection& c, const ServerLoop::Closing& closing) {

@@ -12,8 +12,13 @@
 //    through the gate); an id is applied at most once: a repeated EXECUTE (or QUERY) of an
 //    executed key is answered with the recorded RESULT (replayed = 1), nothing moves. An
 //    EXECUTE of a key never accepted is an ERROR and moves nothing.
+//  - QUERY of seq 0 (kQueryNow): every actuator's measurement now (TransferSystem::ReadAll,
+//    nothing moves; the coordinator's start check), or ERROR BENCH if the bench cannot read so.
 //  - Every executed transaction is appended to the journal (site_journal.h) before it is
-//    answered.
+//    answered. The journal is bounded (journal_max_bytes: a full journal refuses every new
+//    proposal, limit "journal", and holds; refusals_per_minute: a flood of refused proposals
+//    holds and is not journaled line by line), so no coordinator — UI-SimCor's carries no
+//    token — can fill the site's disk; nothing executed is ever left out.
 //  - Watchdog: nothing from the commanding coordinator for `watchdog` [s] → the bench holds
 //    (the connection stays; the next EXECUTE resumes with Activate()). HOLD, BYE and the end
 //    of the commanding connection hold too. A held bench keeps its accepted proposal.
@@ -28,6 +33,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <map>
 #include <optional>
@@ -57,6 +63,12 @@ struct SiteServerOptions {
   double handshake_timeout = 2.0;  // [s]
   double idle_timeout = 120.0;     // a silent connection is closed after this. [s]
   std::string journal;             // the journal file; empty: in memory only (tests)
+  // The journal's size bound: past it, every new proposal is refused (limit "journal") and
+  // the site holds; an accepted proposal's execute is always journaled. Unit: [bytes].
+  std::uintmax_t journal_max_bytes = std::uintmax_t{1} << 30;
+  // Refused proposals journaled per 60 s; beyond, the site holds and further refusals are
+  // answered (REFUSE) but not journaled until the rate falls (one journal line says so).
+  std::size_t refusals_per_minute = 600;
   bool simcor = false;             // also accept UI-SimCor's ASCII protocol (no token)
   std::function<void(const std::string&)> log;
 };
@@ -117,7 +129,10 @@ class SiteServer {
   void Closed(Connection& c, const ServerLoop::Closing& closing);
   bool Send(Connection& c, const Frame& frame);
   void SendError(Connection& c, std::uint32_t sequence, int code, const std::string& text);
-  void HoldBench(const std::string& why);
+  // Holds the bench; journals `why` when the hold begins, or always with `note`.
+  void HoldBench(const std::string& why, bool note = false);
+  // A refusal of `p` by the gate: journaled within refusals_per_minute, else held.
+  void RecordRefusal(const Proposal& p, const SafetyStop& e);
   void Log(const std::string& line) const;
 
   TransferSystem& bench_;
@@ -136,6 +151,8 @@ class SiteServer {
   std::atomic<long> executed_{0}, holds_{0}, refusals_{0};
   bool held_ = false;
   Clock::time_point last_heard_ = Clock::now();
+  std::deque<Clock::time_point> refused_at_;  // the last refusals (≤ refusals_per_minute + 1)
+  bool flooded_ = false;                      // refusals beyond the rate are not journaled
 };
 
 }  // namespace hybridtest::transfer::site

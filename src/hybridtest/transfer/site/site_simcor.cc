@@ -72,7 +72,8 @@ bool SiteServer::HandleSimcorLine(Connection& c, std::span<const std::uint8_t> l
 }
 
 // get-control-point: the measurements of transaction `r.id` (from the record), or with
-// "dummy" of the last RESULT on this connection, for each address asked.
+// "dummy" of the last RESULT on this connection (before any: read now, nothing moves), for
+// each address asked.
 bool SiteServer::SimcorControlPoints(Connection& c, const simcor::Request& r) {
   Session& session = sessions_[c.id];
   std::vector<Measurement> measured = session.last;
@@ -80,10 +81,10 @@ bool SiteServer::SimcorControlPoints(Connection& c, const simcor::Request& r) {
     const Verdict v = Query(r.id);
     if (v.kind != Verdict::Kind::kResult) return SendLine(c, simcor::FormatNotOk(r.echo, v.text));
     measured = v.result.measurements;
-  } else if (measured.empty()) {
-    return SendLine(c, simcor::FormatNotOk(r.echo, "get-control-point dummy: nothing executed on "
-                                                   "this connection yet; execute first or give "
-                                                   "the transaction id"));
+  } else if (measured.empty()) {  // nothing executed on this connection: where it is now
+    const Verdict v = Query({"ui-simcor", kQueryNow, -1, 0, 0});
+    if (v.kind != Verdict::Kind::kResult) return SendLine(c, simcor::FormatNotOk(r.echo, v.text));
+    measured = v.result.measurements;
   }
   std::vector<simcor::PointReading> readings;
   for (const auto& asked : r.points) {
