@@ -106,9 +106,9 @@ TEST(CompiledModel, EveryCommonSubexpressionIsComputedOnce) {
   int count = 0;
   for (auto it = std::sregex_iterator(code.source.begin(), code.source.end(), temporary);
        it != std::sregex_iterator(); ++it) {
+    ++count;
     EXPECT_EQ(std::stoi((*it)[1]), count) << "temporaries are numbered in order of definition";
     EXPECT_TRUE(values.insert((*it)[2]).second) << "computed twice: " << (*it)[2];
-    ++count;
   }
   EXPECT_EQ(count, code.temporaries);
   EXPECT_GT(count, 50);

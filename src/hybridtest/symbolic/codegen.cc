@@ -6,43 +6,18 @@
 
 #include <algorithm>
 #include <cctype>
-#include <map>
+#include <set>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/symbolic/print_expression.h"
+#include "hybridtest/symbolic/shared.h"
 
 namespace hybridtest::symbolic {
 
 namespace {
-
-// A double literal that C reads back exactly (17 significant digits), always with a point or
-// an exponent so that C never takes it for an int.
-std::string Literal(const GiNaC::numeric& n) {
-  if (!n.is_real()) {
-    throw ModelError("cannot generate C: the model's equations contain a complex number");
-  }
-  const double v = n.to_double();
-  std::string s = fmt::format("{:.17g}", v);
-  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
-  return v < 0 ? "(" + s + ")" : s;
-}
-
-// The functions of the Symbolic scalar that C's <math.h> computes, by GiNaC's name.
-std::string CFunction(const std::string& name) {
-  static const std::map<std::string, std::string> kNames = {
-      {"sin", "sin"},   {"cos", "cos"},   {"tan", "tan"},     {"exp", "exp"},
-      {"log", "log"},   {"atan", "atan"}, {"asin", "asin"},   {"acos", "acos"},
-      {"tanh", "tanh"}, {"abs", "fabs"},  {"atan2", "atan2"}, {"csgn", ""}};
-  const auto it = kNames.find(name);
-  if (it == kNames.end()) {
-    throw ModelError(fmt::format(
-        "cannot generate C: the equations call '{}', which is not a C function (a model file's "
-        "1-D table is printed as a function of its argument but has no C form); replace the "
-        "table by a formula, or run the model without `compiled: true`", name));
-  }
-  return it->second;
-}
 
 // A name as it may stand in a C comment and string literal: letters, digits and " _-.,:()"
 // only, every other byte '_' (so no quote, backslash, newline or "*/").
@@ -64,111 +39,29 @@ bool IsCIdentifier(const std::string& name) {
   });
 }
 
-class Emitter {
- public:
-  void Bind(const GiNaC::ex& symbol, std::string c_name) { names_[symbol] = std::move(c_name); }
-
-  // A C atom for e: a variable, an input, or a literal; emits e's temporary (and those of its
-  // subexpressions) first if e is new.
-  std::string Atom(const GiNaC::ex& e) {
-    if (GiNaC::is_a<GiNaC::numeric>(e)) return Literal(GiNaC::ex_to<GiNaC::numeric>(e));
-    const auto it = names_.find(e);
-    if (it != names_.end()) return it->second;
-    if (GiNaC::is_a<GiNaC::symbol>(e)) {
+// Throws ModelError for a symbol in e that C has no name for.
+void CheckSymbols(const GiNaC::ex& e, const NameMap& names) {
+  if (GiNaC::is_a<GiNaC::symbol>(e)) {
+    const std::string& name = GiNaC::ex_to<GiNaC::symbol>(e).get_name();
+    if (names.count(name) == 0) {
       throw ModelError(fmt::format("cannot generate C: unknown symbol '{}' in the equations",
-                                   GiNaC::ex_to<GiNaC::symbol>(e).get_name()));
+                                   CText(name)));
     }
-    const std::string value = Expression(e);
-    const std::string name = fmt::format("t{}", temporaries_++);
-    body_ += fmt::format("  const double {} = {};\n", name, value);
-    names_.emplace(e, name);
-    return name;
   }
+  for (std::size_t i = 0; i < e.nops(); ++i) CheckSymbols(e.op(i), names);
+}
 
-  const std::string& body() const { return body_; }
-  int temporaries() const { return temporaries_; }
-  int operations() const { return operations_; }
-
- private:
-  // b^k for a whole k ≥ 1: products up to k = 4, pow beyond.
-  std::string WholePower(const GiNaC::ex& base, long k) {
-    const std::string b = Atom(base);
-    if (k == 1) return b;
-    ++operations_;
-    if (k > 4) return fmt::format("pow({}, {}.0)", b, k);
-    operations_ += static_cast<int>(k) - 2;
-    std::string s = b;
-    for (long i = 1; i < k; ++i) s += " * " + b;
-    return s;
+// The operations of a C expression, counted in its text (so that the count is as stable as
+// the text): binary + and −, * and /, and calls.
+int Operations(std::string_view c) {
+  int ops = 0;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (c[i] == '*' || c[i] == '/') ++ops;
+    if ((c[i] == '+' || c[i] == '-') && i > 0 && c[i - 1] == ' ') ++ops;
+    if (c[i] == '(' && i > 0 && std::isalnum(static_cast<unsigned char>(c[i - 1]))) ++ops;
   }
-
-  // base^p for a positive exponent p (whole, half or other).
-  std::string PositivePower(const GiNaC::ex& base, const GiNaC::numeric& p) {
-    if (p.is_integer()) return WholePower(base, p.to_long());
-    ++operations_;
-    if (p == GiNaC::numeric(1, 2)) return fmt::format("sqrt({})", Atom(base));
-    return fmt::format("pow({}, {})", Atom(base), Literal(p));
-  }
-
-  std::string Expression(const GiNaC::ex& e) {
-    if (GiNaC::is_a<GiNaC::add>(e)) {
-      std::string s;
-      for (std::size_t i = 0; i < e.nops(); ++i) s += (i == 0 ? "" : " + ") + Atom(e.op(i));
-      operations_ += static_cast<int>(e.nops()) - 1;
-      return s;
-    }
-    if (GiNaC::is_a<GiNaC::mul>(e)) {
-      std::vector<std::string> numerator, denominator;
-      for (std::size_t i = 0; i < e.nops(); ++i) {
-        const GiNaC::ex& f = e.op(i);
-        if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::numeric>(f.op(1)) &&
-            GiNaC::ex_to<GiNaC::numeric>(f.op(1)).is_negative()) {
-          denominator.push_back(Atom(GiNaC::pow(f.op(0), -f.op(1))));
-        } else {
-          numerator.push_back(Atom(f));
-        }
-      }
-      std::string s;
-      for (const std::string& f : numerator) s += (s.empty() ? "" : " * ") + f;
-      if (s.empty()) s = "1.0";
-      operations_ += static_cast<int>(numerator.size() + denominator.size()) - 1;
-      if (denominator.empty()) return s;
-      std::string d;
-      for (const std::string& f : denominator) d += (d.empty() ? "" : " * ") + f;
-      return denominator.size() == 1 ? fmt::format("{} / {}", s, d)
-                                     : fmt::format("{} / ({})", s, d);
-    }
-    if (GiNaC::is_a<GiNaC::power>(e)) {
-      const GiNaC::ex& exponent = e.op(1);
-      if (!GiNaC::is_a<GiNaC::numeric>(exponent)) {
-        ++operations_;
-        return fmt::format("pow({}, {})", Atom(e.op(0)), Atom(exponent));
-      }
-      const GiNaC::numeric p = GiNaC::ex_to<GiNaC::numeric>(exponent);
-      if (!p.is_negative()) return PositivePower(e.op(0), p);
-      ++operations_;
-      return fmt::format("1.0 / {}", Atom(GiNaC::pow(e.op(0), -exponent)));
-    }
-    if (GiNaC::is_a<GiNaC::function>(e)) {
-      const std::string c = CFunction(GiNaC::ex_to<GiNaC::function>(e).get_name());
-      ++operations_;
-      if (c.empty()) {  // csgn: the sign of a real, 0 at 0
-        const std::string a = Atom(e.op(0));
-        return fmt::format("(double)(({} > 0.0) - ({} < 0.0))", a, a);
-      }
-      std::string args;
-      for (std::size_t i = 0; i < e.nops(); ++i) args += (i == 0 ? "" : ", ") + Atom(e.op(i));
-      return fmt::format("{}({})", c, args);
-    }
-    throw ModelError(fmt::format("cannot generate C for the expression {} (an unexpected kind)",
-                                 GiNaC::ex_to<GiNaC::basic>(e).class_name()));
-  }
-
-  std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> names_;
-  std::string body_;
-  int temporaries_ = 0;
-  int operations_ = 0;
-};
+  return ops;
+}
 
 }  // namespace
 
@@ -181,31 +74,56 @@ CCode WriteC(const multibody::Model& model, const RhsExpressions& rhs,
   }
   const int n = model.num_coordinates();
   const int nz = model.num_extra_states();
-  Emitter emit;
-  emit.Bind(rhs.t, "t");
+  // Every symbol prints by its name through `names` (t, x[k], r[s]); the intermediates (tK)
+  // print as their own names, kept apart from the model's names.
+  NameMap names{{GiNaC::ex_to<GiNaC::symbol>(rhs.t).get_name(), "t"}};
   std::string inputs;
-  for (std::size_t k = 0; k < rhs.x.size(); ++k) {
-    emit.Bind(rhs.x[k], fmt::format("x[{}]", k));
-    inputs += fmt::format(" *   x[{}] = {}\n", k, CText(GiNaC::ex_to<GiNaC::symbol>(rhs.x[k]).get_name()));
-  }
-  for (std::size_t k = 0; k < rhs.r.size(); ++k) {
-    emit.Bind(rhs.r[k], fmt::format("r[{}]", k));
-    inputs += fmt::format(" *   r[{}] = {}\n", k, CText(GiNaC::ex_to<GiNaC::symbol>(rhs.r[k]).get_name()));
-  }
-  std::string outputs;
-  auto assign = [&](const char* array, const std::vector<GiNaC::ex>& values) {
+  const auto bind = [&](const GiNaC::ex& symbol, const std::string& c_name) {
+    const std::string& name = GiNaC::ex_to<GiNaC::symbol>(symbol).get_name();
+    if (!names.emplace(name, c_name).second) {
+      throw ModelError(fmt::format("cannot generate C: two inputs of the model are named '{}'; "
+                                   "rename one in the model", CText(name)));
+    }
+    inputs += fmt::format(" *   {} = {}\n", c_name, CText(name));
+  };
+  for (std::size_t k = 0; k < rhs.x.size(); ++k) bind(rhs.x[k], fmt::format("x[{}]", k));
+  for (std::size_t k = 0; k < rhs.r.size(); ++k) bind(rhs.r[k], fmt::format("r[{}]", k));
+  std::set<std::string> reserved;
+  for (const auto& [name, c_name] : names) reserved.insert(name);
+
+  // The outputs, with their common subexpressions named as the printed equations name theirs
+  // (shared.h): in a canonical order and sign, so the text is the same on every run.
+  std::vector<std::pair<std::string, GiNaC::ex>> out;
+  const auto add = [&](const char* array, const std::vector<GiNaC::ex>& values) {
     for (std::size_t i = 0; i < values.size(); ++i) {
-      outputs += fmt::format("  {}[{}] = {};\n", array, i, emit.Atom(values[i]));
+      out.emplace_back(fmt::format("{}[{}]", array, i), values[i]);
     }
   };
-  assign("M", rhs.M);
-  assign("g", rhs.g);
-  assign("qdot", rhs.qdot);
-  assign("zdot", rhs.zdot);
+  add("M", rhs.M);
+  add("g", rhs.g);
+  add("qdot", rhs.qdot);
+  add("zdot", rhs.zdot);
+  std::vector<GiNaC::ex*> pointers;
+  for (auto& [target, value] : out) pointers.push_back(&value);
+  const SharedSubexpressions shared = ShareSubexpressions(pointers, "t", reserved);
 
   CCode code;
-  code.temporaries = emit.temporaries();
-  code.operations = emit.operations();
+  std::string body, outputs;
+  for (const auto& [symbol, definition] : shared.definitions) {
+    const std::string& name = GiNaC::ex_to<GiNaC::symbol>(symbol).get_name();
+    CheckSymbols(definition, names);
+    const std::string c = PrintExpression(definition, Dialect::kC, names);
+    code.operations += Operations(c);
+    body += fmt::format("  const double {} = {};\n", name, c);
+    names.emplace(name, name);
+  }
+  for (const auto& [target, value] : out) {
+    CheckSymbols(value, names);
+    const std::string c = PrintExpression(value, Dialect::kC, names);
+    code.operations += Operations(c);
+    outputs += fmt::format("  {} = {};\n", target, c);
+  }
+  code.temporaries = static_cast<int>(shared.definitions.size());
   const std::string& f = function_name;
   code.source = fmt::format(
       "/* Generated by hybridtest (`hybridtest equations --format c`, docs/equations.md):\n"
@@ -224,7 +142,7 @@ CCode WriteC(const multibody::Model& model, const RhsExpressions& rhs,
       "  (void)t; (void)x; (void)r; (void)M; (void)g; (void)qdot; (void)zdot;\n"
       "{8}{9}}}\n",
       CText(model_name), f, n, model.num_slots(), nz, code.temporaries, code.operations, inputs,
-      emit.body(), outputs);
+      body, outputs);
   return code;
 }
 

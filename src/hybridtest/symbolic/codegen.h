@@ -6,10 +6,13 @@
 // subexpression computed once.
 //
 // Common subexpressions: GiNaC shares subtrees but does not expose that sharing for code, and
-// has no CSE of its own. WriteC numbers values: it walks each output's expression tree,
-// and every distinct non-leaf subexpression (distinct by GiNaC's structural comparison, so two
-// equal subtrees built apart are one value) becomes one `const double tK`, emitted once, before
-// its first use. The compiler then allocates registers and merges sin/cos of one angle.
+// has no CSE of its own. WriteC names them as the printed equations do (ShareSubexpressions,
+// shared.h): every non-trivial subexpression used in two places (e and −e as one) becomes one
+// `const double tK`, numbered in a canonical order, and every expression prints in
+// PrintExpression's C dialect (terms in a fixed order, a sum factor in its canonical sign). So
+// the text is the same bytes on every run (GiNaC's own term order and signs change between
+// processes). A product or sum of two leaves (q1*u2) is written where it is used, not named;
+// the compiler merges repeats.
 //
 // Refuses (ModelError, naming it) what C cannot compute: a model file's table (an uninterpreted
 // function) or any function outside C's <math.h>.

@@ -3,7 +3,11 @@
 //   kPlain  — for Markdown: a·b, x^2, sin(q1), 1/2, numbers as decimals;
 //   kLatex  — for LaTeX math mode: \sin{\left(q_{1} \right)}, \frac{a}{b}, \dot{u}_{1};
 //   kSympy  — a Python expression over `sp` (import sympy as sp) and the module's symbol
-//             variables: sp.sin(q1), x**2, sp.Rational(1, 2).
+//             variables: sp.sin(q1), x**2, sp.Rational(1, 2);
+//   kC      — a C expression over <math.h> (codegen.h): sin(q1), x*x, pow(x, 5.0), fabs(x),
+//             every number a double literal C reads back exactly (17 significant digits,
+//             never an int: 0.5, not 1/2). A function C lacks (a model file's table) or a
+//             complex number throws ModelError.
 // Symbols print through a name map (symbol name → text); a symbol missing from it prints its
 // own name. GiNaC's own printers are not used: they print doubles with 17 significant digits
 // and know neither SymPy's function names nor the model's display names.
@@ -16,7 +20,7 @@
 
 namespace hybridtest::symbolic {
 
-enum class Dialect { kPlain, kLatex, kSympy };
+enum class Dialect { kPlain, kLatex, kSympy, kC };
 
 using NameMap = std::map<std::string, std::string>;
 
@@ -26,7 +30,7 @@ using NameMap = std::map<std::string, std::string>;
 // first term positive, the product's sign adjusted: GiNaC stores y·(x − a) as −y·(a − x) in
 // some processes, and both print `-(a - x)*y`. Every negative term prints with a leading '-'
 // (`-sp.Rational(1, 2)`). Floats print with at most 15 significant digits (1.57, not
-// 1.5699999999999998).
+// 1.5699999999999998), except in kC.
 std::string PrintExpression(const GiNaC::ex& e, Dialect dialect, const NameMap& names);
 
 // The terms of e if it is a sum (else e alone), printed, in PrintExpression's order.

@@ -87,8 +87,11 @@ class Hasher {
         if (GiNaC::is_a<GiNaC::numeric>(f) && abs(GiNaC::ex_to<GiNaC::numeric>(f)).is_equal(1)) continue;
         factors.push_back(t.hash);
       }
+      // −x is the product (−1)·x: with the coefficient dropped, its one factor's hash, so that
+      // x and −x hash alike (and so do a − x² and x² − a, whose terms GiNaC holds as x² and
+      // the product −1·x²; otherwise which of the two a process holds changes every hash above).
       std::sort(factors.begin(), factors.end());
-      out.hash = Combine("mul", factors);
+      out.hash = factors.size() == 1 ? factors.front() : Combine("mul", factors);
     } else if (GiNaC::is_a<GiNaC::power>(e)) {
       const Signed base = (*this)(e.op(0));
       const GiNaC::ex& k = e.op(1);

@@ -37,8 +37,9 @@ inline constexpr double kExpandLimit = 20000.0;
 double ExpandedTerms(const std::vector<GiNaC::ex>& expressions);
 
 // A hash of e's structure that does not depend on addresses or on GiNaC's operand order:
-// symbols by name, numbers by value, sums and products by the sorted hashes of their operands,
-// a sum in the sign of {e, −e} that hashes lower (with that sign mixed in: e and −e differ).
+// symbols by name, numbers by value, sums and products by the sorted hashes of their operands
+// (a product ±1·x as x), a sum in the sign of {e, −e} that hashes lower (with that sign mixed
+// in: e and −e differ).
 std::uint64_t CanonicalHash(const GiNaC::ex& e);
 
 struct SharedSubexpressions {
