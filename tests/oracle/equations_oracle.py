@@ -12,6 +12,11 @@
         and f, and its constraint rows A_d u_d + A_i u_i + b = 0 equal `eom --assemble --json` at
         random consistent states, entry a against b within 1e-12 * max(1, max|B|); u' solved
         from both reduced systems agrees as well.
+    equations_oracle.py --binary B --chains 3,6,12 [--states 10] [--seed 1]
+        Issue 47's contract on the n-link pendulums of bench/equations_vs_sympy.py (each N
+        links, with the pivot fixed and on a cart): the `sympy` output, evaluated at random states (its
+        own common subexpressions kept, parameters at their values), equals `eom --json` of
+        the numeric engine, M and f entry by entry within 1e-12 * max(1, max|eom's array|).
     equations_oracle.py --binary B --latex
         The `latex` output of the rotor and of the four-bar (constrained) compiles with
         pdflatex (exit 77, skipped, if pdflatex is absent: scripts/install-deps.sh installs
@@ -128,7 +133,7 @@ def oracle_model_file(path, states, workdir):
     return list(zip(data['M'], data['g']))
 
 
-def compare(name, a, b, state, what):
+def compare(name, a, b, state, what, oracle='KanesMethod'):
     flat_b = [x for row in b for x in (row if isinstance(row, list) else [row])]
     flat_a = [x for row in a for x in (row if isinstance(row, list) else [row])]
     scale = max([1.0] + [abs(x) for x in flat_b])
@@ -138,7 +143,7 @@ def compare(name, a, b, state, what):
         worst = max(worst, err / scale)
         if not math.isfinite(float(x)) or err > TOLERANCE * scale:
             sys.exit(f'FAIL: {name}: {what} entry {i} at state {state}: equations {x}, '
-                     f'KanesMethod {y} (tolerance {TOLERANCE} x {scale})')
+                     f'{oracle} {y} (tolerance {TOLERANCE} x {scale})')
     return worst
 
 
@@ -255,6 +260,54 @@ def check_constrained(binary, model, count, seed):
     return 0
 
 
+def bench_module():
+    """bench/equations_vs_sympy.py, the generator of the n-link pendulums."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location('equations_vs_sympy',
+                                                  ROOT / 'bench' / 'equations_vs_sympy.py')
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    return bench
+
+
+def check_chain(binary, links, base, count, seed):
+    """The printed equations of an n-link pendulum against the numeric engine (`eom`)."""
+    with tempfile.TemporaryDirectory() as workdir:
+        work = pathlib.Path(workdir)
+        model = work / f'pendulum{links}{"_base" if base else ""}.yaml'
+        model.write_text(bench_module().pendulum(links, base), encoding='utf-8')
+        mod = load_module(binary, str(model), workdir)
+        text = (work / 'equations.py').read_text(encoding='utf-8')
+        code = compile(text.replace('import sympy as sp\n', ''), 'equations.py', 'exec')
+        n = len(mod['q'])
+        fixed = {str(k): float(v) for k, v in mod['parameters'].items()}
+        fixed.update({str(s): 0.0 for s in mod['udot']})
+        names = [str(s) for s in (*mod['q'], *mod['u'])]
+        config = work / 'config.yaml'
+        config.write_text(f'model: {{file: {model}}}\nintegrator: {{tableau: rk4, dt: 0.001}}\n'
+                          'duration: 1.0\n', encoding='utf-8')
+        rng = random.Random(seed)
+        worst = 0.0
+        for trial in range(count):
+            scale = [0.1, 5.0, 50.0][trial % 3]
+            x = ([rng.uniform(-1.1, 1.1) for _ in range(n)] +
+                 [rng.uniform(-scale, scale) for _ in range(n)])
+            t = rng.uniform(0.0, 5.0)
+            out = json.loads(run(binary, 'eom', str(config), '--time', repr(t), '--state',
+                                 ','.join(repr(v) for v in x), '--json').stdout)
+            values = dict(fixed)
+            values['t'] = t
+            values.update(zip(names, x))
+            ev = evaluate(code, values)
+            state = f'trial {trial} (t = {t})'
+            for what, ours_, theirs in (('M', ev['M'], out['mass_matrix']),
+                                        ('f', ev['f'], out['forcing'])):
+                worst = max(worst, compare(model.name, ours_, theirs, state, what, 'eom'))
+    print(f'{model.name}: M and f equal eom at {count} states '
+          f'(largest relative difference {worst:.2e})')
+    return 0
+
+
 def check_latex(binary):
     pdflatex = shutil.which('pdflatex')
     if pdflatex is None:
@@ -353,15 +406,11 @@ def check_stable(binary):
     and no number printed in Markdown or SymPy carries float noise (more than 15 significant
     digits, such as 1.5699999999999998). Four runs each (each its own process, so GiNaC's address-dependent term order differs): a model that
     printed one of four texts at random (spinning_top did) passes two runs one time in four."""
-    import importlib.util
     import re
     models = ['rotor'] + [str(p) for p in sorted((ROOT / 'examples/models').glob('*.yaml'))]
     # A model printed with common subexpressions (too large to expand): the pendulum of the
     # benchmark (bench/equations_vs_sympy.py), 6 links on a cart.
-    spec = importlib.util.spec_from_file_location('equations_vs_sympy',
-                                                  ROOT / 'bench' / 'equations_vs_sympy.py')
-    bench = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bench)
+    bench = bench_module()
     workdir = tempfile.TemporaryDirectory()
     chain = pathlib.Path(workdir.name) / 'pendulum6_base.yaml'
     chain.write_text(bench.pendulum(6, True), encoding='utf-8')
@@ -401,7 +450,13 @@ def main():
     ap.add_argument('--compiled', metavar='CONFIG')
     ap.add_argument('--stable', action='store_true')
     ap.add_argument('--constrained', metavar='MODEL')
+    ap.add_argument('--chains', metavar='N,N,...')
     a = ap.parse_args()
+    if a.chains:
+        for links in (int(n) for n in a.chains.split(',')):
+            for base in (False, True):
+                check_chain(a.binary, links, base, a.states, a.seed)
+        return 0
     if a.constrained:
         return check_constrained(a.binary, a.constrained, a.states, a.seed)
     if a.stable:
