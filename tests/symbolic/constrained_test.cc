@@ -1,6 +1,6 @@
 // A constrained model's printed equations (issue 47 item 2, symbolic/constrained.h): the
 // reduced equations, with A solved from A_d A = −A_i at a consistent state, equal the engine's
-// CalcReducedEquations there. (Its C form: compiled_constrained_test.cc.)
+// CalcReducedEquations there. (Its C form: codegen_test.cc.)
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
