@@ -1,12 +1,11 @@
 // A constrained model's printed equations (issue 47 item 2, symbolic/constrained.h): the
 // reduced equations, with A solved from A_d A = −A_i at a consistent state, equal the engine's
-// CalcReducedEquations there; the C form still refuses the model with a message.
+// CalcReducedEquations there. (Its C form: codegen_test.cc.)
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 #include <string>
 
-#include "hybridtest/common/error.h"
 #include "hybridtest/modelfile/model_file.h"
 #include "hybridtest/multibody/assembly.h"
 #include "hybridtest/multibody/constraints.h"
@@ -75,17 +74,6 @@ TEST(ConstrainedEquations, FourBarReducedEquationsEqualTheEngines) {
     }
     EXPECT_NEAR(ValueAt(eq, eq.constrained.f[row], state), data.reduced_f(j), 1e-12 * scale)
         << "f_r[" << j << "]";
-  }
-}
-
-TEST(ConstrainedEquations, TheCFormRefusesAConstrainedModelSayingWhatToUse) {
-  try {
-    (void)DeriveRhs(FourBar());
-    FAIL() << "DeriveRhs took a constrained model";
-  } catch (const ModelError& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("compile-model"), std::string::npos) << what;
-    EXPECT_NE(what.find("--format sympy"), std::string::npos) << what;
   }
 }
 

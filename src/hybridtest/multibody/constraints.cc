@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/multibody/field_eval.h"
@@ -244,10 +245,21 @@ void CalcConstrainedStateDerivative(const Model& model, Data<T>& data, const T& 
                                     const Eigen::Ref<const VectorX<T>>& r,
                                     Eigen::Ref<VectorX<T>> xdot) {
   const int n = data.n;
-  CalcKinematics(model, data, t, x);
-  CalcMassMatrix(model, data);
-  CalcForcing(model, data, r);
-  CalcConstraints(model, data);
+  // A compiled model (symbolic_compiled.h) gives M, g, q̇, ż and the constraint rows; the
+  // choice of dependent speeds, the reduction and the solve below are the same either way.
+  bool compiled = false;
+  if constexpr (std::is_same_v<T, double>) {
+    if (model.compiled_rhs() != nullptr) {
+      internal::CalcCompiledRhs(model, data, t, x, r);
+      compiled = true;
+    }
+  }
+  if (!compiled) {
+    CalcKinematics(model, data, t, x);
+    CalcMassMatrix(model, data);
+    CalcForcing(model, data, r);
+    CalcConstraints(model, data);
+  }
   if (!ChooseDependentSpeeds(model, data)) {
     throw ModelError(fmt::format("the constraints are redundant or contradictory at t = {} s "
                                  "(B has rank < {}, its number of rows): remove the redundant "
@@ -266,7 +278,11 @@ void CalcConstrainedStateDerivative(const Model& model, Data<T>& data, const T& 
     xdot(k) = data.qdot(k);
     xdot(n + k) = data.udot(k);
   }
-  internal::CalcExtraStateRates(model, data, xdot);
+  if (compiled) {
+    xdot.tail(model.num_extra_states()) = data.zdot;
+  } else {
+    internal::CalcExtraStateRates(model, data, xdot);
+  }
 }
 
 void CalcConstrainedRateCoupling(const Model& model, Data<double>& data,

@@ -233,13 +233,7 @@ void CalcStateDerivativeCompiled(const Model& model, Data<double>& data, double 
                                  const Eigen::Ref<const VectorX<double>>& r,
                                  Eigen::Ref<VectorX<double>> xdot) {
   const int n = data.n;
-  data.t = t;
-  data.q = x.head(n);
-  data.u = x.segment(n, n);
-  data.z = x.tail(model.num_extra_states());
-  data.r = r;
-  model.compiled_rhs()->function(t, x.data(), r.data(), data.M.data(), data.g.data(),
-                                 data.qdot.data(), data.zdot.data());
+  internal::CalcCompiledRhs(model, data, t, x, r);
   if (!internal::FactorMassMatrix(model, data)) {
     throw ModelError(fmt::format("the mass matrix (compiled, {}) is not positive definite at "
                                  "t = {} s", model.compiled_rhs()->path, t));
@@ -287,6 +281,28 @@ void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
 }
 
 namespace internal {
+void CalcCompiledRhs(const Model& model, Data<double>& data, double t,
+                     const Eigen::Ref<const VectorX<double>>& x,
+                     const Eigen::Ref<const VectorX<double>>& r) {
+  const int n = data.n;
+  const CompiledRhs& compiled = *model.compiled_rhs();
+  data.t = t;
+  data.q = x.head(n);
+  data.u = x.segment(n, n);
+  data.z = x.tail(model.num_extra_states());
+  data.r = r;
+  compiled.function(t, x.data(), r.data(), data.M.data(), data.g.data(), data.qdot.data(),
+                    data.zdot.data());
+  if (!model.has_constraints()) return;
+  if (compiled.constraints == nullptr) {
+    throw ModelError(fmt::format("the compiled model {} has no constraint rows, the model has "
+                                 "{}: it was compiled for another model; compile it again",
+                                 compiled.path, model.num_constraint_rows()));
+  }
+  compiled.constraints(t, x.data(), data.constraint_B.data(), data.constraint_velocity.data(),
+                       data.constraint_position.data(), data.constraint_bias.data());
+}
+
 template <typename T>
 void CalcExtraStateRates(const Model& model, Data<T>& data, Eigen::Ref<VectorX<T>> xdot) {
   if (model.num_extra_states() == 0) return;

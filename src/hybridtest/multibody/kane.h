@@ -73,6 +73,14 @@ namespace internal {
 // CalcKinematics, into data.zdot and the tail of xdot. Shared by the tree and constrained paths.
 template <typename T>
 void CalcExtraStateRates(const Model& model, Data<T>& data, Eigen::Ref<VectorX<T>> xdot);
+
+// The model's compiled right-hand side (Model::compiled_rhs(), non-null) at (t, x, r): data.t,
+// q, u, z and r set, data.M, g, qdot and zdot computed, and for a constrained model
+// data.constraint_B, _velocity, _position and _bias (what CalcConstraints computes). Shared by
+// the tree and constrained paths of CalcStateDerivative.
+void CalcCompiledRhs(const Model& model, Data<double>& data, double t,
+                     const Eigen::Ref<const VectorX<double>>& x,
+                     const Eigen::Ref<const VectorX<double>>& r);
 }  // namespace internal
 
 }  // namespace hybridtest::multibody

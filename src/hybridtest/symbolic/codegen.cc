@@ -63,6 +63,41 @@ int Operations(std::string_view c) {
   return ops;
 }
 
+using NamedOutputs = std::vector<std::pair<std::string, GiNaC::ex>>;
+
+void AddNamed(NamedOutputs& out, const char* array, const std::vector<GiNaC::ex>& values) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    out.emplace_back(fmt::format("{}[{}]", array, i), values[i]);
+  }
+}
+
+// The body of one function: `out`'s common subexpressions named as the printed equations name
+// theirs (shared.h), in a canonical order and sign so that the text is the same on every run,
+// then the assignments. `names` maps the inputs; the counts add to `code`'s.
+std::string WriteBody(NamedOutputs out, NameMap names, const std::set<std::string>& reserved,
+                 CCode& code) {
+  std::vector<GiNaC::ex*> pointers;
+  for (auto& [target, value] : out) pointers.push_back(&value);
+  const SharedSubexpressions shared = ShareSubexpressions(pointers, "t", reserved);
+  std::string body, outputs;
+  for (const auto& [symbol, definition] : shared.definitions) {
+    const std::string& name = GiNaC::ex_to<GiNaC::symbol>(symbol).get_name();
+    CheckSymbols(definition, names);
+    const std::string c = PrintExpression(definition, Dialect::kC, names);
+    code.operations += Operations(c);
+    body += fmt::format("  const double {} = {};\n", name, c);
+    names.emplace(name, name);
+  }
+  for (const auto& [target, value] : out) {
+    CheckSymbols(value, names);
+    const std::string c = PrintExpression(value, Dialect::kC, names);
+    code.operations += Operations(c);
+    outputs += fmt::format("  {} = {};\n", target, c);
+  }
+  code.temporaries += static_cast<int>(shared.definitions.size());
+  return body + outputs;
+}
+
 }  // namespace
 
 CCode WriteC(const multibody::Model& model, const RhsExpressions& rhs,
@@ -87,43 +122,36 @@ CCode WriteC(const multibody::Model& model, const RhsExpressions& rhs,
     inputs += fmt::format(" *   {} = {}\n", c_name, CText(name));
   };
   for (std::size_t k = 0; k < rhs.x.size(); ++k) bind(rhs.x[k], fmt::format("x[{}]", k));
+  const NameMap state_names = names;  // the constraint rows read t and x only
   for (std::size_t k = 0; k < rhs.r.size(); ++k) bind(rhs.r[k], fmt::format("r[{}]", k));
   std::set<std::string> reserved;
   for (const auto& [name, c_name] : names) reserved.insert(name);
 
-  // The outputs, with their common subexpressions named as the printed equations name theirs
-  // (shared.h): in a canonical order and sign, so the text is the same on every run.
-  std::vector<std::pair<std::string, GiNaC::ex>> out;
-  const auto add = [&](const char* array, const std::vector<GiNaC::ex>& values) {
-    for (std::size_t i = 0; i < values.size(); ++i) {
-      out.emplace_back(fmt::format("{}[{}]", array, i), values[i]);
-    }
-  };
-  add("M", rhs.M);
-  add("g", rhs.g);
-  add("qdot", rhs.qdot);
-  add("zdot", rhs.zdot);
-  std::vector<GiNaC::ex*> pointers;
-  for (auto& [target, value] : out) pointers.push_back(&value);
-  const SharedSubexpressions shared = ShareSubexpressions(pointers, "t", reserved);
-
+  NamedOutputs rhs_out;
+  AddNamed(rhs_out, "M", rhs.M);
+  AddNamed(rhs_out, "g", rhs.g);
+  AddNamed(rhs_out, "qdot", rhs.qdot);
+  AddNamed(rhs_out, "zdot", rhs.zdot);
   CCode code;
-  std::string body, outputs;
-  for (const auto& [symbol, definition] : shared.definitions) {
-    const std::string& name = GiNaC::ex_to<GiNaC::symbol>(symbol).get_name();
-    CheckSymbols(definition, names);
-    const std::string c = PrintExpression(definition, Dialect::kC, names);
-    code.operations += Operations(c);
-    body += fmt::format("  const double {} = {};\n", name, c);
-    names.emplace(name, name);
+  const std::string body = WriteBody(std::move(rhs_out), names, reserved, code);
+  // A constrained model's rows of B u + c = 0: a second function of t and x, so the engine's
+  // step reads them from here and computes none itself (symbolic_compiled.h).
+  const int m = model.num_constraint_rows();
+  std::string constraints;
+  if (m > 0) {
+    NamedOutputs rows;
+    AddNamed(rows, "B", rhs.B);
+    AddNamed(rows, "velocity", rhs.constraint_velocity);
+    AddNamed(rows, "position", rhs.constraint_position);
+    AddNamed(rows, "bias", rhs.constraint_bias);
+    constraints = fmt::format(
+        "\n/* The {1} rows of B u + c = 0 (constraints:): B ({1} x n, column-major), B u + c,\n"
+        " * f(q, t) (0 for non-holonomic rows) and the bias Bdot u + cdot. */\n"
+        "void {0}_constraints(double t, const double* x, double* B, double* velocity,\n"
+        "    double* position, double* bias) {{\n"
+        "  (void)t; (void)x; (void)B; (void)velocity; (void)position; (void)bias;\n{2}}}\n",
+        function_name, m, WriteBody(std::move(rows), state_names, reserved, code));
   }
-  for (const auto& [target, value] : out) {
-    CheckSymbols(value, names);
-    const std::string c = PrintExpression(value, Dialect::kC, names);
-    code.operations += Operations(c);
-    outputs += fmt::format("  {} = {};\n", target, c);
-  }
-  code.temporaries = static_cast<int>(shared.definitions.size());
   const std::string& f = function_name;
   code.source = fmt::format(
       "/* Generated by hybridtest (`hybridtest equations --format c`, docs/equations.md):\n"
@@ -131,18 +159,20 @@ CCode WriteC(const multibody::Model& model, const RhsExpressions& rhs,
       " * coordinates, {3} restoring-force slots, {4} extra states; {5} common subexpressions,\n"
       " * {6} operations. SI units, as in the model.\n"
       " * Inputs: t [s], x = [q; u; z], r [N]:\n{7}"
-      " * Outputs: M (n x n, column-major) and g with M udot = g; qdot = W(q) u; zdot. */\n"
+      " * Outputs: M (n x n, column-major) and g with M udot = g; qdot = W(q) u; zdot{11}. */\n"
       "#include <math.h>\n\n"
       "const int {1}_n = {2};\n"
       "const int {1}_slots = {3};\n"
       "const int {1}_nz = {4};\n"
+      "const int {1}_m = {10};\n"
       "const char {1}_model[] = \"{0}\";\n\n"
       "void {1}(double t, const double* x, const double* r, double* M, double* g, double* qdot,\n"
       "    double* zdot) {{\n"
       "  (void)t; (void)x; (void)r; (void)M; (void)g; (void)qdot; (void)zdot;\n"
-      "{8}{9}}}\n",
+      "{8}}}\n{9}",
       CText(model_name), f, n, model.num_slots(), nz, code.temporaries, code.operations, inputs,
-      body, outputs);
+      body, constraints, m,
+      m > 0 ? fmt::format(";\n * and from {}_constraints the {} constraint rows", f, m) : "");
   return code;
 }
 

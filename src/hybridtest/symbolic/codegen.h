@@ -3,7 +3,10 @@
 // function, `void NAME(double t, const double* x, const double* r, double* M, double* g,
 // double* qdot, double* zdot)` (multibody::CompiledRhsFunction), that computes what the
 // engine computes (DeriveRhs: M column-major, g, q̇, ż), straight-line, with every common
-// subexpression computed once.
+// subexpression computed once. A constrained model's C also defines `void NAME_constraints(double
+// t, const double* x, double* B, double* velocity, double* position, double* bias)`
+// (multibody::CompiledConstraintsFunction): the rows of B u + c = 0 as CalcConstraints computes
+// them, with common subexpressions of their own; the reduction stays the engine's.
 //
 // Common subexpressions: GiNaC shares subtrees but does not expose that sharing for code, and
 // has no CSE of its own. WriteC names them as the printed equations do (ShareSubexpressions,
@@ -30,8 +33,8 @@ struct CCode {
 };
 
 // `function_name` must be a C identifier. The source also defines `int NAME_n`, `NAME_nz`,
-// `NAME_slots` (the sizes it was generated for) and `const char NAME_model[]` (the model's name
-// and summary), which the loader checks.
+// `NAME_slots`, `NAME_m` (the sizes it was generated for; m constraint rows) and
+// `const char NAME_model[]` (the model's name and summary), which the loader checks.
 CCode WriteC(const multibody::Model& model, const RhsExpressions& rhs, const std::string& model_name,
              const std::string& function_name);
 

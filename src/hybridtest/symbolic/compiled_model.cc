@@ -19,8 +19,10 @@
 #include <optional>
 #include <random>
 #include <sstream>
+#include <vector>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/multibody/constraints.h"
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/symbolic/codegen.h"
 #include "hybridtest/symbolic/model_cache.h"
@@ -101,14 +103,41 @@ double Difference(const double* a, const double* b, int size) {
   return diff / scale;
 }
 
-// The engine's M (column-major), g, q̇ and ż at (t, x, r), written to `out` in that order.
+// The outputs of a compiled model, in the order EngineOutputs and CompiledOutputs write them:
+// M (column-major), g, q̇, ż and, for a constrained model, B (column-major), B u + c, f(q, t)
+// and the bias Ḃ u + ċ.
+struct OutputPart {
+  const char* name;
+  int size;
+};
+std::vector<OutputPart> OutputParts(const multibody::Model& model) {
+  const int n = model.num_coordinates(), nz = model.num_extra_states();
+  const int m = model.num_constraint_rows();
+  std::vector<OutputPart> parts = {{"M", n * n}, {"g", n}, {"qdot", n}, {"zdot", nz}};
+  if (m > 0) {
+    parts.insert(parts.end(), {{"the constraint rows B", m * n},
+                               {"the constraint velocities B u + c", m},
+                               {"the constraint positions f(q, t)", m},
+                               {"the constraint bias Bdot u + cdot", m}});
+  }
+  return parts;
+}
+
+int PartsSize(const std::vector<OutputPart>& parts) {
+  int size = 0;
+  for (const OutputPart& p : parts) size += p.size;
+  return size;
+}
+
+// The engine's outputs (Parts) at (t, x, r), written to `out`.
 void EngineOutputs(const multibody::Model& model, multibody::Data<double>& data, double t,
                    const Eigen::VectorXd& x, const Eigen::VectorXd& r, Eigen::VectorXd& out) {
   const int n = model.num_coordinates(), nz = model.num_extra_states();
+  const int m = model.num_constraint_rows();
   multibody::CalcKinematics<double>(model, data, t, x);
   multibody::CalcMassMatrixPairwise<double>(model, data);
   multibody::CalcForcing<double>(model, data, r);
-  out.resize(n * n + 2 * n + nz);
+  out.resize(PartsSize(OutputParts(model)));
   out.head(n * n) = data.M.reshaped();
   out.segment(n * n, n) = data.g;
   out.segment(n * n + n, n) = data.qdot;
@@ -119,6 +148,26 @@ void EngineOutputs(const multibody::Model& model, multibody::Data<double>& data,
   for (int k = 0; k < nz; ++k) {
     out(n * n + 2 * n + k) = model.extra_states()[k].rate.get<double>()(args);
   }
+  if (m == 0) return;
+  multibody::CalcConstraints<double>(model, data);
+  const int at = n * n + 2 * n + nz;
+  out.segment(at, m * n) = data.constraint_B.reshaped();
+  out.segment(at + m * n, m) = data.constraint_velocity;
+  out.segment(at + m * n + m, m) = data.constraint_position;
+  out.segment(at + m * n + 2 * m, m) = data.constraint_bias;
+}
+
+// The compiled model's outputs (Parts) at (t, x, r), written to `out`.
+void CompiledOutputs(const multibody::Model& model, const multibody::CompiledRhs& rhs, double t,
+                     const Eigen::VectorXd& x, const Eigen::VectorXd& r, Eigen::VectorXd& out) {
+  const int n = model.num_coordinates(), nz = model.num_extra_states();
+  const int m = model.num_constraint_rows();
+  out.resize(PartsSize(OutputParts(model)));
+  double* o = out.data();
+  rhs.function(t, x.data(), r.data(), o, o + n * n, o + n * n + n, o + n * n + 2 * n);
+  if (m == 0) return;
+  double* c = o + n * n + 2 * n + nz;
+  rhs.constraints(t, x.data(), c, c + m * n, c + m * n + m, c + m * n + 2 * m);
 }
 
 // A random state (t, x, r) of the load-time check and the fingerprint.
@@ -133,10 +182,10 @@ double RandomState(std::mt19937& rng, int n, Eigen::VectorXd& x, Eigen::VectorXd
 // states (GiNaC orders terms by hashes of addresses, so the C text differs from process to
 // process; the engine's numbers do not), with the compiler command and kGenerator.
 std::uint64_t Fingerprint(const multibody::Model& model, const std::string& command) {
-  constexpr const char* kGenerator = "hybridtest codegen 1";
-  std::string key = fmt::format("{}\n{}\n{} {} {}\n", kGenerator, command,
+  constexpr const char* kGenerator = "hybridtest codegen 2";  // 2: constraint rows
+  std::string key = fmt::format("{}\n{}\n{} {} {} {}\n", kGenerator, command,
                                 model.num_coordinates(), model.num_slots(),
-                                model.num_extra_states());
+                                model.num_extra_states(), model.num_constraint_rows());
   std::mt19937 rng(20261127);
   multibody::Data<double> data(model);
   Eigen::VectorXd x(model.num_states()), r(model.num_slots()), out;
@@ -263,33 +312,42 @@ std::shared_ptr<const multibody::CompiledRhs> LoadCompiledModel(const multibody:
   const int n = *Symbol<const int*>(handle, f + "_n", library);
   const int slots = *Symbol<const int*>(handle, f + "_slots", library);
   const int nz = *Symbol<const int*>(handle, f + "_nz", library);
+  const int m = *Symbol<const int*>(handle, f + "_m", library);
   if (n != model.num_coordinates() || slots != model.num_slots() ||
-      nz != model.num_extra_states()) {
-    throw ModelError(fmt::format("the compiled model {} has n = {}, {} slots, {} extra states; "
-                                 "the model has {}, {}, {}: it was compiled for another model",
-                                 library, n, slots, nz, model.num_coordinates(), model.num_slots(),
-                                 model.num_extra_states()));
+      nz != model.num_extra_states() || m != model.num_constraint_rows()) {
+    throw ModelError(fmt::format("the compiled model {} has n = {}, {} slots, {} extra states, "
+                                 "{} constraint rows; the model has {}, {}, {}, {}: it was "
+                                 "compiled for another model",
+                                 library, n, slots, nz, m, model.num_coordinates(),
+                                 model.num_slots(), model.num_extra_states(),
+                                 model.num_constraint_rows()));
   }
-  // The load-time check: the engine (its kinematics, pairwise M and forcing) at random states.
+  if (m > 0) {
+    rhs->constraints =
+        Symbol<multibody::CompiledConstraintsFunction>(handle, f + "_constraints", library);
+  }
+  // The load-time check: the engine (its kinematics, pairwise M, forcing and constraint rows)
+  // at random states, output by output.
+  const std::vector<OutputPart> parts = OutputParts(model);
   std::mt19937 rng(36);
   multibody::Data<double> data(model);
-  Eigen::VectorXd x(model.num_states()), r(slots), engine, mine(n * n + 2 * n + nz);
+  Eigen::VectorXd x(model.num_states()), r(slots), engine, mine;
   double worst = 0.0;
   for (int trial = 0; trial < kCheckStates; ++trial) {
     const double t = RandomState(rng, n, x, r);
-    double* m = mine.data();
-    rhs->function(t, x.data(), r.data(), m, m + n * n, m + n * n + n, m + n * n + 2 * n);
+    CompiledOutputs(model, *rhs, t, x, r, mine);
     EngineOutputs(model, data, t, x, r, engine);
-    const double d = std::max({Difference(m, engine.data(), n * n),
-                               Difference(m + n * n, engine.data() + n * n, n),
-                               Difference(m + n * n + n, engine.data() + n * n + n, n),
-                               Difference(m + n * n + 2 * n, engine.data() + n * n + 2 * n, nz)});
-    worst = std::max(worst, d);
-    if (!(d <= 1e-9)) {
-      throw ModelError(fmt::format(
-          "the compiled model {} disagrees with the numeric engine at t = {} s (relative "
-          "difference {:.3g} > 1e-9): it is stale or was compiled for another model; delete it "
-          "and compile again", library, t, d));
+    int at = 0;
+    for (const OutputPart& part : parts) {
+      const double d = Difference(mine.data() + at, engine.data() + at, part.size);
+      at += part.size;
+      worst = std::max(worst, d);
+      if (!(d <= 1e-9)) {
+        throw ModelError(fmt::format(
+            "the compiled model {} disagrees with the numeric engine in {} at t = {} s "
+            "(relative difference {:.3g} > 1e-9): it is stale or was compiled for another "
+            "model; delete it and compile again", library, part.name, t, d));
+      }
     }
   }
   if (difference != nullptr) *difference = worst;

@@ -12,7 +12,8 @@
 //   model.AttachCompiledRhs(symbolic::CompileModel(model, "rotor"));
 //
 // after which CalcStateDerivative<double> calls it in place of the engine's kinematics, mass
-// matrix and forcing.
+// matrix and forcing, and for a constrained model of its constraint rows (the reduction stays
+// the engine's, constraints.h).
 //
 // The compiler: $CC if set (a program name or path, no arguments), else `cc` on the PATH
 // (Debian: gcc, from build-essential). Flags: -O2 -fPIC -shared, and -lm; no -ffast-math, so
@@ -53,8 +54,9 @@ std::shared_ptr<const multibody::CompiledRhs> CompileModel(const multibody::Mode
 
 // Loads a shared library built from WriteC(…, kCompiledFunction) for `model` and checks it:
 // before dlopen, its directory, owner, mode and digests (OpenCheckedLibrary); after, its
-// (sizes, then M, g, q̇ and ż at kCheckStates random states within 1e-9 of each output's
-// largest entry). Returns the largest relative difference in *difference.
+// (sizes, then M, g, q̇, ż and a constrained model's constraint rows B, B u + c, f(q, t) and
+// Ḃ u + ċ at kCheckStates random states within 1e-9 of each output's largest entry; a
+// disagreement names the output). Returns the largest relative difference in *difference.
 std::shared_ptr<const multibody::CompiledRhs> LoadCompiledModel(const multibody::Model& model,
                                                                 const std::string& library,
                                                                 double* difference = nullptr);

@@ -7,6 +7,7 @@
 
 #include "hybridtest/common/error.h"
 
+#include "hybridtest/multibody/constraints.h"
 #include "hybridtest/multibody/kane.h"
 #include "hybridtest/symbolic/shared.h"
 #include "hybridtest/symbolic/simplify.h"
@@ -108,18 +109,6 @@ std::vector<GiNaC::ex> ExtraStateRates(const multibody::Model& model, const Data
   return zdot;
 }
 
-// The C form (codegen.h) and compiled models of a constrained model are not written yet: the
-// compiled library would have to replace the engine's constraint rows too.
-void RefuseConstraints(const multibody::Model& model) {
-  if (!model.has_constraints()) return;
-  throw ModelError(fmt::format(
-      "the model has {} constraint rows (constraints:); compiling its equations (`equations "
-      "--format c`, `compile-model`, `model: {{compiled: true}}`) is not supported yet: print "
-      "its reduced equations with `equations --format sympy|latex|markdown`, or run it "
-      "without `compiled: true` (the numeric engine)",
-      model.num_constraint_rows()));
-}
-
 }  // namespace
 
 std::vector<GiNaC::ex*> Outputs(Equations& eq) {
@@ -143,7 +132,6 @@ std::vector<GiNaC::ex*> Outputs(Equations& eq) {
 }
 
 RhsExpressions DeriveRhs(const multibody::Model& model) {
-  RefuseConstraints(model);
   const int n = model.num_coordinates();
   Data<Symbolic> data(model);
   Equations symbols;
@@ -160,6 +148,19 @@ RhsExpressions DeriveRhs(const multibody::Model& model) {
     rhs.qdot.push_back(data.qdot(k).ex());
   }
   rhs.zdot = ExtraStateRates(model, data);
+  if (model.has_constraints()) {
+    // After the forcing, as the engine's constrained step computes them.
+    multibody::CalcConstraints<Symbolic>(model, data);
+    const int m = model.num_constraint_rows();
+    for (int j = 0; j < n; ++j) {
+      for (int s = 0; s < m; ++s) rhs.B.push_back(data.constraint_B(s, j).ex());
+    }
+    for (int s = 0; s < m; ++s) {
+      rhs.constraint_velocity.push_back(data.constraint_velocity(s).ex());
+      rhs.constraint_position.push_back(data.constraint_position(s).ex());
+      rhs.constraint_bias.push_back(data.constraint_bias(s).ex());
+    }
+  }
   return rhs;
 }
 

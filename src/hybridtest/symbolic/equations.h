@@ -76,8 +76,15 @@ struct RhsExpressions {
   std::vector<GiNaC::ex> g;   // (n)
   std::vector<GiNaC::ex> qdot;  // (n)
   std::vector<GiNaC::ex> zdot;  // (nz)
+  // A constrained model's rows of B u + c = 0 (m = num_constraint_rows(); empty without
+  // constraints), as CalcConstraints computes them: B (m × n, column-major), B u + c,
+  // f(q, t) (0 for non-holonomic rows) and the bias Ḃ u + ċ (m each). The reduction (the
+  // dependent speeds, A, [Cᵀ M; B]) stays the engine's numeric code (constraints.h).
+  std::vector<GiNaC::ex> B;
+  std::vector<GiNaC::ex> constraint_velocity;
+  std::vector<GiNaC::ex> constraint_position;
+  std::vector<GiNaC::ex> constraint_bias;
 };
-// Throws ModelError for a constrained model (its C and compiled form are not written yet).
 RhsExpressions DeriveRhs(const multibody::Model& model);
 
 }  // namespace hybridtest::symbolic

@@ -1,4 +1,5 @@
-// Expressions as Markdown text, LaTeX or SymPy. See print_expression.h.
+// Expressions as Markdown text, LaTeX, SymPy or C (C's own parts in print_c.cc). See
+// print_expression.h.
 #include "hybridtest/symbolic/print_expression.h"
 
 #include <fmt/core.h>
@@ -11,41 +12,15 @@
 #include <string_view>
 #include <set>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/symbolic/print_c.h"
 
 namespace hybridtest::symbolic {
 
 namespace {
-
-// A double literal that C reads back exactly (17 significant digits), always with a point or
-// an exponent so that C never takes it for an int (1/2 would be 0).
-std::string CLiteral(const GiNaC::numeric& n) {
-  if (!n.is_real()) {
-    throw ModelError("cannot generate C: the model's equations contain a complex number");
-  }
-  std::string s = fmt::format("{:.17g}", n.to_double());
-  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
-  return s;
-}
-
-// The C (<math.h>) name of a function of the Symbolic scalar, by GiNaC's name ("" for csgn,
-// which C lacks and the printer writes out).
-std::string CFunction(const std::string& name) {
-  static const std::map<std::string, std::string> kNames = {
-      {"sin", "sin"},   {"cos", "cos"},   {"tan", "tan"},     {"exp", "exp"},
-      {"log", "log"},   {"atan", "atan"}, {"asin", "asin"},   {"acos", "acos"},
-      {"tanh", "tanh"}, {"abs", "fabs"},  {"atan2", "atan2"}, {"csgn", ""}};
-  const auto it = kNames.find(name);
-  if (it == kNames.end()) {
-    throw ModelError(fmt::format(
-        "cannot generate C: the equations call '{}', which is not a C function (a model file's "
-        "1-D table is printed as a function of its argument but has no C form); replace the "
-        "table by a formula, or run the model without `compiled: true`", name));
-  }
-  return it->second;
-}
 
 // The shortest decimal within 1e-15 (relative, a few units in the last place) of v: a number
 // as the model file wrote it (1.57, 9.6236), not the last bits of the arithmetic that computed
@@ -144,7 +119,7 @@ class Printer {
   }
 
   Printed Number(const GiNaC::numeric& n) const {
-    if (d_ == Dialect::kC) return {CLiteral(n), n.is_negative() ? kSum : kAtom};
+    if (d_ == Dialect::kC) return {c_print::Literal(n), n.is_negative() ? kSum : kAtom};
     if (n.is_integer()) {
       std::ostringstream os;
       os << n;
@@ -200,12 +175,7 @@ class Printer {
     static const std::set<std::string> kKnown = {"sin", "cos", "tan", "exp", "log", "atan",
                                                  "asin", "acos", "tanh", "atan2"};
     switch (d_) {
-      case Dialect::kC: {
-        const std::string c = CFunction(name);
-        if (!c.empty()) return {fmt::format("{}({})", c, joined), kAtom};
-        // csgn: the sign of a real, 0 at 0.
-        return {fmt::format("(double)(({0} > 0.0) - ({0} < 0.0))", joined), kAtom};
-      }
+      case Dialect::kC: return {c_print::Call(name, joined), kAtom};
       case Dialect::kSympy:
         if (kKnown.count(name)) return {fmt::format("sp.{}({})", name, joined), kAtom};
         if (name == "abs") return {fmt::format("sp.Abs({})", joined), kAtom};
@@ -235,15 +205,9 @@ class Printer {
     }
     const Printed x = Print(exponent);
     if (d_ == Dialect::kC) {
-      // b^k for a whole k up to 4 as products, else pow.
-      const GiNaC::numeric* k = GiNaC::is_a<GiNaC::numeric>(exponent)
-                                    ? &GiNaC::ex_to<GiNaC::numeric>(exponent) : nullptr;
-      if (k == nullptr || !k->is_pos_integer() || k->to_long() > 4) {
-        return {"pow(" + b.text + ", " + x.text + ")", kAtom};
-      }
-      std::string s = Wrap(b, kAtom);
-      for (long i = 1; i < k->to_long(); ++i) s += "*" + Wrap(b, kAtom);
-      return {s, kProduct};
+      bool product = false;
+      std::string s = c_print::Power(b.text, Wrap(b, kAtom), exponent, x.text, &product);
+      return {std::move(s), product ? kProduct : kAtom};
     }
     switch (d_) {
       case Dialect::kLatex: return {Wrap(b, kAtom) + "^{" + x.text + "}", kPower};
