@@ -100,6 +100,38 @@ inline void ZeroN(std::ptrdiff_t n, T* dst) {
   std::fill_n(dst, n, T(0.0));
 }
 
+// The relative position r = offset + time_rate t + Σ c_k q_k of an affine point
+// (CompiledPoint::affine) and its rate as seen in its frame, ṙ = time_rate + Σ c_k q̇_k, in
+// E components, into r[3] and rd[3]. The sums run in registers: a store to r[component] read
+// back by the next term or by the rotation after it is a chain through memory (measured on
+// the rotor). Same terms in the same order as summing into the arrays.
+template <typename T>
+inline void AffinePointOffset(const CompiledPoint& pt, const T& t, const T* q, const T* qdot,
+                              T* r, T* rd) {
+  T r0 = T(pt.offset(0)), r1 = T(pt.offset(1)), r2 = T(pt.offset(2));
+  T d0 = T(pt.time_rate(0)), d1 = T(pt.time_rate(1)), d2 = T(pt.time_rate(2));
+  if (pt.has_time_rate) {
+    r0 = Add(r0, Scale(pt.time_rate(0), t));
+    r1 = Add(r1, Scale(pt.time_rate(1), t));
+    r2 = Add(r2, Scale(pt.time_rate(2), t));
+  }
+  for (const auto& term : pt.rate_terms) {
+    const T dr = Scale(term.coefficient, q[term.speed]);
+    const T drd = Scale(term.coefficient, qdot[term.speed]);
+    switch (term.component) {
+      case 0: r0 = Add(r0, dr); d0 = Add(d0, drd); break;
+      case 1: r1 = Add(r1, dr); d1 = Add(d1, drd); break;
+      default: r2 = Add(r2, dr); d2 = Add(d2, drd); break;
+    }
+  }
+  r[0] = r0;
+  r[1] = r1;
+  r[2] = r2;
+  rd[0] = d0;
+  rd[1] = d1;
+  rd[2] = d2;
+}
+
 // Rᵀ v, inline (the same terms, in the same order, as Eigen's R.transpose() * v).
 template <typename T>
 inline Vector3<T> TransposeMultiply(const Matrix3<T>& R, const Vector3<T>& v) {

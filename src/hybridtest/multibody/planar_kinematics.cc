@@ -64,19 +64,7 @@ void PlanarPoint(const Model& model, Data<double>& data, int i) {
   const int o = spec.from;
   const int e = spec.frame;
   double r[3], rd[3];
-  for (int c = 0; c < 3; ++c) {
-    r[c] = pt.offset(c);
-    rd[c] = pt.time_rate(c);
-  }
-  if (pt.has_time_rate) {
-    for (int c = 0; c < 3; ++c) r[c] = r[c] + pt.time_rate(c) * data.t;
-  }
-  const double* q = data.q.data();
-  const double* qdot = data.qdot.data();
-  for (const auto& term : pt.rate_terms) {
-    r[term.component] = r[term.component] + term.coefficient * q[term.speed];
-    rd[term.component] = rd[term.component] + term.coefficient * qdot[term.speed];
-  }
+  AffinePointOffset(pt, data.t, data.q.data(), data.qdot.data(), r, rd);
   const double* R = data.R_NF[e].data();
   const double w = data.w_NF[e](A);
   double rho[3], rho_rel_dot[3], w_rho[3];
