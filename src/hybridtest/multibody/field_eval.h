@@ -74,27 +74,51 @@ inline void Copy3(const T* a, T* out) {
   out[2] = a[2];
 }
 
-// dst[0..n) = src[0..n) and dst[0..n) = 0 for the short vectors of a small model: inline
-// conditional stores up to 8 entries (a runtime-sized loop would become a call to memmove or
-// memset, which costs more than the copy), std::copy_n / std::fill_n beyond.
+// dst[0..n) = src[0..n) and dst[0..n) = 0 for the short vectors of a small model: one jump
+// into a run of stores up to 8 (16) entries (a runtime-sized loop would become a call to
+// memmove or memset, which costs more than the copy; a compare and branch per entry costs
+// twice the stores), std::copy_n / std::fill_n beyond. Always inline: out of line, the call
+// costs as much as the copy (callgrind).
 template <typename T>
-inline void CopyN(const T* src, std::ptrdiff_t n, T* dst) {
+[[gnu::always_inline]] inline void CopyN(const T* src, std::ptrdiff_t n, T* dst) {
   if constexpr (std::is_same_v<T, double>) {
-    if (n <= 8) {
-      for (int i = 0; i < 8; ++i)
-        if (i < n) dst[i] = src[i];
-      return;
+    switch (n) {
+      case 8: dst[7] = src[7]; [[fallthrough]];
+      case 7: dst[6] = src[6]; [[fallthrough]];
+      case 6: dst[5] = src[5]; [[fallthrough]];
+      case 5: dst[4] = src[4]; [[fallthrough]];
+      case 4: dst[3] = src[3]; [[fallthrough]];
+      case 3: dst[2] = src[2]; [[fallthrough]];
+      case 2: dst[1] = src[1]; [[fallthrough]];
+      case 1: dst[0] = src[0]; [[fallthrough]];
+      case 0: return;
+      default: break;
     }
   }
   std::copy_n(src, n, dst);
 }
 template <typename T>
-inline void ZeroN(std::ptrdiff_t n, T* dst) {
+[[gnu::always_inline]] inline void ZeroN(std::ptrdiff_t n, T* dst) {
   if constexpr (std::is_same_v<T, double>) {
-    if (n <= 16) {
-      for (int i = 0; i < 16; ++i)
-        if (i < n) dst[i] = 0.0;
-      return;
+    switch (n) {
+      case 16: dst[15] = 0.0; [[fallthrough]];
+      case 15: dst[14] = 0.0; [[fallthrough]];
+      case 14: dst[13] = 0.0; [[fallthrough]];
+      case 13: dst[12] = 0.0; [[fallthrough]];
+      case 12: dst[11] = 0.0; [[fallthrough]];
+      case 11: dst[10] = 0.0; [[fallthrough]];
+      case 10: dst[9] = 0.0; [[fallthrough]];
+      case 9: dst[8] = 0.0; [[fallthrough]];
+      case 8: dst[7] = 0.0; [[fallthrough]];
+      case 7: dst[6] = 0.0; [[fallthrough]];
+      case 6: dst[5] = 0.0; [[fallthrough]];
+      case 5: dst[4] = 0.0; [[fallthrough]];
+      case 4: dst[3] = 0.0; [[fallthrough]];
+      case 3: dst[2] = 0.0; [[fallthrough]];
+      case 2: dst[1] = 0.0; [[fallthrough]];
+      case 1: dst[0] = 0.0; [[fallthrough]];
+      case 0: return;
+      default: break;
     }
   }
   std::fill_n(dst, n, T(0.0));
