@@ -74,30 +74,86 @@ inline void Copy3(const T* a, T* out) {
   out[2] = a[2];
 }
 
-// dst[0..n) = src[0..n) and dst[0..n) = 0 for the short vectors of a small model: inline
-// conditional stores up to 8 entries (a runtime-sized loop would become a call to memmove or
-// memset, which costs more than the copy), std::copy_n / std::fill_n beyond.
+// dst[0..n) = src[0..n) and dst[0..n) = 0 for the short vectors of a small model: one jump
+// into a run of stores up to 8 (16) entries (a runtime-sized loop would become a call to
+// memmove or memset, which costs more than the copy; a compare and branch per entry costs
+// twice the stores), std::copy_n / std::fill_n beyond. Always inline: out of line, the call
+// costs as much as the copy (callgrind).
 template <typename T>
-inline void CopyN(const T* src, std::ptrdiff_t n, T* dst) {
+[[gnu::always_inline]] inline void CopyN(const T* src, std::ptrdiff_t n, T* dst) {
   if constexpr (std::is_same_v<T, double>) {
-    if (n <= 8) {
-      for (int i = 0; i < 8; ++i)
-        if (i < n) dst[i] = src[i];
-      return;
+    switch (n) {
+      case 8: dst[7] = src[7]; [[fallthrough]];
+      case 7: dst[6] = src[6]; [[fallthrough]];
+      case 6: dst[5] = src[5]; [[fallthrough]];
+      case 5: dst[4] = src[4]; [[fallthrough]];
+      case 4: dst[3] = src[3]; [[fallthrough]];
+      case 3: dst[2] = src[2]; [[fallthrough]];
+      case 2: dst[1] = src[1]; [[fallthrough]];
+      case 1: dst[0] = src[0]; [[fallthrough]];
+      case 0: return;
+      default: break;
     }
   }
   std::copy_n(src, n, dst);
 }
 template <typename T>
-inline void ZeroN(std::ptrdiff_t n, T* dst) {
+[[gnu::always_inline]] inline void ZeroN(std::ptrdiff_t n, T* dst) {
   if constexpr (std::is_same_v<T, double>) {
-    if (n <= 16) {
-      for (int i = 0; i < 16; ++i)
-        if (i < n) dst[i] = 0.0;
-      return;
+    switch (n) {
+      case 16: dst[15] = 0.0; [[fallthrough]];
+      case 15: dst[14] = 0.0; [[fallthrough]];
+      case 14: dst[13] = 0.0; [[fallthrough]];
+      case 13: dst[12] = 0.0; [[fallthrough]];
+      case 12: dst[11] = 0.0; [[fallthrough]];
+      case 11: dst[10] = 0.0; [[fallthrough]];
+      case 10: dst[9] = 0.0; [[fallthrough]];
+      case 9: dst[8] = 0.0; [[fallthrough]];
+      case 8: dst[7] = 0.0; [[fallthrough]];
+      case 7: dst[6] = 0.0; [[fallthrough]];
+      case 6: dst[5] = 0.0; [[fallthrough]];
+      case 5: dst[4] = 0.0; [[fallthrough]];
+      case 4: dst[3] = 0.0; [[fallthrough]];
+      case 3: dst[2] = 0.0; [[fallthrough]];
+      case 2: dst[1] = 0.0; [[fallthrough]];
+      case 1: dst[0] = 0.0; [[fallthrough]];
+      case 0: return;
+      default: break;
     }
   }
   std::fill_n(dst, n, T(0.0));
+}
+
+// The relative position r = offset + time_rate t + Σ c_k q_k of an affine point
+// (CompiledPoint::affine) and its rate as seen in its frame, ṙ = time_rate + Σ c_k q̇_k, in
+// E components, into r[3] and rd[3]. The sums run in registers: a store to r[component] read
+// back by the next term or by the rotation after it is a chain through memory (measured on
+// the rotor). Same terms in the same order as summing into the arrays.
+template <typename T>
+inline void AffinePointOffset(const CompiledPoint& pt, const T& t, const T* q, const T* qdot,
+                              T* r, T* rd) {
+  T r0 = T(pt.offset(0)), r1 = T(pt.offset(1)), r2 = T(pt.offset(2));
+  T d0 = T(pt.time_rate(0)), d1 = T(pt.time_rate(1)), d2 = T(pt.time_rate(2));
+  if (pt.has_time_rate) {
+    r0 = Add(r0, Scale(pt.time_rate(0), t));
+    r1 = Add(r1, Scale(pt.time_rate(1), t));
+    r2 = Add(r2, Scale(pt.time_rate(2), t));
+  }
+  for (const auto& term : pt.rate_terms) {
+    const T dr = Scale(term.coefficient, q[term.speed]);
+    const T drd = Scale(term.coefficient, qdot[term.speed]);
+    switch (term.component) {
+      case 0: r0 = Add(r0, dr); d0 = Add(d0, drd); break;
+      case 1: r1 = Add(r1, dr); d1 = Add(d1, drd); break;
+      default: r2 = Add(r2, dr); d2 = Add(d2, drd); break;
+    }
+  }
+  r[0] = r0;
+  r[1] = r1;
+  r[2] = r2;
+  rd[0] = d0;
+  rd[1] = d1;
+  rd[2] = d2;
 }
 
 // Rᵀ v, inline (the same terms, in the same order, as Eigen's R.transpose() * v).

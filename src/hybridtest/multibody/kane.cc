@@ -25,9 +25,10 @@ namespace {
 // starts from +0, as M's does in the term-by-term loop.
 [[gnu::noinline]] void AddGroupedMassTerms(const Model& model, Data<double>& data) {
   double* m = data.M.data();
+  const Matrix3X<double>* v_partial = data.v_partial.data();  // once, not per term
   double s = 0.0;
   for (const MassTerm& term : model.grouped_mass_terms()) {
-    const double* v = data.v_partial[term.point].data();
+    const double* v = v_partial[term.point].data();
     const double* vj = v + term.vj;
     const double* vk = v + term.vk;
     const double value = term.mass * (vj[0] * vk[0] + vj[1] * vk[1] + vj[2] * vk[2]);
@@ -42,10 +43,15 @@ void AddGroupedMassTerms(const Model&, Data<Symbolic>&) {}
 // The generalized forces' sums, speed by speed in a register (projection_terms()).
 [[gnu::noinline]] void ProjectGrouped(const Model& model, Data<double>& data) {
   double* g = data.g.data();
+  // The arrays' starts, once (the loop would reload them for every term).
+  const Matrix3X<double>* v_partial = data.v_partial.data();
+  const Matrix3X<double>* w_partial = data.w_partial.data();
+  const Vector3<double>* force = data.force.data();
+  const Vector3<double>* torque = data.torque.data();
   double s = 0.0;
   for (const ProjectionTerm& term : model.projection_terms()) {
-    const double* V = (term.frame ? data.w_partial : data.v_partial)[term.index].data();
-    const double* f = (term.frame ? data.torque : data.force)[term.index].data();
+    const double* V = (term.frame ? w_partial : v_partial)[term.index].data();
+    const double* f = (term.frame ? torque : force)[term.index].data();
     const double value = internal::Dot(V + 3 * term.j, f);
     s = term.continues ? s + value : 0.0 + value;
     g[term.j] = s;

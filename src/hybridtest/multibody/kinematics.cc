@@ -210,19 +210,7 @@ void CalcAffinePoint(const PointSpec& spec, const CompiledPoint& pt, Data<T>& da
   const int o = spec.from;
   const int e = spec.frame;
   T r[3], rd[3];
-  for (int c = 0; c < 3; ++c) {
-    r[c] = T(pt.offset(c));
-    rd[c] = T(pt.time_rate(c));
-  }
-  if (pt.has_time_rate) {
-    for (int c = 0; c < 3; ++c) r[c] = Add(r[c], Scale(pt.time_rate(c), data.t));
-  }
-  const T* q = data.q.data();
-  const T* qdot = data.qdot.data();
-  for (const auto& term : pt.rate_terms) {
-    r[term.component] = Add(r[term.component], Scale(term.coefficient, q[term.speed]));
-    rd[term.component] = Add(rd[term.component], Scale(term.coefficient, qdot[term.speed]));
-  }
+  internal::AffinePointOffset(pt, data.t, data.q.data(), data.qdot.data(), r, rd);
   const T* R = data.R_NF[e].data();  // column-major: R(a, b) = R[a + 3 b]
   const T* w = data.w_NF[e].data();
   T rho[3], rho_rel_dot[3];  // ρ, and its rate as seen in E (N components)

@@ -64,19 +64,7 @@ void PlanarPoint(const Model& model, Data<double>& data, int i) {
   const int o = spec.from;
   const int e = spec.frame;
   double r[3], rd[3];
-  for (int c = 0; c < 3; ++c) {
-    r[c] = pt.offset(c);
-    rd[c] = pt.time_rate(c);
-  }
-  if (pt.has_time_rate) {
-    for (int c = 0; c < 3; ++c) r[c] = r[c] + pt.time_rate(c) * data.t;
-  }
-  const double* q = data.q.data();
-  const double* qdot = data.qdot.data();
-  for (const auto& term : pt.rate_terms) {
-    r[term.component] = r[term.component] + term.coefficient * q[term.speed];
-    rd[term.component] = rd[term.component] + term.coefficient * qdot[term.speed];
-  }
+  AffinePointOffset(pt, data.t, data.q.data(), data.qdot.data(), r, rd);
   const double* R = data.R_NF[e].data();
   const double w = data.w_NF[e](A);
   double rho[3], rho_rel_dot[3], w_rho[3];
@@ -125,14 +113,9 @@ void PlanarKinematics(const Model& model, Data<double>& data) {
 
 }  // namespace
 
-void SubtractPlanarInertiaTorque(int axis, const RigidBodySpec& body, Data<double>& data) {
+void SubtractPlanarGyroscopicTorque(int axis, const RigidBodySpec& body, Data<double>& data) {
   // ω_B = Rᵀ ω = ω_A e_A (R's row A is e_A), α_rem = 0: I α = 0, and the gyroscopic torque
   // ω_B × I ω_B with I ω_B = ω_A I e_A; back to N through R.
-  // A body whose axis A is principal (I e_A = I_AA e_A) has no gyroscopic torque: the terms
-  // below would all be exact zeros.
-  if (body.inertia((axis + 1) % 3, axis) == 0.0 && body.inertia((axis + 2) % 3, axis) == 0.0) {
-    return;
-  }
   const double w = data.w_NF[body.frame](axis);
   const double Iw[3] = {body.inertia(0, axis) * w, body.inertia(1, axis) * w,
                         body.inertia(2, axis) * w};

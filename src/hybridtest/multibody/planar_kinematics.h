@@ -44,7 +44,16 @@ inline void RotatePlanar(int axis, const double* R, const double* v, double* out
 }
 
 // data.torque[body.frame] −= I α + ω × I ω (in N) for a body of a planar model about `axis`:
-// CalcForcing's inertia torque with the structural zeros skipped.
-void SubtractPlanarInertiaTorque(int axis, const RigidBodySpec& body, Data<double>& data);
+// CalcForcing's inertia torque with the structural zeros skipped. A body whose axis A is
+// principal (I e_A = I_AA e_A) has none (its terms would all be exact zeros): checked here,
+// inline, as the call alone costs more than the check.
+void SubtractPlanarGyroscopicTorque(int axis, const RigidBodySpec& body, Data<double>& data);
+inline void SubtractPlanarInertiaTorque(int axis, const RigidBodySpec& body,
+                                        Data<double>& data) {
+  if (body.inertia((axis + 1) % 3, axis) == 0.0 && body.inertia((axis + 2) % 3, axis) == 0.0) {
+    return;
+  }
+  SubtractPlanarGyroscopicTorque(axis, body, data);
+}
 
 }  // namespace hybridtest::multibody::internal
