@@ -30,6 +30,7 @@ SiteServerOptions SiteOptions(const std::string& journal, double watchdog = 5.0)
   o.start_positions = {0.0};
   o.watchdog = watchdog;
   o.journal = journal;
+  o.journal_max_bytes = std::uintmax_t{16} << 20;  // the start's disk check: 80 MiB free, not 1 GiB
   return o;
 }
 
