@@ -264,7 +264,7 @@ transfer::BenchAnnouncement PyTransfer::Announce() const {
   return a;
 }
 
-std::optional<std::vector<transfer::Measurement>> PyTransfer::ReadAll() const {
+std::optional<std::vector<transfer::Measurement>> PyTransfer::ReadAll() {
   py::gil_scoped_acquire gil;
   try {
     const py::object& driver = driver_->get();

@@ -146,7 +146,7 @@ class PyTransfer final : public transfer::TransferSystem {
   // The driver's optional read(), without moving: the same reply as execute()'s (positions
   // and forces in its units); nullopt if it has none, raises, or replies otherwise (the start
   // check then records that it could not read). Never throws.
-  std::optional<std::vector<transfer::Measurement>> ReadAll() const override;
+  std::optional<std::vector<transfer::Measurement>> ReadAll() override;
 
  private:
   void Call(const char* method, const std::string& what);

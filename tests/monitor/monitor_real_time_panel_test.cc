@@ -8,9 +8,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <random>
+#include <thread>
+#include <vector>
 
 #include "hybridtest/common/tracking.h"
 #include "hybridtest/io/run_spec_yaml.h"
@@ -193,6 +196,47 @@ TEST(MonitorRealTimePanel, CompensationIsLivePerActuator) {
   // Each its own: the actuator with 1 ms more plant delay has another estimate.
   EXPECT_NE(snapshot.delays[0], snapshot.delays[1]);
   EXPECT_DOUBLE_EQ(c["delay_s"].get<double>(), std::min(snapshot.delays[0], snapshot.delays[1]));
+  fs::remove_all(dir);
+}
+
+// The monitor takes each compensator's delay from the pacer's sample (RealTimeSample::
+// compensated_delay_s), never from the transfer system: fed a row whose sample carries a delay
+// the compensator never estimated, /api/state's compensation shows the sample's. (Before, the
+// observer read the compensator itself on the stepping thread.)
+TEST(MonitorRealTimePanel, CompensationComesFromThePacersSample) {
+  const fs::path dir = ResumeTestDir("monitor_real_time_panel_sample");
+  const fs::path config = WriteExampleConfig(
+      dir, "real-time", "storey-ats.yaml", {{"lock_memory: true", "lock_memory: false"}},
+      {"storey.model.yaml"});
+  runner::Session session(VirtualSpec(config));  // built, never run: nothing moves
+  monitor::MonitorState state(100);
+  monitor::MonitorObserver observer(state);
+  observer.OnStart({session.spec(), session.slot_map(), session.substructures(), true, nullptr,
+                    "virtual"});
+  const transfer::TransferSystem* ats = session.substructures()[0]->transfer_system();
+  ASSERT_NE(ats, nullptr);
+  const double delay = 0.0123456;  // [s]
+  ASSERT_NE(ats->actuator_compensated_delay(0), delay);
+  const std::vector<double> delays{delay};
+  runner::RealTimeSample sample;
+  sample.ticks = 1;
+  sample.compensated_delay_s = delays;
+  runner::CommitEvent row;
+  row.step = 1;
+  row.real_time = &sample;
+  observer.OnCommit(row);
+  for (int i = 0; i < 2000 && state.frames() < 1; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  const nlohmann::json c = state.StateJson()["realtime"]["compensation"]["r1"];
+  ASSERT_TRUE(c["actuators"].is_array()) << c.dump();
+  ASSERT_EQ(c["actuators"].size(), 1u) << c.dump();
+  EXPECT_EQ(c["actuators"][0]["name"], "r1");
+  EXPECT_DOUBLE_EQ(c["actuators"][0]["delay_s"].get<double>(), delay) << c.dump();
+  EXPECT_DOUBLE_EQ(c["delay_s"].get<double>(), delay) << c.dump();
+  runner::StopEvent stop;
+  stop.statistics = nlohmann::json::object();
+  observer.OnStop(stop);
   fs::remove_all(dir);
 }
 

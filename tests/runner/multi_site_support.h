@@ -61,6 +61,7 @@ class Sites {
       c.server.port = 0;
       c.server.journal = (dir / ("site-r" + std::to_string(s + 1) + ".journal")).string();
       journals_.push_back(c.server.journal);
+      c.server.journal_max_bytes = std::uintmax_t{16} << 20;  // the start's disk check: 80 MiB free
       if (const auto it = stroke_max.find(s); it != stroke_max.end()) {
         c.server.limits[0].stroke_max = it->second;
       }

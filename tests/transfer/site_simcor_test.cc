@@ -26,6 +26,7 @@ SiteServerOptions SimcorSite(const std::string& journal, bool simcor = true) {
   o.limits = {SafetyLimits{}};  // ±150 mm, 5 mm per move
   o.start_positions = {0.0};
   o.journal = journal;
+  o.journal_max_bytes = std::uintmax_t{16} << 20;  // the start's disk check: 80 MiB free, not 1 GiB
   o.simcor = simcor;
   return o;
 }

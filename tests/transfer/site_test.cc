@@ -4,13 +4,16 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <filesystem>
 #include <functional>
 #include <thread>
 
+#include "hybridtest/common/error.h"
 #include "hybridtest/transfer/safety.h"
 #include "hybridtest/transfer/site/site_client.h"
 #include "hybridtest/transfer/site/site_journal.h"
 #include "hybridtest/transfer/site/site_server.h"
+#include "support/small_disk.h"
 #include "support/temp_dir.h"
 #include "transfer/bench_fake.h"
 
@@ -27,6 +30,7 @@ SiteServerOptions SiteOptions(const std::string& journal, double watchdog = 5.0)
   o.start_positions = {0.0};
   o.watchdog = watchdog;
   o.journal = journal;
+  o.journal_max_bytes = std::uintmax_t{16} << 20;  // the start's disk check: 80 MiB free, not 1 GiB
   return o;
 }
 
@@ -224,6 +228,39 @@ TEST(Site, AFloodOfRefusedProposalsIsNotJournaledLineByLine) {
   const std::string text = test_support::ReadText(journal);
   EXPECT_EQ(CountLines(text, "propose "), 5) << text;
   EXPECT_EQ(CountLines(text, "hold more than 5 refused proposals"), 1) << text;
+}
+
+// The journal's bound against its disk: on a disk of 128 MiB, a site whose journal may grow to
+// 1 GiB (journal_max_mb's default) refuses to start, naming the journal, its bound, the free
+// room and the fix, and writes nothing there; a bound that fits (16 MiB) starts.
+TEST(Site, AJournalBoundBeyondTheFreeRoomIsRefusedAtStart) {
+  const auto dir = test_support::FreshTempDir("site-journal-disk");
+  const std::string journal = (dir / "disk" / "site.journal").string();
+  const auto answer = test_support::RunOnSmallDisk(dir / "disk", std::size_t{128} << 20, [&] {
+    std::string said;
+    FakeBench bench;
+    for (const std::uintmax_t bound : {std::uintmax_t{1} << 30, std::uintmax_t{16} << 20}) {
+      SiteServerOptions o = SiteOptions(journal);
+      o.journal_max_bytes = bound;
+      try {
+        SiteServer server(bench, o);
+        said += "started\n";
+      } catch (const ConfigError& e) {
+        said += std::string(e.what()) + "\nleft: " +
+                (std::filesystem::exists(journal) ? "a journal" : "nothing") + "\n";
+      }
+    }
+    return said;
+  });
+  if (!answer) GTEST_SKIP() << "no private mount namespace here (unshare)";
+  const std::vector<std::string> parts = {
+      journal + ": site test-site's journal would write about 1073.7 MB up to its bound "
+                "journal_max_mb = 1024, but ",
+      " free (and ", "lower site.journal_max_mb", "\nleft: nothing\nstarted\n"};
+  for (const std::string& part : parts) {
+    EXPECT_NE(answer->find(part), std::string::npos) << "missing: " << part << "\n" << *answer;
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -117,7 +117,7 @@ void FmuPlant::Execute(std::span<const double> commands, std::span<transfer::Mea
   std::copy(m.begin(), m.end(), out.begin());
 }
 
-std::optional<std::vector<transfer::Measurement>> FmuPlant::ReadAll() const {
+std::optional<std::vector<transfer::Measurement>> FmuPlant::ReadAll() {
   if (!fmu_) return std::nullopt;
   try {
     return Read();

@@ -56,7 +56,7 @@ class FmuPlant final : public transfer::TransferSystem {
   void Deactivate() override { active_ = false; }
   transfer::BenchUnits bench_units() const override { return {}; }  // SI: m, N
   std::string Describe() const override;
-  std::optional<std::vector<transfer::Measurement>> ReadAll() const override;
+  std::optional<std::vector<transfer::Measurement>> ReadAll() override;
   nlohmann::json SaveState() const override;
   void RestoreState(const nlohmann::json& state) override;
   std::optional<long> commands_received() const override { return commands_; }

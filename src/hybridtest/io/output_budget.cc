@@ -1,21 +1,9 @@
 // See output_budget.h.
 #include "hybridtest/io/output_budget.h"
 
-#include <fmt/core.h>
-
-#include <filesystem>
-#include <system_error>
-
-#include "hybridtest/common/error.h"
+#include "hybridtest/common/disk_room.h"
 
 namespace hybridtest::io {
-namespace {
-
-std::string Megabytes(std::uintmax_t bytes) {
-  return fmt::format("{:.1f} MB", static_cast<double>(bytes) / 1e6);
-}
-
-}  // namespace
 
 std::uintmax_t EstimateOutputBytes(long steps, int journal_channels, int stages,
                                    int stage_channels) {
@@ -30,22 +18,8 @@ std::uintmax_t EstimateOutputBytes(long steps, int journal_channels, int stages,
 }
 
 void CheckOutputFits(const std::string& output_path, std::uintmax_t bytes) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  fs::path folder = fs::absolute(fs::path(output_path), ec).parent_path();
-  while (!folder.empty() && !fs::exists(folder, ec)) {
-    if (folder == folder.parent_path()) break;
-    folder = folder.parent_path();
-  }
-  const fs::space_info space = fs::space(folder, ec);
-  if (ec) return;  // unknown: the writer's own errors still report a full disk
-  const std::uintmax_t free = space.available;
-  if (bytes <= free && free - bytes >= kOutputSafetyMargin) return;
-  throw ConfigError(fmt::format(
-      "{}: this run would write about {} (journal and stage record), but {} has {} free (and "
-      "{} are kept free); shorten the duration, enlarge dt, or write elsewhere with --out",
-      output_path, Megabytes(bytes), folder.string(), Megabytes(free),
-      Megabytes(kOutputSafetyMargin)));
+  CheckFitsOnDisk(output_path, bytes, "this run", " (journal and stage record)",
+                  "shorten the duration, enlarge dt, or write elsewhere with --out");
 }
 
 }  // namespace hybridtest::io

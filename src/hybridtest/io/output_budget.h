@@ -10,10 +10,12 @@
 #include <cstdint>
 #include <string>
 
+#include "hybridtest/common/disk_room.h"
+
 namespace hybridtest::io {
 
 inline constexpr std::uintmax_t kBytesPerValue = 26;           // [bytes]
-inline constexpr std::uintmax_t kOutputSafetyMargin = 64u << 20;  // left free. [bytes]
+inline constexpr std::uintmax_t kOutputSafetyMargin = kDiskKeptFree;  // left free. [bytes]
 
 // Upper estimate of the bytes a run writes. stage_channels = 0 when there is no stage record.
 std::uintmax_t EstimateOutputBytes(long steps, int journal_channels, int stages,
@@ -22,6 +24,7 @@ std::uintmax_t EstimateOutputBytes(long steps, int journal_channels, int stages,
 // Throws ConfigError if `bytes` plus kOutputSafetyMargin exceed the space available on the
 // file system that will hold `output_path` (its nearest existing parent folder), naming the
 // estimate, the free space and how to fix it. Does nothing if the space cannot be queried.
+// The run's wording of the one disk check (common/disk_room.h, CheckFitsOnDisk).
 void CheckOutputFits(const std::string& output_path, std::uintmax_t bytes);
 
 }  // namespace hybridtest::io

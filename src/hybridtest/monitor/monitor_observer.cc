@@ -98,9 +98,12 @@ void MonitorObserver::OnStart(const runner::StartEvent& run) {
   std::vector<ActuatorInfo> actuators;
   DescribeRun(run, identity, layout_, actuators);
   identity.real_time.clock = run.clock;
-  compensators_.clear();
+  compensated_.clear();
   for (int b : CompensatedBlocks(run)) {
-    compensators_.push_back(run.substructures[std::size_t(b)]->transfer_system());
+    const runner::SlotMap::Block& block = run.slot_map.substructures[std::size_t(b)];
+    for (int k = 0; k < block.num_actuators; ++k) {
+      compensated_.push_back(static_cast<std::size_t>(block.first_actuator + k));
+    }
   }
   layout_ = state_.SetIdentity(std::move(identity), layout_, std::move(actuators));
   ring_ = std::make_unique<runner::SpscRing<std::vector<double>>>(
@@ -171,10 +174,9 @@ void MonitorObserver::FillRealTime(const runner::RealTimeSample* sample, double*
   c[kRtJ2] = s.J2;
   c[kRtJ3] = s.J3;
   std::size_t first = kRtColumns;  // one delay per compensated actuator
-  for (const transfer::TransferSystem* t : compensators_) {
-    for (int k = 0; k < t->num_actuators() && first < layout_.real_time; ++k) {
-      c[first++] = t->actuator_compensated_delay(k);
-    }
+  for (const std::size_t a : compensated_) {
+    if (first >= layout_.real_time) break;
+    c[first++] = a < s.compensated_delay_s.size() ? s.compensated_delay_s[a] : std::nan("");
   }
   for (std::size_t k = 0; k < s.J1_ms.size() && first + 3 * k + 2 < layout_.real_time; ++k) {
     c[first + 3 * k] = s.J1_ms[k];

@@ -12,9 +12,9 @@
 // CommitEvent's journal row). The actuators, their names, p0 and limits come from the
 // session's slot map and each substructure's actuator_p0/actuator_limits (decision 0016);
 // the identity from the run's spec (StartEvent). On a paced run each committed row carries the
-// pacer's sample (CommitEvent::real_time: counts, lateness, J1–J3 per actuator), which it
-// copies into the frame on the stepping thread, allocating nothing; it holds no pointer to the
-// Session or the pacer.
+// pacer's sample (CommitEvent::real_time: counts, lateness, J1–J3 and the compensator's delay
+// estimate per actuator), which it copies into the frame on the stepping thread, allocating
+// nothing; it holds no pointer to the Session, the pacer or a transfer system.
 #include <atomic>
 #include <condition_variable>
 #include <memory>
@@ -65,8 +65,9 @@ class MonitorObserver final : public runner::SessionObserver {
   MonitorState& state_;
   MonitorObserverOptions options_;
   std::string csv_;  // the run's journal ("" without files), for the resume command
-  // The compensating transfer systems, each with its delay columns (one per actuator).
-  std::vector<const transfer::TransferSystem*> compensators_;
+  // The actuators (run's order) behind a compensator, in the order of their delay columns;
+  // their delays come with the pacer's sample (RealTimeSample::compensated_delay_s).
+  std::vector<std::size_t> compensated_;
   FrameLayout layout_;
   std::unique_ptr<runner::SpscRing<std::vector<double>>> ring_;  // frames (layout_.width())
   std::atomic<long> dropped_{0};  // frames a full ring dropped (the stepping thread counts)

@@ -77,6 +77,7 @@ PacedLoop::PacedLoop(Session& session, Clock& clock)
   sample_J1_.assign(tracking_.num_actuators(), 0.0);
   sample_J2_.assign(tracking_.num_actuators(), 0.0);
   sample_J3_.assign(tracking_.num_actuators(), 0.0);
+  sample_delay_.assign(tracking_.num_actuators(), 0.0);
   session.AddObserver(*this);
 }
 
@@ -99,6 +100,18 @@ const RealTimeSample* PacedLoop::Sample() {
   s.J1_ms = sample_J1_;
   s.actuator_J2 = sample_J2_;
   s.actuator_J3 = sample_J3_;
+  // The compensators' estimates, per actuator in the run's order.
+  const auto& subs = session_.substructures();
+  const auto& blocks = session_.slot_map().substructures;
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const transfer::TransferSystem* t = subs[b]->transfer_system();
+    if (!blocks[b].physical || t == nullptr) continue;
+    for (int k = 0; k < blocks[b].num_actuators; ++k) {
+      const auto a = static_cast<std::size_t>(blocks[b].first_actuator + k);
+      if (a < sample_delay_.size()) sample_delay_[a] = t->actuator_compensated_delay(k);
+    }
+  }
+  s.compensated_delay_s = sample_delay_;
   return &s;
 }
 

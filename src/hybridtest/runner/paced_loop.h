@@ -61,8 +61,9 @@ class PacedLoop final : public SessionObserver, public StepPacer {
   void Start() override;
   void BeforeStep(bool after_hold) override;
   void AfterStep(const StepResult& result) override;
-  // Its counts, this tick's lateness, the tick before's compute time and the criteria of every
-  // actuator now (preallocated: nothing is allocated).
+  // Its counts, this tick's lateness, the tick before's compute time, the criteria of every
+  // actuator now and the delay its compensator removes (read from the physical substructures'
+  // transfer systems here, on the stepping thread; preallocated: nothing is allocated).
   const RealTimeSample* Sample() override;
 
   const PacedStatistics& statistics() const { return stats_; }
@@ -122,7 +123,8 @@ class PacedLoop final : public SessionObserver, public StepPacer {
   TrackingCriteria no_actuator_;  // criteria() of a run without a physical actuator
   std::vector<double> late_, compute_;  // per tick, preallocated
   RealTimeSample sample_;
-  std::vector<double> sample_J1_, sample_J2_, sample_J3_;  // (actuators), sized in Start()
+  // (actuators), sized by the constructor
+  std::vector<double> sample_J1_, sample_J2_, sample_J3_, sample_delay_;
   std::vector<std::string> setup_notes_;
   nlohmann::json stability_ = nlohmann::json::array();
 };

@@ -99,6 +99,9 @@ struct RealTimeSample {
   // actuator in the run's order (runner/tracking_criteria.h; NaN before they are known).
   double J2 = 0.0, J3 = 0.0;
   std::span<const double> J1_ms, actuator_J2, actuator_J3;
+  // The delay the compensator in front of each actuator removes, its current estimate, in the
+  // run's order (TransferSystem::actuator_compensated_delay; 0 without a compensator). [s]
+  std::span<const double> compensated_delay_s;
 };
 
 // What a run is, given to every observer before anything is activated (OnStart). The

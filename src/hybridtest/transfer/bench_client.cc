@@ -188,21 +188,19 @@ void BenchClient::Heartbeat() {
            "HEARTBEAT_ACK", options_.reply_timeout);
 }
 
-std::optional<std::vector<Measurement>> BenchClient::ReadAll() const {
+std::optional<std::vector<Measurement>> BenchClient::ReadAll() {
   if (!socket_.is_open() || !welcome_) return std::nullopt;
-  // Reading moves nothing, hence const; the exchange uses the connection all the same.
-  auto& self = const_cast<BenchClient&>(*this);
+  // Reading moves nothing, but it is an exchange on the connection.
   try {
     const Frame reply =
-        self.Exchange(EncodeEmpty(MessageType::kRead, self.next_sequence_++),
-                      MessageType::kMeasurement, "MEASUREMENT (the answer to READ)",
-                      options_.reply_timeout);
+        Exchange(EncodeEmpty(MessageType::kRead, next_sequence_++), MessageType::kMeasurement,
+                 "MEASUREMENT (the answer to READ)", options_.reply_timeout);
     return DecodeMeasurements(reply, num_actuators());
   } catch (const std::exception&) {
     // A server that cannot read (or an older one that does not know READ and closed the
     // session): connect again as before, and tell that nothing was read.
     try {
-      if (!socket_.is_open()) self.Activate();
+      if (!socket_.is_open()) Activate();
     } catch (const std::exception&) {
       // The next command reports the lost bench.
     }

@@ -75,7 +75,7 @@ class BenchClient final : public TransferSystem {
   // READ → MEASUREMENT: every actuator's position and force without moving (after
   // Activate()); nullopt when not connected, or when the server cannot read or does not know
   // READ (an older server answers ERROR and may end the session). Never throws.
-  std::optional<std::vector<Measurement>> ReadAll() const override;
+  std::optional<std::vector<Measurement>> ReadAll() override;
 
   // HEARTBEAT → HEARTBEAT_ACK round trip. Throws TransferError.
   void Heartbeat();

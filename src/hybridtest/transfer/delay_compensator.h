@@ -59,7 +59,7 @@ class DelayCompensator final : public TransferSystem {
   void Deactivate() override { inner_->Deactivate(); }
   BenchUnits bench_units() const override { return inner_->bench_units(); }
   std::string Describe() const override;
-  std::optional<std::vector<Measurement>> ReadAll() const override { return inner_->ReadAll(); }
+  std::optional<std::vector<Measurement>> ReadAll() override { return inner_->ReadAll(); }
   BenchAnnouncement Announce() const override { return inner_->Announce(); }
   std::optional<long> commands_received() const override { return inner_->commands_received(); }
   void StartPaced(double tick, const Clock& clock) override;

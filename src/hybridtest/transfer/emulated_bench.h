@@ -95,7 +95,7 @@ class EmulatedBench final : public TransferSystem {
   // Every actuator's position [bench length unit] and the true specimen force there plus its
   // load-cell offset [bench force unit], read without moving, without noise and without lab
   // time (the specimen's committed state is untouched). Never throws.
-  std::optional<std::vector<Measurement>> ReadAll() const override;
+  std::optional<std::vector<Measurement>> ReadAll() override;
   // A bench of one actuator: its configured p0 and its own safety limits; {} for several.
   BenchAnnouncement Announce() const override;
   // ReadAll() with the bench's state in words (the in-process bench always answers).

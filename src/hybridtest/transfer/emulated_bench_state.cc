@@ -127,7 +127,7 @@ void EmulatedBench::RestoreState(const nlohmann::json& state) {
   }
 }
 
-std::optional<std::vector<Measurement>> EmulatedBench::ReadAll() const {
+std::optional<std::vector<Measurement>> EmulatedBench::ReadAll() {
   const std::size_t n = actuators_.size();
   std::vector<double> deformation(n);
   for (std::size_t k = 0; k < n; ++k) {

@@ -106,7 +106,7 @@ class RtPlant final : public TransferSystem {
   void Deactivate() override { active_ = false; }
   BenchUnits bench_units() const override { return BenchUnits{}; }
   std::string Describe() const override;
-  std::optional<std::vector<Measurement>> ReadAll() const override { return last_; }
+  std::optional<std::vector<Measurement>> ReadAll() override { return last_; }
   BenchAnnouncement Announce() const override;
   std::optional<long> commands_received() const override { return commands_; }
   void StartPaced(double tick, const Clock& clock) override;

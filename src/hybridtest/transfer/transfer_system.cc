@@ -16,7 +16,7 @@ Measurement ExecuteOne(TransferSystem& transfer, double command) {
   return m;
 }
 
-std::optional<Measurement> ReadOne(const TransferSystem& transfer) {
+std::optional<Measurement> ReadOne(TransferSystem& transfer) {
   if (transfer.num_actuators() != 1) return std::nullopt;
   std::optional<std::vector<Measurement>> all = transfer.ReadAll();
   if (!all || all->size() != 1) return std::nullopt;

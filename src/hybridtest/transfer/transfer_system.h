@@ -112,8 +112,9 @@ class TransferSystem {
   virtual std::string Describe() const = 0;
   // Every actuator's position and force (n measurements, bench units, actuator order), read
   // WITHOUT moving; nullopt if this transfer system cannot read every actuator so (resume then
-  // re-imposes the last committed commands at once). Never throws.
-  virtual std::optional<std::vector<Measurement>> ReadAll() const { return std::nullopt; }
+  // re-imposes the last committed commands at once). Never throws. Not const: a remote bench
+  // reads through an exchange on its link (a request, its sequence number, a reconnect).
+  virtual std::optional<std::vector<Measurement>> ReadAll() { return std::nullopt; }
   // What the bench announces about itself (see BenchAnnouncement); may be empty. For a remote
   // bench, known only after Activate() (its WELCOME). Never throws.
   virtual BenchAnnouncement Announce() const { return {}; }
@@ -168,7 +169,7 @@ class TransferSystem {
 Measurement ExecuteOne(TransferSystem& transfer, double command);
 // ReadAll() of a one-actuator transfer system: its one measurement; nullopt if it cannot read
 // without moving or moves more than one actuator. Never throws.
-std::optional<Measurement> ReadOne(const TransferSystem& transfer);
+std::optional<Measurement> ReadOne(TransferSystem& transfer);
 // For a transfer system of exactly one actuator: throws TransferError naming `who` unless
 // `commands` and `out` each hold one value.
 // (`who` is read only on a refusal: a literal costs nothing per move.)

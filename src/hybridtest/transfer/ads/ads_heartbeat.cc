@@ -7,13 +7,13 @@
 
 namespace hybridtest::transfer::ads {
 
-std::vector<std::uint8_t> AdsTransfer::NextHeartbeat() const {
+std::vector<std::uint8_t> AdsTransfer::NextHeartbeat() {
   ++heartbeat_;  // modulo 2^32, as a UDINT
   last_beat_ = std::chrono::steady_clock::now();
   return EncodeUdint(heartbeat_);
 }
 
-void AdsTransfer::BeatIfDue() const {
+void AdsTransfer::BeatIfDue() {
   if (handles_.size() != kNumRoles) return;  // not connected: ReadOutputs says so
   const double since =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - last_beat_).count();

@@ -173,7 +173,7 @@ void AdsTransfer::WriteSymbols(std::span<const Role> roles,
   }
 }
 
-AdsTransfer::Readout AdsTransfer::ReadOutputs(const std::string& what) const {
+AdsTransfer::Readout AdsTransfer::ReadOutputs(const std::string& what) {
   if (handles_.size() != kNumRoles) {
     throw TransferError(fmt::format("{}: not connected for {}; call Activate() first", Subject(),
                                     what));
@@ -288,7 +288,7 @@ void AdsTransfer::Deactivate() {
   link_.Close();
 }
 
-std::optional<std::vector<Measurement>> AdsTransfer::ReadAll() const {
+std::optional<std::vector<Measurement>> AdsTransfer::ReadAll() {
   try {
     BeatIfDue();
     const Readout r = ReadOutputs("a read without moving");

@@ -75,7 +75,7 @@ class AdsTransfer final : public TransferSystem {
   void Deactivate() override;
   BenchUnits bench_units() const override { return options_.profile.units; }
   std::string Describe() const override;
-  std::optional<std::vector<Measurement>> ReadAll() const override;
+  std::optional<std::vector<Measurement>> ReadAll() override;
   std::optional<ProbeReading> Probe() override;
 
   const AdsOptions& options() const { return options_; }
@@ -99,12 +99,12 @@ class AdsTransfer final : public TransferSystem {
   // The write of `roles` with `values` in one sum write; AdsError names the symbol refused.
   void WriteSymbols(std::span<const Role> roles, std::span<const std::vector<std::uint8_t>> values,
                     double timeout, const std::string& what);
-  Readout ReadOutputs(const std::string& what) const;
+  Readout ReadOutputs(const std::string& what);
   // The heartbeat (ads_heartbeat.cc): the next nHeartbeat as bytes, for a sum write that
   // carries it; BeatIfDue() writes it alone if kHeartbeatPeriod has passed since the last;
   // BeatWhileWaiting() too, an ADS error setting bHold and throwing TransferError.
-  std::vector<std::uint8_t> NextHeartbeat() const;
-  void BeatIfDue() const;
+  std::vector<std::uint8_t> NextHeartbeat();
+  void BeatIfDue();
   void BeatWhileWaiting();
   std::string Describe(const Readout& r) const;
   std::string Subject() const;  // "the PLC at … (AmsNetId …)"
@@ -115,15 +115,15 @@ class AdsTransfer final : public TransferSystem {
   double WallSinceActivate() const;
 
   AdsOptions options_;
-  mutable AdsLink link_;
+  AdsLink link_;
   std::vector<std::uint32_t> handles_;  // by Role, once connected
   bool active_ = false;
   AcknowledgedMove move_;  // the sequence, the checks and the last ack
   std::chrono::steady_clock::time_point activated_at_{};
   bool clock_started_ = false;
-  mutable std::string read_failure_;
-  mutable std::uint32_t heartbeat_ = 0;
-  mutable std::chrono::steady_clock::time_point last_beat_{};
+  std::string read_failure_;
+  std::uint32_t heartbeat_ = 0;
+  std::chrono::steady_clock::time_point last_beat_{};
 };
 
 }  // namespace hybridtest::transfer::ads

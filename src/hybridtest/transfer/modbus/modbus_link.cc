@@ -99,7 +99,7 @@ void ModbusTransfer::WriteCoil(int address, bool value, const std::string& why) 
   }
 }
 
-int ModbusTransfer::ReadBlocks(std::vector<Readout>& r, std::string& failed) const {
+int ModbusTransfer::ReadBlocks(std::vector<Readout>& r, std::string& failed) {
   if (ctx_ == nullptr) {
     failed = "the readout registers (not connected)";
     return ENOTCONN;

@@ -100,7 +100,7 @@ std::string ModbusTransfer::StatusProblem(const Readout& r, std::size_t k) const
   return "";
 }
 
-std::optional<std::vector<Measurement>> ModbusTransfer::ReadAll() const {
+std::optional<std::vector<Measurement>> ModbusTransfer::ReadAll() {
   try {
     std::vector<Readout> r;
     std::string failed;

@@ -91,7 +91,7 @@ class ModbusTransfer final : public TransferSystem {
   // writing a command. nullopt (and the next Execute() refuses) if not connected, a read fails,
   // a value is not finite, or any actuator's status shows fault, no enable or holding. Never
   // throws.
-  std::optional<std::vector<Measurement>> ReadAll() const override;
+  std::optional<std::vector<Measurement>> ReadAll() override;
   // Connects if needed (bounded by connect_timeout) and reads the readout registers once:
   // no write, no coil, so nothing moves and no drive is enabled (modbus_probe.cc). The
   // problem names a fault, holding, or a value that is not a number (a word or byte order
@@ -128,7 +128,7 @@ class ModbusTransfer final : public TransferSystem {
   void WriteCoil(int address, bool value, const std::string& why);
   // One read of the readout blocks into `r` (one Readout per actuator): 0, or the errno of the
   // failed request (`failed` names it). Never closes the connection.
-  int ReadBlocks(std::vector<Readout>& r, std::string& failed) const;
+  int ReadBlocks(std::vector<Readout>& r, std::string& failed);
   // ReadBlocks, or FailRequest.
   std::vector<Readout> ReadRegisters(const std::string& why);
   static bool Bit(const Readout& r, int bit) {
@@ -147,16 +147,16 @@ class ModbusTransfer final : public TransferSystem {
   std::vector<WriteBlock> writes_;    // the writes of every actuator's command and sequence
   std::vector<RegisterBlock> reads_;  // the reads of every actuator's readout
   // The registers last read, by table, at their protocol address (65536 each).
-  mutable std::vector<std::uint16_t> input_, holding_;
+  std::vector<std::uint16_t> input_, holding_;
   _modbus* ctx_ = nullptr;
   bool active_ = false;              // Activate() done and no Hold() since
   AcknowledgedMove move_;            // the sequence, the checks and the last acks
   double lab_time_origin_ = 0.0;     // bench clock at Activate [s]
   std::chrono::steady_clock::time_point activated_at_{};
   bool clock_started_ = false;
-  mutable long requests_ = 0;        // Read() counts its request too
+  long requests_ = 0;                // Read() counts its request too
   // Why the last Read() gave nothing; Execute() refuses while it is set (until Activate()).
-  mutable std::string read_failure_;
+  std::string read_failure_;
 };
 
 }  // namespace hybridtest::transfer::modbus

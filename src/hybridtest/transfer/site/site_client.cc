@@ -290,12 +290,8 @@ void SiteClient::Deactivate() {
   socket_.Close();
 }
 
-std::optional<std::vector<Measurement>> SiteClient::ReadAll() const {
-  // Reading moves nothing, hence const; the exchange uses the connection all the same.
-  return const_cast<SiteClient&>(*this).QueryNow();
-}
-
-std::optional<std::vector<Measurement>> SiteClient::QueryNow() {
+std::optional<std::vector<Measurement>> SiteClient::ReadAll() {
+  // Reading moves nothing, but it is an exchange on the link (QUERY of seq 0).
   if (!socket_.is_open() || !welcome_ || phase_ != Phase::kIdle) return std::nullopt;
   try {
     const std::uint32_t sequence = next_sequence_++;

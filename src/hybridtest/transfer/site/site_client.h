@@ -64,7 +64,7 @@ class SiteClient final : public TransferSystem {
   }
   void Hold() noexcept override;
   void Deactivate() override;
-  std::optional<std::vector<Measurement>> ReadAll() const override;
+  std::optional<std::vector<Measurement>> ReadAll() override;
   BenchUnits bench_units() const override;
   std::string Describe() const override;
   BenchAnnouncement Announce() const override;
@@ -88,7 +88,6 @@ class SiteClient final : public TransferSystem {
   // Sends the current transaction's PROPOSE (and EXECUTE if released) again, after Recover.
   void Resend();
   [[noreturn]] void Fail(const std::string& what) const;
-  std::optional<std::vector<Measurement>> QueryNow();  // ReadAll's exchange
 
   SiteClientOptions options_;
   Socket socket_;

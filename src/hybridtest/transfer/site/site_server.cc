@@ -3,6 +3,11 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
+#include <filesystem>
+#include <system_error>
+
+#include "hybridtest/common/disk_room.h"
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/text.h"
 #include "hybridtest/transfer/frame_replies.h"
@@ -45,6 +50,22 @@ const std::string& CheckedHost(const SiteServerOptions& o) {
   return o.host;
 }
 
+// The journal up to its bound must fit on its disk (what it holds already counts): a site
+// refuses to start rather than fill the disk, by the check a run's own journal passes.
+const std::string& CheckedJournal(const SiteServerOptions& o) {
+  if (o.journal.empty()) return o.journal;
+  std::error_code ec;
+  const std::uintmax_t held = std::filesystem::file_size(o.journal, ec);
+  const std::uintmax_t to_come =
+      o.journal_max_bytes - (ec ? 0 : std::min(held, o.journal_max_bytes));
+  CheckFitsOnDisk(o.journal, to_come, fmt::format("site {}'s journal", o.name),
+                  fmt::format(" up to its bound journal_max_mb = {:g}",
+                              static_cast<double>(o.journal_max_bytes) / (1 << 20)),
+                  "lower site.journal_max_mb in the site's config, free room on that disk, or "
+                  "put the journal (site.journal) on a larger one");
+  return o.journal;
+}
+
 constexpr int kProtocolError = static_cast<int>(ErrorCode::kProtocol);
 
 }  // namespace
@@ -54,7 +75,7 @@ SiteServer::SiteServer(TransferSystem& bench, SiteServerOptions options)
       options_(std::move(options)),
       units_(bench.bench_units()),
       gate_(SiteLimits(options_, bench.num_actuators())),
-      journal_(options_.journal, options_.journal_max_bytes),
+      journal_(CheckedJournal(options_), options_.journal_max_bytes),
       listener_(CheckedHost(options_), options_.port),
       loop_(listener_,
             {.max_connections = 8,
