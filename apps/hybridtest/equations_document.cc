@@ -105,15 +105,16 @@ std::string EquationsDocument(const EquationsOptions& opt) {
   }
   const symbolic::Format format = ParseFormat(opt.format);
   symbolic::Equations eq = symbolic::DeriveEquations(built.model);
-  if (!opt.numeric_parameters) {
-    symbolic::SymbolizeParameters(eq, declared.all().empty() ? built.parameters : declared, rebuild);
-  }
+  const models::ParameterSet& parameters = declared.all().empty() ? built.parameters : declared;
+  if (!opt.numeric_parameters) symbolic::SymbolizeParameters(eq, parameters, rebuild);
   symbolic::DocumentInfo info;
   info.model_name = built.name;
   info.description = built.description;
   info.source = source;
   info.paper_form = opt.paper_form;
   for (const auto& p : built.parameters.all()) {
+    // blade2.m_b with m_b's value prints as m_b: listed once, as m_b.
+    if (symbolic::IsFollowingInstance(parameters, p.name)) continue;
     info.parameters.push_back({p.name, p.value, p.unit, p.description});
   }
   return symbolic::WriteEquations(built.model, eq, info, format);

@@ -429,8 +429,32 @@ def check_stable(binary):
                     sys.exit(f'FAIL: equations {model} --format {fmt} prints {number}')
             if model == str(chain) and fmt == 'sympy' and 'cse1 = ' not in a:
                 sys.exit(f'FAIL: equations {model} has no common subexpressions: not a large model')
-    print('equations: byte-identical runs, no float noise')
+    check_one_naming(binary)
+    print('equations: byte-identical runs, no float noise; a run config prints its model\'s '
+          'equations')
     return 0
+
+
+def check_one_naming(binary):
+    """Issue 47 item 3: the rotor's run config (built-in model, a substructure per blade, the
+    blade parameters blade1.m_b, ... following the shared m_b) prints the equations the model
+    file prints, symbol for symbol, and lists an instance's parameter only where instances
+    differ (the azimuths blade<i>.psi)."""
+    model = run(binary, 'equations', str(ROOT / 'examples/models/rotor.yaml'),
+                '--format', 'sympy').stdout
+    config = run(binary, 'equations', str(ROOT / 'examples/rotor/numerical.yaml'),
+                 '--format', 'sympy').stdout
+    def lines(text, prefix):
+        return [line for line in text.splitlines() if line.startswith(prefix)]
+    for prefix in ('M = ', 'f = ', 'Fr = ', 'Fr_star = ', 'qdot = '):
+        if lines(model, prefix) != lines(config, prefix):
+            sys.exit(f'FAIL: examples/rotor/numerical.yaml prints {prefix}... differently from '
+                     f'examples/models/rotor.yaml')
+    instances = {line.split(' = ')[0] for line in lines(config, 'blade')}
+    expected = {'blade1_psi', 'blade2_psi', 'blade3_psi'}
+    if instances != expected:
+        sys.exit(f'FAIL: the run config declares the instance parameters {sorted(instances)}; '
+                 f'expected only the azimuths {sorted(expected)} (the others follow m_b, l_b, ...)')
 
 
 def main():

@@ -127,6 +127,35 @@ TEST(PrintExpression, NumbersAsWrittenAndTermsInAFixedOrder) {
   EXPECT_EQ(PrintExpression(GiNaC::pow(a + b, -2), Dialect::kPlain, none), "1/(a + b)^2");
 }
 
+// Issue 47: a number the model computed in doubles (a blade at 2π/3: sin and cos of a float
+// angle) prints in its short exact form, not as 15 digits that differ in the last one between
+// blades (0.866025403784439 and 0.866025403784438), nor as a coefficient "1" (-1*r2).
+TEST(PrintExpression, FloatNumbersInTheirShortExactForm) {
+  using multibody::Symbolic;
+  const NameMap none;
+  const GiNaC::realsymbol x("x");
+  const double s2 = std::sin(2.0 * M_PI / 3.0), s4 = std::sin(4.0 * M_PI / 3.0);
+  EXPECT_EQ(PrintExpression((Symbolic(s2) * Symbolic(x)).ex(), Dialect::kPlain, none),
+            "sqrt(3)*x/2");
+  EXPECT_EQ(PrintExpression((Symbolic(s4) * Symbolic(x)).ex(), Dialect::kSympy, none),
+            "-sp.sqrt(3)*x/2");
+  EXPECT_EQ(PrintExpression(Symbolic(s2).ex(), Dialect::kLatex, none), "\\frac{\\sqrt{3}}{2}");
+  // g m_b sin(2π/3), as the rotor's builder computes it: 9.6236·√3.
+  EXPECT_EQ(PrintExpression((Symbolic(9.82 * 1.96 * s2) * Symbolic(x)).ex(), Dialect::kPlain,
+                            none), "9.6236*sqrt(3)*x");
+  EXPECT_EQ(PrintExpression((Symbolic(std::sin(M_PI / 4.0)) * Symbolic(x)).ex(), Dialect::kPlain,
+                            none), "sqrt(2)*x/2");
+  // −cos(π)·(1 + 2⁻⁵²): a whole number in floating point.
+  EXPECT_EQ(PrintExpression((Symbolic(-1.0000000000000002) * Symbolic(x)).ex(), Dialect::kPlain,
+                            none), "-x");
+  // The model's own numbers and other floats print as before.
+  EXPECT_EQ(PrintExpression((Symbolic(0.866) * Symbolic(x)).ex(), Dialect::kPlain, none),
+            "0.866*x");
+  EXPECT_EQ(PrintExpression(GiNaC::numeric(1.0 / 3.0), Dialect::kPlain, none), "0.333333333333333");
+  // C keeps the double itself (a literal that reads back exactly).
+  EXPECT_EQ(PrintExpression(Symbolic(s2).ex(), Dialect::kC, none), "0.86602540378443871");
+}
+
 TEST(SymbolicEngine, RotorMassMatrixHasThePapersArrowStructure) {
   const auto built = models::BuildModel("rotor", 3, models::DefaultParameters("rotor", 3));
   const Equations eq = DeriveEquations(built.model);

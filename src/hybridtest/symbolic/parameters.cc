@@ -1,6 +1,7 @@
 // Parameters as symbols, recovered by rebuilding the model. See parameters.h.
 #include "hybridtest/symbolic/parameters.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -121,6 +122,7 @@ struct Candidate {
   double value = 0.0;
   GiNaC::ex symbol;
   std::vector<std::string> group;  // the parameter names this symbol stands for
+  bool angle = false;              // unit rad: derived alone, may stay inside a function
   long factor = 1;                 // its prime in the scaled build of its batch
   std::size_t batch = 0;           // its scaled build (index into the batches' term maps)
   double check_factor = 1.0;       // its factor in the checking build
@@ -177,6 +179,10 @@ constexpr std::array<long, 10> kPrimes = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29};
 
 }  // namespace
 
+bool IsFollowingInstance(const models::ParameterSet& parameters, const std::string& name) {
+  return FollowsShared(parameters, name);
+}
+
 SymbolizeReport SymbolizeParameters(
     Equations& eq, const models::ParameterSet& parameters,
     const std::function<multibody::Model(const models::ParameterSet&)>& build) {
@@ -216,8 +222,13 @@ SymbolizeReport SymbolizeParameters(
   for (const auto& p : parameters.all()) {
     if (p.value == 0.0 || !std::isfinite(p.value) || reserved.count(p.name) > 0) continue;
     if (FollowsShared(parameters, p.name)) continue;  // scaled with its shared value
-    all.push_back({p.name, p.value, GiNaC::realsymbol(p.name), Group(parameters, p.name)});
+    all.push_back({p.name, p.value, GiNaC::realsymbol(p.name), Group(parameters, p.name),
+                   p.unit == "rad"});
   }
+  // Angles last, one per batch: an angle inside a function (the rotor's blade azimuth in
+  // sin(q4 + ψ)) scales no term by a product of primes, which would spoil the batch of every
+  // other parameter of such a term.
+  std::stable_partition(all.begin(), all.end(), [](const Candidate& c) { return !c.angle; });
   // One derivation per batch of up to kPrimes.size() parameters, each scaled by its prime; a
   // batch the model refuses is derived again one parameter at a time, and a parameter whose
   // scaled value the model refuses stays a number.
@@ -238,25 +249,71 @@ SymbolizeReport SymbolizeParameters(
     candidates.insert(candidates.end(), batch.begin(), batch.end());
     return true;
   };
-  for (std::size_t first = 0; first < all.size(); first += kPrimes.size()) {
-    const std::size_t last = std::min(all.size(), first + kPrimes.size());
+  const auto angles = static_cast<std::size_t>(
+      std::count_if(all.begin(), all.end(), [](const Candidate& c) { return c.angle; }));
+  for (std::size_t first = 0; first < all.size();) {
+    const std::size_t others = all.size() - angles;
+    const std::size_t last =
+        first >= others ? first + 1 : std::min(others, first + kPrimes.size());
     std::vector<Candidate> batch(all.begin() + static_cast<std::ptrdiff_t>(first),
                                  all.begin() + static_cast<std::ptrdiff_t>(last));
+    first = last;
     if (derive_batch(batch) || batch.size() == 1) continue;
     for (const Candidate& c : batch) derive_batch({c});
+  }
+  std::vector<std::vector<Candidate*>> batches(scaled.size());
+  for (Candidate& c : candidates) batches[c.batch].push_back(&c);
+  const std::vector<GiNaC::ex*> out = Outputs(eq);
+  // The exponents of a term's coefficient c0 (its rest: the factor of q, u, t, r, z) in the
+  // candidates' order; an angle whose own build scales the term by no product of primes
+  // stays inside it (exponent 0, *inside set); false if another parameter does so.
+  const auto exponents = [&](std::size_t o, const GiNaC::ex& rest, double c0,
+                             std::vector<double>* exponent, std::vector<bool>* inside,
+                             bool* depends) {
+    bool monomial = true;
+    for (std::size_t b = 0; b < batches.size(); ++b) {
+      const auto it = scaled[b][o].find(rest);
+      const double ratio = it == scaled[b][o].end() ? 0.0 : it->second / c0;
+      if (ratio != 1.0) *depends = true;
+      const std::size_t before = exponent->size();
+      if (!BatchExponents(ratio, batches[b], exponent)) {
+        if (batches[b].size() == 1 && batches[b][0]->angle) {
+          (*inside)[before] = true;
+        } else {
+          monomial = false;
+        }
+      }
+      exponent->resize(before + batches[b].size());
+    }
+    return monomial;
+  };
+  // An angle that stays inside some term is not scaled in the checking build.
+  std::vector<bool> kept_inside(candidates.size(), false);
+  for (std::size_t o = 0; o < out.size(); ++o) {
+    for (const GiNaC::ex& term : TermsOf(*out[o])) {
+      GiNaC::ex rest;
+      double c0 = 0.0;
+      if (!Split(term, &rest, &c0) || c0 == 0.0) continue;
+      std::vector<double> exponent;
+      std::vector<bool> inside(candidates.size(), false);
+      bool depends = false;
+      exponents(o, rest, c0, &exponent, &inside, &depends);
+      for (std::size_t i = 0; i < inside.size(); ++i) {
+        if (inside[i]) kept_inside[i] = true;
+      }
+    }
   }
   models::ParameterSet checking = parameters;
   for (std::size_t i = 0; i < candidates.size(); ++i) {
     Candidate& c = candidates[i];
-    c.check_factor = 1.0 + 0.1 * static_cast<double>(i % 7 + 1) + 0.0131 * static_cast<double>(i);
+    c.check_factor = kept_inside[i] ? 1.0
+                                    : 1.0 + 0.1 * static_cast<double>(i % 7 + 1) +
+                                          0.0131 * static_cast<double>(i);
     for (const std::string& name : c.group) checking.Set(name, c.value * c.check_factor, "equations");
   }
-  std::vector<std::vector<Candidate*>> batches(scaled.size());
-  for (Candidate& c : candidates) batches[c.batch].push_back(&c);
   std::vector<TermMap> check;
   if (candidates.empty() || !derive(checking, &check)) return report;
 
-  const std::vector<GiNaC::ex*> out = Outputs(eq);
   for (std::size_t o = 0; o < out.size(); ++o) {
     GiNaC::ex sum = 0;
     for (const GiNaC::ex& term : TermsOf(*out[o])) {
@@ -266,15 +323,12 @@ SymbolizeReport SymbolizeParameters(
         sum += term;
         continue;
       }
-      bool monomial = true, depends = false;
+      bool depends = false;
       std::vector<double> exponent;  // in the order of `candidates` (batch by batch)
-      for (std::size_t b = 0; b < batches.size(); ++b) {
-        const auto it = scaled[b][o].find(rest);
-        const double ratio = it == scaled[b][o].end() ? 0.0 : it->second / c0;
-        if (ratio != 1.0) depends = true;
-        const std::size_t before = exponent.size();
-        if (!BatchExponents(ratio, batches[b], &exponent)) monomial = false;
-        exponent.resize(before + batches[b].size());
+      std::vector<bool> inside(candidates.size(), false);
+      bool monomial = exponents(o, rest, c0, &exponent, &inside, &depends);
+      for (std::size_t i = 0; i < inside.size(); ++i) {
+        if (inside[i] && !kept_inside[i]) monomial = false;  // cannot happen; be safe
       }
       if (!depends) {
         sum += term;

@@ -16,6 +16,11 @@
 // once checks each monomial (to 1e-9); k, if a small rational (denominator ≤ 1000, to 1e-12),
 // is printed exactly.
 //
+// Angles (unit rad) are rebuilt one at a time after the batches: an angle inside a function
+// (the built-in rotor's blade azimuth ψ_i in sin(q4 + ψ_i)) scales a term by no product of
+// primes; its own rebuild shows that, and it is folded into the term's number (and left
+// unscaled in the checking rebuild) while the term's other parameters stay symbols.
+//
 // A coefficient that is a sum of parameter products (the rotor's hub inertia I_g + 3 m_b l_b²
 // becomes one number when the expression is expanded) or a parameter inside a function (an
 // angle offset in cos(q + φ)) stays a number; the `parameters` list and dict give the values.
@@ -35,6 +40,12 @@ struct SymbolizeReport {
   int symbolic_terms = 0;  // terms whose coefficient became a product of parameters
   int numeric_terms = 0;   // terms whose coefficient depends on parameters but stays a number
 };
+
+// Whether `name` is an instance of a shared parameter ("blade2.m_b" of the rotor's "m_b")
+// whose value it has, as every instance of it has: the equations print the shared symbol for
+// all of them (issue 47 item 3: the substructure prefix only where instances differ), so the
+// documents list the shared parameter only.
+bool IsFollowingInstance(const models::ParameterSet& parameters, const std::string& name);
 
 // Rewrites eq in place. `build` rebuilds the model from a parameter set (the same builder that
 // made the model eq came from). Parameter symbols are named as the parameters; a parameter

@@ -17,60 +17,11 @@
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/symbolic/print_c.h"
+#include "hybridtest/symbolic/print_numbers.h"
 
 namespace hybridtest::symbolic {
 
 namespace {
-
-// The shortest decimal within 1e-15 (relative, a few units in the last place) of v: a number
-// as the model file wrote it (1.57, 9.6236), not the last bits of the arithmetic that computed
-// it (1.5699999999999998, 9.623599999999996: g m_b cos(2π/3) in doubles). At most 15
-// significant digits.
-std::string ShortDecimal(double v) {
-  if (!std::isfinite(v) || v == 0.0) return fmt::format("{}", v);
-  for (int digits = 1; digits < 15; ++digits) {
-    const double w = std::strtod(fmt::format("{:.{}g}", v, digits).c_str(), nullptr);
-    if (std::abs(w - v) <= 1e-15 * std::abs(v)) return fmt::format("{}", w);
-  }
-  return fmt::format("{}", std::strtod(fmt::format("{:.15g}", v).c_str(), nullptr));
-}
-
-// Whether the rational n prints as a fraction: a dyadic one with a denominator up to 1024
-// (1/2, 3/4) or one that is no finite decimal with a denominator up to 1000 (2/3); others print
-// as decimals (9.81, not 981/100).
-bool AsFraction(const GiNaC::numeric& n) {
-  if (!n.is_rational() || n.is_integer() || abs(n.numer()) > 1000000) return false;
-  GiNaC::numeric d = n.denom();
-  if (d <= 1024 && (GiNaC::numeric(1024) / d).is_integer()) return true;
-  GiNaC::numeric rest = d;
-  while ((rest / 2).is_integer()) rest = rest / 2;
-  while ((rest / 5).is_integer()) rest = rest / 5;
-  return rest != 1 && d <= 1000;
-}
-
-// A rational as a decimal: exactly if it is a finite decimal of at most 15 significant digits
-// (the model file's 9.81, and sums and products of such numbers), else rounded to 15.
-std::string Decimal(const GiNaC::numeric& n) {
-  GiNaC::numeric scaled = n;
-  int k = 0;
-  while (!scaled.is_integer() && k < 40) {
-    scaled *= 10;
-    ++k;
-  }
-  std::ostringstream os;
-  os << abs(scaled);
-  std::string digits = os.str();
-  const std::size_t first = digits.find_first_not_of('0');
-  const std::size_t significant = first == std::string::npos ? 0 : digits.size() - first;
-  if (!scaled.is_integer() || significant > 15) return ShortDecimal(n.to_double());
-  if (k > 0) {
-    if (digits.size() <= static_cast<std::size_t>(k)) {
-      digits.insert(0, static_cast<std::size_t>(k) + 1 - digits.size(), '0');
-    }
-    digits.insert(digits.size() - static_cast<std::size_t>(k), ".");
-  }
-  return (n.is_negative() ? "-" : "") + digits;
-}
 
 // Term texts in a fixed order (their text without a leading minus, then the text): GiNaC's
 // own order depends on addresses and changes between processes.
@@ -120,12 +71,16 @@ class Printer {
 
   Printed Number(const GiNaC::numeric& n) const {
     if (d_ == Dialect::kC) return {c_print::Literal(n), n.is_negative() ? kSum : kAtom};
+    if (const auto exact = number_text::ShortExactForm(n)) {
+      if (exact->root == 1) return Number(exact->factor);
+      return Print(GiNaC::ex(exact->factor) * GiNaC::sqrt(GiNaC::ex(exact->root)));
+    }
     if (n.is_integer()) {
       std::ostringstream os;
       os << n;
       return {os.str(), n.is_negative() ? kSum : kAtom};
     }
-    if (AsFraction(n)) {
+    if (number_text::AsFraction(n)) {
       std::ostringstream num, den;
       num << n.numer();
       den << n.denom();
@@ -143,7 +98,8 @@ class Printer {
           return {num.str() + "/" + den.str(), kSum};
       }
     }
-    std::string s = n.is_rational() ? Decimal(n) : ShortDecimal(n.to_double());
+    std::string s =
+        n.is_rational() ? number_text::Decimal(n) : number_text::ShortDecimal(n.to_double());
     if (d_ == Dialect::kLatex) {
       const auto e = s.find('e');
       if (e != std::string::npos) {
@@ -251,6 +207,13 @@ class Printer {
         top.push_back(f);
       }
     }
+    if (d_ != Dialect::kC) {
+      if (const auto exact = number_text::ShortExactForm(coefficient)) {
+        // r·√k: r the coefficient, √k a factor (printed in the dialect's sqrt).
+        coefficient = exact->factor;
+        if (exact->root != 1) top.push_back(GiNaC::sqrt(GiNaC::ex(exact->root)));
+      }
+    }
     bool negative = coefficient.is_negative();
     if (negative) coefficient = -coefficient;
     // A factor in front (not vector::insert at begin(): GCC 12 warns -Wnull-dereference
@@ -262,7 +225,7 @@ class Printer {
       for (const GiNaC::ex& f : factors) out.push_back(f);
       factors.swap(out);
     };
-    if (d_ != Dialect::kC && AsFraction(coefficient)) {
+    if (d_ != Dialect::kC && number_text::AsFraction(coefficient)) {
       if (!coefficient.numer().is_equal(1) || top.empty()) prepend(top, coefficient.numer());
       prepend(bottom, coefficient.denom());
     } else if (!coefficient.is_equal(1) || top.empty()) {
