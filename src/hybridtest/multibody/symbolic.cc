@@ -16,6 +16,12 @@ namespace {
 std::shared_ptr<const GiNaC::ex> Make(GiNaC::ex e) {
   return std::make_shared<const GiNaC::ex>(std::move(e));
 }
+const GiNaC::ex& Zero() {
+  static const GiNaC::ex zero = 0;
+  return zero;
+}
+}  // namespace
+
 // The rational of v's shortest decimal (0.65 → 13/20): the number as a model file writes it,
 // so that GiNaC's arithmetic on it is exact and does not depend on the order it combines terms
 // in (float sums do, and GiNaC's order depends on addresses). Non-finite values stay floats.
@@ -41,11 +47,6 @@ GiNaC::numeric ExactDecimal(double v) {
   return exponent >= 0 ? mantissa * ten.power(GiNaC::numeric(exponent))
                        : mantissa / ten.power(GiNaC::numeric(-exponent));
 }
-const GiNaC::ex& Zero() {
-  static const GiNaC::ex zero = 0;
-  return zero;
-}
-}  // namespace
 
 Symbolic::Symbolic() = default;
 Symbolic::Symbolic(double value) {

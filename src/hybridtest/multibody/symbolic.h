@@ -17,6 +17,7 @@
 
 namespace GiNaC {
 class ex;
+class numeric;
 }  // namespace GiNaC
 
 namespace hybridtest::multibody {
@@ -68,6 +69,10 @@ Symbolic abs(const Symbolic& a);
 Symbolic sign(const Symbolic& a);  // −1, 0, +1 (GiNaC's csgn on reals)
 // f(a) for an uninterpreted smooth function named `name` (a model file's table).
 Symbolic ApplyFunction(const std::string& name, const Symbolic& a);
+
+// The exact rational of v's shortest decimal (0.65 → 13/20), as every number becomes when it
+// enters a Symbolic; non-finite values stay floats.
+GiNaC::numeric ExactDecimal(double v);
 
 }  // namespace hybridtest::multibody
 

@@ -8,6 +8,8 @@
 #include <sstream>
 #include <string_view>
 
+#include "hybridtest/multibody/symbolic.h"
+
 namespace hybridtest::symbolic::number_text {
 namespace {
 
@@ -72,15 +74,7 @@ std::optional<ExactForm> ShortExactForm(const GiNaC::numeric& n) {
   for (const int k : {2, 3, 5, 6, 7}) {
     const std::string text = ShortDecimal(v / std::sqrt(static_cast<double>(k)));
     if (SignificantDigits(text) > 6 || text.find('e') != std::string::npos) continue;
-    // The decimal as an exact rational: digits over a power of ten.
-    const std::size_t point = text.find('.');
-    std::string digits = text;
-    long scale = 1;
-    if (point != std::string::npos) {
-      digits.erase(point, 1);
-      for (std::size_t i = point; i + 1 < text.size(); ++i) scale *= 10;
-    }
-    const GiNaC::numeric r(std::strtol(digits.c_str(), nullptr, 10), scale);
+    const GiNaC::numeric r = multibody::ExactDecimal(std::strtod(text.c_str(), nullptr));
     if (std::abs(r.to_double() * std::sqrt(static_cast<double>(k)) - v) > 1e-15 * std::abs(v)) {
       continue;
     }
