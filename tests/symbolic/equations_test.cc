@@ -233,5 +233,24 @@ TEST(Simplify, PythagorasAndRoundingCollapse) {
   EXPECT_TRUE((Simplify(GiNaC::ex(2.0) * q) - 2 * q).is_zero());
 }
 
+// sin(x)^n, n ≥ 2, in every power, product and function argument, and a subexpression shared
+// between two expressions simplified by one Simplifier.
+TEST(Simplify, HigherPowersNestedArgumentsAndSharedSubexpressions) {
+  const GiNaC::realsymbol q("q"), p("p");
+  const GiNaC::ex s = GiNaC::sin(q), c = GiNaC::cos(q);
+  const GiNaC::ex square = GiNaC::pow(s, 2) + GiNaC::pow(c, 2);
+  EXPECT_TRUE((Simplify(GiNaC::pow(square, 2)) - 1).is_zero()) << Simplify(GiNaC::pow(square, 2));
+  EXPECT_TRUE((Simplify(GiNaC::pow(s, 3) + s * GiNaC::pow(c, 2)) - s).is_zero());
+  EXPECT_TRUE((Simplify(GiNaC::cos(p + square)) - GiNaC::cos(p + 1)).is_zero())
+      << Simplify(GiNaC::cos(p + square));
+  EXPECT_TRUE((Simplify(GiNaC::pow(s, -2) * p) - GiNaC::pow(s, -2) * p).is_zero());  // left alone
+  Simplifier simplify;
+  const GiNaC::ex shared = (p + s) * (p - s);
+  const GiNaC::ex first = simplify(shared * c);
+  const GiNaC::ex second = simplify(shared + GiNaC::pow(c, 2));
+  EXPECT_TRUE((first - (p * p * c - c + GiNaC::pow(c, 3))).is_zero()) << first;
+  EXPECT_TRUE((second - (p * p - 1 + 2 * GiNaC::pow(c, 2))).is_zero()) << second;
+}
+
 }  // namespace
 }  // namespace hybridtest::symbolic

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/common/yaml_input.h"
 #include "hybridtest/modelfile/model_file.h"
 #include "hybridtest/models/catalogue.h"
 #include "hybridtest/symbolic/parameters.h"
@@ -134,10 +135,11 @@ TEST(SymbolizeParameters, ExampleModelFilesKeepTheirValues) {
   }
 }
 
-// Issue 47: one rebuild per batch of up to ten parameters (each scaled by its own prime), not
-// one per parameter: the wind turbine's 17 parameters take two batches and the check (the code
-// before took 17 rebuilds and the check), and its equations still carry the parameters.
-TEST(SymbolizeParameters, OneRebuildPerBatchOfTenParameters) {
+// Issue 47: one rebuild per batch of up to twenty parameters (each scaled by its own prime), not
+// one per parameter: the wind turbine's 17 parameters take one batch and the check (17 rebuilds
+// and the check at first, then two batches of ten and the check), and its equations still carry
+// the parameters.
+TEST(SymbolizeParameters, OneRebuildPerBatchOfTwentyParameters) {
   const auto file = modelfile::LoadModelFile(
       fmt::format("{}/examples/models/wind_turbine.yaml", HYBRIDTEST_SOURCE_DIR));
   int builds = 0;
@@ -150,13 +152,47 @@ TEST(SymbolizeParameters, OneRebuildPerBatchOfTenParameters) {
   builds = 0;
   Equations eq = numeric;
   const SymbolizeReport report = SymbolizeParameters(eq, file.parameters, build);
-  EXPECT_EQ(builds, 3);
+  EXPECT_EQ(builds, 2);
   EXPECT_GT(report.symbolic_terms, 20);
   std::set<std::string> used;
   for (const auto& row : eq.M) {
     for (const GiNaC::ex& e : row) used.merge(Names(e));
   }
   for (const char* name : {"m_b", "L_b", "h_n", "H_t"}) EXPECT_TRUE(used.count(name) > 0) << name;
+  ExpectSameValues(eq, numeric, file.parameters);
+}
+
+// 24 parameters take two batches. In the first, the product of the five parameters scaled by
+// the batch's largest primes (53·59·61·67·71 ≈ 9e8) has a square beyond the continued
+// fraction's bound: its exponents come from the ratio itself. In the second, 2 ζ √(k m) has half
+// exponents (from the square). Every parameter stays a symbol and the values are the engine's.
+TEST(SymbolizeParameters, TwoBatchesWithLargeProductsAndHalfExponents) {
+  std::string text = "name: many\nparameters:\n";
+  for (int i = 1; i <= 15; ++i) text += fmt::format("  p{:02}: {{value: 1.5, unit: '1'}}\n", i);
+  for (int i = 1; i <= 5; ++i) text += fmt::format("  a{}: {{value: {}, unit: '1'}}\n", i, 1.0 + 0.25 * i);
+  text +=
+      "  k: {value: 800, unit: N/m}\n  m: {value: 2.0, unit: kg}\n  zeta: {value: 0.02, unit: '1'}\n"
+      "  F: {value: 3.0, unit: N}\n"
+      "coordinates:\n  - {name: x, unit: m}\nspeeds:\n  - {name: v, unit: m/s}\n"
+      "points:\n  - {name: P, from: O, frame: N, position: [x, 0, 0]}\n"
+      "particles:\n  - {name: mass, point: P, mass: m}\n"
+      "forces:\n  - {name: spring, point: P, value: [-a1*a2*a3*a4*a5*k*x - 2*zeta*sqrt(k*m)*v + F, 0, 0]}\n";
+  const auto file = modelfile::ParseModelFile(YamlInput::FromText(text, "many.yaml"));
+  ASSERT_EQ(file.parameters.all().size(), 24u);
+  int builds = 0;
+  const auto build = [&file, &builds](const models::ParameterSet& set) {
+    ++builds;
+    return modelfile::BuildModelFile(file, set).model;
+  };
+  const Equations numeric = DeriveEquations(build(file.parameters));
+  builds = 0;
+  Equations eq = numeric;
+  const SymbolizeReport report = SymbolizeParameters(eq, file.parameters, build);
+  EXPECT_EQ(builds, 3);  // two batches and the check
+  EXPECT_EQ(report.numeric_terms, 0);
+  EXPECT_EQ(Names(eq.f[0]), (std::set<std::string>{"a1", "a2", "a3", "a4", "a5", "k", "x", "zeta",
+                                                    "m", "v", "F"}))
+      << eq.f[0];
   ExpectSameValues(eq, numeric, file.parameters);
 }
 

@@ -37,7 +37,8 @@ ConstrainedEquations DeriveConstrained(const multibody::Model& model,
                                        const std::vector<GiNaC::ex>& u,
                                        const std::vector<std::vector<GiNaC::ex>>& M,
                                        const std::vector<GiNaC::ex>& f,
-                                       const std::set<std::string>& reserved) {
+                                       const std::set<std::string>& reserved,
+                                       const std::vector<std::vector<GiNaC::ex>>* same_A) {
   const int n = model.num_coordinates();
   const int m = model.num_constraint_rows();
   const int p = n - m;
@@ -56,7 +57,13 @@ ConstrainedEquations DeriveConstrained(const multibody::Model& model,
     c.b.push_back(data.constraint_velocity(s).ex().subs(at_rest));
     c.bias.push_back(data.constraint_bias(s).ex());
     std::vector<GiNaC::ex> row;
+    const auto si = static_cast<std::size_t>(s);
     for (int k = 0; k < p; ++k) {
+      const auto ki = static_cast<std::size_t>(k);
+      if (same_A != nullptr && si < same_A->size() && ki < (*same_A)[si].size()) {
+        row.push_back((*same_A)[si][ki]);
+        continue;
+      }
       std::string name = fmt::format("A_{}_{}", s + 1, k + 1);
       while (reserved.count(name) > 0) name += "_";
       row.push_back(GiNaC::realsymbol(name));

@@ -48,14 +48,16 @@ struct ConstrainedEquations {
 
 // From the engine's data after CalcKinematics, CalcMassMatrix* and CalcForcing on Symbolic at
 // the symbols u (n), with M and f the tree's (n × n, n). The A symbols are named "A_s_c"
-// (1-based), with '_' appended while a name is in `reserved`. Throws ModelError if the
+// (1-based), with '_' appended while a name is in `reserved`, or are same_A's (a derivation of
+// the same model, equations.h) where it has one. Throws ModelError if the
 // dependent speeds cannot be chosen (redundant constraints at the initial state).
 ConstrainedEquations DeriveConstrained(const multibody::Model& model,
                                        multibody::Data<multibody::Symbolic>& data,
                                        const std::vector<GiNaC::ex>& u,
                                        const std::vector<std::vector<GiNaC::ex>>& M,
                                        const std::vector<GiNaC::ex>& f,
-                                       const std::set<std::string>& reserved);
+                                       const std::set<std::string>& reserved,
+                                       const std::vector<std::vector<GiNaC::ex>>* same_A = nullptr);
 
 // Every expression of c (not the A symbols), in a fixed order: A_d, A_i by rows, b, bias, M by
 // rows, f.

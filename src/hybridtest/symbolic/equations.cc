@@ -23,11 +23,16 @@ using multibody::VectorX;
 
 namespace {
 
-std::vector<GiNaC::ex> Variables(const std::vector<std::string>& names, VectorX<Symbolic>& out) {
+// New symbols named `names`, or `same`'s symbols when it has one per name (a derivation like
+// another one, DeriveEquations).
+std::vector<GiNaC::ex> Variables(const std::vector<std::string>& names, VectorX<Symbolic>& out,
+                                 const std::vector<GiNaC::ex>* same) {
   std::vector<GiNaC::ex> symbols;
   out.resize(static_cast<Eigen::Index>(names.size()));
+  const bool reuse = same != nullptr && same->size() == names.size();
   for (std::size_t k = 0; k < names.size(); ++k) {
-    out(static_cast<Eigen::Index>(k)) = Symbolic::Variable(names[k]);
+    out(static_cast<Eigen::Index>(k)) =
+        reuse ? Symbolic((*same)[k]) : Symbolic::Variable(names[k]);
     symbols.push_back(out(static_cast<Eigen::Index>(k)).ex());
   }
   return symbols;
@@ -61,28 +66,35 @@ void DropZero(std::vector<NamedPartials>& partials) {
 }
 
 // The engine on Symbolic at symbolic (t, x, r): fills `data` and eq's symbols (t, q, u, z, r,
-// udot), named as the model names its quantities.
-void RunEngine(const multibody::Model& model, Data<Symbolic>& data, Equations& eq) {
+// udot), named as the model names its quantities, or `like`'s symbols if not null.
+void RunEngine(const multibody::Model& model, Data<Symbolic>& data, Equations& eq,
+               const Equations* like) {
   const int n = model.num_coordinates();
   std::vector<std::string> names;
   for (const auto& c : model.coordinates()) names.push_back(c.name);
   for (const auto& s : model.speeds()) names.push_back(s.name);
   for (const auto& z : model.extra_states()) names.push_back(z.info.name);
+  std::vector<GiNaC::ex> like_x;
+  if (like != nullptr) {
+    like_x = like->q;
+    like_x.insert(like_x.end(), like->u.begin(), like->u.end());
+    like_x.insert(like_x.end(), like->z.begin(), like->z.end());
+  }
   VectorX<Symbolic> x;
-  const std::vector<GiNaC::ex> xs = Variables(names, x);
+  const std::vector<GiNaC::ex> xs = Variables(names, x, like != nullptr ? &like_x : nullptr);
   eq.q.assign(xs.begin(), xs.begin() + n);
   eq.u.assign(xs.begin() + n, xs.begin() + 2 * n);
   eq.z.assign(xs.begin() + 2 * n, xs.end());
   names.clear();
   for (const auto& s : model.slots()) names.push_back(s.info.name);
   VectorX<Symbolic> r;
-  eq.r = Variables(names, r);
-  const Symbolic t = Symbolic::Variable("t");
+  eq.r = Variables(names, r, like != nullptr ? &like->r : nullptr);
+  const Symbolic t = like != nullptr ? Symbolic(like->t) : Symbolic::Variable("t");
   eq.t = t.ex();
   names.clear();
   for (const auto& s : model.speeds()) names.push_back(s.name + "_dot");
   VectorX<Symbolic> udot;
-  eq.udot = Variables(names, udot);
+  eq.udot = Variables(names, udot, like != nullptr ? &like->udot : nullptr);
 
   multibody::CalcKinematics<Symbolic>(model, data, t, x);
   multibody::CalcMassMatrixPairwise<Symbolic>(model, data);
@@ -135,7 +147,7 @@ RhsExpressions DeriveRhs(const multibody::Model& model) {
   const int n = model.num_coordinates();
   Data<Symbolic> data(model);
   Equations symbols;
-  RunEngine(model, data, symbols);
+  RunEngine(model, data, symbols, nullptr);
   RhsExpressions rhs;
   rhs.t = symbols.t;
   rhs.x = symbols.q;
@@ -164,11 +176,11 @@ RhsExpressions DeriveRhs(const multibody::Model& model) {
   return rhs;
 }
 
-Equations DeriveEquations(const multibody::Model& model) {
+Equations DeriveEquations(const multibody::Model& model, const Equations* like) {
   const int n = model.num_coordinates();
   Equations eq;
   Data<Symbolic> data(model);
-  RunEngine(model, data, eq);
+  RunEngine(model, data, eq, like);
 
   // Fr: the applied loads alone, projected as CalcForcing projects them.
   std::vector<Vector3<Symbolic>> force(model.points().size(), Vector3<Symbolic>::Zero());
@@ -205,7 +217,8 @@ Equations DeriveEquations(const multibody::Model& model) {
     for (const GiNaC::ex& sym : list) reserved.insert(GiNaC::ex_to<GiNaC::symbol>(sym).get_name());
   }
   if (model.has_constraints()) {
-    eq.constrained = DeriveConstrained(model, data, eq.u, eq.M, eq.f, reserved);
+    eq.constrained = DeriveConstrained(model, data, eq.u, eq.M, eq.f, reserved,
+                                       like != nullptr ? &like->constrained.A : nullptr);
     for (const auto& row : eq.constrained.A) {
       for (const GiNaC::ex& a : row) reserved.insert(GiNaC::ex_to<GiNaC::symbol>(a).get_name());
     }
@@ -229,9 +242,10 @@ Equations DeriveEquations(const multibody::Model& model) {
   std::vector<GiNaC::ex> all;
   for (GiNaC::ex* e : Outputs(eq)) all.push_back(*e);
   if (ExpandedTerms(all) <= kExpandLimit) {
-    for (GiNaC::ex* e : Outputs(eq)) *e = Simplify(*e);
+    Simplifier simplify;  // one for all outputs: they share subexpressions
+    for (GiNaC::ex* e : Outputs(eq)) *e = simplify(*e);
     inertia_forces();
-    for (GiNaC::ex& e : eq.Fr_star) e = Simplify(e);
+    for (GiNaC::ex& e : eq.Fr_star) e = simplify(e);
   } else {
     // Too large to expand: the engine's expressions, with their common subexpressions named.
     inertia_forces();

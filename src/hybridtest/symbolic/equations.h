@@ -62,8 +62,11 @@ struct Equations {
 std::vector<GiNaC::ex*> Outputs(Equations& eq);
 
 // Throws ModelError (e.g. a model-file expression that branches on a value, such as `if`).
-// A constrained model gets its reduced equations too (constrained.h).
-Equations DeriveEquations(const multibody::Model& model);
+// A constrained model gets its reduced equations too (constrained.h). `like`, if not null, is
+// a derivation of the same model (other parameter values, parameters.h): its symbols (t, q, u,
+// u̇, r, z and a constrained model's A) are used instead of new ones, so that the two
+// derivations' terms compare equal (GiNaC tells symbols apart by identity, not by name).
+Equations DeriveEquations(const multibody::Model& model, const Equations* like = nullptr);
 
 // The engine's M, g, q̇ and ż as the engine computes them, not simplified (code generation,
 // codegen.h): the same floats in the same expressions, so that compiled code reproduces the

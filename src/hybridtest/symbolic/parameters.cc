@@ -135,47 +135,52 @@ int Valuation(long* n, long prime) {
   return v;
 }
 
-// Whether num/den = Π p_i^(2 e_i) over the batch's primes; e gets the e_i.
-bool Factor(long num, long den, const std::vector<Candidate*>& batch, std::vector<double>* e) {
+// Whether num/den = Π p_i^(power · e_i) over the batch's primes (power 1 or 2); e gets the e_i.
+bool Factor(long num, long den, const std::vector<Candidate*>& batch, int power,
+            std::vector<double>* e) {
   e->clear();
   for (const Candidate* c : batch) {
-    const int twice = Valuation(&num, c->factor) - Valuation(&den, c->factor);
-    if (std::abs(twice) > 12) return false;
-    e->push_back(0.5 * twice);
+    const int times = Valuation(&num, c->factor) - Valuation(&den, c->factor);
+    if (std::abs(times) > 6 * power) return false;
+    e->push_back(static_cast<double>(times) / power);
   }
   return num == 1 && den == 1;
 }
 
 // The exponents e_i of a batch's parameters in a term whose coefficient the batch's build
-// (parameter i × its prime p_i) scaled by `ratio` = Π p_i^e_i, e_i whole or half: ratio² is
-// a fraction of products of the primes, found among the convergents of its continued fraction
-// within 1e-13 (the coefficients are the model's doubles, exact to rounding). False if the
-// ratio is no such product (a coefficient that is a sum of parameter products).
+// (parameter i × its prime p_i) scaled by `ratio` = Π p_i^e_i: ratio² (e_i whole or half) or,
+// when that is too large a fraction, `ratio` (e_i whole) is a fraction of products of the
+// primes, found among the convergents of its continued fraction within 1e-13 (the
+// coefficients are the model's doubles, exact to rounding). False if the ratio is no such
+// product (a coefficient that is a sum of parameter products).
 bool BatchExponents(double ratio, const std::vector<Candidate*>& batch, std::vector<double>* out) {
   if (!(ratio > 0.0)) return false;
   constexpr double kLimit = 1e12;
-  const double x = ratio * ratio;
-  double h0 = 0.0, h1 = 1.0, k0 = 1.0, k1 = 0.0, y = x;
   std::vector<double> e;
-  for (int step = 0; step < 64; ++step) {
-    const double a = std::floor(y);
-    const double h2 = a * h1 + h0, k2 = a * k1 + k0;
-    if (h2 > kLimit || k2 > kLimit) return false;
-    h0 = h1, h1 = h2, k0 = k1, k1 = k2;
-    if (std::abs(h1 / k1 - x) <= 1e-13 * x &&
-        Factor(static_cast<long>(h1), static_cast<long>(k1), batch, &e)) {
-      out->insert(out->end(), e.begin(), e.end());
-      return true;
+  for (const int power : {2, 1}) {
+    const double x = power == 1 ? ratio : ratio * ratio;
+    double h0 = 0.0, h1 = 1.0, k0 = 1.0, k1 = 0.0, y = x;
+    for (int step = 0; step < 64; ++step) {
+      const double a = std::floor(y);
+      const double h2 = a * h1 + h0, k2 = a * k1 + k0;
+      if (h2 > kLimit || k2 > kLimit) break;
+      h0 = h1, h1 = h2, k0 = k1, k1 = k2;
+      if (std::abs(h1 / k1 - x) <= 1e-13 * x &&
+          Factor(static_cast<long>(h1), static_cast<long>(k1), batch, power, &e)) {
+        out->insert(out->end(), e.begin(), e.end());
+        return true;
+      }
+      const double rest = y - a;
+      if (rest <= 0.0) break;
+      y = 1.0 / rest;
     }
-    const double rest = y - a;
-    if (rest <= 0.0) return false;
-    y = 1.0 / rest;
   }
   return false;
 }
 
 // Distinct primes, one per parameter of a batch: one derivation scales all of them.
-constexpr std::array<long, 10> kPrimes = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29};
+constexpr std::array<long, 20> kPrimes = {2,  3,  5,  7,  11, 13, 17, 19, 23, 29,
+                                          31, 37, 41, 43, 47, 53, 59, 61, 67, 71};
 
 }  // namespace
 
@@ -195,23 +200,9 @@ SymbolizeReport SymbolizeParameters(
   const std::size_t outputs = Outputs(eq).size();
   auto derive = [&](const models::ParameterSet& set, std::vector<TermMap>* maps) {
     try {
-      Equations e = DeriveEquations(build(set));
+      // eq's symbols, so that equal terms compare equal.
+      Equations e = DeriveEquations(build(set), &eq);
       if (Outputs(e).size() != outputs) return false;
-      // Every derivation makes its own symbols (GiNaC tells symbols apart by identity, not
-      // name): write e in eq's, so that equal terms compare equal.
-      GiNaC::exmap same = {{e.t, eq.t}};
-      for (auto [from, to] : {std::pair{&e.q, &eq.q}, std::pair{&e.u, &eq.u},
-                              std::pair{&e.udot, &eq.udot}, std::pair{&e.r, &eq.r},
-                              std::pair{&e.z, &eq.z}}) {
-        for (std::size_t i = 0; i < from->size(); ++i) same[(*from)[i]] = (*to)[i];
-      }
-      const auto& a_from = e.constrained.A;  // a constrained model's A_s_c
-      for (std::size_t s = 0; s < a_from.size() && s < eq.constrained.A.size(); ++s) {
-        for (std::size_t c = 0; c < a_from[s].size() && c < eq.constrained.A[s].size(); ++c) {
-          same[a_from[s][c]] = eq.constrained.A[s][c];
-        }
-      }
-      for (GiNaC::ex* x : Outputs(e)) *x = x->subs(same);
       *maps = TermMaps(e);
       return true;
     } catch (const Error&) {  // a scaled value the model refuses: that parameter stays a number

@@ -6,15 +6,16 @@
 // from the parameters when it is built, so the engine on Symbolic yields numbers where the
 // model has parameters. SymbolizeParameters recovers them by rebuilding the model: each term
 // of each simplified expression is c·(a product of q, u, t, r, z and functions of them). The
-// parameters p_i ≠ 0 are taken in batches of up to ten; one rebuild per batch scales every
-// parameter of it by its own prime (2, 3, 5, …, 29), so a term whose coefficient is
+// parameters p_i ≠ 0 are taken in batches of up to twenty; one rebuild per batch scales every
+// parameter of it by its own prime (2, 3, 5, …, 71), so a term whose coefficient is
 // c = k · Π p_i^e_i (e_i whole or half) scales by Π prime_i^e_i, a fraction whose factors give
-// every e_i of the batch at once (its square found by continued fractions to 1e-13, the
-// coefficients being exact to the model's rounding). A batch the model refuses (a scaled
-// value out of its range) is rebuilt one parameter at a time; a parameter whose scaled value
-// it refuses stays a number. A last rebuild with every parameter scaled by another factor at
-// once checks each monomial (to 1e-9); k, if a small rational (denominator ≤ 1000, to 1e-12),
-// is printed exactly.
+// every e_i of the batch at once (its square, or the ratio itself where the square's fraction is
+// too large, found by continued fractions to 1e-13, the coefficients being exact to the model's
+// rounding). A batch the model refuses (a scaled value out of its range) is rebuilt one
+// parameter at a time; a parameter whose scaled value it refuses stays a number. A last rebuild
+// with every parameter scaled by another factor at once checks each monomial (to 1e-9); k, if a
+// small rational (denominator ≤ 1000, to 1e-12), is printed exactly. The rebuilds use the first
+// derivation's symbols (DeriveEquations' `like`), so their terms compare without substitution.
 //
 // Angles (unit rad) are rebuilt one at a time after the batches: an angle inside a function
 // (the built-in rotor's blade azimuth ψ_i in sin(q4 + ψ_i)) scales a term by no product of
@@ -24,8 +25,8 @@
 // A coefficient that is a sum of parameter products (the rotor's hub inertia I_g + 3 m_b l_b²
 // becomes one number when the expression is expanded) or a parameter inside a function (an
 // angle offset in cos(q + φ)) stays a number; the `parameters` list and dict give the values.
-// Costs one derivation per batch of ten parameters, plus one (issue 47; it was one per
-// parameter, plus two).
+// Costs one derivation per batch of twenty parameters and per angle, plus one (issue 47; it
+// was one per parameter, plus two).
 #include <functional>
 #include <string>
 #include <vector>

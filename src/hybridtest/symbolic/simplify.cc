@@ -97,16 +97,64 @@ GiNaC::ex Chop(const GiNaC::ex& e) {  // NOLINT(misc-no-recursion)
   return e.map(children);
 }
 
+bool IsSinPower(const GiNaC::ex& e) {
+  return GiNaC::is_a<GiNaC::power>(e) && GiNaC::is_the_function<GiNaC::sin_SERIAL>(e.op(0)) &&
+         e.op(1).info(GiNaC::info_flags::posint) && GiNaC::ex_to<GiNaC::numeric>(e.op(1)).to_int() >= 2;
+}
+
+bool HasSinPower(const GiNaC::ex& e) {  // NOLINT(misc-no-recursion)
+  if (IsSinPower(e)) return true;
+  for (std::size_t i = 0; i < e.nops(); ++i) {
+    if (HasSinPower(e.op(i))) return true;
+  }
+  return false;
+}
+
+// Step 3's substitution: every sin(a)^n, n a whole number ≥ 2, becomes
+// sin(a)^(n mod 2)·(1 − cos(a)²)^(n div 2), inside function arguments too (what GiNaC's
+// algebraic subs of sin(x)² = 1 − cos(x)² does, without its pattern matching at every node).
+struct SinSquares : GiNaC::map_function {
+  GiNaC::ex operator()(const GiNaC::ex& e) override {  // NOLINT(misc-no-recursion)
+    if (IsSinPower(e)) {
+      const int n = GiNaC::ex_to<GiNaC::numeric>(e.op(1)).to_int();
+      const GiNaC::ex a = (*this)(e.op(0).op(0));
+      return GiNaC::pow(GiNaC::sin(a), n % 2) * GiNaC::pow(1 - GiNaC::pow(GiNaC::cos(a), 2), n / 2);
+    }
+    // Untouched (and so still known to be expanded) where there is nothing to replace: GiNaC
+    // rebuilds a sum or product that it maps, changed or not.
+    if (e.nops() == 0 || !HasSinPower(e)) return e;
+    return e.map(*this);
+  }
+};
+
 }  // namespace
 
 GiNaC::ex ExactDyadic(const GiNaC::numeric& n) { return ExactIfDyadic(n, 0.0); }
 
-GiNaC::ex Simplify(const GiNaC::ex& e) {
-  GiNaC::ex s = ExactIfFloat(e, 0.0).expand();
-  const GiNaC::ex x = GiNaC::wild(0);
-  s = s.subs(GiNaC::pow(GiNaC::sin(x), 2) == 1 - GiNaC::pow(GiNaC::cos(x), 2),
-             GiNaC::subs_options::algebraic)
-          .expand();
+GiNaC::ex Simplify(const GiNaC::ex& e) { return Simplifier()(e); }
+
+// Steps 1 and 2 bottom-up, once per subexpression object: its children exact and expanded,
+// then itself expanded (which then only distributes its own products over its children's
+// sums, as GiNaC's expand does after expanding the children).
+GiNaC::ex Simplifier::Expanded(const GiNaC::ex& e) {  // NOLINT(misc-no-recursion)
+  if (GiNaC::is_a<GiNaC::numeric>(e)) return ExactIfDyadic(GiNaC::ex_to<GiNaC::numeric>(e), 0.0);
+  if (e.nops() == 0) return e;
+  const GiNaC::basic* key = &GiNaC::ex_to<GiNaC::basic>(e);
+  const auto found = expanded_.find(key);
+  if (found != expanded_.end()) return found->second.second;
+  struct Children : GiNaC::map_function {
+    Simplifier* self;
+    explicit Children(Simplifier* s) : self(s) {}
+    GiNaC::ex operator()(const GiNaC::ex& x) override { return self->Expanded(x); }
+  } children(this);
+  GiNaC::ex result = e.map(children).expand();
+  expanded_.emplace(key, std::pair{e, result});
+  return result;
+}
+
+GiNaC::ex Simplifier::operator()(const GiNaC::ex& e) {
+  SinSquares pythagoras;
+  const GiNaC::ex s = pythagoras(Expanded(e)).expand();
   return ExactIfFloat(Chop(s), kChop).expand();
 }
 
