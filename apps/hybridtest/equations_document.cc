@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/common/yaml_input.h"
 #include "hybridtest/io/config.h"
 #include "hybridtest/modelfile/model_file.h"
 #include "hybridtest/symbolic/codegen.h"
@@ -21,8 +22,7 @@ namespace {
 
 // A model file's or a built-in model's builder, for rebuilding it with other parameter values
 // (symbolic/parameters.h).
-Rebuild FileBuilder(const std::string& path) {
-  auto file = std::make_shared<modelfile::ModelFile>(modelfile::LoadModelFile(path));
+Rebuild FileBuilder(std::shared_ptr<const modelfile::ModelFile> file) {
   return [file](const models::ParameterSet& p) { return modelfile::BuildModelFile(*file, p).model; };
 }
 Rebuild BuiltInBuilder(const std::string& name, int blades) {
@@ -52,24 +52,22 @@ models::BuiltModel LoadModel(const EquationsOptions& opt, std::string* source, R
                                   "give a model file, a run config or a built-in model's name",
                                   opt.model, known));
   }
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(opt.model);
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(fmt::format("equations {}: cannot read it as YAML (line {}: {}); give a "
-                                  "model file or a run config", opt.model, e.mark.line + 1, e.msg));
-  }
-  if (root.IsMap() && root["coordinates"]) {
-    const modelfile::ModelFile file = modelfile::LoadModelFile(opt.model);
-    *rebuild = FileBuilder(opt.model);
-    return modelfile::BuildModelFile(file, file.parameters);
+  // Read once, through the shared guard of every YAML input (size, encoding, syntax).
+  YamlInput input = YamlInput::FromFile(
+      opt.model, "a model file's coordinates:, frames:, … or a run config's model:, integrator:, …");
+  const YAML::Node root = input.root();
+  if (root["coordinates"]) {
+    const auto file = std::make_shared<const modelfile::ModelFile>(
+        modelfile::ParseModelFile(std::move(input)));
+    *rebuild = FileBuilder(file);
+    return modelfile::BuildModelFile(*file, file->parameters);
   }
   models::BuiltModel built = io::LoadSimulationConfig(opt.model).model;
   // The config loaded, so its model section is valid: a file (relative to the config) or a name.
   const YAML::Node model = root["model"];
   if (model["file"]) {
-    *rebuild = FileBuilder((std::filesystem::path(opt.model).parent_path() /
-                            model["file"].as<std::string>()).string());
+    *rebuild = FileBuilder(std::make_shared<const modelfile::ModelFile>(modelfile::LoadModelFile(
+        (std::filesystem::path(opt.model).parent_path() / model["file"].as<std::string>()).string())));
   } else {
     const std::string name = model["name"].as<std::string>();
     *rebuild = BuiltInBuilder(name, model["blades"] ? model["blades"].as<int>() : (name == "rotor" ? 3 : 0));
