@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/common/yaml_input.h"
 #include "hybridtest/io/config.h"
 #include "hybridtest/modelfile/model_file.h"
 #include "hybridtest/modelfile/model_file_modes.h"
@@ -32,7 +33,7 @@ void ApplyStart(const ModesRequest& request, int n, Eigen::VectorXd& x) {
 // The model file behind request.path (itself, or a run config's model.file); empty for a
 // built-in model.
 std::string ModelFileOf(const std::string& path) {
-  const YAML::Node root = YAML::LoadFile(path);
+  const YAML::Node root = YamlInput::FromFile(path).root();
   if (root.IsMap() && root["coordinates"]) return path;
   if (root.IsMap() && root["model"] && root["model"]["file"]) {
     return (std::filesystem::path(path).parent_path() / root["model"]["file"].as<std::string>())
@@ -120,13 +121,10 @@ std::vector<ModeReadout> ReadModes(const multibody::Model& model,
 }  // namespace
 
 models::BuiltModel LoadModesModel(const ModesRequest& request, Eigen::VectorXd* x0) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(request.path);
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(fmt::format("modes {}: cannot read it as YAML ({}); give a model file or "
-                                  "a run config", request.path, e.what()));
-  }
+  // Through the shared guard of every YAML input (size, encoding, syntax).
+  const YAML::Node root =
+      YamlInput::FromFile(request.path, "a model file's coordinates:, … or a run config's model:, …")
+          .root();
   std::string model_file;
   models::ParameterSet parameters;
   std::optional<Eigen::VectorXd> config_x0;

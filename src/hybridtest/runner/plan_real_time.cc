@@ -10,6 +10,7 @@
 #include <map>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/common/yaml_input.h"
 #include "hybridtest/io/run_spec_yaml.h"
 #include "hybridtest/runner/delay_stability.h"
 #include "hybridtest/runner/paced_loop.h"
@@ -135,7 +136,7 @@ std::vector<RealTimePlanResult> PlanRealTime(const std::string& config_path,
     throw ConfigError(fmt::format("{}: no `real_time:` block: plan for real time plans a "
                                   "paced run (docs/real-time.md)", config_path));
   }
-  const YAML::Node root = YAML::LoadFile(config_path);
+  const YAML::Node root = YamlInput::FromFile(config_path).root();
   const std::vector<std::string> slots = PlantSlots(root, config_path);
   std::vector<double> dts = options.dts;
   if (dts.empty()) dts = {configured.scheme.dt, 0.5 * configured.scheme.dt};
@@ -174,7 +175,7 @@ std::optional<RealTimePlanResult> RecommendRealTime(
 
 std::string RealTimeCandidateYaml(const std::string& config_path,
                                   const RealTimePlanResult& result) {
-  const YAML::Node root = YAML::LoadFile(config_path);
+  const YAML::Node root = YamlInput::FromFile(config_path).root();
   const std::vector<std::string> slots = PlantSlots(root, config_path);
   const std::map<std::string, double> delay = {{slots.front(), result.compensation}};
   const YAML::Node v = Variant(root, {slots.front()}, result.compensator, delay, result.dt);
