@@ -3,6 +3,8 @@
 #   P/lib/libhybridtest_<layer>.a       one static library per layer
 #   P/lib/cmake/hybridtest/             hybridtestConfig.cmake, its version file, the targets
 #   P/bin/hybridtest                    the command line
+#   P/lib/hybridtest/                   the modules it loads or ships, hybridtest_fmu.so and
+#                                       hybridtest_hdf5.so (installed by apps/*/CMakeLists.txt)
 # A consumer writes `find_package(hybridtest CONFIG REQUIRED)` and links `hybridtest::hybridtest`
 # (every layer); each layer is also exported as `hybridtest::<layer>` (hybridtest::multibody...).
 # Every library that src/hybridtest/CMakeLists.txt makes is installed, so a new layer needs no

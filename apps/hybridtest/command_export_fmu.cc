@@ -22,6 +22,7 @@
 #include "command.h"
 #include "export_layout.h"
 #include "hybridtest/common/error.h"
+#include "hybridtest/common/module_path.h"
 #include "hybridtest/fmi/fmu_archive.h"
 #include "hybridtest/io/atomic_file.h"
 #include "hybridtest/io/config.h"
@@ -50,22 +51,14 @@ std::string Slurp(const fs::path& path) {
 }
 
 // The FMU binary: $HYBRIDTEST_FMU_BINARY, else beside this program (a build tree), else in
-// the installed library folder.
+// the installed library folder (FindModule, common/module_path.h).
 fs::path FmuBinary() {
-  if (const char* env = std::getenv("HYBRIDTEST_FMU_BINARY"); env != nullptr && *env != '\0') {
-    return env;
-  }
-  const fs::path exe = fs::read_symlink("/proc/self/exe");
-  for (const fs::path& candidate :
-       {exe.parent_path() / "hybridtest_fmu.so",
-        exe.parent_path() / HYBRIDTEST_FMU_RELATIVE_DIR / "hybridtest_fmu.so"}) {
-    if (fs::is_regular_file(candidate)) return candidate.lexically_normal();
-  }
+  const ModuleLookup lookup = FindModule("hybridtest_fmu.so", "HYBRIDTEST_FMU_BINARY");
+  if (lookup.found) return lookup.found->lexically_normal();
   throw ConfigError(fmt::format(
-      "export-fmu: the FMU binary hybridtest_fmu.so is neither beside {} nor in {}: build it "
+      "export-fmu: the FMU binary hybridtest_fmu.so is in none of {}: build it "
       "(cmake --build --preset release --target hybridtest_fmu, or scripts/build.sh --app) or "
-      "name it with HYBRIDTEST_FMU_BINARY", exe.string(),
-      (exe.parent_path() / HYBRIDTEST_FMU_RELATIVE_DIR).lexically_normal().string()));
+      "name it with HYBRIDTEST_FMU_BINARY", lookup.searched));
 }
 
 // The slots the config's `substructures:` section names (keys, or a block's `slots:`).

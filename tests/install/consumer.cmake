@@ -3,7 +3,7 @@
 # 02_run_spec_in_code against it with find_package(hybridtest), then runs them against the
 # installed CLI: 01 on the rotor's dummy test (compare_final_state.py), 02 against the
 # two-actuator blade of examples/06 (compare_journals.py); and `hybridtest export-fmu` with the
-# installed FMU binary.
+# installed FMU binary, and `hybridtest export --hdf5` with the installed HDF5 writer.
 # -D inputs: BUILD_DIR, SOURCE_DIR, WORK_DIR, GENERATOR, CXX_COMPILER, CXX_LAUNCHER,
 #            CXX_FLAGS, BUILD_TYPE, PYTHON.
 function(run)
@@ -45,4 +45,12 @@ run(${prefix}/bin/hybridtest export-fmu ${SOURCE_DIR}/examples/rotor/dummy.yaml
 message("${run_output}")
 if(NOT EXISTS ${WORK_DIR}/rotor.fmu)
   message(FATAL_ERROR "consumer.cmake: the installed export-fmu wrote no ${WORK_DIR}/rotor.fmu")
+endif()
+# The installed command line finds the installed HDF5 writer (<prefix>/<libdir>/hybridtest/
+# hybridtest_hdf5.so), which it loads for an HDF5 export only.
+file(WRITE ${WORK_DIR}/tiny.csv "t,q1\n0,1\n0.001,2\n")
+run(${prefix}/bin/hybridtest export ${WORK_DIR}/tiny.csv --hdf5 ${WORK_DIR}/tiny.h5)
+message("${run_output}")
+if(NOT EXISTS ${WORK_DIR}/tiny.h5)
+  message(FATAL_ERROR "consumer.cmake: the installed export --hdf5 wrote no ${WORK_DIR}/tiny.h5")
 endif()

@@ -1,158 +1,28 @@
+// ExportHdf5 prepares the run here and hands it to the HDF5 writer module hybridtest_hdf5.so
+// (hdf5_module.h, apps/hybridtest_hdf5/), loaded only when an export is done: nothing else of
+// hybridtest links libhdf5.
 #include "hybridtest/report/hdf5_export.h"
 
+#include <dlfcn.h>
 #include <fmt/format.h>
-#include <hdf5.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <set>
+#include <string>
 #include <vector>
 
 #include "hybridtest/common/error.h"
+#include "hybridtest/common/module_path.h"
 #include "hybridtest/common/version.h"
 #include "hybridtest/io/journal.h"
+#include "hybridtest/report/hdf5_module.h"
 
 namespace hybridtest::report {
 namespace {
-
-// Owns one HDF5 identifier and closes it with the matching H5?close.
-class Handle {
- public:
-  Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
-  ~Handle() {
-    if (id_ >= 0) close_(id_);
-  }
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  hid_t get() const { return id_; }
-
- private:
-  hid_t id_;
-  herr_t (*close_)(hid_t);
-};
-
-// Silences HDF5's own printing of its error stack for the lifetime of the object; errors are
-// reported by IoError instead.
-class QuietHdf5Errors {
- public:
-  QuietHdf5Errors() {
-    H5Eget_auto2(H5E_DEFAULT, &old_func_, &old_data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~QuietHdf5Errors() { H5Eset_auto2(H5E_DEFAULT, old_func_, old_data_); }
-  QuietHdf5Errors(const QuietHdf5Errors&) = delete;
-  QuietHdf5Errors& operator=(const QuietHdf5Errors&) = delete;
-
- private:
-  H5E_auto2_t old_func_ = nullptr;
-  void* old_data_ = nullptr;
-};
-
-// The innermost messages of HDF5's current error stack, e.g. "unable to open file".
-std::string Hdf5ErrorText() {
-  std::vector<std::string> messages;
-  H5Ewalk2(
-      H5E_DEFAULT, H5E_WALK_UPWARD,
-      [](unsigned, const H5E_error2_t* error, void* data) -> herr_t {
-        auto* list = static_cast<std::vector<std::string>*>(data);
-        if (error->desc != nullptr && list->size() < 2) list->push_back(error->desc);
-        return 0;
-      },
-      &messages);
-  std::string text;
-  for (const auto& message : messages) text += (text.empty() ? "" : "; ") + message;
-  return text.empty() ? "unknown HDF5 error" : text;
-}
-
-class Writer {
- public:
-  explicit Writer(std::string path) : path_(std::move(path)) {}
-
-  [[noreturn]] void Fail(const std::string& what) const {
-    throw IoError(fmt::format("{}: cannot {}: {}; check that the directory exists, is writable "
-                              "and has free space",
-                              path_, what, Hdf5ErrorText()));
-  }
-  hid_t Check(hid_t id, const std::string& what) const {
-    if (id < 0) Fail(what);
-    return id;
-  }
-  void Check(herr_t status, const char* what, const std::string& name) const {
-    if (status < 0) Fail(fmt::format("{} {}", what, name));
-  }
-
-  // Writes a scalar variable-length UTF-8 string attribute on `object`.
-  void WriteStringAttribute(hid_t object, const std::string& name, const std::string& value) {
-    const Handle type(Check(H5Tcopy(H5T_C_S1), "copy a string type"), H5Tclose);
-    Check(H5Tset_size(type.get(), H5T_VARIABLE), "size a string type", name);
-    Check(H5Tset_cset(type.get(), H5T_CSET_UTF8), "set UTF-8 on", name);
-    const Handle space(Check(H5Screate(H5S_SCALAR), "create a scalar dataspace"), H5Sclose);
-    const Handle attribute(Check(H5Acreate2(object, name.c_str(), type.get(), space.get(),
-                                            H5P_DEFAULT, H5P_DEFAULT),
-                                 "create attribute " + name),
-                           H5Aclose);
-    const char* data = value.c_str();
-    Check(H5Awrite(attribute.get(), type.get(), &data), "write attribute", name);
-  }
-
-  // Writes a scalar (count 0) or 1-D (count ≥ 1) attribute of `type` on `object`.
-  void WriteAttribute(hid_t object, const std::string& name, hid_t file_type, hid_t memory_type,
-                      const void* data, hsize_t count, bool scalar) {
-    const Handle space(Check(scalar ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &count, nullptr),
-                             "create a dataspace"),
-                       H5Sclose);
-    const Handle attribute(Check(H5Acreate2(object, name.c_str(), file_type, space.get(),
-                                            H5P_DEFAULT, H5P_DEFAULT),
-                                 "create attribute " + name),
-                           H5Aclose);
-    Check(H5Awrite(attribute.get(), memory_type, data), "write attribute", name);
-  }
-
-  // Writes a scalar variable-length UTF-8 string dataset at `name` in `group`.
-  void WriteStringDataset(hid_t group, const std::string& name, const std::string& value) {
-    const Handle type(Check(H5Tcopy(H5T_C_S1), "copy a string type"), H5Tclose);
-    Check(H5Tset_size(type.get(), H5T_VARIABLE), "size a string type", name);
-    Check(H5Tset_cset(type.get(), H5T_CSET_UTF8), "set UTF-8 on", name);
-    const Handle space(Check(H5Screate(H5S_SCALAR), "create a scalar dataspace"), H5Sclose);
-    const Handle dataset(Check(H5Dcreate2(group, name.c_str(), type.get(), space.get(),
-                                          H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                               "create dataset " + name),
-                         H5Dclose);
-    const char* data = value.c_str();
-    Check(H5Dwrite(dataset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &data),
-          "write dataset", name);
-  }
-
-  // Writes a 1-D double dataset at the absolute path `name`, creating parent groups.
-  hid_t CreateDoubleDataset(hid_t file, const std::string& name, const double* data,
-                            hsize_t size) {
-    const Handle links(Check(H5Pcreate(H5P_LINK_CREATE), "create a property list"), H5Pclose);
-    Check(H5Pset_create_intermediate_group(links.get(), 1), "configure groups for", name);
-    const Handle layout(Check(H5Pcreate(H5P_DATASET_CREATE), "create a property list"),
-                        H5Pclose);
-    if (size > 0 && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
-      const hsize_t chunk = std::min<hsize_t>(size, 65536);
-      Check(H5Pset_chunk(layout.get(), 1, &chunk), "chunk", name);
-      Check(H5Pset_deflate(layout.get(), 4), "compress", name);
-    }
-    const Handle space(Check(H5Screate_simple(1, &size, nullptr), "create a dataspace"),
-                       H5Sclose);
-    const hid_t dataset = Check(H5Dcreate2(file, name.c_str(), H5T_IEEE_F64LE, space.get(),
-                                           links.get(), layout.get(), H5P_DEFAULT),
-                                "create dataset " + name);
-    if (size > 0 &&
-        H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0) {
-      H5Dclose(dataset);
-      Fail("write dataset " + name);
-    }
-    return dataset;
-  }
-
- private:
-  std::string path_;
-};
 
 std::string SafeName(const std::string& name) {
   std::string safe = name;
@@ -161,66 +31,108 @@ std::string SafeName(const std::string& name) {
   return safe;
 }
 
-// The provenance of the run as attributes of `object`: every key of `value` (the sidecar)
-// under its name, nested keys joined with '.', array elements by index (test.specimen,
+// One root attribute, owning what the C record points to.
+struct Attribute {
+  std::string name;
+  int kind = HYBRIDTEST_HDF5_STRING;
+  std::string text;
+  std::int64_t integer = 0;
+  std::vector<double> numbers;
+};
+
+// The provenance of the run as root attributes: every key of `value` (the sidecar) under its
+// name, nested keys joined with '.', array elements by index (test.specimen,
 // extra.inputs.0.sha256). Strings stay strings, integers become int64, other numbers double,
 // an array of numbers one 1-D double attribute, booleans "true"/"false", null "null", an
 // empty array or object "[]"/"{}".
-void WriteJsonAttributes(Writer& writer, hid_t object, const nlohmann::json& value,
-                         const std::string& name) {
-  const std::string key = SafeName(name);
+void FlattenJson(const nlohmann::json& value, const std::string& name,
+                 std::vector<Attribute>& out) {
+  Attribute a;
+  a.name = SafeName(name);
   if (value.is_object() && !value.empty()) {
     for (const auto& [child, item] : value.items()) {
-      WriteJsonAttributes(writer, object, item, name.empty() ? child : name + "." + child);
+      FlattenJson(item, name.empty() ? child : name + "." + child, out);
     }
-  } else if (value.is_array() && !value.empty() &&
-             std::all_of(value.begin(), value.end(),
-                         [](const nlohmann::json& v) { return v.is_number(); })) {
-    std::vector<double> numbers;
-    for (const auto& v : value) numbers.push_back(v.get<double>());
-    writer.WriteAttribute(object, key, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, numbers.data(),
-                          numbers.size(), false);
+    return;
+  }
+  if (value.is_array() && !value.empty() &&
+      std::all_of(value.begin(), value.end(),
+                  [](const nlohmann::json& v) { return v.is_number(); })) {
+    a.kind = HYBRIDTEST_HDF5_DOUBLES;
+    for (const auto& v : value) a.numbers.push_back(v.get<double>());
   } else if (value.is_array() && !value.empty()) {
     for (std::size_t i = 0; i < value.size(); ++i) {
-      WriteJsonAttributes(writer, object, value[i], name + "." + std::to_string(i));
+      FlattenJson(value[i], name + "." + std::to_string(i), out);
     }
+    return;
   } else if (value.is_number_integer()) {
-    const std::int64_t v = value.get<std::int64_t>();
-    writer.WriteAttribute(object, key, H5T_STD_I64LE, H5T_NATIVE_INT64, &v, 0, true);
+    a.kind = HYBRIDTEST_HDF5_INT64;
+    a.integer = value.get<std::int64_t>();
   } else if (value.is_number()) {
-    const double v = value.get<double>();
-    writer.WriteAttribute(object, key, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &v, 0, true);
+    a.kind = HYBRIDTEST_HDF5_DOUBLE;
+    a.numbers = {value.get<double>()};
   } else if (value.is_string()) {
-    writer.WriteStringAttribute(object, key, value.get<std::string>());
+    a.text = value.get<std::string>();
   } else if (value.is_boolean()) {
-    writer.WriteStringAttribute(object, key, value.get<bool>() ? "true" : "false");
+    a.text = value.get<bool>() ? "true" : "false";
   } else {
-    writer.WriteStringAttribute(object, key, value.dump());  // null, [] or {}
+    a.text = value.dump();  // null, [] or {}
   }
+  out.push_back(std::move(a));
 }
 
-// One 1-D dataset per channel under `prefix`, with the units, description and channel
-// attributes.
-void WriteChannels(Writer& writer, hid_t file, const io::RunData& run,
-                   const std::function<std::string(const std::string&)>& path_of,
-                   const std::string& h5_path) {
-  const auto rows = static_cast<hsize_t>(run.values.rows());
+// The datasets of one table: `paths` receives their HDF5 paths (it must outlive the records).
+std::vector<hybridtest_hdf5_dataset> Datasets(
+    const io::RunData& run, const std::function<std::string(const std::string&)>& path_of,
+    std::vector<std::string>& paths, const std::string& h5_path) {
   std::set<std::string> used;
-  for (int j = 0; j < run.num_channels(); ++j) {
-    const io::Channel& channel = run.channels[static_cast<std::size_t>(j)];
-    const std::string path = path_of(channel.name);
-    if (!used.insert(path).second) {
+  for (const io::Channel& channel : run.channels) {
+    paths.push_back(path_of(channel.name));
+    if (!used.insert(paths.back()).second) {
       throw IoError(fmt::format("{}: channels '{}' and an earlier one both map to {}; rename "
                                 "one of them",
-                                h5_path, channel.name, path));
+                                h5_path, channel.name, paths.back()));
     }
-    // Eigen's default column-major storage keeps each column contiguous.
-    const Handle dataset(
-        writer.CreateDoubleDataset(file, path, run.values.col(j).data(), rows), H5Dclose);
-    writer.WriteStringAttribute(dataset.get(), "units", channel.unit);
-    writer.WriteStringAttribute(dataset.get(), "description", channel.description);
-    writer.WriteStringAttribute(dataset.get(), "channel", channel.name);
   }
+  std::vector<hybridtest_hdf5_dataset> datasets;
+  for (int j = 0; j < run.num_channels(); ++j) {
+    const io::Channel& channel = run.channels[static_cast<std::size_t>(j)];
+    // Eigen's default column-major storage keeps each column contiguous.
+    datasets.push_back({paths[static_cast<std::size_t>(j)].c_str(), channel.name.c_str(),
+                        channel.unit.c_str(), channel.description.c_str(),
+                        run.values.col(j).data()});
+  }
+  return datasets;
+}
+
+// The writer module's entry point, loaded (once; dlopen counts the later calls) from where
+// FindModule finds it. A missing module, or one that cannot be loaded or is of another
+// interface version, is an IoError saying which file and how to get a working one.
+hybridtest_hdf5_write_fn LoadWriter(const std::string& h5_path) {
+  const ModuleLookup lookup = FindModule(HYBRIDTEST_HDF5_MODULE_FILE, "HYBRIDTEST_HDF5_MODULE");
+  const std::string fix =
+      "build it (cmake --build --preset release --target hybridtest_hdf5) or reinstall "
+      "hybridtest, or name it with HYBRIDTEST_HDF5_MODULE";
+  if (!lookup.found) {
+    throw IoError(fmt::format("{}: cannot export to HDF5: the HDF5 writer {} is in none of {}; {}",
+                              h5_path, HYBRIDTEST_HDF5_MODULE_FILE, lookup.searched, fix));
+  }
+  const std::string module = lookup.found->string();
+  void* handle = dlopen(module.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (handle == nullptr) {
+    const char* reason = dlerror();
+    throw IoError(fmt::format("{}: cannot export to HDF5: cannot load the HDF5 writer {}: {}; "
+                              "{} (it needs libhdf5, Debian's libhdf5-dev)",
+                              h5_path, module, reason != nullptr ? reason : "unknown error", fix));
+  }
+  void* entry = dlsym(handle, HYBRIDTEST_HDF5_ENTRY_POINT);
+  if (entry == nullptr) {
+    dlclose(handle);
+    throw IoError(fmt::format("{}: cannot export to HDF5: {} has no entry point {} (a writer of "
+                              "another hybridtest version); {}",
+                              h5_path, module, HYBRIDTEST_HDF5_ENTRY_POINT, fix));
+  }
+  return reinterpret_cast<hybridtest_hdf5_write_fn>(entry);
 }
 
 }  // namespace
@@ -239,64 +151,68 @@ std::string Hdf5DatasetPath(const std::string& channel_name) {
 }
 
 void ExportHdf5(const io::RunData& run, const std::string& h5_path) {
-  const QuietHdf5Errors quiet;
-  Writer writer(h5_path);
-  // Dense attribute storage on the root group, so that a provenance attribute (an input file's
-  // text) may exceed the 64 KiB of an object header.
-  const Handle create(writer.Check(H5Pcreate(H5P_FILE_CREATE), "create a property list"),
-                      H5Pclose);
-  writer.Check(H5Pset_attr_phase_change(create.get(), 0, 0), "configure attributes of", "/");
-  const Handle access(writer.Check(H5Pcreate(H5P_FILE_ACCESS), "create a property list"),
-                      H5Pclose);
-  writer.Check(H5Pset_libver_bounds(access.get(), H5F_LIBVER_V18, H5F_LIBVER_LATEST),
-               "set the format version of", h5_path);
-  const Handle file(
-      writer.Check(H5Fcreate(h5_path.c_str(), H5F_ACC_TRUNC, create.get(), access.get()),
-                   "create the HDF5 file"),
-      H5Fclose);
-
-  WriteChannels(writer, file.get(), run, Hdf5DatasetPath, h5_path);
+  hybridtest_hdf5_run c{};
+  std::vector<std::string> paths;
+  const std::vector<hybridtest_hdf5_dataset> datasets = Datasets(run, Hdf5DatasetPath, paths, h5_path);
+  c.rows = static_cast<std::size_t>(run.num_rows());
+  c.datasets = datasets.data();
+  c.num_datasets = datasets.size();
 
   // The stage record (<run>.stages.csv), when the run has one.
   const std::string stages_path = io::StagesPath(run.csv_path);
   std::error_code missing;
+  io::RunData stages;
+  std::vector<std::string> stage_paths;
+  std::vector<hybridtest_hdf5_dataset> stage_datasets;
   if (std::filesystem::is_regular_file(stages_path, missing)) {
-    const io::RunData stages = io::LoadRun(stages_path);
-    WriteChannels(
-        writer, file.get(), stages,
-        [](const std::string& name) { return "/stages/" + SafeName(name); }, h5_path);
-    const Handle group(writer.Check(H5Gopen2(file.get(), "/stages", H5P_DEFAULT),
-                                    "open group /stages"),
-                       H5Gclose);
-    writer.WriteStringAttribute(group.get(), "source_csv", stages_path);
+    stages = io::LoadRun(stages_path);
+    stage_datasets = Datasets(
+        stages, [](const std::string& name) { return "/stages/" + SafeName(name); },
+        stage_paths, h5_path);
+    c.stages_csv = stages_path.c_str();
+    c.stage_rows = static_cast<std::size_t>(stages.num_rows());
+    c.stages = stage_datasets.data();
+    c.num_stages = stage_datasets.size();
   }
 
   // Provenance: the sidecar's keys as root attributes (its channel list is on the datasets).
+  std::vector<Attribute> attributes;
   if (run.metadata.is_object()) {
     nlohmann::json provenance = run.metadata;
     provenance.erase("channels");
-    WriteJsonAttributes(writer, file.get(), provenance, "");
+    FlattenJson(provenance, "", attributes);
   }
+  std::vector<hybridtest_hdf5_attribute> root;
+  for (const Attribute& a : attributes) {
+    root.push_back({a.name.c_str(), a.kind, a.text.c_str(), a.integer, a.numbers.data(),
+                    a.numbers.size()});
+  }
+  c.root_attributes = root.data();
+  c.num_root_attributes = root.size();
 
   // Metadata: config text, the whole sidecar, versions.
-  const Handle metadata(writer.Check(H5Gcreate2(file.get(), "/metadata", H5P_DEFAULT,
-                                                H5P_DEFAULT, H5P_DEFAULT),
-                                     "create group /metadata"),
-                        H5Gclose);
   const bool has_sidecar = run.metadata.is_object();
   const auto text_of = [&](const char* key) {
     return has_sidecar && run.metadata.contains(key) && run.metadata[key].is_string()
                ? run.metadata[key].get<std::string>()
                : std::string();
   };
-  writer.WriteStringDataset(metadata.get(), "config", text_of("config"));
-  writer.WriteStringDataset(metadata.get(), "sidecar", run.metadata.dump(2));
-  writer.WriteStringAttribute(metadata.get(), "format", "hybridtest-hdf5/1");
-  writer.WriteStringAttribute(metadata.get(), "software_version", kVersion);
-  writer.WriteStringAttribute(metadata.get(), "run_software_version", text_of("software_version"));
-  writer.WriteStringAttribute(metadata.get(), "source_csv", run.csv_path);
+  const std::string config = text_of("config");
+  const std::string sidecar = run.metadata.dump(2);
+  const std::string run_version = text_of("software_version");
+  c.config = config.c_str();
+  c.sidecar = sidecar.c_str();
+  c.software_version = kVersion;
+  c.run_software_version = run_version.c_str();
+  c.source_csv = run.csv_path.c_str();
 
-  if (H5Fflush(file.get(), H5F_SCOPE_GLOBAL) < 0) writer.Fail("flush the HDF5 file");
+  const hybridtest_hdf5_write_fn write = LoadWriter(h5_path);
+  std::array<char, 1024> error{};
+  if (write(&c, h5_path.c_str(), error.data(), error.size()) != 0) {
+    throw IoError(fmt::format("{}: cannot {}; check that the directory exists, is writable and "
+                              "has free space",
+                              h5_path, error.data()));
+  }
 }
 
 }  // namespace hybridtest::report

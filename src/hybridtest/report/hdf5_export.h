@@ -32,6 +32,12 @@ namespace hybridtest::report {
 
 // Writes `run` to h5_path (created or truncated). Throws IoError naming the path and the
 // HDF5 error if the file cannot be created or written.
+// The writing is done by the module hybridtest_hdf5.so (hdf5_module.h, apps/hybridtest_hdf5/),
+// the only code of hybridtest that links libhdf5, loaded here at the first export: it is found
+// by FindModule (common/module_path.h: $HYBRIDTEST_HDF5_MODULE, beside the program, in
+// <libdir>/hybridtest/ of the installed or configured prefix, in the build tree). Throws IoError
+// naming the files looked for and how to build or reinstall it when it is missing, cannot be
+// loaded or is of another interface version; nothing is written then.
 void ExportHdf5(const io::RunData& run, const std::string& h5_path);
 
 // HDF5 path of a channel's dataset in the layout above, e.g. "r1_force" → "/physical/r1/force".
