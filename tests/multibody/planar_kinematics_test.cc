@@ -99,13 +99,50 @@ void ExpectPlanarMatchesGeneral(const Model& model) {
       EXPECT_EQ(data.g(i), data_ad.g(i).value()) << "trial " << trial << ", g(" << i << ")";
       for (int j = 0; j < n; ++j) EXPECT_EQ(data.M(i, j), data_ad.M(i, j).value());
     }
+    // CalcStateDerivative leaves the velocities of the points; CalcKinematics computes them.
+    CalcKinematics<double>(model, data, t, x);
+    CalcKinematics<AutoDiff>(model, data_ad, AutoDiff(t), x.cast<AutoDiff>());
     for (std::size_t p = 0; p < model.points().size(); ++p) {
       for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(data.p_OP[p](c), data_ad.p_OP[p](c).value()) << "point " << p;
         EXPECT_EQ(data.v_NP[p](c), data_ad.v_NP[p](c).value()) << "point " << p;
         EXPECT_EQ(data.a_rem[p](c), data_ad.a_rem[p](c).value()) << "point " << p;
       }
     }
   }
+}
+
+// The right-hand side's kinematics (internal::CalcKinematics without positions) against the
+// full CalcKinematics: every other result is the same, bit for bit, and p_OP and v_NP keep
+// the values Data's constructor gave them (zero).
+void ExpectOnlyPositionsSkipped(const Model& model) {
+  const int n = model.num_coordinates();
+  std::mt19937 rng(7);
+  Data<double> full(model);
+  Data<double> rhs(model);
+  for (int trial = 0; trial < 5; ++trial) {
+    const Eigen::VectorXd x = RandomState(rng, Eigen::VectorXd::Constant(n, 3.0), 4.0);
+    const double t = 0.3 * trial;
+    CalcKinematics<double>(model, full, t, x);
+    internal::CalcKinematics<double>(model, rhs, t, x, false);
+    for (std::size_t f = 0; f < model.frames().size(); ++f) {
+      EXPECT_TRUE(rhs.R_NF[f] == full.R_NF[f]) << "frame " << f;
+      EXPECT_TRUE(rhs.w_NF[f] == full.w_NF[f]) << "frame " << f;
+      EXPECT_TRUE(rhs.w_partial[f] == full.w_partial[f]) << "frame " << f;
+      EXPECT_TRUE(rhs.alpha_rem[f] == full.alpha_rem[f]) << "frame " << f;
+    }
+    for (std::size_t p = 1; p < model.points().size(); ++p) {
+      EXPECT_TRUE(rhs.v_partial[p] == full.v_partial[p]) << "point " << p;
+      EXPECT_TRUE(rhs.a_rem[p] == full.a_rem[p]) << "point " << p;
+      EXPECT_TRUE(rhs.p_OP[p].isZero(0.0) && rhs.v_NP[p].isZero(0.0)) << "point " << p;
+      EXPECT_FALSE(full.p_OP[p].isZero(0.0)) << "point " << p;
+    }
+  }
+}
+
+TEST(PlanarKinematics, RightHandSideSkipsOnlyThePointsPositionsAndVelocities) {
+  ExpectOnlyPositionsSkipped(BuildPlanar(2));        // the planar kernels
+  ExpectOnlyPositionsSkipped(BuildPlanar(1, true));  // the general affine kernel
 }
 
 TEST(PlanarKinematics, BuiltInModelsThatArePlanar) {

@@ -74,15 +74,23 @@ inline void Copy3(const T* a, T* out) {
   out[2] = a[2];
 }
 
-// dst[0..n) = src[0..n) and dst[0..n) = 0 for the short vectors of a small model: one jump
-// into a run of stores up to 8 (16) entries (a runtime-sized loop would become a call to
-// memmove or memset, which costs more than the copy; a compare and branch per entry costs
-// twice the stores), std::copy_n / std::fill_n beyond. Always inline: out of line, the call
+// dst[0..n) = src[0..n) and dst[0..n) = 0 for the short vectors and 4 × 4 matrices of a small
+// model: one jump into a run of stores up to 16 entries (a runtime-sized loop would become a
+// call to memmove or memset, which costs more than the copy; a compare and branch per entry
+// costs twice the stores), std::copy_n / std::fill_n beyond. Always inline: out of line, the call
 // costs as much as the copy (callgrind).
 template <typename T>
 [[gnu::always_inline]] inline void CopyN(const T* src, std::ptrdiff_t n, T* dst) {
   if constexpr (std::is_same_v<T, double>) {
     switch (n) {
+      case 16: dst[15] = src[15]; [[fallthrough]];
+      case 15: dst[14] = src[14]; [[fallthrough]];
+      case 14: dst[13] = src[13]; [[fallthrough]];
+      case 13: dst[12] = src[12]; [[fallthrough]];
+      case 12: dst[11] = src[11]; [[fallthrough]];
+      case 11: dst[10] = src[10]; [[fallthrough]];
+      case 10: dst[9] = src[9]; [[fallthrough]];
+      case 9: dst[8] = src[8]; [[fallthrough]];
       case 8: dst[7] = src[7]; [[fallthrough]];
       case 7: dst[6] = src[6]; [[fallthrough]];
       case 6: dst[5] = src[5]; [[fallthrough]];
@@ -128,9 +136,10 @@ template <typename T>
 // (CompiledPoint::affine) and its rate as seen in its frame, ṙ = time_rate + Σ c_k q̇_k, in
 // E components, into r[3] and rd[3]. The sums run in registers: a store to r[component] read
 // back by the next term or by the rotation after it is a chain through memory (measured on
-// the rotor). Same terms in the same order as summing into the arrays.
+// the rotor). Same terms in the same order as summing into the arrays. Always inline: GCC
+// otherwise calls it out of line from the planar point kernel's six instances (callgrind).
 template <typename T>
-inline void AffinePointOffset(const CompiledPoint& pt, const T& t, const T* q, const T* qdot,
+[[gnu::always_inline]] inline void AffinePointOffset(const CompiledPoint& pt, const T& t, const T* q, const T* qdot,
                               T* r, T* rd) {
   T r0 = T(pt.offset(0)), r1 = T(pt.offset(1)), r2 = T(pt.offset(2));
   T d0 = T(pt.time_rate(0)), d1 = T(pt.time_rate(1)), d2 = T(pt.time_rate(2));

@@ -43,15 +43,14 @@ void AddGroupedMassTerms(const Model&, Data<Symbolic>&) {}
 // The generalized forces' sums, speed by speed in a register (projection_terms()).
 [[gnu::noinline]] void ProjectGrouped(const Model& model, Data<double>& data) {
   double* g = data.g.data();
-  // The arrays' starts, once (the loop would reload them for every term).
-  const Matrix3X<double>* v_partial = data.v_partial.data();
-  const Matrix3X<double>* w_partial = data.w_partial.data();
-  const Vector3<double>* force = data.force.data();
-  const Vector3<double>* torque = data.torque.data();
+  // The arrays' starts, once (the loop would reload them for every term), picked by index
+  // (a branch on term.frame costs more).
+  const Matrix3X<double>* const partial[2] = {data.v_partial.data(), data.w_partial.data()};
+  const Vector3<double>* const load[2] = {data.force.data(), data.torque.data()};
   double s = 0.0;
   for (const ProjectionTerm& term : model.projection_terms()) {
-    const double* V = (term.frame ? w_partial : v_partial)[term.index].data();
-    const double* f = (term.frame ? torque : force)[term.index].data();
+    const double* V = partial[term.frame][term.index].data();
+    const double* f = load[term.frame][term.index].data();
     const double value = internal::Dot(V + 3 * term.j, f);
     s = term.continues ? s + value : 0.0 + value;
     g[term.j] = s;
@@ -82,7 +81,11 @@ void CalcMassMatrixPairwise(const Model& model, Data<T>& data) {
     internal::ZeroN(M.size(), m);
   } else {
     const double* value = model.constant_mass().value.data();
-    for (Eigen::Index i = 0; i < M.size(); ++i) m[i] = T(value[i]);
+    if constexpr (std::is_same_v<T, double>) {
+      internal::CopyN(value, M.size(), m);  // unrolled for n ≤ 4 (a loop costs more)
+    } else {
+      for (Eigen::Index i = 0; i < M.size(); ++i) m[i] = T(value[i]);
+    }
   }
   auto is_constant = [&](int j, int k) {
     return !constant.empty() && constant[static_cast<std::size_t>(j + k * data.n)] != 0;
@@ -161,9 +164,13 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
                          std::span<const T>(data.r.data(), data.r.size()),
                          std::span<const T>(data.time_values.data(), data.time_values.size()),
                          std::span<const T>(data.z.data(), data.z.size())};
+  // The resultants by kind, picked by index (a branch on the kind costs more).
+  static_assert(static_cast<int>(LoadSpec::Kind::kForce) == 0 &&
+                static_cast<int>(LoadSpec::Kind::kTorque) == 1);
+  Vector3<T>* const sums[2] = {data.force.data(), data.torque.data()};
   for (const LoadSpec& load : model.loads()) {
     const Vector3<T> value = load.function.template get<T>()(args);
-    T* sum = (load.kind == LoadSpec::Kind::kForce ? data.force : data.torque)[load.target].data();
+    T* sum = sums[static_cast<int>(load.kind)][load.target].data();
     if (load.expressed_in == 0) {
       for (int c = 0; c < 3; ++c) sum[c] = internal::Add(sum[c], value(c));
       continue;
@@ -270,7 +277,7 @@ void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
       return;
     }
   }
-  CalcKinematics(model, data, t, x);
+  internal::CalcKinematics(model, data, t, x, model.tree_mass_matrix());
   CalcMassMatrix(model, data);
   // Factored before the forcing, which does not need it: its square roots and divisions
   // overlap with the forcing's work (mass_solve.h).
@@ -283,7 +290,8 @@ void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
   internal::SolveFactoredMassMatrix(model, data);
   internal::CopyN(data.qdot.data(), n, xdot.data());
   internal::CopyN(data.udot.data(), n, xdot.data() + n);
-  internal::CalcExtraStateRates(model, data, xdot);
+  // Checked here too: the call alone (and its copy of xdot's Ref) costs more than the check.
+  if (model.num_extra_states() > 0) internal::CalcExtraStateRates(model, data, xdot);
 }
 
 namespace internal {

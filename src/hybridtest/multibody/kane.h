@@ -46,7 +46,9 @@ template <typename T>
 void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const VectorX<T>>& r);
 
 // ẋ = f_rhs(t, x, r) (2n + nz): kinematics, M, g, Cholesky solve, then ż. Throws ModelError if M is not
-// positive definite at x (e.g. a singular configuration of the user's coordinates).
+// positive definite at x (e.g. a singular configuration of the user's coordinates). Without
+// constraints and off the tree path, the points' p_OP and v_NP are not kept up to date (ẋ
+// does not need them; CalcKinematics computes them).
 template <typename T>
 void CalcStateDerivative(const Model& model, Data<T>& data, const T& t,
                          const Eigen::Ref<const VectorX<T>>& x,
@@ -69,6 +71,15 @@ Eigen::MatrixXd CalcStateJacobian(const Model& model, double t, const Eigen::Vec
                                   const Eigen::VectorXd& r);
 
 namespace internal {
+// CalcKinematics; with `positions` false, the points' positions p_OP and velocities v_NP, which
+// ẋ needs only on the tree path (Model::tree_mass_matrix()) or with constraints, are not kept
+// up to date (an affine point skips them, another one builds on its origin's stale values);
+// everything else is computed, with the same values. CalcStateDerivative's unconstrained path
+// passes model.tree_mass_matrix().
+template <typename T>
+void CalcKinematics(const Model& model, Data<T>& data, const T& t,
+                    const Eigen::Ref<const VectorX<T>>& x, bool positions);
+
 // ż = f_z(t, q, u, z) (nz; the loads' inputs with r left out) at the state of the last
 // CalcKinematics, into data.zdot and the tail of xdot. Shared by the tree and constrained paths.
 template <typename T>

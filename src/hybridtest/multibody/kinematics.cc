@@ -201,8 +201,10 @@ void CalcFrame(const Model& model, Data<T>& data, int i) {
 
 // A point whose position components are all affine, with q̇ = u (CompiledPoint::affine): the
 // partial rates are constants, added column by column (R_NE e_c c_k) with no scratch.
+// With `positions` false, p_OP and v_NP are skipped (internal::CalcKinematics).
 template <typename T>
-void CalcAffinePoint(const PointSpec& spec, const CompiledPoint& pt, Data<T>& data, int i) {
+void CalcAffinePoint(const PointSpec& spec, const CompiledPoint& pt, Data<T>& data, int i,
+                     bool positions) {
   using internal::Add;
   using internal::Cross;
   using internal::Mul;
@@ -220,13 +222,15 @@ void CalcAffinePoint(const PointSpec& spec, const CompiledPoint& pt, Data<T>& da
   }
   T w_rho[3];
   Cross(w, rho, w_rho);
-  const T* p_o = data.p_OP[o].data();
-  const T* v_o = data.v_NP[o].data();
-  T* p_i = data.p_OP[i].data();
-  T* v_i = data.v_NP[i].data();
-  for (int c = 0; c < 3; ++c) {
-    p_i[c] = Add(p_o[c], rho[c]);
-    v_i[c] = Add(Add(v_o[c], w_rho[c]), rho_rel_dot[c]);
+  if (positions) {
+    const T* p_o = data.p_OP[o].data();
+    const T* v_o = data.v_NP[o].data();
+    T* p_i = data.p_OP[i].data();
+    T* v_i = data.v_NP[i].data();
+    for (int c = 0; c < 3; ++c) {
+      p_i[c] = Add(p_o[c], rho[c]);
+      v_i[c] = Add(Add(v_o[c], w_rho[c]), rho_rel_dot[c]);
+    }
   }
   // Columns: from's and/or ω_j × ρ (or zero), then the constant rates.
   T* V = data.v_partial[i].data();
@@ -256,11 +260,11 @@ void CalcAffinePoint(const PointSpec& spec, const CompiledPoint& pt, Data<T>& da
 }
 
 template <typename T>
-void CalcPoint(const Model& model, Data<T>& data, int i) {
+void CalcPoint(const Model& model, Data<T>& data, int i, bool positions) {
   const PointSpec& spec = model.points()[i];
   const CompiledPoint& pt = model.compiled_points()[i];
   if (pt.affine) {
-    CalcAffinePoint(spec, pt, data, i);
+    CalcAffinePoint(spec, pt, data, i, positions);
     return;
   }
   const int o = spec.from;
@@ -321,6 +325,13 @@ void CalcPoint(const Model& model, Data<T>& data, int i) {
 template <typename T>
 void CalcKinematics(const Model& model, Data<T>& data, const T& t,
                     const Eigen::Ref<const VectorX<T>>& x) {
+  internal::CalcKinematics(model, data, t, x, true);
+}
+
+namespace internal {
+template <typename T>
+void CalcKinematics(const Model& model, Data<T>& data, const T& t,
+                    const Eigen::Ref<const VectorX<T>>& x, bool positions) {
   const int n = data.n;
   if (x.size() != model.num_states()) {
     throw ModelError(fmt::format("state vector has {} entries; the model needs x = [q; u; z] "
@@ -341,14 +352,17 @@ void CalcKinematics(const Model& model, Data<T>& data, const T& t,
   }
   if constexpr (std::is_same_v<T, double>) {
     if (model.planar_axis() >= 0) {
-      internal::CalcPlanarKinematics(model, data);
+      CalcPlanarKinematics(model, data, positions);
       return;
     }
   }
-  if (model.has_general_fields()) internal::SeedCoordinateJets(data, true);
-  for (int i = 1; i < static_cast<int>(model.frames().size()); ++i) CalcFrame(model, data, i);
-  for (int i = 1; i < static_cast<int>(model.points().size()); ++i) CalcPoint(model, data, i);
+  if (model.has_general_fields()) SeedCoordinateJets(data, true);
+  const int nf = static_cast<int>(model.frames().size());
+  const int np = static_cast<int>(model.points().size());
+  for (int i = 1; i < nf; ++i) CalcFrame(model, data, i);
+  for (int i = 1; i < np; ++i) CalcPoint(model, data, i, positions);
 }
+}  // namespace internal
 
 template <typename T>
 void CalcSlotDisplacements(const Model& model, Data<T>& data, const T& t,
@@ -370,6 +384,8 @@ void CalcSlotDisplacements(const Model& model, Data<T>& data, const T& t,
 #define HYBRIDTEST_INSTANTIATE(T)                                                           \
   template void CalcKinematics<T>(const Model&, Data<T>&, const T&,                         \
                                   const Eigen::Ref<const VectorX<T>>&);                     \
+  template void internal::CalcKinematics<T>(const Model&, Data<T>&, const T&,               \
+                                            const Eigen::Ref<const VectorX<T>>&, bool);     \
   template void CalcSlotDisplacements<T>(const Model&, Data<T>&, const T&,                  \
                                          const Eigen::Ref<const VectorX<T>>&,               \
                                          Eigen::Ref<VectorX<T>>);

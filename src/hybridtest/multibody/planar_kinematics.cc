@@ -57,8 +57,11 @@ void PlanarFrame(const Model& model, Data<double>& data, int i) {
   }
 }
 
-template <int A>
+// kPositions: also p_OP and v_NP (the right-hand side needs neither; planar_kinematics.h).
+template <int A, bool kPositions>
 void PlanarPoint(const Model& model, Data<double>& data, int i) {
+  constexpr int B = (A + 1) % 3;
+  constexpr int D = (A + 2) % 3;
   const PointSpec& spec = model.points()[i];
   const CompiledPoint& pt = model.compiled_points()[i];
   const int o = spec.from;
@@ -71,13 +74,15 @@ void PlanarPoint(const Model& model, Data<double>& data, int i) {
   RotatePlanar<A>(R, r, rho);
   RotatePlanar<A>(R, rd, rho_rel_dot);
   CrossAxis<A>(w, rho, w_rho);
-  const double* p_o = data.p_OP[o].data();
-  const double* v_o = data.v_NP[o].data();
-  double* p_i = data.p_OP[i].data();
-  double* v_i = data.v_NP[i].data();
-  for (int c = 0; c < 3; ++c) {
-    p_i[c] = p_o[c] + rho[c];
-    v_i[c] = (v_o[c] + w_rho[c]) + rho_rel_dot[c];
+  if constexpr (kPositions) {
+    const double* p_o = data.p_OP[o].data();
+    const double* v_o = data.v_NP[o].data();
+    double* p_i = data.p_OP[i].data();
+    double* v_i = data.v_NP[i].data();
+    for (int c = 0; c < 3; ++c) {
+      p_i[c] = p_o[c] + rho[c];
+      v_i[c] = (v_o[c] + w_rho[c]) + rho_rel_dot[c];
+    }
   }
   double* V = data.v_partial[i].data();
   const double* V_o = data.v_partial[o].data();
@@ -93,6 +98,14 @@ void PlanarPoint(const Model& model, Data<double>& data, int i) {
   for (const auto& term : pt.rate_terms) {
     double* col = V + 3 * term.speed;
     const double* axis = R + 3 * term.component;
+    // Off the axis, axis[A] = R(A, component) is +0 (never written) and col[A] is never −0
+    // (the kernels above write +0 there, or copy or add to such a value): col[A] + c·(±0) is
+    // col[A], left out.
+    if (term.component != A) {
+      col[B] = col[B] + term.coefficient * axis[B];
+      col[D] = col[D] + term.coefficient * axis[D];
+      continue;
+    }
     for (int c = 0; c < 3; ++c) col[c] = col[c] + term.coefficient * axis[c];
   }
   double w_w_rho[3], w_rho_dot[3];
@@ -104,11 +117,15 @@ void PlanarPoint(const Model& model, Data<double>& data, int i) {
 }
 
 template <int A>
-void PlanarKinematics(const Model& model, Data<double>& data) {
+void PlanarKinematics(const Model& model, Data<double>& data, bool positions) {
   const int nf = static_cast<int>(model.frames().size());
   const int np = static_cast<int>(model.points().size());
   for (int i = 1; i < nf; ++i) PlanarFrame<A>(model, data, i);
-  for (int i = 1; i < np; ++i) PlanarPoint<A>(model, data, i);
+  if (positions) {
+    for (int i = 1; i < np; ++i) PlanarPoint<A, true>(model, data, i);
+  } else {
+    for (int i = 1; i < np; ++i) PlanarPoint<A, false>(model, data, i);
+  }
 }
 
 }  // namespace
@@ -130,11 +147,11 @@ void SubtractPlanarGyroscopicTorque(int axis, const RigidBodySpec& body, Data<do
   for (int c = 0; c < 3; ++c) sum[c] = sum[c] - torque[c];
 }
 
-void CalcPlanarKinematics(const Model& model, Data<double>& data) {
+void CalcPlanarKinematics(const Model& model, Data<double>& data, bool positions) {
   switch (model.planar_axis()) {
-    case 0: PlanarKinematics<0>(model, data); break;
-    case 1: PlanarKinematics<1>(model, data); break;
-    default: PlanarKinematics<2>(model, data); break;
+    case 0: PlanarKinematics<0>(model, data, positions); break;
+    case 1: PlanarKinematics<1>(model, data, positions); break;
+    default: PlanarKinematics<2>(model, data, positions); break;
   }
 }
 

@@ -9,8 +9,9 @@ namespace hybridtest::multibody::internal {
 // the same values as the general kernels (the terms skipped are exact zeros; only the sign
 // of a zero may differ). Writes only the entries that can be non-zero: the others (R's row
 // and column of the axis, ω and the partial angular velocities off the axis, α) keep the
-// values Data's constructor gave them, which are the planar ones.
-void CalcPlanarKinematics(const Model& model, Data<double>& data);
+// values Data's constructor gave them, which are the planar ones. With `positions` false the
+// points' positions p_OP and velocities v_NP are left as they were (internal::CalcKinematics).
+void CalcPlanarKinematics(const Model& model, Data<double>& data, bool positions);
 
 // out = (w_a e_A) × v.
 template <int A>
@@ -50,9 +51,9 @@ inline void RotatePlanar(int axis, const double* R, const double* v, double* out
 void SubtractPlanarGyroscopicTorque(int axis, const RigidBodySpec& body, Data<double>& data);
 inline void SubtractPlanarInertiaTorque(int axis, const RigidBodySpec& body,
                                         Data<double>& data) {
-  if (body.inertia((axis + 1) % 3, axis) == 0.0 && body.inertia((axis + 2) % 3, axis) == 0.0) {
-    return;
-  }
+  const int b = axis == 2 ? 0 : axis + 1;  // (axis + 1) % 3 without the division
+  const int d = b == 2 ? 0 : b + 1;
+  if (body.inertia(b, axis) == 0.0 && body.inertia(d, axis) == 0.0) return;
   SubtractPlanarGyroscopicTorque(axis, body, data);
 }
 
