@@ -2,7 +2,7 @@
 """Times `hybridtest equations --format sympy` against SymPy's KanesMethod (issue 47).
 
     bench/equations_vs_sympy.py --binary build/release/apps/hybridtest/hybridtest
-                                [--timeout 300] [--links 3,6,12] [--only NAME]
+                                [--timeout 300] [--links 3,6,12] [--only NAME] [--repeat 3]
 
 Run by hand (not part of the test suite). For every model file in examples/models/ and for
 planar n-link pendulums (generated here: n point masses on massless links, each link with its
@@ -14,7 +14,9 @@ more coordinate), it runs, each in a process of its own:
     file, KanesMethod, lambdify, one state): SymPy's time to the same equations.
 
 and prints one Markdown table: wall time and peak resident memory of each (os.wait4), and the
-ratio. A run over --timeout seconds is stopped and shown as "> T s". A constrained model's
+ratio. Each side runs --repeat times (default 3), the two alternating so that both see the same
+machine, and the median wall time is shown (one run is at the mercy of a shared machine's
+moment). A run over --timeout seconds is stopped and shown as "> T s". A constrained model's
 `equations` prints its reduced equations too (issue 47 item 2); SymPy's side there is the
 reader's tree (KanesMethod without the constraints).
 """
@@ -26,6 +28,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -73,26 +76,39 @@ def pendulum(n, base):
     return '\n'.join(lines) + '\n'
 
 
-def measure(command, timeout):
-    """(wall seconds, peak RSS in MiB, exit status, stderr tail) of one process."""
+def measure_once(command, timeout):
+    """(wall seconds, peak RSS in MiB, exit status, stderr tail) of one process. It is waited
+    for (os.wait4, no polling interval in the time); a watchdog kills it at `timeout`."""
     err = tempfile.TemporaryFile()
     start = time.monotonic()
     p = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=err,
                          start_new_session=True)
-    deadline = start + timeout
-    while True:
-        pid, status, usage = os.wait4(p.pid, os.WNOHANG)
-        if pid:
-            break
-        if time.monotonic() > deadline:
-            os.killpg(p.pid, signal.SIGKILL)
-            pid, status, usage = os.wait4(p.pid, 0)
-            return None, usage.ru_maxrss / 1024, -9, 'timeout'
-        time.sleep(0.01)
+    expired = threading.Event()
+
+    def kill():
+        expired.set()
+        os.killpg(p.pid, signal.SIGKILL)
+
+    watchdog = threading.Timer(timeout, kill)
+    watchdog.start()
+    _, status, usage = os.wait4(p.pid, 0)
     wall = time.monotonic() - start
+    watchdog.cancel()
+    if expired.is_set():
+        return None, usage.ru_maxrss / 1024, -9, 'timeout'
     err.seek(0)
     tail = err.read().decode(errors='replace').strip().splitlines()[-1:] or ['']
     return wall, usage.ru_maxrss / 1024, os.waitstatus_to_exitcode(status), tail[0]
+
+
+def median_of(runs):
+    """The run with the median wall time (a timed-out run, if any, stands for all)."""
+    for r in runs:
+        if r[0] is None or r[2] != 0:
+            return r
+    ordered = sorted(runs, key=lambda r: r[0])
+    middle = ordered[len(ordered) // 2]
+    return middle[0], max(r[1] for r in runs), middle[2], middle[3]
 
 
 def states_file(model, workdir):
@@ -118,6 +134,8 @@ def main():
     ap.add_argument('--timeout', type=float, default=300.0)
     ap.add_argument('--links', default='3,6,12')
     ap.add_argument('--only', default=None, help='run only the models whose name contains this')
+    ap.add_argument('--repeat', type=int, default=3,
+                    help='runs of each side per model, alternating; the median wall time is shown')
     args = ap.parse_args()
     work = tempfile.mkdtemp(prefix='eqbench-')
     models = sorted(str(p) for p in (ROOT / 'examples' / 'models').glob('*.yaml'))
@@ -133,9 +151,16 @@ def main():
         name = pathlib.Path(model).stem
         if args.only and args.only not in name:
             continue
-        ours = measure([args.binary, 'equations', model, '--format', 'sympy'], args.timeout)
-        theirs = measure([sys.executable, str(READER), model, str(states_file(model, work))],
-                         args.timeout)
+        ours_runs, theirs_runs = [], []
+        state = str(states_file(model, work))
+        for _ in range(max(1, args.repeat)):  # alternating, so that both see the same machine
+            ours_runs.append(measure_once([args.binary, 'equations', model, '--format', 'sympy'],
+                                          args.timeout))
+            theirs_runs.append(measure_once([sys.executable, str(READER), model, state],
+                                            args.timeout))
+            if ours_runs[-1][0] is None or theirs_runs[-1][0] is None:
+                break
+        ours, theirs = median_of(ours_runs), median_of(theirs_runs)
         note = ''
         if ours[2] not in (0, -9):
             note = f' (equations: {ours[3][:80]})'
