@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -21,9 +22,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The DT_NEEDED entries of a 64-bit ELF file (its .dynamic section, names in its sh_link
-// string table), read here rather than by readelf or ldd.
-std::vector<std::string> NeededLibraries(const std::string& path) {
+// The string entries with `tag` (DT_NEEDED, DT_RUNPATH, DT_RPATH) of a 64-bit ELF file's
+// .dynamic section (names in its sh_link string table), read here rather than by readelf or ldd.
+std::vector<std::string> DynamicStrings(const std::string& path, Elf64_Sxword tag) {
   std::ifstream in(path, std::ios::binary);
   std::string bytes(fs::file_size(path), '\0');
   in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
@@ -46,12 +47,16 @@ std::vector<std::string> NeededLibraries(const std::string& path) {
     for (std::size_t k = 0; k < dynamic.sh_size / sizeof(Elf64_Dyn); ++k) {
       Elf64_Dyn entry{};
       std::memcpy(&entry, bytes.data() + dynamic.sh_offset + k * sizeof entry, sizeof entry);
-      if (entry.d_tag == DT_NEEDED) {
+      if (entry.d_tag == tag) {
         needed.emplace_back(bytes.data() + strings.sh_offset + entry.d_un.d_val);
       }
     }
   }
   return needed;
+}
+
+std::vector<std::string> NeededLibraries(const std::string& path) {
+  return DynamicStrings(path, DT_NEEDED);
 }
 
 std::string Joined(const std::vector<std::string>& names) {
@@ -70,6 +75,31 @@ TEST(Hdf5Module, NeitherTheBinaryNorTheLibrariesLinkHdf5) {
     ASSERT_NE(Joined(needed).find("libc.so"), std::string::npos) << program;
     EXPECT_EQ(Joined(needed).find("hdf5"), std::string::npos)
         << program << " needs " << Joined(needed);
+  }
+}
+
+// No library search path of the binary, the module or this test program has an empty or a
+// relative entry, which the loader reads relative to the current directory: CMake's build-tree
+// RUNPATH ended with ':' (an empty entry), so a libz.so.1 in the directory hybridtest was started
+// from would have been loaded into it.
+TEST(Hdf5Module, NoLibrarySearchPathReadsTheCurrentDirectory) {
+  for (const std::string& program :
+       {std::string(HYBRIDTEST_BINARY), fs::read_symlink("/proc/self/exe").string(),
+        (fs::path(HYBRIDTEST_BINARY).parent_path() / "hybridtest_hdf5.so").string()}) {
+    ASSERT_FALSE(NeededLibraries(program).empty()) << program;  // the reader works
+    for (const Elf64_Sxword tag : {DT_RUNPATH, DT_RPATH}) {
+      for (const std::string& path : DynamicStrings(program, tag)) {
+        std::size_t begin = 0;
+        while (true) {
+          const std::size_t end = std::min(path.find(':', begin), path.size());
+          const std::string entry = path.substr(begin, end - begin);
+          EXPECT_TRUE(!entry.empty() && (entry[0] == '/' || entry.rfind("$ORIGIN", 0) == 0))
+              << program << ": search path '" << path << "' has the entry '" << entry << "'";
+          if (end == path.size()) break;
+          begin = end + 1;
+        }
+      }
+    }
   }
 }
 
