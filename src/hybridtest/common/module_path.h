@@ -10,7 +10,10 @@
 //   4. <install prefix>/<libdir>/hybridtest/, the prefix the tree was configured with: a
 //      program of its own linking the installed library;
 //   5. the build tree's build/<preset>/apps/hybridtest/: the test executables and the Python
-//      module of that tree (tests/, python/), which live elsewhere in it.
+//      module of that tree (tests/, python/), which live elsewhere in it. Only for code that is
+//      itself a file of that build tree (dladdr): a library installed from it and linked into
+//      another program does not load code from a build directory that may be gone or
+//      re-created by someone else.
 // Candidates 2-5 count only when the file exists there.
 #include <filesystem>
 #include <optional>
