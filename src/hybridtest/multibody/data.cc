@@ -2,8 +2,86 @@
 #include "hybridtest/multibody/data.h"
 
 #include <algorithm>
+#include <type_traits>
+
+#include "hybridtest/multibody/planar_kinematics.h"
 
 namespace hybridtest::multibody {
+
+namespace {
+// The columns of M's factor that follow from constant entries of M alone (constant_mass.h),
+// which the factorisation of doubles skips (mass_solve.cc): L(i, j) at [i n + j], and 1/L_jj.
+template <typename T>
+void WriteConstantFactorColumns(const Model& model, Data<T>& data) {
+  const ConstantMassPlan& constant = model.constant_mass();
+  const int n = data.n;
+  for (int j = 0; j < static_cast<int>(constant.factor_column.size()); ++j) {
+    if (!constant.factor_column[static_cast<std::size_t>(j)]) continue;
+    data.factor_inv_diag(j) = T(constant.factor_inv_diag[static_cast<std::size_t>(j)]);
+    for (int i = j + 1; i < n; ++i) {
+      const std::size_t at = static_cast<std::size_t>(i) * n + j;
+      data.cholesky_factor.data()[at] = T(constant.factor[at]);
+    }
+  }
+}
+}  // namespace
+
+namespace internal {
+void MakeEvaluationPlan(const Model& model, Data<double>& data) {
+  EvaluationPlan& plan = data.plan;
+  plan.owner = &data;
+  plan.model = &model;
+  plan.mass.clear();
+  plan.projection.clear();
+  plan.loads.clear();
+  plan.planar_rotation.clear();
+  WriteConstantFactorColumns(model, data);  // again: `data` may have served another model
+  for (const LoadSpec& load : model.loads()) {
+    const auto target = static_cast<std::size_t>(load.target);
+    double* sum = load.kind == LoadSpec::Kind::kForce ? data.force[target].data()
+                                                      : data.torque[target].data();
+    const Matrix3<double>* R =
+        load.expressed_in == 0 ? nullptr
+                               : &data.R_NF[static_cast<std::size_t>(load.expressed_in)];
+    plan.loads.push_back({&load.function.get<double>(), sum, R});
+  }
+  if (model.grouped_sums()) {
+    for (const MassTerm& term : model.grouped_mass_terms()) {
+      const double* v = data.v_partial[static_cast<std::size_t>(term.point)].data();
+      plan.mass.push_back(
+          {v + term.vj, v + term.vk, term.mass, term.m_jk, term.m_kj, term.continues});
+    }
+    for (const ProjectionTerm& term : model.projection_terms()) {
+      const auto index = static_cast<std::size_t>(term.index);
+      const double* partial =
+          term.frame ? data.w_partial[index].data() : data.v_partial[index].data();
+      const double* load = term.frame ? data.torque[index].data() : data.force[index].data();
+      plan.projection.push_back({partial + 3 * term.j, load, term.j, term.continues});
+    }
+  }
+  const int axis = model.planar_axis();
+  if (axis < 0) return;
+  InitPlanarPartialAngularVelocities(model, data);
+  // The bodies' rotational terms of M, in the order (and with the operations) of the general
+  // loop: ω_j·I ω_k = w_k (I_AA w_j) with every ω_j = w_j e_A.
+  const int n = data.n;
+  const std::vector<char>& constant = model.constant_mass().entry;
+  for (const RigidBodySpec& body : model.bodies()) {
+    const std::vector<int>& active = model.compiled_frames()[body.frame].active;
+    const double* W = data.w_partial[static_cast<std::size_t>(body.frame)].data();
+    const double I_AA = body.inertia(axis, axis);
+    for (std::size_t a = 0; a < active.size(); ++a) {
+      const double Iw = I_AA * W[3 * active[a] + axis];
+      for (std::size_t b = a; b < active.size(); ++b) {
+        const int m_ab = active[a] + active[b] * n;
+        if (!constant.empty() && constant[static_cast<std::size_t>(m_ab)]) continue;
+        plan.planar_rotation.push_back(
+            {m_ab, b != a ? active[b] + active[a] * n : -1, W[3 * active[b] + axis] * Iw});
+      }
+    }
+  }
+}
+}  // namespace internal
 
 template <typename T>
 Data<T>::Data(const Model& model) : n(model.num_coordinates()) {
@@ -41,16 +119,7 @@ Data<T>::Data(const Model& model) : n(model.num_coordinates()) {
   cholesky_factor.setZero(n, n);  // the sparse solve relies on its structural zeros
   factor_work.setZero(n);
   factor_inv_diag.setZero(n);
-  const ConstantMassPlan& constant = model.constant_mass();
-  for (int j = 0; j < static_cast<int>(constant.factor_column.size()); ++j) {
-    if (!constant.factor_column[static_cast<std::size_t>(j)]) continue;
-    // Columns the factorisation skips (mass_solve.cc): L(i, j) at [i n + j], and 1/L_jj.
-    factor_inv_diag(j) = T(constant.factor_inv_diag[static_cast<std::size_t>(j)]);
-    for (int i = j + 1; i < n; ++i) {
-      const std::size_t at = static_cast<std::size_t>(i) * n + j;
-      cholesky_factor.data()[at] = T(constant.factor[at]);
-    }
-  }
+  WriteConstantFactorColumns(model, *this);
   joint_w.setZero(3, n);
   joint_v.setZero(3, n);
   momentum_lin.setZero(3, n);
@@ -73,6 +142,7 @@ Data<T>::Data(const Model& model) : n(model.num_coordinates()) {
     lu_pivots.assign(static_cast<std::size_t>(n), 0);
     pivot_scratch.setZero(m, n);
   }
+  if constexpr (std::is_same_v<T, double>) internal::MakeEvaluationPlan(model, *this);
 }
 
 template struct Data<double>;

@@ -3,11 +3,60 @@
 // split). Everything is sized once, in the constructor: evaluating the equations of motion
 // allocates nothing. Fields are the results of the last Calc* call (kane.h), in SI units,
 // vectors expressed in the Newtonian frame N unless stated.
+#include <functional>
 #include <vector>
 
 #include "hybridtest/multibody/model.h"
 
 namespace hybridtest::multibody {
+
+namespace internal {
+// What the evaluation of doubles precomputes for one model inside one Data<double>
+// (kane.cc, planar_kinematics.cc):
+// - for Model::grouped_sums(), per term the addresses of its two vectors in this Data, so that
+//   the sums' loops load one pointer per operand instead of walking from the arrays' starts
+//   through each matrix's own buffer;
+// - per applied load, its function and the addresses of its resultant and of the rotation of
+//   the frame it is expressed in (none for N);
+// - for a planar model (Model::planar_axis() ≥ 0, q̇ = u), the rigid bodies' rotational terms
+//   of M, which are constant there: every partial angular velocity is a sum of the angles'
+//   constant coefficients (and Data::w_partial holds those constants, written here once).
+// Data's constructor makes it; a Data that was copied or moved, or that is used with another
+// model of the same shape, makes it again on its next evaluation (`owner`, `model`), and then
+// also writes that model's constant columns of M's factor (constant_mass.h) again.
+struct EvaluationPlan {
+  struct Mass {  // M(j, k) (and M(k, j)) += mass v_j·v_k (Model::grouped_mass_terms())
+    const double* vj;
+    const double* vk;
+    double mass;  // [kg]
+    int m_jk;
+    int m_kj;
+    bool continues;
+  };
+  struct Projection {  // g_j += v_j·F (or ω_j·τ) (Model::projection_terms())
+    const double* partial;
+    const double* load;
+    int j;
+    bool continues;
+  };
+  struct Load {  // resultant += R value (Model::loads(), in order)
+    const std::function<LoadSignature<double>>* function;
+    double* sum;               // Data::force or Data::torque of its target
+    const Matrix3<double>* R;  // Data::R_NF of the frame it is expressed in; null for N
+  };
+  struct Rotation {  // M(j, k) += ω_j·I ω_k of one body (and M(k, j) if m_kj ≥ 0)
+    int m_jk;
+    int m_kj;  // −1 on the diagonal
+    double value;  // [kg·m²]
+  };
+  const void* owner = nullptr;
+  const Model* model = nullptr;
+  std::vector<Mass> mass;
+  std::vector<Projection> projection;
+  std::vector<Load> loads;
+  std::vector<Rotation> planar_rotation;
+};
+}  // namespace internal
 
 template <typename T>
 struct Data {
@@ -54,6 +103,7 @@ struct Data {
   MatrixX<T> cholesky_factor;      // (n × n) Lᵀ of M = L Lᵀ (upper triangle used)
   VectorX<T> factor_work;          // (n) the sparse solve's permuted right-hand side
   VectorX<T> factor_inv_diag;      // (n) 1/L_ii of the factor
+  internal::EvaluationPlan plan;  // doubles only
   // Tree mass matrix (Model::tree_mass_matrix()): per speed j, the joint axis (ω_j, v_j at O)
   // and the spatial momentum about O of everything u_j moves, per unit u_j.
   Matrix3X<T> joint_w;       // (3 × n) [rad/s per unit u_j]
@@ -81,6 +131,18 @@ struct Data {
   std::vector<int> lu_pivots;      // (n)
   Eigen::MatrixXd pivot_scratch;   // (m × n) values of B for the pivoted choice
 };
+
+namespace internal {
+// Makes data.plan for `model` (no allocation when its sizes are already those of the model's
+// terms) and, for a planar model, writes the constant partial angular velocities: called by
+// Data's constructor and, through PlanFor, by the evaluation.
+void MakeEvaluationPlan(const Model& model, Data<double>& data);
+// data.plan, made again first if `data` was copied or moved or last used with another model.
+inline const EvaluationPlan& PlanFor(const Model& model, Data<double>& data) {
+  if (data.plan.owner != &data || data.plan.model != &model) MakeEvaluationPlan(model, data);
+  return data.plan;
+}
+}  // namespace internal
 
 extern template struct Data<double>;
 extern template struct Data<AutoDiff>;

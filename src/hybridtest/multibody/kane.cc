@@ -25,12 +25,10 @@ namespace {
 // starts from +0, as M's does in the term-by-term loop.
 [[gnu::noinline]] void AddGroupedMassTerms(const Model& model, Data<double>& data) {
   double* m = data.M.data();
-  const Matrix3X<double>* v_partial = data.v_partial.data();  // once, not per term
   double s = 0.0;
-  for (const MassTerm& term : model.grouped_mass_terms()) {
-    const double* v = v_partial[term.point].data();
-    const double* vj = v + term.vj;
-    const double* vk = v + term.vk;
+  for (const internal::EvaluationPlan::Mass& term : internal::PlanFor(model, data).mass) {
+    const double* vj = term.vj;
+    const double* vk = term.vk;
     const double value = term.mass * (vj[0] * vk[0] + vj[1] * vk[1] + vj[2] * vk[2]);
     s = term.continues ? s + value : 0.0 + value;
     m[term.m_jk] = s;
@@ -43,15 +41,10 @@ void AddGroupedMassTerms(const Model&, Data<Symbolic>&) {}
 // The generalized forces' sums, speed by speed in a register (projection_terms()).
 [[gnu::noinline]] void ProjectGrouped(const Model& model, Data<double>& data) {
   double* g = data.g.data();
-  // The arrays' starts, once (the loop would reload them for every term), picked by index
-  // (a branch on term.frame costs more).
-  const Matrix3X<double>* const partial[2] = {data.v_partial.data(), data.w_partial.data()};
-  const Vector3<double>* const load[2] = {data.force.data(), data.torque.data()};
   double s = 0.0;
-  for (const ProjectionTerm& term : model.projection_terms()) {
-    const double* V = partial[term.frame][term.index].data();
-    const double* f = load[term.frame][term.index].data();
-    const double value = internal::Dot(V + 3 * term.j, f);
+  for (const internal::EvaluationPlan::Projection& term :
+       internal::PlanFor(model, data).projection) {
+    const double value = internal::Dot(term.partial, term.load);
     s = term.continues ? s + value : 0.0 + value;
     g[term.j] = s;
   }
@@ -104,27 +97,21 @@ void CalcMassMatrixPairwise(const Model& model, Data<T>& data) {
       if (term.j != term.k) m[term.m_kj] += value;
     }
   }
-  const int planar = model.planar_axis();
+  if constexpr (std::is_same_v<T, double>) {
+    if (model.planar_axis() >= 0) {
+      // Every ω_j is w_j e_A in N and in the body (R's row and column A are e_A), so
+      // ω_j·I ω_k = w_k (I_AA w_j), a constant: the general terms below with their exact zeros
+      // left out, evaluated once (data.h, EvaluationPlan) and added in the same order.
+      for (const internal::EvaluationPlan::Rotation& term :
+           internal::PlanFor(model, data).planar_rotation) {
+        m[term.m_jk] += term.value;
+        if (term.m_kj >= 0) m[term.m_kj] += term.value;
+      }
+      return;
+    }
+  }
   for (const RigidBodySpec& body : model.bodies()) {
     const std::vector<int>& active = model.compiled_frames()[body.frame].active;
-    if constexpr (std::is_same_v<T, double>) {
-      if (planar >= 0) {
-        // Every ω_j is w_j e_A in N and in the body (R's row and column A are e_A), so
-        // ω_j·I ω_k = w_k (I_AA w_j): the general terms below with their exact zeros left out.
-        const double* W = data.w_partial[body.frame].data();
-        const double I_AA = body.inertia(planar, planar);
-        for (std::size_t a = 0; a < active.size(); ++a) {
-          const double Iw = I_AA * W[3 * active[a] + planar];
-          for (std::size_t b = a; b < active.size(); ++b) {
-            if (is_constant(active[a], active[b])) continue;
-            const double value = W[3 * active[b] + planar] * Iw;
-            M(active[a], active[b]) += value;
-            if (b != a) M(active[b], active[a]) += value;
-          }
-        }
-        continue;
-      }
-    }
     // Rotational inertia: ω_j·I ω_k, evaluated in body components (ω_B = Rᵀ ω_N), which
     // avoids forming I_N = R I Rᵀ. The partial angular velocities of the active speeds are
     // rotated once, into the 3 × n scratch.
@@ -164,30 +151,40 @@ void CalcForcing(const Model& model, Data<T>& data, const Eigen::Ref<const Vecto
                          std::span<const T>(data.r.data(), data.r.size()),
                          std::span<const T>(data.time_values.data(), data.time_values.size()),
                          std::span<const T>(data.z.data(), data.z.size())};
-  // The resultants by kind, picked by index (a branch on the kind costs more).
-  static_assert(static_cast<int>(LoadSpec::Kind::kForce) == 0 &&
-                static_cast<int>(LoadSpec::Kind::kTorque) == 1);
-  Vector3<T>* const sums[2] = {data.force.data(), data.torque.data()};
-  for (const LoadSpec& load : model.loads()) {
-    const Vector3<T> value = load.function.template get<T>()(args);
-    T* sum = sums[static_cast<int>(load.kind)][load.target].data();
-    if (load.expressed_in == 0) {
-      for (int c = 0; c < 3; ++c) sum[c] = internal::Add(sum[c], value(c));
-      continue;
-    }
-    const Matrix3<T>& R = data.R_NF[load.expressed_in];
-    if constexpr (std::is_same_v<T, double>) {
-      if (planar >= 0) {
+  if constexpr (std::is_same_v<T, double>) {
+    // The loads' functions and the addresses of their resultants and rotations, precomputed
+    // (data.h, EvaluationPlan).
+    for (const internal::EvaluationPlan::Load& load : internal::PlanFor(model, data).loads) {
+      const Vector3<double> value = (*load.function)(args);
+      double* sum = load.sum;
+      if (load.R == nullptr) {
+        for (int c = 0; c < 3; ++c) sum[c] = sum[c] + value(c);
+      } else if (planar >= 0) {
         // Into a separate array, element by element: a copy of the returned vector is read
         // with one wide load over the callee's narrow stores, which stalls.
         double rotated[3];
-        internal::RotatePlanar(planar, R.data(), value.data(), rotated);
+        internal::RotatePlanar(planar, load.R->data(), value.data(), rotated);
         for (int c = 0; c < 3; ++c) sum[c] = sum[c] + rotated[c];
-        continue;
+      } else {
+        const Vector3<double> rotated = internal::Multiply(*load.R, value);
+        for (int c = 0; c < 3; ++c) sum[c] = sum[c] + rotated(c);
       }
     }
-    const Vector3<T> rotated = internal::Multiply(R, value);
-    for (int c = 0; c < 3; ++c) sum[c] = internal::Add(sum[c], rotated(c));
+  } else {
+    // The resultants by kind, picked by index (a branch on the kind costs more).
+    static_assert(static_cast<int>(LoadSpec::Kind::kForce) == 0 &&
+                  static_cast<int>(LoadSpec::Kind::kTorque) == 1);
+    Vector3<T>* const sums[2] = {data.force.data(), data.torque.data()};
+    for (const LoadSpec& load : model.loads()) {
+      const Vector3<T> value = load.function.template get<T>()(args);
+      T* sum = sums[static_cast<int>(load.kind)][load.target].data();
+      if (load.expressed_in == 0) {
+        for (int c = 0; c < 3; ++c) sum[c] = internal::Add(sum[c], value(c));
+        continue;
+      }
+      const Vector3<T> rotated = internal::Multiply(data.R_NF[load.expressed_in], value);
+      for (int c = 0; c < 3; ++c) sum[c] = internal::Add(sum[c], rotated(c));
+    }
   }
   // Inertia forces and torques (remainder parts: the u̇ parts are in M).
   auto subtract_inertia_force = [&](int point, double mass) {

@@ -183,6 +183,8 @@ bool UsesBlocked(const Model& model, const Data<T>& data) {
 
 template <typename T>
 bool FactorMassMatrix(const Model& model, Data<T>& data) {
+  // The constant columns below are the plan's (a Data copied, or last used with another model).
+  if constexpr (std::is_same_v<T, double>) PlanFor(model, data);
   if (model.sparse_factor()) {
     return SparseCholeskyFactor(model.sparse_factor_plan(), data.M, data.cholesky_factor,
                                 data.factor_inv_diag);

@@ -15,6 +15,8 @@
 namespace hybridtest::multibody::internal {
 namespace {
 
+// R_NF and ω of frame i. Its partial angular velocities are constant (q̇ = u): written once,
+// by InitPlanarPartialAngularVelocities.
 template <int A>
 void PlanarFrame(const Model& model, Data<double>& data, int i) {
   constexpr int B = (A + 1) % 3;
@@ -24,13 +26,10 @@ void PlanarFrame(const Model& model, Data<double>& data, int i) {
   const int p = spec.parent;
   double c, s;
   const double w_p = data.w_NF[p](A);
-  double* Wi = data.w_partial[i].data();
-  const double* Wp = data.w_partial[p].data();
   if (f.constant_rotation) {
     c = f.constant_cos;
     s = f.constant_sin;
     data.w_NF[i](A) = w_p;
-    for (int j : f.active) Wi[3 * j + A] = Wp[3 * j + A];
   } else {
     const ScalarField& field = spec.angle;
     double angle = field.constant();
@@ -43,9 +42,6 @@ void PlanarFrame(const Model& model, Data<double>& data, int i) {
     c = std::cos(angle);
     s = std::sin(angle);
     data.w_NF[i](A) = w_p + rate;  // the axis in N is e_A exactly
-    for (int j : model.compiled_frames()[p].active) Wi[3 * j + A] = Wp[3 * j + A];
-    for (int j : f.fresh) Wi[3 * j + A] = 0.0;
-    for (const auto& term : field.terms()) Wi[3 * term.coordinate + A] += term.coefficient;
   }
   const Matrix3<double>& R_NP = data.R_NF[p];
   Matrix3<double>& R_NF = data.R_NF[i];
@@ -147,7 +143,26 @@ void SubtractPlanarGyroscopicTorque(int axis, const RigidBodySpec& body, Data<do
   for (int c = 0; c < 3; ++c) sum[c] = sum[c] - torque[c];
 }
 
+void InitPlanarPartialAngularVelocities(const Model& model, Data<double>& data) {
+  const int A = model.planar_axis();
+  for (std::size_t i = 1; i < model.frames().size(); ++i) {
+    const CompiledFrame& f = model.compiled_frames()[i];
+    const auto p = static_cast<std::size_t>(model.frames()[i].parent);
+    double* Wi = data.w_partial[i].data();
+    const double* Wp = data.w_partial[p].data();
+    if (f.constant_rotation) {
+      for (int j : f.active) Wi[3 * j + A] = Wp[3 * j + A];
+      continue;
+    }
+    for (int j : model.compiled_frames()[p].active) Wi[3 * j + A] = Wp[3 * j + A];
+    for (int j : f.fresh) Wi[3 * j + A] = 0.0;
+    for (const auto& term : model.frames()[i].angle.terms())
+      Wi[3 * term.coordinate + A] += term.coefficient;
+  }
+}
+
 void CalcPlanarKinematics(const Model& model, Data<double>& data, bool positions) {
+  PlanFor(model, data);  // a copied Data, or another model: the constant ∂ω/∂u first
   switch (model.planar_axis()) {
     case 0: PlanarKinematics<0>(model, data, positions); break;
     case 1: PlanarKinematics<1>(model, data, positions); break;

@@ -9,9 +9,17 @@ namespace hybridtest::multibody::internal {
 // the same values as the general kernels (the terms skipped are exact zeros; only the sign
 // of a zero may differ). Writes only the entries that can be non-zero: the others (R's row
 // and column of the axis, ω and the partial angular velocities off the axis, α) keep the
-// values Data's constructor gave them, which are the planar ones. With `positions` false the
-// points' positions p_OP and velocities v_NP are left as they were (internal::CalcKinematics).
+// values Data's constructor gave them, which are the planar ones; the partial angular
+// velocities, constant, are written once (InitPlanarPartialAngularVelocities). With
+// `positions` false the points' positions p_OP and velocities v_NP are left as they were
+// (internal::CalcKinematics).
 void CalcPlanarKinematics(const Model& model, Data<double>& data, bool positions);
+
+// The partial angular velocities of a planar model: with q̇ = u, ∂ω/∂u_j = w_j e_A where w_j
+// sums the constant coefficients of q_j in the angles from N to the frame. Written into
+// data.w_partial once, by internal::MakeEvaluationPlan (data.h); CalcPlanarKinematics leaves
+// them as they are.
+void InitPlanarPartialAngularVelocities(const Model& model, Data<double>& data);
 
 // out = (w_a e_A) × v.
 template <int A>
