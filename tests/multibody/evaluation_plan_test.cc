@@ -6,6 +6,7 @@
 // operations in the same order).
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <random>
 #include <string>
 #include <utility>
@@ -74,7 +75,8 @@ TEST(EvaluationPlan, CopiedMovedAndAssignedWorkspacesUseTheirOwnBuffers) {
 }
 
 // The rotor with another hub inertia and blade mass: the same shape (so a workspace of one
-// fits the other), other grouped mass terms and another constant rotational term of M.
+// fits the other), other grouped mass terms and another constant rotational term of M; then
+// the same with the other model assigned into the first one's object.
 TEST(EvaluationPlan, WorkspaceUsedWithAnotherModelOfTheSameShape) {
   const models::BuiltModel first = DefaultModel("rotor");
   models::ParameterSet parameters = models::DefaultParameters("rotor", 3);
@@ -91,6 +93,15 @@ TEST(EvaluationPlan, WorkspaceUsedWithAnotherModelOfTheSameShape) {
   EXPECT_NE(of_first.M(3, 3), expected.M(3, 3));  // the two models differ where it shows
   ExpectSame(Evaluate(second.model, shared, 0.3, x, r), expected, "second model");
   ExpectSame(Evaluate(first.model, shared, 0.3, x, r), of_first, "first model again");
+  // The other model assigned into the same object (the same address): its content is new.
+  models::BuiltModel reassigned = DefaultModel("rotor");
+  Data<double> kept(reassigned.model);
+  ExpectSame(Evaluate(reassigned.model, kept, 0.3, x, r), of_first, "before the assignment");
+  const std::uint64_t id = reassigned.model.instance_id();
+  reassigned.model = second.model;
+  EXPECT_NE(reassigned.model.instance_id(), id);
+  EXPECT_NE(reassigned.model.instance_id(), second.model.instance_id());
+  ExpectSame(Evaluate(reassigned.model, kept, 0.3, x, r), expected, "after the assignment");
 }
 
 }  // namespace

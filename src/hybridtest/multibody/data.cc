@@ -30,7 +30,7 @@ namespace internal {
 void MakeEvaluationPlan(const Model& model, Data<double>& data) {
   EvaluationPlan& plan = data.plan;
   plan.owner = &data;
-  plan.model = &model;
+  plan.model_id = model.instance_id();
   plan.mass.clear();
   plan.projection.clear();
   plan.loads.clear();

@@ -3,6 +3,7 @@
 // split). Everything is sized once, in the constructor: evaluating the equations of motion
 // allocates nothing. Fields are the results of the last Calc* call (kane.h), in SI units,
 // vectors expressed in the Newtonian frame N unless stated.
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -22,8 +23,9 @@ namespace internal {
 //   of M, which are constant there: every partial angular velocity is a sum of the angles'
 //   constant coefficients (and Data::w_partial holds those constants, written here once).
 // Data's constructor makes it; a Data that was copied or moved, or that is used with another
-// model of the same shape, makes it again on its next evaluation (`owner`, `model`), and then
-// also writes that model's constant columns of M's factor (constant_mass.h) again.
+// model of the same shape (or with its model after that was assigned another), makes it again
+// on its next evaluation (`owner`, `model_id`: Model::instance_id()), and then also writes that
+// model's constant columns of M's factor (constant_mass.h) again.
 struct EvaluationPlan {
   struct Mass {  // M(j, k) (and M(k, j)) += mass v_j·v_k (Model::grouped_mass_terms())
     const double* vj;
@@ -50,7 +52,7 @@ struct EvaluationPlan {
     double value;  // [kg·m²]
   };
   const void* owner = nullptr;
-  const Model* model = nullptr;
+  std::uint64_t model_id = 0;
   std::vector<Mass> mass;
   std::vector<Projection> projection;
   std::vector<Load> loads;
@@ -139,7 +141,9 @@ namespace internal {
 void MakeEvaluationPlan(const Model& model, Data<double>& data);
 // data.plan, made again first if `data` was copied or moved or last used with another model.
 inline const EvaluationPlan& PlanFor(const Model& model, Data<double>& data) {
-  if (data.plan.owner != &data || data.plan.model != &model) MakeEvaluationPlan(model, data);
+  if (data.plan.owner != &data || data.plan.model_id != model.instance_id()) {
+    MakeEvaluationPlan(model, data);
+  }
   return data.plan;
 }
 }  // namespace internal

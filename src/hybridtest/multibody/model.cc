@@ -4,6 +4,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <iterator>
 #include <set>
@@ -13,6 +14,11 @@
 #include "hybridtest/multibody/tree_mass.h"
 
 namespace hybridtest::multibody {
+
+std::uint64_t internal::ModelInstanceId::Next() {
+  static std::atomic<std::uint64_t> next{1};
+  return next.fetch_add(1, std::memory_order_relaxed);
+}
 
 ScalarField ScalarField::Constant(double value) {
   ScalarField f;

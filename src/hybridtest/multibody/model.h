@@ -25,6 +25,7 @@
 #include <Eigen/Geometry>
 
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -261,6 +262,27 @@ struct ConstraintRow {
 
 class Model;
 
+namespace internal {
+// A number that no other Model object holds: drawn anew by every construction, copy and
+// assignment (a move too), so that what a workspace precomputed for one model (data.h,
+// EvaluationPlan) is never taken for another's, even one built at the same address or
+// assigned into the same object.
+class ModelInstanceId {
+ public:
+  ModelInstanceId() : value_(Next()) {}
+  ModelInstanceId(const ModelInstanceId&) : value_(Next()) {}
+  ModelInstanceId& operator=(const ModelInstanceId&) {
+    value_ = Next();
+    return *this;
+  }
+  std::uint64_t value() const { return value_; }
+
+ private:
+  static std::uint64_t Next();
+  std::uint64_t value_;
+};
+}  // namespace internal
+
 class ModelBuilder {
  public:
   // n generalized coordinates; speeds are named u1..un after them unless given.
@@ -437,6 +459,8 @@ class Model {
   // one that symbolic::LoadCompiledModel has checked against this model; null detaches.
   const CompiledRhs* compiled_rhs() const { return compiled_rhs_.get(); }
   void AttachCompiledRhs(std::shared_ptr<const CompiledRhs> rhs) { compiled_rhs_ = std::move(rhs); }
+  // This object's content, as a number no other Model object holds (internal::ModelInstanceId).
+  std::uint64_t instance_id() const { return instance_id_.value(); }
 
  private:
   friend class ModelBuilder;
@@ -462,6 +486,7 @@ class Model {
   std::vector<char> factor_pattern_;
   SparseFactorPlan sparse_factor_plan_;
   ConstantMassPlan constant_mass_;
+  internal::ModelInstanceId instance_id_;
 };
 
 }  // namespace hybridtest::multibody
