@@ -118,6 +118,15 @@ hybridtest_hdf5_write_fn LoadWriter(const std::string& h5_path) {
                               h5_path, HYBRIDTEST_HDF5_MODULE_FILE, lookup.searched, fix));
   }
   const std::string module = lookup.found->string();
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(*lookup.found, error)) {
+    // Only HYBRIDTEST_HDF5_MODULE names a file that may not be there (FindModule's other
+    // candidates are files it found).
+    throw IoError(fmt::format("{}: cannot export to HDF5: the HDF5 writer {} ({}) is not a file; "
+                              "point HYBRIDTEST_HDF5_MODULE at {}, or unset it to use the "
+                              "writer built or installed with hybridtest",
+                              h5_path, module, lookup.searched, HYBRIDTEST_HDF5_MODULE_FILE));
+  }
   void* handle = dlopen(module.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (handle == nullptr) {
     const char* reason = dlerror();
