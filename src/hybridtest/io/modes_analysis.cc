@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <optional>
 
 #include "hybridtest/common/error.h"
 #include "hybridtest/common/yaml_input.h"
@@ -28,18 +29,6 @@ void ApplyStart(const ModesRequest& request, int n, Eigen::VectorXd& x) {
     }
     for (int k = 0; k < n; ++k) x(part * n + k) = (*values)[static_cast<std::size_t>(k)];
   }
-}
-
-// The model file behind request.path (itself, or a run config's model.file); empty for a
-// built-in model.
-std::string ModelFileOf(const std::string& path) {
-  const YAML::Node root = YamlInput::FromFile(path).root();
-  if (root.IsMap() && root["coordinates"]) return path;
-  if (root.IsMap() && root["model"] && root["model"]["file"]) {
-    return (std::filesystem::path(path).parent_path() / root["model"]["file"].as<std::string>())
-        .string();
-  }
-  return {};
 }
 
 // The index in the linearisation's states of coordinate `name`; ConfigError at `where` when it
@@ -120,42 +109,54 @@ std::vector<ModeReadout> ReadModes(const multibody::Model& model,
 
 }  // namespace
 
-models::BuiltModel LoadModesModel(const ModesRequest& request, Eigen::VectorXd* x0) {
+namespace {
+// LoadModesModel, and the model file behind the request (itself, or a run config's
+// model.file; none for a built-in model) in `file`, each file parsed once: a model file's
+// tree is the one the request's was read into.
+models::BuiltModel LoadModel(const ModesRequest& request, Eigen::VectorXd* x0,
+                             std::optional<modelfile::ModelFile>* file) {
   // Through the shared guard of every YAML input (size, encoding, syntax).
-  const YAML::Node root =
-      YamlInput::FromFile(request.path, "a model file's coordinates:, … or a run config's model:, …")
-          .root();
-  std::string model_file;
+  YamlInput input = YamlInput::FromFile(
+      request.path, "a model file's coordinates:, … or a run config's model:, …");
   models::ParameterSet parameters;
   std::optional<Eigen::VectorXd> config_x0;
-  if (root.IsMap() && root["coordinates"]) {
-    model_file = request.path;
-    parameters = modelfile::LoadModelFile(model_file).parameters;
+  if (input.root().IsMap() && input.root()["coordinates"]) {
+    *file = modelfile::ParseModelFile(std::move(input));
+    parameters = (*file)->parameters;
   } else {
+    const YAML::Node root = input.root();
     SimulationConfig cfg = LoadSimulationConfig(request.path);
+    const bool has_file = root["model"] && root["model"]["file"];
+    if (has_file) {
+      *file = modelfile::LoadModelFile((std::filesystem::path(request.path).parent_path() /
+                                        root["model"]["file"].as<std::string>()).string());
+    }
     if (request.set.empty()) {
       *x0 = cfg.x0;
       ApplyStart(request, cfg.model.model.num_coordinates(), *x0);
       return std::move(cfg.model);
     }
-    if (!root["model"] || !root["model"]["file"]) {
+    if (!has_file) {
       throw ConfigError(fmt::format("modes {}: parameter overrides need a model file (the "
                                     "config names a built-in model); give its parameters "
                                     "under model.parameters instead", request.path));
     }
-    model_file = (std::filesystem::path(request.path).parent_path() /
-                  root["model"]["file"].as<std::string>()).string();
     parameters = cfg.model.parameters;
     if (root["initial_state"]) config_x0 = cfg.x0;
   }
   for (const auto& [name, value] : request.set) {
     parameters.Set(name, value, fmt::format("modes {}: parameter override {}", request.path, name));
   }
-  models::BuiltModel built =
-      modelfile::BuildModelFile(modelfile::LoadModelFile(model_file), parameters);
+  models::BuiltModel built = modelfile::BuildModelFile(**file, parameters);
   *x0 = config_x0 ? *config_x0 : built.model.initial_state();
   ApplyStart(request, built.model.num_coordinates(), *x0);
   return built;
+}
+}  // namespace
+
+models::BuiltModel LoadModesModel(const ModesRequest& request, Eigen::VectorXd* x0) {
+  std::optional<modelfile::ModelFile> file;
+  return LoadModel(request, x0, &file);
 }
 
 std::vector<int> QuantityIndices(const std::vector<multibody::QuantityInfo>& known,
@@ -178,7 +179,8 @@ std::vector<int> QuantityIndices(const std::vector<multibody::QuantityInfo>& kno
 
 ModesReport AnalyseModes(const ModesRequest& request) {
   Eigen::VectorXd start;
-  models::BuiltModel built = LoadModesModel(request, &start);
+  std::optional<modelfile::ModelFile> file;
+  models::BuiltModel built = LoadModel(request, &start, &file);
   const multibody::Model& model = built.model;
   std::optional<multibody::SteadyState> steady;
   multibody::ModeAnalysis analysis;
@@ -205,10 +207,8 @@ ModesReport AnalyseModes(const ModesRequest& request) {
   } catch (const ModelError& e) {
     throw ModelError(fmt::format("modes {}: at the operating point: {}", request.path, e.what()));
   }
-  const std::string model_file = ModelFileOf(request.path);
   const modelfile::ModeReading reading =
-      model_file.empty() ? modelfile::ModeReading{}
-                         : modelfile::ReadModeReading(modelfile::LoadModelFile(model_file).input);
+      file ? modelfile::ReadModeReading(file->input) : modelfile::ModeReading{};
   std::vector<ModeReadout> readouts = ReadModes(model, reading, analysis);
   ModesReport report{std::move(built), std::move(start), std::move(steady), std::move(analysis),
                      std::move(readouts), {}, true};
