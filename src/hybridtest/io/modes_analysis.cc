@@ -111,8 +111,8 @@ std::vector<ModeReadout> ReadModes(const multibody::Model& model,
 
 namespace {
 // LoadModesModel, and the model file behind the request (itself, or a run config's
-// model.file; none for a built-in model) in `file`, each file parsed once: a model file's
-// tree is the one the request's was read into.
+// model.file; none for a built-in model) in `file`. The request is parsed once: a model
+// file's tree, or a run config's, is the one read here.
 models::BuiltModel LoadModel(const ModesRequest& request, Eigen::VectorXd* x0,
                              std::optional<modelfile::ModelFile>* file) {
   // Through the shared guard of every YAML input (size, encoding, syntax).
@@ -124,25 +124,23 @@ models::BuiltModel LoadModel(const ModesRequest& request, Eigen::VectorXd* x0,
     *file = modelfile::ParseModelFile(std::move(input));
     parameters = (*file)->parameters;
   } else {
-    const YAML::Node root = input.root();
-    SimulationConfig cfg = LoadSimulationConfig(request.path);
-    const bool has_file = root["model"] && root["model"]["file"];
-    if (has_file) {
-      *file = modelfile::LoadModelFile((std::filesystem::path(request.path).parent_path() /
-                                        root["model"]["file"].as<std::string>()).string());
-    }
+    // A run config, from the tree read above; its model file is where the config found it.
+    SimulationConfig cfg = ParseSimulationConfig(input);
+    const auto model_file = std::find_if(cfg.files.begin(), cfg.files.end(),
+                                         [](const RunInput& f) { return f.role == "model"; });
+    if (model_file != cfg.files.end()) *file = modelfile::LoadModelFile(model_file->path);
     if (request.set.empty()) {
       *x0 = cfg.x0;
       ApplyStart(request, cfg.model.model.num_coordinates(), *x0);
       return std::move(cfg.model);
     }
-    if (!has_file) {
+    if (!*file) {
       throw ConfigError(fmt::format("modes {}: parameter overrides need a model file (the "
                                     "config names a built-in model); give its parameters "
                                     "under model.parameters instead", request.path));
     }
     parameters = cfg.model.parameters;
-    if (root["initial_state"]) config_x0 = cfg.x0;
+    if (input.root()["initial_state"]) config_x0 = cfg.x0;
   }
   for (const auto& [name, value] : request.set) {
     parameters.Set(name, value, fmt::format("modes {}: parameter override {}", request.path, name));

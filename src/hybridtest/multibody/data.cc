@@ -119,7 +119,8 @@ Data<T>::Data(const Model& model) : n(model.num_coordinates()) {
   cholesky_factor.setZero(n, n);  // the sparse solve relies on its structural zeros
   factor_work.setZero(n);
   factor_inv_diag.setZero(n);
-  WriteConstantFactorColumns(model, *this);
+  // Doubles: by the evaluation plan, below (which writes them again for another model).
+  if constexpr (!std::is_same_v<T, double>) WriteConstantFactorColumns(model, *this);
   joint_w.setZero(3, n);
   joint_v.setZero(3, n);
   momentum_lin.setZero(3, n);
